@@ -1,0 +1,70 @@
+//! In-place Cholesky factorisation and solve, without allocation.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Factors the symmetric positive-definite `a` into `l` (lower triangle, `a = L Lᵀ`); only
+/// the lower triangle of `a` is read. Returns `false` if `a` is not positive definite (or not
+/// finite), leaving `l` unspecified.
+pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
+    let n = a.nrows();
+    for j in 0..n {
+        // L_jj = sqrt(A_jj − Σ_k L_jk²)
+        let mut d = a[(j, j)];
+        for k in 0..j {
+            d -= l[(j, k)] * l[(j, k)];
+        }
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        let ljj = d.sqrt();
+        l[(j, j)] = ljj;
+        // L_ij = (A_ij − Σ_k L_ik L_jk) / L_jj, i > j
+        for i in j + 1..n {
+            let mut s = a[(i, j)];
+            for k in 0..j {
+                s -= l[(i, k)] * l[(j, k)];
+            }
+            l[(i, j)] = s / ljj;
+        }
+    }
+    true
+}
+
+/// Solves `L Lᵀ x = b` in place (`b` becomes x), with `l` from [`cholesky_factor`].
+pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
+    let n = l.nrows();
+    // forward substitution: L y = b
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[(i, k)] * b[k];
+        }
+        b[i] = s / l[(i, i)];
+    }
+    // back substitution: Lᵀ x = y
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= l[(k, i)] * b[k];
+        }
+        b[i] = s / l[(i, i)];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_a_symmetric_positive_definite_system() {
+        let a = DMatrix::from_row_slice(3, 3, &[4.0, 1.0, 0.5, 1.0, 3.0, -0.2, 0.5, -0.2, 2.0]);
+        let x = DVector::from_vec(vec![0.3, -1.0, 2.0]);
+        let mut b = &a * &x;
+        let mut l = DMatrix::zeros(3, 3);
+        assert!(cholesky_factor(&a, &mut l));
+        cholesky_solve(&l, &mut b);
+        assert!((b - x).amax() < 1e-15);
+        let not_pd = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
+        assert!(!cholesky_factor(&not_pd, &mut DMatrix::zeros(2, 2)));
+    }
+}

@@ -1,0 +1,53 @@
+//! Forward kinematics: joint transforms, and world poses of bodies and frames.
+
+use super::Data;
+use crate::model::Model;
+use crate::spatial::Vec3;
+
+/// Computes `data.xup[i] = i_X_λ(i)(q)` for every joint: the joint's own motion composed with
+/// its fixed tree transform, `X_J(q_i) · X_T(i)`.
+#[inline]
+pub fn update_joint_transforms(model: &Model, data: &mut Data, q: &[f64]) {
+    for i in 0..model.dof() {
+        data.xup[i] = model.joints[i].motion_pose(q[i]).to_xform().compose(&model.x_tree[i]);
+    }
+}
+
+/// World placements of every body (`data.body_pose`) and every frame (`data.frame_pose`).
+pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
+    // o_T_i = o_T_λ · λ_T_joint · X_J(q_i)
+    for i in 0..model.dof() {
+        let local = model.tree_pose[i].compose(&model.joints[i].motion_pose(q[i]));
+        data.body_pose[i] = match model.parent[i] {
+            Some(p) => data.body_pose[p].compose(&local),
+            None => local,
+        };
+    }
+    // o_T_frame = o_T_body · body_T_frame
+    for (k, frame) in model.frames.iter().enumerate() {
+        data.frame_pose[k] = match frame.body {
+            Some(b) => data.body_pose[b].compose(&frame.placement),
+            None => frame.placement,
+        };
+    }
+}
+
+/// World position of frame `frame`'s origin, computed along its own branch only, tip to root
+/// (cheap enough to call at every recorded sample; no workspace needed).
+pub fn frame_position(model: &Model, q: &[f64], frame: usize) -> Vec3 {
+    let f = &model.frames[frame];
+    let Some(body) = f.body else {
+        return f.placement.pos;
+    };
+    // walk up to the root, then compose root to tip
+    let mut p = f.placement.pos;
+    let mut i = body;
+    loop {
+        let local = model.tree_pose[i].compose(&model.joints[i].motion_pose(q[i]));
+        p = local.transform_point(&p);
+        match model.parent[i] {
+            Some(parent) => i = parent,
+            None => return p,
+        }
+    }
+}

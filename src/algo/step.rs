@@ -1,0 +1,139 @@
+//! The discrete step of SPEC §2: Drake's discrete `MultibodyPlant` (SAP, no contact) with
+//! implicit joint damping and joint limits kept.
+
+use super::{Data, cholesky_factor, cholesky_solve, compute_all_terms};
+use crate::error::{Error, Result};
+use crate::model::Model;
+
+/// Advances (q, v) by one step of length `dt` under the joint forces `tau` (held over the
+/// step): [`compute_all_terms`] at (q, v), then [`integrate_discrete`].
+pub fn discrete_step(model: &Model, data: &mut Data, q: &mut [f64], v: &mut [f64], tau: &[f64], dt: f64) -> Result<()> {
+    compute_all_terms(model, data, q, v);
+    integrate_discrete(model, data, q, v, tau, dt)
+}
+
+/// The step itself, from `data.m` and `data.bias` already at (q, v):
+///
+/// ```text
+///   v⁺ = (M + Δt·D)⁻¹ [ M v + Δt (τ − C v − g) ]
+///   q⁺ = q + Δt v⁺
+/// ```
+///
+/// If q⁺ would leave a joint's limits, v⁺ instead solves the same problem with the bound
+/// `lower ≤ q + Δt v⁺ ≤ upper` (the minimum of `½ v⁺ᵀ A v⁺ − v⁺ᵀ b` over the box, A and b the
+/// matrix and vector above): the joint stops exactly at its limit, and the impulse that stops
+/// it acts on the others through M. Fails if `M + Δt·D` is not positive definite.
+pub fn integrate_discrete(
+    model: &Model,
+    data: &mut Data,
+    q: &mut [f64],
+    v: &mut [f64],
+    tau: &[f64],
+    dt: f64,
+) -> Result<()> {
+    let n = model.dof();
+    // A = M + Δt·D,  b = M v + Δt (τ − bias)
+    data.step_matrix.copy_from(&data.m);
+    for (i, joint) in model.joints.iter().enumerate() {
+        data.step_matrix[(i, i)] += dt * joint.damping;
+    }
+    for i in 0..n {
+        let mut mv = 0.0;
+        for k in 0..n {
+            mv += data.m[(i, k)] * v[k];
+        }
+        data.rhs[i] = mv + dt * (tau[i] - data.bias[i]);
+    }
+    data.limit_rhs.copy_from(&data.rhs);
+    if !cholesky_factor(&data.step_matrix, &mut data.chol) {
+        return Err(Error::Diverged("the mass matrix is not positive definite".into()));
+    }
+    cholesky_solve(&data.chol, &mut data.rhs);
+    if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
+        solve_with_limits(model, data, q, dt);
+    }
+    // q⁺ = q + Δt v⁺
+    for i in 0..n {
+        v[i] = data.rhs[i];
+        q[i] += dt * v[i];
+    }
+    Ok(())
+}
+
+/// Active-set solution of the box-constrained problem into `data.rhs`. Joints in
+/// `data.limit_at` are held at the velocity that lands them on their limit; the rest solve
+/// `A_FF v_F = b_F − A_FC v_C`. A joint is added when it would cross a limit and released when
+/// its constraint would have to pull instead of push.
+fn solve_with_limits(model: &Model, data: &mut Data, q: &[f64], dt: f64) {
+    let n = model.dof();
+    let bound = |i: usize, v: f64| -> Option<f64> {
+        let (lo, hi) = ((model.joints[i].lower - q[i]) / dt, (model.joints[i].upper - q[i]) / dt);
+        if v < lo {
+            Some(lo)
+        } else if v > hi {
+            Some(hi)
+        } else {
+            None
+        }
+    };
+    data.limit_at.fill(None);
+    for _ in 0..4 * n {
+        // the most violating free joint joins the clamped set
+        let worst = (0..n)
+            .filter(|&i| data.limit_at[i].is_none())
+            .filter_map(|i| bound(i, data.rhs[i]).map(|b| (i, b, (data.rhs[i] - b).abs())))
+            .max_by(|x, y| x.2.total_cmp(&y.2));
+        match worst {
+            Some((i, b, _)) => data.limit_at[i] = Some(b),
+            None => {
+                // release a clamped joint whose multiplier λ = (A v − b)_i has the wrong sign
+                let release = (0..n).find(|&i| {
+                    data.limit_at[i].is_some_and(|vb| {
+                        let lambda: f64 =
+                            (0..n).map(|k| data.step_matrix[(i, k)] * data.rhs[k]).sum::<f64>() - data.limit_rhs[i];
+                        let at_lower = vb <= (model.joints[i].lower - q[i]) / dt;
+                        if at_lower { lambda < 0.0 } else { lambda > 0.0 }
+                    })
+                });
+                match release {
+                    Some(i) => data.limit_at[i] = None,
+                    None => return,
+                }
+            }
+        }
+        solve_clamped(data, n);
+    }
+}
+
+/// Solves `A v = b` with the clamped joints' rows and columns replaced by identity, i.e. free
+/// joints get `A_FF v_F = b_F − A_FC v_C` and clamped joints their bound.
+fn solve_clamped(data: &mut Data, n: usize) {
+    for i in 0..n {
+        data.rhs[i] = match data.limit_at[i] {
+            Some(vb) => vb,
+            None => {
+                let mut r = data.limit_rhs[i];
+                for k in 0..n {
+                    if let Some(vk) = data.limit_at[k] {
+                        r -= data.step_matrix[(i, k)] * vk;
+                    }
+                }
+                r
+            }
+        };
+    }
+    // A with identity on the clamped rows and columns
+    for i in 0..n {
+        for k in 0..n {
+            data.limit_matrix[(i, k)] = match (data.limit_at[i], data.limit_at[k]) {
+                (None, None) => data.step_matrix[(i, k)],
+                _ if i == k => 1.0,
+                _ => 0.0,
+            };
+        }
+    }
+    // a principal submatrix of a positive-definite A is positive definite
+    if cholesky_factor(&data.limit_matrix, &mut data.chol) {
+        cholesky_solve(&data.chol, &mut data.rhs);
+    }
+}

@@ -1,0 +1,85 @@
+//! The library's one error type.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in faze4. Every message names the file (or argument), the
+/// element and what is wrong, so that one line on stderr is enough to fix it.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+
+    /// The URDF is not well-formed XML or not a URDF document.
+    #[error("{file}: malformed URDF: {message}")]
+    UrdfSyntax {
+        /// The URDF file.
+        file: String,
+        /// The parser's message.
+        message: String,
+    },
+
+    /// The URDF is well-formed but describes something faze4 cannot model.
+    #[error("{file}: {element}: {message}")]
+    InvalidModel {
+        /// The URDF file.
+        file: String,
+        /// The element at fault, e.g. `joint 'lakat'` or `link 'saka' <inertial>`.
+        element: String,
+        /// What is wrong with it.
+        message: String,
+    },
+
+    /// A command-line argument or option value is not acceptable.
+    #[error("{option}: {message}")]
+    InvalidArgument {
+        /// The option, e.g. `--dt`.
+        option: String,
+        /// What is wrong with it.
+        message: String,
+    },
+
+    /// An input data file (e.g. a `.npy` trajectory) is unusable.
+    #[error("{}: {message}", path.display())]
+    InvalidData {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+
+    /// The simulation went unstable and was stopped.
+    #[error("{0}")]
+    Diverged(String),
+
+    /// Inverse kinematics could not reach a target.
+    #[error("{0}")]
+    Unreachable(String),
+}
+
+impl Error {
+    /// An [`Error::InvalidModel`] for `element` of `file`.
+    pub fn model(file: &str, element: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::InvalidModel {
+            file: file.to_string(),
+            element: element.into(),
+            message: message.into(),
+        }
+    }
+
+    /// An [`Error::InvalidArgument`] for `option`.
+    pub fn argument(option: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::InvalidArgument {
+            option: option.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// `Result` with faze4's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

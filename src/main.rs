@@ -1,0 +1,3 @@
+fn main() {
+    println!("faze4: command line not built yet");
+}

@@ -1,0 +1,345 @@
+//! Description → [`Model`]: validation, topology, and merging of fixed joints.
+
+use std::collections::HashMap;
+
+use nalgebra::SymmetricEigen;
+
+use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
+use super::{Frame, Joint, JointKind, Model, STANDARD_GRAVITY};
+use crate::error::{Error, Result};
+use crate::spatial::{Inertia, Mat3, Pose, Vec3};
+
+/// Relative tolerance on the triangle inequality of principal moments (rounding in exported
+/// CAD inertias; a real violation is orders of magnitude larger).
+const TRIANGLE_TOLERANCE: f64 = 1e-9;
+
+pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
+    let file = desc.file.as_str();
+    check_finite(desc)?;
+
+    // Link and joint names are unique.
+    let mut link_index = HashMap::with_capacity(desc.links.len());
+    for (i, link) in desc.links.iter().enumerate() {
+        if link_index.insert(link.name.as_str(), i).is_some() {
+            return Err(Error::model(file, format!("link '{}'", link.name), "is defined twice"));
+        }
+    }
+    if desc.links.is_empty() {
+        return Err(Error::model(file, "<robot>", "has no links"));
+    }
+    let mut joint_names = HashMap::with_capacity(desc.joints.len());
+    for joint in &desc.joints {
+        if joint_names.insert(joint.name.as_str(), ()).is_some() {
+            return Err(Error::model(file, joint_element(joint), "is defined twice"));
+        }
+    }
+
+    // Every joint joins two existing links; a link has at most one parent joint.
+    let mut parent_joint: Vec<Option<usize>> = vec![None; desc.links.len()];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); desc.links.len()];
+    for (j, joint) in desc.joints.iter().enumerate() {
+        if let JointType::Unsupported(kind) = &joint.kind {
+            return Err(Error::model(
+                file,
+                joint_element(joint),
+                format!("joint type '{kind}' is not supported (revolute, continuous, prismatic and fixed are)"),
+            ));
+        }
+        let parent = *link_index.get(joint.parent.as_str()).ok_or_else(|| {
+            Error::model(
+                file,
+                joint_element(joint),
+                format!("parent link '{}' does not exist", joint.parent),
+            )
+        })?;
+        let child = *link_index.get(joint.child.as_str()).ok_or_else(|| {
+            Error::model(
+                file,
+                joint_element(joint),
+                format!("child link '{}' does not exist", joint.child),
+            )
+        })?;
+        if parent == child {
+            return Err(Error::model(
+                file,
+                joint_element(joint),
+                format!("joins link '{}' to itself (a kinematic loop)", joint.child),
+            ));
+        }
+        if let Some(other) = parent_joint[child] {
+            return Err(Error::model(
+                file,
+                joint_element(joint),
+                format!(
+                    "link '{}' already has parent joint '{}': a link with two parents closes a kinematic loop",
+                    joint.child, desc.joints[other].name
+                ),
+            ));
+        }
+        parent_joint[child] = Some(j);
+        children[parent].push(j);
+    }
+
+    // Exactly one root, from which every link is reached.
+    let roots: Vec<usize> = (0..desc.links.len()).filter(|&l| parent_joint[l].is_none()).collect();
+    let root = match roots.as_slice() {
+        [root] => *root,
+        [] => {
+            return Err(Error::model(
+                file,
+                "<robot>",
+                "every link has a parent: the joints form a kinematic loop",
+            ));
+        }
+        many => {
+            let names: Vec<&str> = many.iter().map(|&l| desc.links[l].name.as_str()).collect();
+            return Err(Error::model(
+                file,
+                "<robot>",
+                format!(
+                    "{} root links ({}): the links must form one tree",
+                    names.len(),
+                    names.join(", ")
+                ),
+            ));
+        }
+    };
+
+    // Depth-first from the root, children in document order. Each link gets the body it is
+    // fixed to and its placement in that body; each moving joint opens a new body.
+    let mut model = Model {
+        name: desc.name.clone(),
+        source: desc.file.clone(),
+        joints: Vec::new(),
+        parent: Vec::new(),
+        x_tree: Vec::new(),
+        tree_pose: Vec::new(),
+        s: Vec::new(),
+        inertia: Vec::new(),
+        gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
+        frames: Vec::with_capacity(desc.links.len()),
+        visuals: Vec::new(),
+    };
+    let mut frame_of_link = vec![usize::MAX; desc.links.len()];
+    let mut stack = vec![(root, None::<usize>)];
+    while let Some((link, via)) = stack.pop() {
+        let frame = match via {
+            None => Frame {
+                name: desc.links[link].name.clone(),
+                body: None,
+                placement: Pose::IDENTITY,
+            },
+            Some(j) => {
+                let joint = &desc.joints[j];
+                let parent = &model.frames[frame_of_link[link_index[joint.parent.as_str()]]];
+                let parent_body = parent.body;
+                let origin = parent.placement.compose(&Pose::from_xyz_rpy(joint.xyz, joint.rpy));
+                match moving_joint(file, joint)? {
+                    None => Frame {
+                        name: joint.child.clone(),
+                        body: parent_body,
+                        placement: origin,
+                    },
+                    Some(moving) => {
+                        let body = model.joints.len();
+                        model.parent.push(parent_body);
+                        model.x_tree.push(origin.to_xform());
+                        model.tree_pose.push(origin);
+                        model.s.push(moving.motion_subspace());
+                        model.inertia.push(Inertia::ZERO);
+                        model.joints.push(moving);
+                        Frame {
+                            name: joint.child.clone(),
+                            body: Some(body),
+                            placement: Pose::IDENTITY,
+                        }
+                    }
+                }
+            }
+        };
+        frame_of_link[link] = model.frames.len();
+        let link_desc = &desc.links[link];
+        if let Some(inertial) = &link_desc.inertial {
+            let inertia = link_inertia(file, &link_desc.name, inertial)?;
+            if let Some(body) = frame.body {
+                // Express the link's inertia in its body's frame: Xᵀ I X with X = link_X_body.
+                model.inertia[body] += inertia.transform_to_source(&frame.placement.to_xform());
+            }
+        }
+        for visual in &link_desc.visuals {
+            model.visuals.push((model.frames.len(), visual.clone()));
+        }
+        model.frames.push(frame);
+        for &j in children[link].iter().rev() {
+            stack.push((link_index[desc.joints[j].child.as_str()], Some(j)));
+        }
+    }
+    if let Some(lost) = frame_of_link.iter().position(|&f| f == usize::MAX) {
+        return Err(Error::model(
+            file,
+            format!("link '{}'", desc.links[lost].name),
+            format!(
+                "is not connected to the root link '{}': its joints form a kinematic loop",
+                desc.links[root].name
+            ),
+        ));
+    }
+
+    // Every moving body needs mass (else M is singular).
+    for (i, joint) in model.joints.iter().enumerate() {
+        if model.inertia[i].mass <= 0.0 {
+            return Err(Error::model(
+                file,
+                format!("link '{}'", joint.child_link),
+                format!(
+                    "is moved by joint '{}' but has no mass (it and the links welded to it weigh {} kg); a moving body needs mass > 0",
+                    joint.name, model.inertia[i].mass
+                ),
+            ));
+        }
+    }
+    Ok(model)
+}
+
+fn joint_element(joint: &JointDesc) -> String {
+    format!("joint '{}'", joint.name)
+}
+
+/// The [`Joint`] of a moving joint description, or `None` for a fixed joint.
+fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
+    let kind = match joint.kind {
+        JointType::Fixed => return Ok(None),
+        JointType::Revolute => JointKind::Revolute,
+        JointType::Continuous => JointKind::Continuous,
+        JointType::Prismatic => JointKind::Prismatic,
+        JointType::Unsupported(_) => unreachable!("rejected before the tree is built"),
+    };
+    let axis = Vec3::from(joint.axis);
+    let norm = axis.norm();
+    if norm < 1e-12 {
+        return Err(Error::model(
+            file,
+            format!("joint '{}' <axis>", joint.name),
+            "is zero: a moving joint needs a direction",
+        ));
+    }
+    let (lower, upper) = match (kind, joint.limits) {
+        (JointKind::Continuous, _) | (_, None) => (f64::NEG_INFINITY, f64::INFINITY),
+        (_, Some((lo, hi))) => (lo, hi),
+    };
+    if lower > upper {
+        return Err(Error::model(
+            file,
+            format!("joint '{}' <limit>", joint.name),
+            format!("lower limit {lower} is above upper limit {upper}"),
+        ));
+    }
+    if joint.damping < 0.0 {
+        return Err(Error::model(
+            file,
+            format!("joint '{}' <dynamics>", joint.name),
+            format!("damping {} is negative", joint.damping),
+        ));
+    }
+    Ok(Some(Joint {
+        name: joint.name.clone(),
+        kind,
+        axis: axis / norm,
+        lower,
+        upper,
+        effort: joint.effort.filter(|&e| e > 0.0),
+        damping: joint.damping,
+        child_link: joint.child.clone(),
+    }))
+}
+
+/// A link's spatial inertia about the link origin, after checking it is physical.
+fn link_inertia(file: &str, link: &str, inertial: &InertialDesc) -> Result<Inertia> {
+    let element = || format!("link '{link}' <inertial>");
+    let m = inertial.mass;
+    if m < 0.0 {
+        return Err(Error::model(file, element(), format!("mass {m} kg is negative")));
+    }
+    let [ixx, ixy, ixz, iyy, iyz, izz] = inertial.inertia;
+    let i_frame = Mat3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+    if m == 0.0 {
+        if i_frame.abs().max() > 0.0 {
+            return Err(Error::model(file, element(), "has rotational inertia but zero mass"));
+        }
+        return Ok(Inertia::ZERO);
+    }
+    let mut moments = SymmetricEigen::new(i_frame).eigenvalues;
+    moments.as_mut_slice().sort_by(f64::total_cmp);
+    let [a, b, c] = [moments[0], moments[1], moments[2]];
+    if a <= 0.0 {
+        return Err(Error::model(
+            file,
+            element(),
+            format!("inertia is not positive definite (principal moments {a:e}, {b:e}, {c:e} kg·m²)"),
+        ));
+    }
+    if a + b < c * (1.0 - TRIANGLE_TOLERANCE) {
+        return Err(Error::model(
+            file,
+            element(),
+            format!(
+                "inertia violates the triangle inequality: principal moments {a:e} + {b:e} < {c:e} kg·m² (no rigid body has these)"
+            ),
+        ));
+    }
+    let frame = Pose::from_xyz_rpy(inertial.xyz, inertial.rpy);
+    let i_com = frame.rot * i_frame * frame.rot.transpose();
+    Ok(Inertia::from_com(m, frame.pos, i_com))
+}
+
+/// Rejects NaN and infinite numbers anywhere they are not meaningful (limits may be infinite).
+fn check_finite(desc: &RobotDescription) -> Result<()> {
+    let file = desc.file.as_str();
+    let bad = |element: String, field: &str, values: &[f64]| -> Result<()> {
+        match values.iter().find(|v| !v.is_finite()) {
+            Some(v) => Err(Error::model(
+                file,
+                element,
+                format!("{field} has a non-finite value ({v})"),
+            )),
+            None => Ok(()),
+        }
+    };
+    for link in &desc.links {
+        if let Some(i) = &link.inertial {
+            let e = || format!("link '{}' <inertial>", link.name);
+            bad(e(), "origin xyz", &i.xyz)?;
+            bad(e(), "origin rpy", &i.rpy)?;
+            bad(e(), "mass", &[i.mass])?;
+            bad(e(), "inertia", &i.inertia)?;
+        }
+        for v in &link.visuals {
+            let e = || format!("link '{}' <visual>", link.name);
+            if !v.origin.is_finite() {
+                return Err(Error::model(file, e(), "origin has a non-finite value"));
+            }
+            match &v.geometry {
+                Geometry::Box { size } => bad(e(), "box size", size.as_slice())?,
+                Geometry::Cylinder { radius, length } => bad(e(), "cylinder", &[*radius, *length])?,
+                Geometry::Sphere { radius } => bad(e(), "sphere radius", &[*radius])?,
+                Geometry::Mesh { scale, .. } => bad(e(), "mesh scale", scale.as_slice())?,
+            }
+        }
+    }
+    for j in &desc.joints {
+        let e = || joint_element(j);
+        bad(e(), "origin xyz", &j.xyz)?;
+        bad(e(), "origin rpy", &j.rpy)?;
+        bad(e(), "axis", &j.axis)?;
+        bad(e(), "damping", &[j.damping])?;
+        let (lo, hi) = j.limits.unwrap_or((0.0, 0.0));
+        if lo.is_nan() || hi.is_nan() || j.effort.is_some_and(f64::is_nan) {
+            return Err(Error::model(
+                file,
+                format!("joint '{}' <limit>", j.name),
+                "has a NaN value",
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,126 @@
+//! A robot as a file describes it, before validation: links, joints, inertials and visuals in
+//! plain Rust types. [`crate::model::urdf`] fills it from a URDF; the model builder validates it.
+
+use std::path::PathBuf;
+
+use crate::spatial::{Pose, Vec3};
+
+/// A robot description: what a URDF says, format-free.
+#[derive(Clone, Debug, Default)]
+pub struct RobotDescription {
+    /// The robot's name.
+    pub name: String,
+    /// The file it came from (for error messages).
+    pub file: String,
+    /// Links in document order.
+    pub links: Vec<LinkDesc>,
+    /// Joints in document order.
+    pub joints: Vec<JointDesc>,
+}
+
+/// One link.
+#[derive(Clone, Debug, Default)]
+pub struct LinkDesc {
+    /// Link name.
+    pub name: String,
+    /// Mass properties; `None` for a massless link.
+    pub inertial: Option<InertialDesc>,
+    /// Visual geometry in the link frame.
+    pub visuals: Vec<Visual>,
+}
+
+/// A link's `<inertial>`.
+#[derive(Clone, Debug)]
+pub struct InertialDesc {
+    /// Origin xyz of the inertial frame (the centre of mass) in the link frame (m).
+    pub xyz: [f64; 3],
+    /// Orientation rpy of the inertial frame in the link frame (rad).
+    pub rpy: [f64; 3],
+    /// Mass (kg).
+    pub mass: f64,
+    /// Rotational inertia about the centre of mass in the inertial frame (kg·m²):
+    /// `[ixx, ixy, ixz, iyy, iyz, izz]`.
+    pub inertia: [f64; 6],
+}
+
+/// Joint types a description can hold; the unsupported ones keep their name for the error.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum JointType {
+    /// Limited rotation.
+    Revolute,
+    /// Unlimited rotation.
+    Continuous,
+    /// Translation.
+    Prismatic,
+    /// No motion (the child is welded to the parent).
+    Fixed,
+    /// Anything else (floating, planar, spherical…), by name.
+    Unsupported(String),
+}
+
+/// One joint.
+#[derive(Clone, Debug)]
+pub struct JointDesc {
+    /// Joint name.
+    pub name: String,
+    /// Joint type.
+    pub kind: JointType,
+    /// Parent link name.
+    pub parent: String,
+    /// Child link name.
+    pub child: String,
+    /// Origin xyz of the joint frame in the parent link frame (m).
+    pub xyz: [f64; 3],
+    /// Origin rpy of the joint frame in the parent link frame (rad).
+    pub rpy: [f64; 3],
+    /// Axis in the joint frame (any non-zero length).
+    pub axis: [f64; 3],
+    /// Lower and upper position limits, if given.
+    pub limits: Option<(f64, f64)>,
+    /// Effort limit, if given (> 0).
+    pub effort: Option<f64>,
+    /// Viscous damping (0 if not given).
+    pub damping: f64,
+}
+
+/// Shape of a visual.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// Axis-aligned box with the given side lengths (m), centred on the visual origin.
+    Box {
+        /// Side lengths x, y, z (m).
+        size: Vec3,
+    },
+    /// Cylinder along z, centred on the visual origin.
+    Cylinder {
+        /// Radius (m).
+        radius: f64,
+        /// Length (m).
+        length: f64,
+    },
+    /// Sphere centred on the visual origin.
+    Sphere {
+        /// Radius (m).
+        radius: f64,
+    },
+    /// A mesh file.
+    Mesh {
+        /// The reference as written in the file (`package://…`, relative, or absolute).
+        uri: String,
+        /// The file it resolved to, if it exists.
+        path: Option<PathBuf>,
+        /// Scale factors x, y, z.
+        scale: Vec3,
+    },
+}
+
+/// A visual: geometry placed in a link frame, with an optional colour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Visual {
+    /// Placement of the geometry in the link frame.
+    pub origin: Pose,
+    /// The shape.
+    pub geometry: Geometry,
+    /// RGBA colour in 0..1, if given.
+    pub rgba: Option<[f64; 4]>,
+}

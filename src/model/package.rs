@@ -1,0 +1,126 @@
+//! Resolving mesh references: `package://name/…`, `file://…`, relative and absolute paths.
+
+use std::path::{Path, PathBuf};
+
+/// Where `package://` references are looked for: the directories given on the command line
+/// (`--package-path`), then those of `ROS_PACKAGE_PATH`, as ROS users expect.
+///
+/// For `package://NAME/rest` and each directory D, in order: `D/NAME/rest`; `D/rest` when D
+/// itself is the package (its name is NAME, or its `package.xml` says so); a sub-directory of D
+/// (up to three levels) that is the package; finally `D/rest`, so that pointing at a
+/// description folder works whatever its package name (as for the official Faze4 files).
+#[derive(Clone, Debug, Default)]
+pub struct PackagePaths {
+    dirs: Vec<PathBuf>,
+}
+
+impl PackagePaths {
+    /// Search `dirs` only.
+    pub fn new(dirs: Vec<PathBuf>) -> Self {
+        Self { dirs }
+    }
+
+    /// Search `dirs`, then every entry of the `ROS_PACKAGE_PATH` environment variable.
+    pub fn with_ros_package_path(mut dirs: Vec<PathBuf>) -> Self {
+        if let Some(ros) = std::env::var_os("ROS_PACKAGE_PATH") {
+            dirs.extend(std::env::split_paths(&ros).filter(|p| !p.as_os_str().is_empty()));
+        }
+        Self { dirs }
+    }
+
+    /// The directories searched, in order.
+    pub fn dirs(&self) -> &[PathBuf] {
+        &self.dirs
+    }
+
+    /// The existing file `uri` refers to, if any. Relative paths are taken from `base_dir`
+    /// (the URDF's directory).
+    pub fn resolve(&self, uri: &str, base_dir: Option<&Path>) -> Option<PathBuf> {
+        if let Some(rest) = uri.strip_prefix("package://") {
+            let (name, rel) = rest.split_once('/')?;
+            return self.resolve_package(name, rel);
+        }
+        let path = match uri.strip_prefix("file://") {
+            Some(p) => PathBuf::from(p),
+            None => PathBuf::from(uri),
+        };
+        let path = match (path.is_relative(), base_dir) {
+            (true, Some(base)) => base.join(path),
+            _ => path,
+        };
+        path.is_file().then_some(path)
+    }
+
+    fn resolve_package(&self, name: &str, rel: &str) -> Option<PathBuf> {
+        let existing = |p: PathBuf| p.is_file().then_some(p);
+        self.dirs
+            .iter()
+            .find_map(|d| existing(d.join(name).join(rel)))
+            .or_else(|| {
+                self.dirs
+                    .iter()
+                    .filter(|d| is_package(d, name))
+                    .find_map(|d| existing(d.join(rel)))
+            })
+            .or_else(|| {
+                self.dirs
+                    .iter()
+                    .find_map(|d| find_package_below(d, name, 3).and_then(|p| existing(p.join(rel))))
+            })
+            .or_else(|| self.dirs.iter().find_map(|d| existing(d.join(rel))))
+    }
+}
+
+/// Whether directory `dir` is the ROS package `name`.
+fn is_package(dir: &Path, name: &str) -> bool {
+    if dir.file_name().is_some_and(|n| n == name) {
+        return true;
+    }
+    std::fs::read_to_string(dir.join("package.xml"))
+        .map(|xml| xml.contains(&format!("<name>{name}</name>")))
+        .unwrap_or(false)
+}
+
+fn find_package_below(dir: &Path, name: &str, depth: usize) -> Option<PathBuf> {
+    if depth == 0 {
+        return None;
+    }
+    let mut subdirs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    subdirs.sort();
+    subdirs
+        .iter()
+        .find(|d| is_package(d, name))
+        .cloned()
+        .or_else(|| subdirs.iter().find_map(|d| find_package_below(d, name, depth - 1)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_meshes_in_a_description_folder_under_any_package_name() {
+        let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/faze4_description");
+        if !shared.is_dir() {
+            panic!("test data missing: {}", shared.display());
+        }
+        let paths = PackagePaths::new(vec![shared.clone()]);
+        let found = paths.resolve("package://Final_light_assembly_URDF/meshes/saka.STL", None);
+        assert_eq!(found, Some(shared.join("meshes/saka.STL")));
+        // the parent of a package directory works as a ROS path entry
+        let paths = PackagePaths::new(vec![shared.parent().unwrap().to_path_buf()]);
+        let found = paths.resolve("package://faze4_description/meshes/saka.STL", None);
+        assert_eq!(found, Some(shared.join("meshes/saka.STL")));
+        assert_eq!(
+            paths.resolve("package://faze4_description/meshes/base_link.STL", None),
+            None
+        );
+        // relative to the URDF's directory
+        let rel = PackagePaths::default().resolve("../meshes/lakat.STL", Some(&shared.join("urdf")));
+        assert_eq!(rel, Some(shared.join("urdf/../meshes/lakat.STL")));
+    }
+}

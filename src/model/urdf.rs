@@ -1,0 +1,149 @@
+//! URDF files → [`RobotDescription`] → [`Model`]. The only place that knows urdf-rs.
+//!
+//! urdf-rs parses the XML; everything it lets through unchecked is checked by the model
+//! builder (missing links, loops, non-finite numbers, zero axes, bad inertias). Known urdf-rs
+//! behaviours this module works around: `package://` paths are resolved here (urdf-rs's own
+//! expansion needs ROS), a missing `<limit>` reads as all zeros (taken as "no limits"), and
+//! `<transmission>` is dropped (faze4 drives joints directly).
+
+use std::path::Path;
+
+use super::description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
+use super::{Model, PackagePaths};
+use crate::error::{Error, Result};
+use crate::spatial::{Pose, Vec3};
+
+/// Reads and validates the URDF file at `path`.
+pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Model> {
+    let text = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let text = String::from_utf8(text).map_err(|_| Error::UrdfSyntax {
+        file: path.display().to_string(),
+        message: "the file is not UTF-8 text".into(),
+    })?;
+    read_str(&text, &path.display().to_string(), path.parent(), packages)
+}
+
+/// Reads and validates URDF `text`; `file` names it in errors, `base_dir` anchors relative
+/// mesh paths.
+pub fn read_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<Model> {
+    Model::from_description(&describe(text, file, base_dir, packages)?)
+}
+
+/// Parses URDF `text` into a description, resolving mesh references. No validation beyond
+/// the XML structure.
+pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<RobotDescription> {
+    let syntax = |message: String| Error::UrdfSyntax {
+        file: file.to_string(),
+        message,
+    };
+    if text.trim().is_empty() {
+        return Err(syntax("the file is empty".into()));
+    }
+    // urdf-rs panics on a few malformed inputs instead of returning an error; keep that from
+    // taking the process down.
+    let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(text))
+        .map_err(|_| syntax("the XML parser failed on this input".into()))?
+        .map_err(|e| syntax(e.to_string()))?;
+
+    let links = parsed
+        .links
+        .iter()
+        .map(|link| LinkDesc {
+            name: link.name.clone(),
+            inertial: Some(InertialDesc {
+                xyz: link.inertial.origin.xyz.0,
+                rpy: link.inertial.origin.rpy.0,
+                mass: link.inertial.mass.value,
+                inertia: {
+                    let i = &link.inertial.inertia;
+                    [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz]
+                },
+            }),
+            visuals: link
+                .visual
+                .iter()
+                .map(|v| visual(v, &parsed.materials, base_dir, packages))
+                .collect(),
+        })
+        .collect();
+
+    let joints = parsed
+        .joints
+        .iter()
+        .map(|j| {
+            let kind = match j.joint_type {
+                urdf_rs::JointType::Revolute => JointType::Revolute,
+                urdf_rs::JointType::Continuous => JointType::Continuous,
+                urdf_rs::JointType::Prismatic => JointType::Prismatic,
+                urdf_rs::JointType::Fixed => JointType::Fixed,
+                ref other => JointType::Unsupported(format!("{other:?}").to_lowercase()),
+            };
+            let lim = &j.limit;
+            let no_limit_element = lim.lower == 0.0 && lim.upper == 0.0 && lim.effort == 0.0 && lim.velocity == 0.0;
+            JointDesc {
+                name: j.name.clone(),
+                kind,
+                parent: j.parent.link.clone(),
+                child: j.child.link.clone(),
+                xyz: j.origin.xyz.0,
+                rpy: j.origin.rpy.0,
+                axis: j.axis.xyz.0,
+                limits: (!no_limit_element).then_some((lim.lower, lim.upper)),
+                effort: (lim.effort.is_nan() || lim.effort > 0.0).then_some(lim.effort),
+                damping: j.dynamics.as_ref().map_or(0.0, |d| d.damping),
+            }
+        })
+        .collect();
+
+    Ok(RobotDescription {
+        name: parsed.name.clone(),
+        file: file.to_string(),
+        links,
+        joints,
+    })
+}
+
+fn visual(
+    v: &urdf_rs::Visual,
+    materials: &[urdf_rs::Material],
+    base_dir: Option<&Path>,
+    packages: &PackagePaths,
+) -> Visual {
+    let geometry = match &v.geometry {
+        urdf_rs::Geometry::Box { size } => Geometry::Box {
+            size: Vec3::from(size.0),
+        },
+        urdf_rs::Geometry::Cylinder { radius, length } | urdf_rs::Geometry::Capsule { radius, length } => {
+            Geometry::Cylinder {
+                radius: *radius,
+                length: *length,
+            }
+        }
+        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
+        urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
+            uri: filename.clone(),
+            path: packages.resolve(filename, base_dir),
+            scale: scale.map_or(Vec3::new(1.0, 1.0, 1.0), |s| Vec3::from(s.0)),
+        },
+    };
+    // A colour inline, or by name from the robot's top-level <material> list.
+    let rgba = v.material.as_ref().and_then(|m| {
+        m.color
+            .as_ref()
+            .or_else(|| {
+                materials
+                    .iter()
+                    .find(|g| g.name == m.name)
+                    .and_then(|g| g.color.as_ref())
+            })
+            .map(|c| c.rgba.0)
+    });
+    Visual {
+        origin: Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
+        geometry,
+        rgba,
+    }
+}
