@@ -1,0 +1,102 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use faze4::model::{Model, PackagePaths};
+use serde_json::Value;
+
+/// The repository root.
+pub fn repo() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A path under the repository root.
+pub fn repo_path(rel: &str) -> PathBuf {
+    repo().join(rel)
+}
+
+/// The shared official Faze4 description (data for tests, never copied into the repo).
+pub fn shared_description() -> PathBuf {
+    let p = repo().join("../shared/faze4_description");
+    assert!(p.is_dir(), "test data missing: {}", p.display());
+    p
+}
+
+/// Loads a URDF from a repository-relative path.
+pub fn load(rel: &str) -> Model {
+    Model::from_urdf_file(&repo_path(rel), &PackagePaths::default()).unwrap_or_else(|e| panic!("{rel}: {e}"))
+}
+
+/// Reads a JSON fixture from tests/fixtures.
+pub fn fixture(name: &str) -> Value {
+    let path = repo_path(&format!("tests/fixtures/{name}"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+pub fn vec_f64(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
+}
+
+pub fn mat_f64(v: &Value) -> Vec<Vec<f64>> {
+    v.as_array().expect("array").iter().map(vec_f64).collect()
+}
+
+/// A small seeded generator (SplitMix64) for reproducible random states.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed)
+    }
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [lo, hi).
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
+    }
+    pub fn vector(&mut self, n: usize, lo: f64, hi: f64) -> Vec<f64> {
+        (0..n).map(|_| self.uniform(lo, hi)).collect()
+    }
+    /// A random configuration inside each joint's limits (±π for unlimited joints).
+    pub fn configuration(&mut self, model: &Model) -> Vec<f64> {
+        model
+            .joints
+            .iter()
+            .map(|j| {
+                let lo = if j.lower.is_finite() {
+                    j.lower
+                } else {
+                    -std::f64::consts::PI
+                };
+                let hi = if j.upper.is_finite() {
+                    j.upper
+                } else {
+                    std::f64::consts::PI
+                };
+                self.uniform(lo, hi)
+            })
+            .collect()
+    }
+}
+
+/// max |a − b| over two equally long slices.
+pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// max |x| over a slice.
+pub fn max_abs(a: &[f64]) -> f64 {
+    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
+}

@@ -1,0 +1,176 @@
+//! Every way a URDF can be wrong gives an error naming the file, the element and the problem.
+
+use faze4::model::{Model, PackagePaths, urdf};
+
+/// A valid two-joint arm; each test breaks one thing in it.
+const GOOD: &str = r#"<robot name="two">
+  <link name="world"/>
+  <joint name="base_joint" type="fixed"><parent link="world"/><child link="base"/></joint>
+  <link name="base"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="5" velocity="1"/><dynamics damping="0.1"/>
+  </joint>
+  <link name="upper">
+    <inertial><origin xyz="0.1 0 0" rpy="0 0 0"/><mass value="1.0"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial>
+  </link>
+  <joint name="elbow" type="revolute">
+    <parent link="upper"/><child link="fore"/>
+    <origin xyz="0.2 0 0" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="3" velocity="1"/>
+  </joint>
+  <link name="fore">
+    <inertial><origin xyz="0.1 0 0" rpy="0 0 0"/><mass value="0.5"/>
+      <inertia ixx="0.005" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+</robot>"#;
+
+fn load(text: &str) -> Result<Model, String> {
+    urdf::read_str(text, "arm.urdf", None, &PackagePaths::default()).map_err(|e| e.to_string())
+}
+
+/// Loads `GOOD` with `from` replaced by `to` and returns the error message.
+fn error_with(from: &str, to: &str) -> String {
+    assert!(GOOD.contains(from), "test setup: {from:?} not in the template");
+    match load(&GOOD.replacen(from, to, 1)) {
+        Ok(_) => panic!("replacing {from:?} with {to:?} should fail"),
+        Err(e) => e,
+    }
+}
+
+fn assert_mentions(message: &str, parts: &[&str]) {
+    assert!(
+        message.starts_with("arm.urdf: "),
+        "the file is not named first: {message}"
+    );
+    for p in parts {
+        assert!(message.contains(p), "{message:?} should mention {p:?}");
+    }
+    assert!(!message.contains('\n'), "one line: {message:?}");
+}
+
+#[test]
+fn the_template_is_valid() {
+    let model = load(GOOD).unwrap();
+    assert_eq!(model.dof(), 2);
+    assert_eq!(model.joints[0].name, "shoulder");
+}
+
+#[test]
+fn malformed_and_truncated_xml() {
+    assert_mentions(&load(&GOOD[..GOOD.len() / 2]).unwrap_err(), &["malformed URDF"]);
+    assert_mentions(&load("this is not xml").unwrap_err(), &["malformed URDF"]);
+    assert_mentions(&load("").unwrap_err(), &["empty"]);
+    assert_mentions(
+        &error_with("<limit lower=\"-1\"", "<limit lower=\"-1\" upper=\"x\""),
+        &["malformed URDF"],
+    );
+}
+
+#[test]
+fn missing_file_names_the_path() {
+    let e = Model::from_urdf_file(std::path::Path::new("/nonexistent/arm.urdf"), &PackagePaths::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("/nonexistent/arm.urdf: "), "{e}");
+}
+
+#[test]
+fn joint_with_a_missing_link() {
+    let e = error_with("<child link=\"fore\"/>", "<child link=\"forearm\"/>");
+    assert_mentions(&e, &["joint 'elbow'", "child link 'forearm' does not exist"]);
+    let e = error_with("<parent link=\"upper\"/>", "<parent link=\"uper\"/>");
+    assert_mentions(&e, &["joint 'elbow'", "parent link 'uper' does not exist"]);
+}
+
+#[test]
+fn kinematic_loops_and_two_roots() {
+    // a second parent for 'upper'
+    let looped = GOOD.replace(
+        "</robot>",
+        r#"<joint name="back" type="fixed"><parent link="fore"/><child link="upper"/></joint></robot>"#,
+    );
+    assert_mentions(
+        &load(&looped).unwrap_err(),
+        &["joint 'back'", "already has parent joint 'shoulder'", "loop"],
+    );
+    // a cycle detached from the root
+    let cycle = GOOD.replace(
+        "</robot>",
+        r#"<link name="a"/><link name="b"/>
+           <joint name="ab" type="fixed"><parent link="a"/><child link="b"/></joint>
+           <joint name="ba" type="fixed"><parent link="b"/><child link="a"/></joint></robot>"#,
+    );
+    assert_mentions(&load(&cycle).unwrap_err(), &["not connected to the root", "loop"]);
+    // a second tree
+    let two_roots = GOOD.replace("</robot>", r#"<link name="stray"/></robot>"#);
+    assert_mentions(&load(&two_roots).unwrap_err(), &["2 root links", "world", "stray"]);
+    let itself = error_with("<child link=\"fore\"/>", "<child link=\"upper\"/>");
+    assert_mentions(&itself, &["joint 'elbow'", "itself"]);
+}
+
+#[test]
+fn bad_masses() {
+    let e = error_with("<mass value=\"0.5\"/>", "<mass value=\"-0.5\"/>");
+    assert_mentions(&e, &["link 'fore' <inertial>", "negative"]);
+    let e = error_with(
+        r#"<mass value="0.5"/>
+      <inertia ixx="0.005" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>"#,
+        r#"<mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>"#,
+    );
+    assert_mentions(&e, &["link 'fore'", "moved by joint 'elbow'", "no mass"]);
+}
+
+#[test]
+fn bad_inertias() {
+    let e = error_with("ixx=\"0.005\"", "ixx=\"-0.005\"");
+    assert_mentions(&e, &["link 'fore' <inertial>", "not positive definite"]);
+    let e = error_with("izz=\"0.01\"", "izz=\"0.03\"");
+    assert_mentions(&e, &["link 'fore' <inertial>", "triangle inequality"]);
+}
+
+#[test]
+fn non_finite_numbers() {
+    let e = error_with("<origin xyz=\"0.2 0 0\"", "<origin xyz=\"0.2 NaN 0\"");
+    assert_mentions(&e, &["joint 'elbow'", "origin xyz", "non-finite"]);
+    let e = error_with("<mass value=\"1.0\"/>", "<mass value=\"inf\"/>");
+    assert_mentions(&e, &["link 'upper' <inertial>", "mass", "non-finite"]);
+    let e = error_with("<dynamics damping=\"0.1\"/>", "<dynamics damping=\"nan\"/>");
+    assert_mentions(&e, &["joint 'shoulder'", "damping"]);
+}
+
+#[test]
+fn zero_axis_and_bad_limits() {
+    let e = error_with("<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 0 0\"/>");
+    assert_mentions(&e, &["joint 'elbow' <axis>", "zero"]);
+    let e = error_with("lower=\"-2\" upper=\"2\"", "lower=\"2\" upper=\"-2\"");
+    assert_mentions(&e, &["joint 'elbow' <limit>", "above upper"]);
+    let e = error_with("<dynamics damping=\"0.1\"/>", "<dynamics damping=\"-0.1\"/>");
+    assert_mentions(&e, &["joint 'shoulder' <dynamics>", "negative"]);
+}
+
+#[test]
+fn unsupported_joint_types_are_named() {
+    for kind in ["floating", "planar"] {
+        let e = error_with(
+            "name=\"elbow\" type=\"revolute\"",
+            &format!("name=\"elbow\" type=\"{kind}\""),
+        );
+        assert_mentions(&e, &["joint 'elbow'", &format!("'{kind}' is not supported")]);
+    }
+}
+
+#[test]
+fn duplicate_names() {
+    let e = load(&GOOD.replace("</robot>", "<link name=\"fore\"/></robot>")).unwrap_err();
+    assert_mentions(&e, &["link 'fore'", "defined twice"]);
+}
+
+#[test]
+fn non_unit_axes_are_normalised() {
+    let model = load(&GOOD.replace("<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 3 4\"/>")).unwrap();
+    let a = model.joints[1].axis;
+    assert!((a.norm() - 1.0).abs() < 1e-15 && (a.y - 0.6).abs() < 1e-15 && (a.z - 0.8).abs() < 1e-15);
+}
