@@ -1,0 +1,7 @@
+//! The joint controller: SPEC §3's digital PD with gravity feed-forward, and its auto-tuning.
+
+mod pd;
+mod tuning;
+
+pub use pd::Pd;
+pub use tuning::{FAZE4_EFFORT, Gains, auto_tune};

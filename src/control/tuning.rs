@@ -1,0 +1,61 @@
+//! SPEC §3's auto-tuning rule.
+
+use serde::Serialize;
+
+/// Torque limits of the Faze4's NEMA17 + cycloidal joints (N·m), J1..J6 (SPEC §3). Not the
+/// URDF effort values.
+pub const FAZE4_EFFORT: [f64; 6] = [7.9, 8.5, 4.7, 3.7, 3.5, 6.0];
+
+/// Per-joint controller gains and the figures they came from. All vectors have one entry per
+/// joint.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Gains {
+    /// Effective inertia I_i = M_ii(q_start) seen by each joint (kg·m² or kg).
+    pub effective_inertia: Vec<f64>,
+    /// Proportional gains (N·m/rad or N/m).
+    pub kp: Vec<f64>,
+    /// Derivative gains (N·m·s/rad or N·s/m).
+    pub kd: Vec<f64>,
+    /// Torque limits E (N·m or N); +∞ where a joint is not limited.
+    pub effort: Vec<f64>,
+}
+
+impl Gains {
+    /// The discrete stability figure `b_i = Δt²·kp_i / I_i` (divergence sets in near 0.5).
+    pub fn stiffness_b(&self, dt: f64) -> Vec<f64> {
+        self.kp
+            .iter()
+            .zip(&self.effective_inertia)
+            .map(|(kp, i)| dt * dt * kp / i)
+            .collect()
+    }
+}
+
+/// SPEC §3: with `inertia` = diag M(q_start) and torque limits `effort`,
+///
+/// ```text
+///   kp_i = min( E_i / 0.05 , 0.4 · I_i / Δt² )
+///   kd_i = min( 1.6 · sqrt(kp_i · I_i) , I_i / (2Δt) )
+/// ```
+///
+/// The first kp term keeps a 0.05 rad error inside the torque limit; the second keeps the
+/// discrete loop's stiffness b = Δt²·kp/I at 0.4. The kd cap keeps the derivative time
+/// constant I/kd at least 2Δt.
+pub fn auto_tune(inertia: &[f64], effort: &[f64], dt: f64) -> Gains {
+    let kp: Vec<f64> = inertia
+        .iter()
+        .zip(effort)
+        .map(|(&i, &e)| (e / 0.05).min(0.4 * i / (dt * dt)))
+        .collect();
+    let kd = inertia
+        .iter()
+        .zip(&kp)
+        .map(|(&i, &kp)| (1.6 * (kp * i).sqrt()).min(i / (2.0 * dt)))
+        .collect();
+    Gains {
+        effective_inertia: inertia.to_vec(),
+        kp,
+        kd,
+        effort: effort.to_vec(),
+    }
+}

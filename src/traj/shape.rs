@@ -1,0 +1,173 @@
+//! SPEC §4's drawing board and the three shapes the tool draws on it.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use crate::spatial::Vec3;
+
+/// A vertical drawing board in the world plane `y = center.y`, facing the arm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Board {
+    /// Centre of the board face (world, m).
+    pub center: Vec3,
+    /// Extent along world x (m).
+    pub width: f64,
+    /// Extent along world z (m).
+    pub height: f64,
+}
+
+/// The board of the original: plane y = −0.48 m, centred at x = 0.08, z = 0.55, 0.50 × 0.44 m.
+pub const BOARD: Board = Board {
+    center: Vec3::new(0.08, -0.48, 0.55),
+    width: 0.50,
+    height: 0.44,
+};
+
+/// Radius of the circle, and of the circle the triangle is inscribed in (m).
+pub const CIRCLE_RADIUS: f64 = 0.16;
+/// Half-length L of the sine's sweep (m).
+pub const SINE_HALF_LENGTH: f64 = 0.19;
+/// Amplitude A of the sine (m).
+pub const SINE_AMPLITUDE: f64 = 0.12;
+/// The joint configuration IK starts from for the first sample (rad), the original's seed.
+pub const Q_SEED: [f64; 6] = [0.0104, 0.1795, -0.5049, 0.0, -0.0938, 0.0];
+/// Time for one loop of a shape (s).
+pub const SHAPE_PERIOD: f64 = 5.0;
+
+/// The three closed paths of SPEC §4.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// One sine period across the board and back.
+    Sine,
+    /// A circle, counter-clockwise from the right.
+    Circle,
+    /// The inscribed triangle, counter-clockwise from the top vertex.
+    Tri,
+}
+
+impl Shape {
+    /// All shapes, in the order the command line lists them.
+    pub const ALL: [Shape; 3] = [Shape::Sine, Shape::Circle, Shape::Tri];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Sine => "sine",
+            Shape::Circle => "circle",
+            Shape::Tri => "tri",
+        }
+    }
+
+    /// The shape with command-line name `name`.
+    pub fn from_name(name: &str) -> Option<Shape> {
+        Shape::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The point at path parameter `s` ∈ [0, 1) on `board` (world, m).
+    pub fn point(self, s: f64, board: &Board) -> Vec3 {
+        let (u, w) = match self {
+            Shape::Circle => (CIRCLE_RADIUS * (TAU * s).cos(), CIRCLE_RADIUS * (TAU * s).sin()),
+            Shape::Tri => {
+                // vertices at 90°, 210°, 330°; each edge takes a third of the loop
+                let vertex = |k: usize| {
+                    let a = FRAC_PI_2 + k as f64 * TAU / 3.0;
+                    (CIRCLE_RADIUS * a.cos(), CIRCLE_RADIUS * a.sin())
+                };
+                let edge = ((3.0 * s).floor() as usize).min(2);
+                let f = 3.0 * s - edge as f64;
+                let (a, b) = (vertex(edge), vertex((edge + 1) % 3));
+                (a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1))
+            }
+            Shape::Sine => {
+                let l = SINE_HALF_LENGTH;
+                let u = if s < 0.5 {
+                    -l + 4.0 * l * s
+                } else {
+                    l - 4.0 * l * (s - 0.5)
+                };
+                (u, SINE_AMPLITUDE * (PI / l * u).sin())
+            }
+        };
+        Vec3::new(board.center.x + u, board.center.y, board.center.z + w)
+    }
+
+    /// The `n` targets `point(k/n)`, k = 0..n−1 (the loop closes back to the first).
+    pub fn targets(self, n: usize, board: &Board) -> Vec<Vec3> {
+        (0..n).map(|k| self.point(k as f64 / n as f64, board)).collect()
+    }
+}
+
+/// Distance from `p` to the closed polyline through `path` (the last point joins the first).
+pub fn distance_to_closed_path(p: &Vec3, path: &[Vec3]) -> f64 {
+    let n = path.len();
+    (0..n)
+        .map(|k| distance_to_segment(p, &path[k], &path[(k + 1) % n]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn distance_to_segment(p: &Vec3, a: &Vec3, b: &Vec3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t - p).norm()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn range(points: &[Vec3], axis: usize) -> (f64, f64) {
+        points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p[axis]), hi.max(p[axis]))
+        })
+    }
+
+    #[test]
+    fn triangle_spans_the_spec_ranges() {
+        let t = Shape::Tri.targets(240, &BOARD);
+        let (x, z) = (range(&t, 0), range(&t, 2));
+        assert!((x.0 + 0.0586).abs() < 1e-4 && (x.1 - 0.2186).abs() < 1e-4, "{x:?}");
+        assert!((z.0 - 0.47).abs() < 1e-12 && (z.1 - 0.71).abs() < 1e-12, "{z:?}");
+        assert!((t[0] - Vec3::new(0.08, -0.48, 0.71)).norm() < 1e-15, "starts at the top vertex");
+    }
+
+    #[test]
+    fn shapes_lie_on_the_board_and_close() {
+        for shape in Shape::ALL {
+            let t = shape.targets(240, &BOARD);
+            assert!(t.iter().all(|p| p.y == -0.48));
+            // consecutive targets, including last → first, are close (a closed loop)
+            let gap = (0..t.len())
+                .map(|k| (t[(k + 1) % t.len()] - t[k]).norm())
+                .fold(0.0, f64::max);
+            assert!(gap < 0.01, "{shape:?}: gap {gap}");
+        }
+        let c = Shape::Circle.targets(4, &BOARD);
+        assert!(
+            (c[1] - Vec3::new(0.08, -0.48, 0.71)).norm() < 1e-15,
+            "counter-clockwise"
+        );
+        let s = Shape::Sine.targets(4, &BOARD);
+        assert!((s[0].x - (0.08 - 0.19)).abs() < 1e-15 && (s[2].x - (0.08 + 0.19)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn distance_to_a_closed_square() {
+        let sq = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        assert_eq!(distance_to_closed_path(&Vec3::new(0.5, 0.0, 0.5), &sq), 0.5);
+        assert_eq!(
+            distance_to_closed_path(&Vec3::new(-0.5, 0.0, 0.5), &sq),
+            0.5,
+            "the closing edge counts"
+        );
+        assert_eq!(distance_to_closed_path(&Vec3::new(0.5, 0.3, 0.0), &sq), 0.3);
+    }
+}
