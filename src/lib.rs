@@ -6,6 +6,7 @@
 //! [`traj`] (commands), [`sim`] (closed-loop runs), [`output`] (the recorder interface).
 
 pub mod algo;
+pub mod cli;
 pub mod control;
 pub mod error;
 pub mod model;

@@ -1,0 +1,106 @@
+//! The command line: clap arguments → a validated scenario → the run → its outputs.
+
+pub mod args;
+pub mod scenario;
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use self::args::{Cli, Command, RunArgs};
+use crate::error::{Error, Result};
+use crate::output::atomic::write_atomically;
+use crate::output::{Recorder, Terminal, TrailCsv};
+use crate::sim::{self, Scenario, Summary};
+
+/// Exit status of a run that diverged.
+pub const EXIT_DIVERGED: u8 = 1;
+/// Exit status of bad input (arguments, files, models).
+pub const EXIT_INPUT: u8 = 2;
+
+/// Parses the process arguments, runs, and reports. The whole program.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match execute(&cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("faze4: error: {e}");
+            ExitCode::from(EXIT_INPUT)
+        }
+    }
+}
+
+fn execute(cli: &Cli) -> Result<ExitCode> {
+    let (scenario, run) = match &cli.command {
+        Command::Wave(a) => (scenario::wave(a)?, &a.run),
+        Command::Replay(a) => (scenario::replay(a)?, &a.run),
+    };
+    run_and_report(&scenario, run)
+}
+
+/// Runs `scenario` with the outputs `run` asks for; the exit status says whether it diverged.
+fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
+    let mut terminal = Terminal::new(run.debug);
+    let mut trail = match is_none(&run.trail) {
+        true => None,
+        false => Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?),
+    };
+    let mut recorders: Vec<&mut dyn Recorder> = vec![&mut terminal];
+    if let Some(t) = trail.as_mut() {
+        recorders.push(t);
+    }
+    let summary = sim::run(scenario, &mut recorders)?;
+    if let Some(path) = &run.summary {
+        write_summary(path, &summary)?;
+    }
+    report_files(scenario, run, &summary, trail.as_ref().map(|t| t.rows()));
+    match &summary.diverged {
+        None => Ok(ExitCode::SUCCESS),
+        Some(d) => {
+            let joint = &scenario.model.joints[d.joint - 1];
+            let b: Vec<String> = d.stiffness_b.iter().map(|b| format!("{b:.3}")).collect();
+            eprintln!(
+                "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the trail and summary keep the steps before it",
+                d.t,
+                d.joint,
+                joint.name,
+                b.join(", ")
+            );
+            Ok(ExitCode::from(EXIT_DIVERGED))
+        }
+    }
+}
+
+fn report_files(scenario: &Scenario, run: &RunArgs, summary: &Summary, trail_rows: Option<usize>) {
+    let mut done = Vec::new();
+    if let Some(rows) = trail_rows {
+        done.push(format!("trail -> {} ({rows} rows)", run.trail.display()));
+    }
+    if let Some(path) = &run.summary {
+        done.push(format!("summary -> {}", path.display()));
+    }
+    let per_step = summary.wall_time_s / scenario.steps.max(1) as f64;
+    done.push(format!(
+        "{} steps in {:.3} s ({:.2} µs/step)",
+        scenario.steps,
+        summary.wall_time_s,
+        per_step * 1e6
+    ));
+    println!("[done] {}", done.join(" · "));
+}
+
+/// Writes the summary JSON (whole or not at all).
+pub fn write_summary(path: &Path, summary: &Summary) -> Result<()> {
+    let mut json = serde_json::to_vec_pretty(summary).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e),
+    })?;
+    json.push(b'\n');
+    write_atomically(path, &json)
+}
+
+/// Whether an output path means "do not write it".
+fn is_none(path: &Path) -> bool {
+    path.as_os_str() == "none"
+}
