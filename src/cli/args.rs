@@ -29,13 +29,13 @@ pub enum Command {
 #[derive(Debug, Args)]
 pub struct WaveArgs {
     /// Simulated time (s).
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     pub duration: f64,
     /// Angular frequency ω of the wave (rad/s, as the original).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
     pub freq: f64,
     /// Amplitude A (degrees).
-    #[arg(long = "amp-deg", default_value_t = 25.0)]
+    #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
     pub amp_deg: f64,
     #[command(flatten)]
     pub run: RunArgs,
@@ -48,10 +48,10 @@ pub struct ReplayArgs {
     #[arg(long = "q-traj", value_name = "F.npy")]
     pub q_traj: PathBuf,
     /// Time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
-    #[arg(long = "traj-period", default_value_t = 5.0)]
+    #[arg(long = "traj-period", default_value_t = 5.0, allow_hyphen_values = true)]
     pub traj_period: f64,
     /// Simulated time (s).
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     pub duration: f64,
     #[command(flatten)]
     pub run: RunArgs,
@@ -85,10 +85,15 @@ pub struct RunArgs {
     #[arg(long = "no-gravity")]
     pub no_gravity: bool,
     /// A point mass at the tool link (kg).
-    #[arg(long = "payload-kg", default_value_t = 0.0, value_name = "M")]
+    #[arg(
+        long = "payload-kg",
+        default_value_t = 0.0,
+        value_name = "M",
+        allow_hyphen_values = true
+    )]
     pub payload_kg: f64,
     /// Control and integration period (s); 2e-4 is 5 kHz.
-    #[arg(long, default_value_t = 2e-4)]
+    #[arg(long, default_value_t = 2e-4, allow_hyphen_values = true)]
     pub dt: f64,
     /// Print τ, error, velocity and g(q) every 0.5 s and add them to the trail.
     #[arg(long)]
@@ -100,7 +105,12 @@ pub struct RunArgs {
     #[arg(long, value_name = "F.json")]
     pub summary: Option<PathBuf>,
     /// Time between trail rows (s).
-    #[arg(long = "record-period", default_value_t = 0.02, value_name = "S")]
+    #[arg(
+        long = "record-period",
+        default_value_t = 0.02,
+        value_name = "S",
+        allow_hyphen_values = true
+    )]
     pub record_period: f64,
 }
 

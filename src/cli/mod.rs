@@ -3,6 +3,7 @@
 pub mod args;
 pub mod scenario;
 
+use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -11,6 +12,7 @@ use clap::Parser;
 use self::args::{Cli, Command, RunArgs};
 use crate::error::{Error, Result};
 use crate::output::atomic::write_atomically;
+use crate::output::format::number;
 use crate::output::{Recorder, Terminal, TrailCsv};
 use crate::sim::{self, Scenario, Summary};
 
@@ -21,7 +23,10 @@ pub const EXIT_INPUT: u8 = 2;
 
 /// Parses the process arguments, runs, and reports. The whole program.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     match execute(&cli) {
         Ok(code) => code,
         Err(e) => {
@@ -29,6 +34,22 @@ pub fn main() -> ExitCode {
             ExitCode::from(EXIT_INPUT)
         }
     }
+}
+
+/// clap's help and version print as usual; its usage errors become one line on stderr.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind::*;
+    if matches!(
+        e.kind(),
+        DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::from(e.exit_code() as u8);
+    }
+    let text = e.to_string();
+    let first = text.lines().next().unwrap_or_default().trim_start_matches("error: ");
+    eprintln!("faze4: error: {first} (faze4 --help lists the options)");
+    ExitCode::from(EXIT_INPUT)
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
@@ -59,7 +80,7 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
         None => Ok(ExitCode::SUCCESS),
         Some(d) => {
             let joint = &scenario.model.joints[d.joint - 1];
-            let b: Vec<String> = d.stiffness_b.iter().map(|b| format!("{b:.3}")).collect();
+            let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
             eprintln!(
                 "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the trail and summary keep the steps before it",
                 d.t,
@@ -87,7 +108,8 @@ fn report_files(scenario: &Scenario, run: &RunArgs, summary: &Summary, trail_row
         summary.wall_time_s,
         per_step * 1e6
     ));
-    println!("[done] {}", done.join(" · "));
+    // a closed stdout (`faze4 … | head`) is not the run's failure
+    let _ = writeln!(std::io::stdout().lock(), "[done] {}", done.join(" · "));
 }
 
 /// Writes the summary JSON (whole or not at all).
