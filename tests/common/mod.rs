@@ -16,11 +16,23 @@ pub fn repo_path(rel: &str) -> PathBuf {
     repo().join(rel)
 }
 
-/// The shared official Faze4 description (data for tests, never copied into the repo).
+/// The official Faze4 description (URDF and meshes), data for the tests that is never copied
+/// into the repository: `$FAZE4_DESCRIPTION`, else `shared/faze4_description` beside the
+/// repository or in any directory above it.
 pub fn shared_description() -> PathBuf {
-    let p = repo().join("../shared/faze4_description");
-    assert!(p.is_dir(), "test data missing: {}", p.display());
-    p
+    if let Some(dir) = std::env::var_os("FAZE4_DESCRIPTION") {
+        return PathBuf::from(dir);
+    }
+    repo()
+        .ancestors()
+        .map(|a| a.join("shared/faze4_description"))
+        .find(|p| p.join("meshes").is_dir())
+        .unwrap_or_else(|| {
+            panic!(
+                "test data missing: no shared/faze4_description above {}; set FAZE4_DESCRIPTION to the official Faze4 URDF folder",
+                repo().display()
+            )
+        })
 }
 
 /// Loads a URDF from a repository-relative path.
