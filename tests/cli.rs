@@ -341,3 +341,63 @@ fn a_diverging_run_stops_at_once_and_says_so() {
     assert!(!rows.is_empty() && rows.iter().flatten().all(|x| x.is_finite()));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn progress_bar_shows_on_a_terminal_only() {
+    let dir = temp_dir("progress");
+    let exe = env!("CARGO_BIN_EXE_faze4");
+    // a run of a few seconds: under a pseudo-terminal (util-linux `script`) the bar appears…
+    let command = format!("{exe} wave --duration 300 --trail none");
+    let tty = std::process::Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .current_dir(&dir)
+        .output()
+        .expect("util-linux `script` runs the binary under a pseudo-terminal");
+    assert!(tty.status.success());
+    let text = String::from_utf8_lossy(&tty.stdout);
+    assert!(
+        text.contains("%  t = ") && text.contains("s left"),
+        "no progress bar on a terminal"
+    );
+    // …and with stderr a pipe, it does not
+    let piped = faze4(&dir, &["wave", "--duration", "300", "--trail", "none"]);
+    assert!(piped.status.success());
+    assert!(
+        piped.stderr.is_empty(),
+        "stderr should be empty, got {:?}",
+        &piped.stderr[..piped.stderr.len().min(200)]
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn ctrl_c_ends_the_run_with_complete_files() {
+    let dir = temp_dir("ctrl-c");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(["wave", "--duration", "36000", "--trail", "t.csv", "--summary", "s.json"])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("interrupted at t = "));
+    // both files complete: every trail row whole, the summary valid JSON that says where it stopped
+    let (header, rows) = read_csv(&dir.join("t.csv"));
+    assert!(rows.len() > 10 && rows.iter().all(|r| r.len() == header.len()));
+    let s = summary(&dir, "s.json");
+    let t = s["interrupted_at_s"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 36000.0);
+    assert!(
+        (rows.last().unwrap()[0] - t).abs() < 1e-9,
+        "the trail ends where the run stopped"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

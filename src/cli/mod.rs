@@ -14,12 +14,14 @@ use crate::error::{Error, Result};
 use crate::output::atomic::write_atomically;
 use crate::output::format::number;
 use crate::output::{Recorder, Terminal, TrailCsv};
-use crate::sim::{self, Scenario, Summary};
+use crate::sim::{self, Scenario, StopFlag, Summary};
 
 /// Exit status of a run that diverged.
 pub const EXIT_DIVERGED: u8 = 1;
 /// Exit status of bad input (arguments, files, models).
 pub const EXIT_INPUT: u8 = 2;
+/// Exit status of a run stopped by Ctrl-C (128 + SIGINT, as shells report it).
+pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Parses the process arguments, runs, and reports. The whole program.
 pub fn main() -> ExitCode {
@@ -71,11 +73,15 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
     if let Some(t) = trail.as_mut() {
         recorders.push(t);
     }
-    let summary = sim::run(scenario, &mut recorders)?;
+    let summary = sim::run(scenario, &mut recorders, &StopFlag::ctrl_c())?;
     if let Some(path) = &run.summary {
         write_summary(path, &summary)?;
     }
     report_files(scenario, run, &summary, trail.as_ref().map(|t| t.rows()));
+    if let Some(t) = summary.interrupted_at_s {
+        eprintln!("faze4: interrupted at t = {t:.3} s; the trail and summary are complete up to there");
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
     match &summary.diverged {
         None => Ok(ExitCode::SUCCESS),
         Some(d) => {

@@ -1,7 +1,8 @@
 //! What a run prints (SPEC §5): a banner with the model and the gains, a line every 0.5 s of
 //! simulated time, and the summary.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
+use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row};
 use super::{Recorder, RunInfo, Sample};
@@ -9,17 +10,77 @@ use crate::sim::Summary;
 
 /// Simulated time between progress lines (s).
 pub const PRINT_PERIOD: f64 = 0.5;
+/// A run shows a progress bar once it has taken this long (and stderr is a terminal).
+const BAR_AFTER: Duration = Duration::from_secs(1);
+/// Time between two redraws of the bar.
+const BAR_REDRAW: Duration = Duration::from_millis(100);
 
-/// Prints to stdout.
+/// Prints to stdout; for runs longer than a second, also a progress bar on stderr when stderr is
+/// a terminal.
 pub struct Terminal {
     debug: bool,
     dof: usize,
+    /// Steps between printed lines.
+    print_every: usize,
+    steps: usize,
+    dt: f64,
+    bar: Option<Bar>,
+}
+
+/// The progress bar's state.
+struct Bar {
+    started: Instant,
+    drawn: Option<Instant>,
 }
 
 impl Terminal {
     /// A printer; `debug` adds τ, the tracking error, v and g(q) to every progress line.
     pub fn new(debug: bool) -> Self {
-        Self { debug, dof: 0 }
+        let bar = std::io::stderr().is_terminal().then(|| Bar {
+            started: Instant::now(),
+            drawn: None,
+        });
+        Self {
+            debug,
+            dof: 0,
+            print_every: 1,
+            steps: 0,
+            dt: 0.0,
+            bar,
+        }
+    }
+
+    /// Erases the bar (before a line is printed, and at the end).
+    fn clear_bar(&mut self) {
+        if let Some(bar) = self.bar.as_mut().filter(|b| b.drawn.is_some()) {
+            let _ = write!(std::io::stderr().lock(), "\r\x1b[2K");
+            bar.drawn = None;
+        }
+    }
+
+    fn draw_bar(&mut self, step: usize) {
+        let Some(bar) = self.bar.as_mut() else { return };
+        let now = Instant::now();
+        let elapsed = now - bar.started;
+        if elapsed < BAR_AFTER || bar.drawn.is_some_and(|d| now - d < BAR_REDRAW) {
+            return;
+        }
+        let done = step as f64 / self.steps.max(1) as f64;
+        let width = 30;
+        let full = (done * width as f64).round() as usize;
+        let left = elapsed.as_secs_f64() * (1.0 - done) / done.max(1e-9);
+        let _ = write!(
+            std::io::stderr().lock(),
+            "\r\x1b[2K[{}{}] {:3.0}%  t = {:.1} / {:.1} s  ~{:.*} s left",
+            "#".repeat(full),
+            "-".repeat(width - full),
+            done * 100.0,
+            step as f64 * self.dt,
+            self.steps as f64 * self.dt,
+            if left < 10.0 { 1 } else { 0 },
+            left
+        );
+        bar.drawn = Some(now);
     }
 }
 
@@ -40,12 +101,21 @@ fn out(line: &str) -> crate::Result<()> {
 
 impl Recorder for Terminal {
     fn every(&self, dt: f64) -> usize {
-        (PRINT_PERIOD / dt).round() as usize
+        let print_every = ((PRINT_PERIOD / dt).round() as usize).max(1);
+        // with a bar, look in five times per printed line
+        if self.bar.is_some() {
+            (print_every / 5).max(1)
+        } else {
+            print_every
+        }
     }
 
     fn begin(&mut self, run: &RunInfo) -> crate::Result<()> {
         let m = run.model;
         self.dof = m.dof();
+        self.print_every = ((PRINT_PERIOD / run.dt).round() as usize).max(1);
+        self.steps = run.steps;
+        self.dt = run.dt;
         let g = m.gravity.z;
         out(&format!(
             "[faze4] {} · {} ({}) · {} dof · gravity {} · Δt {} ms ({}) · {} s = {} steps",
@@ -85,6 +155,11 @@ impl Recorder for Terminal {
     }
 
     fn record(&mut self, s: &Sample) -> crate::Result<()> {
+        if !s.step.is_multiple_of(self.print_every) && s.step != self.steps {
+            self.draw_bar(s.step);
+            return Ok(());
+        }
+        self.clear_bar();
         let list = |v: &mut dyn Iterator<Item = f64>| v.map(|x| format!("{x:7.3}")).collect::<Vec<_>>().join("");
         out(&format!(
             "t={:6.2}s  q(rad){}  tool xyz(m){}",
@@ -98,10 +173,12 @@ impl Recorder for Terminal {
             out(&row("    velocity (rad/s)", s.v.iter().copied()))?;
             out(&row("    g(q) (N·m)", s.g.iter().copied()))?;
         }
+        self.draw_bar(s.step);
         Ok(())
     }
 
     fn finish(&mut self, s: &Summary) -> crate::Result<()> {
+        self.clear_bar();
         out(&format!("[summary]{}", &joint_header(self.dof)[9..]))?;
         out(&row("max track. err (rad)", s.max_tracking_error_rad.iter().copied()))?;
         out(&row("saturation (%)", s.saturation_pct.iter().copied()))?;

@@ -3,8 +3,10 @@
 
 mod run;
 mod scenario;
+mod stop;
 mod summary;
 
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{Scenario, ShapeRun};
+pub use stop::StopFlag;
 pub use summary::{Diverged, PathDeviation, Summary, ToolRange};

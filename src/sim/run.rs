@@ -8,7 +8,10 @@ use crate::output::{Recorder, RunInfo, Sample};
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
-use super::{Diverged, PathDeviation, Scenario, Summary, ToolRange};
+use super::{Diverged, PathDeviation, Scenario, StopFlag, Summary, ToolRange};
+
+/// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
+const STOP_POLL_STEPS: usize = 1024;
 
 /// A joint moving faster than this (rad/s or m/s) has run away: no arm does, and a discrete
 /// loop that has gone unstable passes it within a few steps.
@@ -20,8 +23,10 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 /// pass; the command at t_k; the PD torque, held over the step; the discrete step. The summary's
 /// tracking error and saturation are over those steps; tool range and path deviation over the
 /// samples every `record_every` steps and after the last. A diverged run stops at once; its
-/// summary says where (`diverged`), and covers the steps that completed.
-pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder]) -> Result<Summary> {
+/// summary says where (`diverged`), and covers the steps that completed. A raised `stop` flag
+/// ends the run at the next poll the same way, as if that step were the last
+/// (`interrupted_at_s` in the summary).
+pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) -> Result<Summary> {
     let model = &sc.model;
     let n = model.dof();
     let dt = sc.dt;
@@ -57,9 +62,13 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder]) -> Result<Summary
     let wall = Instant::now();
     let mut done = 0;
     let mut diverged = None;
+    let mut interrupted_at_s = None;
     for k in 0..=sc.steps {
         let t = k as f64 * dt;
-        let last = k == sc.steps || diverged.is_some();
+        if k % STOP_POLL_STEPS == 0 && k > 0 && k < sc.steps && stop.is_raised() {
+            interrupted_at_s = Some(t);
+        }
+        let last = k == sc.steps || diverged.is_some() || interrupted_at_s.is_some();
         if diverged.is_none() {
             // g, bias and M at (q_k, v_k); the command at t_k; the held torque
             compute_all_terms(model, &mut data, &q, &v);
@@ -144,6 +153,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder]) -> Result<Summary
             mean: metrics.deviation_sum / metrics.samples.max(1) as f64 * 1e3,
         }),
         ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
+        interrupted_at_s,
     };
     for r in recorders.iter_mut() {
         r.finish(&summary)?;
