@@ -1,8 +1,7 @@
 //! Joint trajectories as NumPy `.npy` files: N×dof arrays of float64 or float32, C or
 //! Fortran order. Reading reports exactly what a bad file holds.
 
-use std::fs::File;
-use std::io::{BufReader, Seek, SeekFrom};
+use std::io::Cursor;
 use std::path::Path;
 
 use ndarray::Array2;
@@ -15,16 +14,21 @@ use crate::output::atomic::AtomicFile;
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
 /// N ≥ 2 rows, every value finite.
 pub fn read_samples(path: &Path) -> Result<Vec<Vec<f64>>> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_samples(&bytes, path)
+}
+
+/// [`read_samples`] on the bytes of a file; `path` names it in errors.
+pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
     let bad = |message: String| Error::InvalidData {
         path: path.to_path_buf(),
         message,
     };
-    let file = File::open(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let mut reader = BufReader::new(file);
-    let header = Header::from_reader(&mut reader).map_err(|e| bad(format!("not a NumPy .npy file ({e})")))?;
+    let header =
+        Header::from_reader(&mut Cursor::new(bytes)).map_err(|e| bad(format!("not a NumPy .npy file ({e})")))?;
     let descr = header.type_descriptor.to_string();
     let found = || format!("dtype {descr}, shape {:?}", header.shape);
     if header.shape.len() != 2 {
@@ -33,14 +37,12 @@ pub fn read_samples(path: &Path) -> Result<Vec<Vec<f64>>> {
             found()
         )));
     }
-    reader.seek(SeekFrom::Start(0)).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
     let data = |e: ndarray_npy::ReadNpyError| bad(format!("cannot read the {} data: {e}", found()));
     let array: Array2<f64> = match descr.trim_matches('\'') {
-        "<f8" | ">f8" | "=f8" => Array2::<f64>::read_npy(&mut reader).map_err(data)?,
-        "<f4" | ">f4" | "=f4" => Array2::<f32>::read_npy(&mut reader).map_err(data)?.mapv(f64::from),
+        "<f8" | ">f8" | "=f8" => Array2::<f64>::read_npy(Cursor::new(bytes)).map_err(data)?,
+        "<f4" | ">f4" | "=f4" => Array2::<f32>::read_npy(Cursor::new(bytes))
+            .map_err(data)?
+            .mapv(f64::from),
         _ => return Err(bad(format!("expected float64 or float32 values, found {}", found()))),
     };
     let (rows, columns) = array.dim();
@@ -93,7 +95,7 @@ mod tests {
         let f = f.as_standard_layout().reversed_axes().to_owned(); // 2x3 in Fortran memory order
         assert!(f.t().is_standard_layout());
         let p32 = dir.join("f.npy");
-        f.write_npy(File::create(&p32).unwrap()).unwrap();
+        f.write_npy(std::fs::File::create(&p32).unwrap()).unwrap();
         let back = read_samples(&p32).unwrap();
         assert_eq!(back[0].len(), f.ncols());
         for (r, row) in back.iter().enumerate() {
