@@ -8,6 +8,7 @@
 pub mod algo;
 pub mod control;
 pub mod error;
+pub mod ik;
 pub mod model;
 pub mod output;
 pub mod sim;
