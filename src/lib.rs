@@ -9,6 +9,7 @@ pub mod algo;
 pub mod cli;
 pub mod control;
 pub mod error;
+pub mod ik;
 pub mod model;
 pub mod output;
 pub mod sim;
