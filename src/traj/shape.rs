@@ -131,7 +131,10 @@ mod tests {
         let (x, z) = (range(&t, 0), range(&t, 2));
         assert!((x.0 + 0.0586).abs() < 1e-4 && (x.1 - 0.2186).abs() < 1e-4, "{x:?}");
         assert!((z.0 - 0.47).abs() < 1e-12 && (z.1 - 0.71).abs() < 1e-12, "{z:?}");
-        assert!((t[0] - Vec3::new(0.08, -0.48, 0.71)).norm() < 1e-15, "starts at the top vertex");
+        assert!(
+            (t[0] - Vec3::new(0.08, -0.48, 0.71)).norm() < 1e-15,
+            "starts at the top vertex"
+        );
     }
 
     #[test]
