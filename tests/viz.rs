@@ -251,3 +251,18 @@ fn live_view_paces_samples_to_the_wall_clock() {
     // the last sample (t = 0.5 s) is published 0.5 s after the first
     assert!(took >= 0.5, "{took} s");
 }
+
+#[test]
+fn hold_until_returns_when_asked_and_serves_meanwhile() {
+    let live = LiveView::start(0).unwrap();
+    let port = live.port();
+    let polls = std::cell::Cell::new(0);
+    live.hold_until(|| {
+        polls.set(polls.get() + 1);
+        if polls.get() == 2 {
+            assert_eq!(get(port, "/").0, 200, "serving while held");
+        }
+        polls.get() >= 3
+    });
+    assert_eq!(polls.get(), 3);
+}

@@ -164,10 +164,17 @@ impl LiveView {
         }
     }
 
-    /// Keeps serving until the process is interrupted (Ctrl-C). Returns only if the server
-    /// stopped by itself.
+    /// Keeps serving until the process is interrupted (Ctrl-C with its default action).
+    /// Returns only if the server stopped by itself. See [`LiveHandle::hold_until`] when a
+    /// Ctrl-C handler is installed.
     pub fn hold(&self) {
         self.handle().hold()
+    }
+
+    /// Keeps serving until `stop()` returns true (polled 10 times a second; e.g. the
+    /// command line's Ctrl-C flag) or the server stopped by itself.
+    pub fn hold_until(&self, stop: impl Fn() -> bool) {
+        self.handle().hold_until(stop)
     }
 }
 
@@ -177,11 +184,18 @@ impl LiveHandle {
         format!("http://{}", self.server.addr)
     }
 
-    /// Keeps serving until the process is interrupted (Ctrl-C ends it the usual way: the
+    /// Keeps serving until the process is interrupted (Ctrl-C with its default action: the
     /// run's files are already written). Returns only if the server stopped by itself.
     pub fn hold(&self) {
+        self.hold_until(|| false)
+    }
+
+    /// Keeps serving until `stop()` returns true (polled 10 times a second; e.g. the
+    /// command line's Ctrl-C flag, since a Ctrl-C handler keeps Ctrl-C from ending the
+    /// process) or the server stopped by itself.
+    pub fn hold_until(&self, stop: impl Fn() -> bool) {
         eprintln!("viz: serving {} until Ctrl-C", self.url());
-        loop {
+        while !stop() {
             let done = self
                 .server
                 .acceptor
@@ -192,7 +206,7 @@ impl LiveHandle {
             if done {
                 return;
             }
-            std::thread::park_timeout(Duration::from_secs(1));
+            std::thread::sleep(Duration::from_millis(100));
         }
     }
 }

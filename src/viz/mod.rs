@@ -5,22 +5,30 @@
 //! # API for the command line
 //!
 //! ```no_run
-//! use faze4::viz::{HtmlExport, LiveView, PlotRecorder, DEFAULT_PORT};
+//! use faze4::output::Recorder;
+//! use faze4::viz::{DEFAULT_PORT, HtmlExport, LiveView, PlotRecorder};
 //! # fn main() -> faze4::Result<()> {
-//! // --view [--port P]: serve http://127.0.0.1:P (prints the address); a port in use is an
-//! // Error::InvalidArgument for --port
-//! let live = LiveView::start(DEFAULT_PORT)?;
-//! let hold = live.handle(); // for --hold, if the recorder is boxed away below
-//! // --html F (default on; --html none skips it): checks F's directory at once
-//! let html = HtmlExport::new("faze4_run.html")?;
-//! // --plot F.svg | F.png: checks the extension and directory at once
-//! let plot = PlotRecorder::new("faze4_plot.svg")?;
-//! let recorders: Vec<Box<dyn faze4::output::Recorder>> = vec![Box::new(live), Box::new(html), Box::new(plot)];
+//! # let stop = std::sync::atomic::AtomicBool::new(false);
+//! // --view [--port P]: serves http://127.0.0.1:P at once and prints the address; a port in
+//! // use is an Error::InvalidArgument for --port
+//! let mut live = LiveView::start(DEFAULT_PORT)?;
+//! // --html F (--html none: skip it): checks F's directory before the run
+//! let mut html = HtmlExport::new("faze4_run.html")?;
+//! // --plot F.svg | F.png: checks the extension and the directory before the run
+//! let mut plot = PlotRecorder::new("faze4_plot.svg")?;
+//! let mut recorders: Vec<&mut dyn Recorder> = vec![&mut live, &mut html, &mut plot];
 //! // … run the simulation with `recorders` (begin, record, finish) …
 //! drop(recorders);
-//! hold.hold(); // --hold: keep serving until Ctrl-C
+//! // --hold: keep serving until Ctrl-C (with a Ctrl-C handler installed, poll its flag;
+//! // without one, `live.hold()`)
+//! live.hold_until(|| stop.load(std::sync::atomic::Ordering::Relaxed));
 //! # Ok(()) }
 //! ```
+//!
+//! The live view paces [`Recorder::record`](crate::output::Recorder::record) to the wall
+//! clock (sample t is shown t seconds after the first), so a run with `--view` takes its
+//! simulated duration in real time. Recorders that are boxed away can leave a
+//! [`LiveHandle`] (`live.handle()`) to hold the server with.
 //!
 //! Meshes come with the model: load it with the `--package-path` directories
 //! (`Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(dirs))`), which resolves

@@ -18,10 +18,22 @@ pub fn repo() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The official Faze4 description (meshes), never copied into the repository:
+/// `$FAZE4_DESCRIPTION`, else `shared/faze4_description` beside the repository or above it.
 pub fn description() -> PathBuf {
-    let p = repo().join("../shared/faze4_description");
-    assert!(p.is_dir(), "test data missing: {}", p.display());
-    p
+    if let Some(dir) = std::env::var_os("FAZE4_DESCRIPTION") {
+        return PathBuf::from(dir);
+    }
+    repo()
+        .ancestors()
+        .map(|a| a.join("shared/faze4_description"))
+        .find(|p| p.join("meshes").is_dir())
+        .unwrap_or_else(|| {
+            panic!(
+                "test data missing: no shared/faze4_description above {}; set FAZE4_DESCRIPTION",
+                repo().display()
+            )
+        })
 }
 
 /// `urdf/faze4_real.urdf` with the official meshes resolved.
