@@ -3,7 +3,8 @@
 //!
 //!     cargo run --release --example viz_export -- circle real out.html [plot.svg|plot.png]
 //!
-//! `circle|wave`, `real|box` (real: urdf/faze4_real.urdf with ../shared/faze4_description).
+//! `circle|wave`, `real|box|bare` (real: urdf/faze4_real.urdf with ../shared/faze4_description; bare: the
+//! same without it).
 
 #[path = "../tests/viz_support/mod.rs"]
 mod viz_support;
@@ -19,6 +20,11 @@ fn main() -> faze4::Result<()> {
     let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or_else(|| default.to_string());
     let model = match arg(1, "real").as_str() {
         "box" => box_model(),
+        // the real-look URDF without its meshes: boxes, and one line on stderr
+        "bare" => faze4::model::Model::from_urdf_file(
+            &repo().join("urdf/faze4_real.urdf"),
+            &faze4::model::PackagePaths::default(),
+        )?,
         _ => real_model(),
     };
     let run = match arg(0, "circle").as_str() {

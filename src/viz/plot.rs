@@ -175,9 +175,9 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
 ];
-const COMMAND: RGBColor = RGBColor(230, 120, 30);
+const COMMAND: RGBColor = RGBColor(255, 175, 95);
 const MEASURED: RGBColor = RGBColor(31, 90, 180);
-const LIMIT: RGBColor = RGBColor(200, 30, 30);
+const LIMIT: RGBColor = RGBColor(110, 110, 110);
 
 /// `[lo, hi]` of `values` with a margin, never empty.
 fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
@@ -187,7 +187,7 @@ fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     if !lo.is_finite() {
         return -1.0..1.0;
     }
-    let pad = ((hi - lo) * 0.08).max(1e-9 + 1e-3 * lo.abs().max(hi.abs()));
+    let pad = ((hi - lo) * 0.08).max(0.005);
     (lo - pad)..(hi + pad)
 }
 
@@ -231,7 +231,7 @@ impl PlotRecorder {
             let limit = self.effort.get(j).copied().filter(|x| x.is_finite());
             let y = range(tau.iter().copied().chain(limit.into_iter().flat_map(|l| [l, -l])));
             let caption = match limit {
-                Some(l) => format!("{name}: τ (N·m), limit ±{l}"),
+                Some(l) => format!("{name}: τ (N·m), limit ±{l} (grey)"),
                 None => format!("{name}: τ (N·m), unlimited"),
             };
             let mut chart = new_chart(&panels[2 * j + 1], &caption, t_end, y)?;
@@ -324,7 +324,8 @@ fn new_chart<'a, DB: DrawingBackend>(
     let mut chart = ChartBuilder::on(area)
         .caption(caption, (FAMILY, 15))
         .margin(8)
-        .x_label_area_size(26)
+        .margin_right(20)
+        .x_label_area_size(40)
         .y_label_area_size(64)
         .build_cartesian_2d(0.0..t_end, y)
         .map_err(|e| e.to_string())?;
