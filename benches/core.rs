@@ -5,8 +5,12 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use faze4::algo::{Data, compute_all_terms, crba, discrete_step, forward_kinematics, gravity, rnea};
+use faze4::algo::{
+    Data, compute_all_terms, crba, discrete_step, forward_kinematics, gravity, integrate_discrete, rnea,
+};
+use faze4::control::{FAZE4_EFFORT, Pd, auto_tune};
 use faze4::model::{Model, PackagePaths};
+use faze4::traj::Wave;
 
 fn faze4() -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("urdf/faze4_arm.urdf");
@@ -41,5 +45,45 @@ fn core(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, core);
+/// One step of the 5 kHz closed loop as `faze4 wave` runs it: all terms, the wave command,
+/// the PD torque, the discrete step.
+fn closed_loop_step(c: &mut Criterion) {
+    let model = faze4();
+    let mut data = Data::new(&model);
+    let dt = 2e-4;
+    let wave = Wave {
+        amplitude: 25f64.to_radians(),
+        omega: 0.5,
+        dof: 6,
+    };
+    let (mut q0, mut v0) = ([0.0; 6], [0.0; 6]);
+    wave.eval(0.0, &mut q0, &mut v0);
+    let inertia: Vec<f64> = crba(&model, &mut data, &q0).diagonal().iter().copied().collect();
+    let gains = auto_tune(&inertia, &FAZE4_EFFORT, dt);
+    let pd = Pd {
+        kp: gains.kp,
+        kd: gains.kd,
+        effort: gains.effort,
+        feedforward: true,
+    };
+    let (mut q, mut v) = (q0, v0);
+    let (mut q_cmd, mut v_cmd, mut tau_raw, mut tau) = ([0.0; 6], [0.0; 6], [0.0; 6], [0.0; 6]);
+    let mut k = 0usize;
+    c.bench_function("closed_loop_step", |b| {
+        b.iter(|| {
+            let t = k as f64 * dt;
+            compute_all_terms(&model, &mut data, &q, &v);
+            wave.eval(t, &mut q_cmd, &mut v_cmd);
+            pd.torque(&q, &v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw, &mut tau);
+            integrate_discrete(&model, &mut data, &mut q, &mut v, &tau, dt).unwrap();
+            // the wave is periodic; restart every 8 s so the state stays on the trajectory
+            k = (k + 1) % 40_000;
+            if k == 0 {
+                (q, v) = (q0, v0);
+            }
+        })
+    });
+}
+
+criterion_group!(benches, core, closed_loop_step);
 criterion_main!(benches);

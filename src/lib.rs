@@ -7,6 +7,7 @@
 //! [`viz`] (the 3D view, live and exported, and the plot: recorders).
 
 pub mod algo;
+pub mod cli;
 pub mod control;
 pub mod error;
 pub mod model;

@@ -1,3 +1,5 @@
-fn main() {
-    println!("faze4: command line not built yet");
+//! The `faze4` binary: everything is in the library's `cli` module.
+
+fn main() -> std::process::ExitCode {
+    faze4::cli::main()
 }

@@ -4,7 +4,10 @@
 mod common;
 
 use common::*;
-use faze4::algo::{Data, bias, cholesky_factor, crba, forward_dynamics, forward_kinematics, frame_jacobian, rnea};
+use faze4::algo::{
+    Data, bias, cholesky_factor, compute_all_terms, crba, forward_dynamics, forward_kinematics, frame_jacobian,
+    gravity, rnea,
+};
 use faze4::model::Model;
 use nalgebra::{DMatrix, DVector};
 
@@ -49,6 +52,24 @@ fn mass_matrix_and_bias_add_up_to_inverse_dynamics() {
         let lhs = &m * DVector::from_column_slice(a) + b;
         let err = (lhs - &tau).amax() / tau.amax().max(1.0);
         assert!(err < 1e-12, "{path}: M v̇ + Cv + g differs from RNEA by {err:e}");
+    });
+}
+
+#[test]
+fn all_terms_agree_with_rnea_and_crba() {
+    // one kinematics pass, gravity from composite inertias = separate RNEA and CRBA calls
+    for_each_state(|path, model, data, q, v, _| {
+        let g = gravity(model, data, q).clone();
+        let b = bias(model, data, q, v).clone();
+        let m = crba(model, data, q).clone();
+        compute_all_terms(model, data, q, v);
+        let eg = (&data.g - &g).amax() / g.amax().max(1e-300);
+        let eb = (&data.bias - &b).amax() / b.amax().max(1e-300);
+        assert!(
+            eg < 1e-12 && eb < 1e-12,
+            "{path}: g differs by {eg:e}, bias by {eb:e} (relative)"
+        );
+        assert_eq!(data.m, m, "{path}: M");
     });
 }
 

@@ -7,24 +7,27 @@ use nalgebra::{DMatrix, DVector};
 /// finite), leaving `l` unspecified.
 pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
     let n = a.nrows();
+    // column-major storage: entry (i, j) is at i + j·n
+    let a = a.as_slice();
+    let l = l.as_mut_slice();
     for j in 0..n {
         // L_jj = sqrt(A_jj − Σ_k L_jk²)
-        let mut d = a[(j, j)];
+        let mut d = a[j + j * n];
         for k in 0..j {
-            d -= l[(j, k)] * l[(j, k)];
+            d -= l[j + k * n] * l[j + k * n];
         }
         if d.is_nan() || d <= 0.0 {
             return false;
         }
         let ljj = d.sqrt();
-        l[(j, j)] = ljj;
+        l[j + j * n] = ljj;
         // L_ij = (A_ij − Σ_k L_ik L_jk) / L_jj, i > j
         for i in j + 1..n {
-            let mut s = a[(i, j)];
+            let mut s = a[i + j * n];
             for k in 0..j {
-                s -= l[(i, k)] * l[(j, k)];
+                s -= l[i + k * n] * l[j + k * n];
             }
-            l[(i, j)] = s / ljj;
+            l[i + j * n] = s / ljj;
         }
     }
     true
@@ -33,21 +36,23 @@ pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
 /// Solves `L Lᵀ x = b` in place (`b` becomes x), with `l` from [`cholesky_factor`].
 pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
     let n = l.nrows();
+    let l = l.as_slice();
+    let b = b.as_mut_slice();
     // forward substitution: L y = b
     for i in 0..n {
         let mut s = b[i];
         for k in 0..i {
-            s -= l[(i, k)] * b[k];
+            s -= l[i + k * n] * b[k];
         }
-        b[i] = s / l[(i, i)];
+        b[i] = s / l[i + i * n];
     }
     // back substitution: Lᵀ x = y
     for i in (0..n).rev() {
         let mut s = b[i];
         for k in i + 1..n {
-            s -= l[(k, i)] * b[k];
+            s -= l[k + i * n] * b[k];
         }
-        b[i] = s / l[(i, i)];
+        b[i] = s / l[i + i * n];
     }
 }
 

@@ -10,42 +10,42 @@ use crate::spatial::Motion;
 /// Inverse dynamics: `data.tau = M(q) qdd + C(q, qd) qd + g(q)` (joint damping excluded).
 pub fn rnea<'d>(model: &Model, data: &'d mut Data, q: &[f64], qd: &[f64], qdd: &[f64]) -> &'d DVector<f64> {
     update_joint_transforms(model, data, q);
-    rnea_passes(model, data, Some(qd), Some(qdd));
+    rnea_passes(model, data, Some(qd), Some(qdd), true);
     &data.tau
 }
 
 /// Gravity forces: `data.g = g(q)`, the joint forces that hold the arm still at q.
 pub fn gravity<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> &'d DVector<f64> {
     update_joint_transforms(model, data, q);
-    gravity_from_transforms(model, data);
+    rnea_passes(model, data, None, None, true);
+    data.g.copy_from(&data.tau);
     &data.g
 }
 
 /// Bias forces: `data.bias = C(q, qd) qd + g(q)` (RNEA with zero acceleration).
 pub fn bias<'d>(model: &Model, data: &'d mut Data, q: &[f64], qd: &[f64]) -> &'d DVector<f64> {
     update_joint_transforms(model, data, q);
-    bias_from_transforms(model, data, qd);
+    rnea_passes(model, data, Some(qd), None, true);
+    data.bias.copy_from(&data.tau);
     &data.bias
 }
 
-/// `data.g` from the current `data.xup`.
-pub(crate) fn gravity_from_transforms(model: &Model, data: &mut Data) {
-    rnea_passes(model, data, None, None);
-    data.g.copy_from(&data.tau);
-}
-
-/// `data.bias` from the current `data.xup`.
-pub(crate) fn bias_from_transforms(model: &Model, data: &mut Data, qd: &[f64]) {
-    rnea_passes(model, data, Some(qd), None);
+/// `data.bias = C(q, qd) qd` alone (no gravity) from the current `data.xup`.
+pub(crate) fn velocity_bias_from_transforms(model: &Model, data: &mut Data, qd: &[f64]) {
+    rnea_passes(model, data, Some(qd), None, false);
     data.bias.copy_from(&data.tau);
 }
 
 /// The two RNEA passes on the current `data.xup`, into `data.tau`. `None` stands for a zero
-/// vector (and skips its terms).
-fn rnea_passes(model: &Model, data: &mut Data, qd: Option<&[f64]>, qdd: Option<&[f64]>) {
+/// vector (and skips its terms); `with_gravity: false` leaves gravity out.
+fn rnea_passes(model: &Model, data: &mut Data, qd: Option<&[f64]>, qdd: Option<&[f64]>, with_gravity: bool) {
     let n = model.dof();
     // The base accelerates upwards at −g instead of gravity pulling every body (RBDA §5.3).
-    let a0 = Motion::new(Default::default(), -model.gravity);
+    let a0 = if with_gravity {
+        Motion::new(Default::default(), -model.gravity)
+    } else {
+        Motion::ZERO
+    };
     // Forward pass, root to tip:
     //   v_i = X_i v_λ + s_i qd_i
     //   a_i = X_i a_λ + s_i qdd_i + v_i ×ₘ s_i qd_i

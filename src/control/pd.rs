@@ -15,13 +15,13 @@ pub struct Pd {
 
 impl Pd {
     /// The torque for one zero-order-hold period, into `tau` (clipped) and `tau_raw`
-    /// (unclipped); `saturated[i]` counts the steps where `|τ_raw,i| ≥ E_i`:
+    /// (unclipped); joint i is saturated when `|τ_raw,i| ≥ E_i` (see [`Pd::saturated`]):
     ///
     /// ```text
     ///   τ_raw = kp∘(q_cmd − q) + kd∘(v_cmd − v) + g(q)      (g only with feed-forward)
     ///   τ     = clip(τ_raw, −E, E)
     /// ```
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // the law's seven vectors, named as in SPEC §3
     #[inline]
     pub fn torque(
         &self,
@@ -32,7 +32,6 @@ impl Pd {
         g: &[f64],
         tau_raw: &mut [f64],
         tau: &mut [f64],
-        saturated: &mut [u64],
     ) {
         for i in 0..q.len() {
             let mut t = self.kp[i] * (q_cmd[i] - q[i]) + self.kd[i] * (v_cmd[i] - v[i]);
@@ -40,11 +39,13 @@ impl Pd {
                 t += g[i];
             }
             tau_raw[i] = t;
-            let e = self.effort[i];
-            if t.abs() >= e {
-                saturated[i] += 1;
-            }
-            tau[i] = t.clamp(-e, e);
+            tau[i] = t.clamp(-self.effort[i], self.effort[i]);
         }
+    }
+
+    /// Whether joint i's unclipped torque reaches its limit (`|τ_raw,i| ≥ E_i`).
+    #[inline]
+    pub fn saturated(&self, i: usize, tau_raw: f64) -> bool {
+        tau_raw.abs() >= self.effort[i]
     }
 }

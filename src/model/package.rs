@@ -97,30 +97,3 @@ fn find_package_below(dir: &Path, name: &str, depth: usize) -> Option<PathBuf> {
         .cloned()
         .or_else(|| subdirs.iter().find_map(|d| find_package_below(d, name, depth - 1)))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn finds_meshes_in_a_description_folder_under_any_package_name() {
-        let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/faze4_description");
-        if !shared.is_dir() {
-            panic!("test data missing: {}", shared.display());
-        }
-        let paths = PackagePaths::new(vec![shared.clone()]);
-        let found = paths.resolve("package://Final_light_assembly_URDF/meshes/saka.STL", None);
-        assert_eq!(found, Some(shared.join("meshes/saka.STL")));
-        // the parent of a package directory works as a ROS path entry
-        let paths = PackagePaths::new(vec![shared.parent().unwrap().to_path_buf()]);
-        let found = paths.resolve("package://faze4_description/meshes/saka.STL", None);
-        assert_eq!(found, Some(shared.join("meshes/saka.STL")));
-        assert_eq!(
-            paths.resolve("package://faze4_description/meshes/base_link.STL", None),
-            None
-        );
-        // relative to the URDF's directory
-        let rel = PackagePaths::default().resolve("../meshes/lakat.STL", Some(&shared.join("urdf")));
-        assert_eq!(rel, Some(shared.join("urdf/../meshes/lakat.STL")));
-    }
-}

@@ -1,6 +1,14 @@
 //! Everything a run writes goes through one interface, [`Recorder`]: the terminal printer,
 //! the trail CSV, the live view and the HTML export all receive the same calls.
 
+pub mod atomic;
+pub mod format;
+mod terminal;
+mod trail;
+
+pub use terminal::{PRINT_PERIOD, Terminal};
+pub use trail::{TrailCsv, steps_per_record};
+
 use crate::control::Gains;
 use crate::model::Model;
 use crate::sim::Summary;

@@ -1,6 +1,12 @@
-//! Closed-loop runs: a scenario (model, command, controller) stepped at Δt, reported to
-//! recorders, summarised.
+//! Closed-loop runs: a [`Scenario`] (model, command, controller) stepped at Δt by [`run`],
+//! reported to recorders, summarised in a [`Summary`].
 
+mod run;
+mod scenario;
+mod stop;
 mod summary;
 
+pub use run::{RUNAWAY_SPEED, run};
+pub use scenario::{Scenario, ShapeRun};
+pub use stop::StopFlag;
 pub use summary::{Diverged, PathDeviation, Summary, ToolRange};

@@ -66,4 +66,8 @@ pub struct Summary {
     /// Shapes only: the largest IK position residual over the samples (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ik_max_residual_m: Option<f64>,
+    /// Only when the run was stopped by Ctrl-C: the simulated time it stopped at (s); the
+    /// metrics cover the steps before it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interrupted_at_s: Option<f64>,
 }

@@ -70,20 +70,37 @@ impl Inertia {
     }
 
     /// `Xᵀ I X`: this inertia, given in B-coordinates, expressed in A-coordinates, where `x` is
-    /// `B_X_A`. With `y = Eᵀ h` (RBDA eq. 2.66 expanded):
+    /// `B_X_A`. With `y = Eᵀ h` (RBDA eq. 2.66 expanded, and `[a]×[b]× = b aᵀ − (a·b) 1`):
     ///
     /// ```text
-    ///   h_A = Eᵀ h + m r,   Ī_A = Eᵀ Ī E − m [r]×[r]× − [r]×[y]× − [y]×[r]×
+    ///   h_A = y + m r
+    ///   Ī_A = Eᵀ Ī E − m [r]×[r]× − [r]×[y]× − [y]×[r]×
+    ///       = Eᵀ Ī E + (m r·r + 2 r·y) 1 − m r rᵀ − r yᵀ − y rᵀ
     /// ```
     #[inline]
     pub fn transform_to_source(&self, x: &Xform) -> Inertia {
+        let r = &x.r;
         let y = x.e.tr_mul(&self.h);
-        let rx = skew(&x.r);
-        let yx = skew(&y);
+        let mr = r * self.mass;
+        let diag = mr.dot(r) + 2.0 * r.dot(&y);
+        // symmetric: compute the upper triangle of m r rᵀ + r yᵀ + y rᵀ and mirror it
+        let mut rot = x.e.tr_mul(&(self.rot * x.e));
+        for a in 0..3 {
+            for b in a..3 {
+                let outer = mr[a] * r[b] + r[a] * y[b] + y[a] * r[b];
+                let v = if a == b {
+                    rot[(a, a)] + diag - outer
+                } else {
+                    0.5 * (rot[(a, b)] + rot[(b, a)]) - outer
+                };
+                rot[(a, b)] = v;
+                rot[(b, a)] = v;
+            }
+        }
         Inertia {
             mass: self.mass,
-            h: y + x.r * self.mass,
-            rot: x.e.tr_mul(&self.rot) * x.e - rx * rx * self.mass - rx * yx - yx * rx,
+            h: y + mr,
+            rot,
         }
     }
 

@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 use serde_json::json;
 
 use super::scene::{SampleEncoder, Scene};
-use super::util::{base64, check_output_path, f32_bytes, write_atomically};
+use super::util::{base64, check_output_path, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
 use crate::error::Result;
-use crate::output::{Recorder, RunInfo, Sample};
+use crate::output::atomic::AtomicFile;
+use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
 use crate::sim::Summary;
 
 /// Records a run and writes it, on [`Recorder::finish`], as one HTML file that plays it back
@@ -51,7 +52,7 @@ impl HtmlExport {
 
 impl Recorder for HtmlExport {
     fn every(&self, dt: f64) -> usize {
-        super::steps_per_record(self.period, dt)
+        steps_per_record(self.period, dt)
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
@@ -83,9 +84,8 @@ impl Recorder for HtmlExport {
         );
         let scene_b64 = base64(&scene.encode());
         let samples_b64 = base64(&f32_bytes(&self.records));
-        write_atomically(&self.path, |w| {
-            page::write(w, &title, &config, &scene_b64, &samples_b64)?;
-            w.flush()
-        })
+        let mut file = AtomicFile::create(&self.path)?;
+        page::write(file.writer(), &title, &config, &scene_b64, &samples_b64).map_err(|e| file.error(e))?;
+        file.commit()
     }
 }

@@ -20,7 +20,7 @@ use super::scene::{SampleEncoder, Scene};
 use super::util::{base64, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
 use crate::error::{Error, Result};
-use crate::output::{Recorder, RunInfo, Sample};
+use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
 use crate::sim::Summary;
 
 /// Connections served at once; more are closed at once.
@@ -225,7 +225,7 @@ impl Drop for Server {
 
 impl Recorder for LiveView {
     fn every(&self, dt: f64) -> usize {
-        super::steps_per_record(self.period, dt)
+        steps_per_record(self.period, dt)
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {

@@ -40,7 +40,7 @@
 //! | `mesh.rs` | STL (binary, ASCII) → indexed mesh with crease-aware normals; primitives; the compact form (u16 positions, oct-encoded normals) |
 //! | `scene.rs` | model (+ board, reference path) → scene blob; samples → f32 records (world pose per visual frame) |
 //! | `page.rs`, `web/` | the viewer page: `index.html` + `viewer.js` (WebGL2, orbit camera, timeline player), inlined |
-//! | `html.rs` | [`HtmlExport`]: one self-contained HTML file, written on `finish`, whole or not at all |
+//! | `html.rs` | [`HtmlExport`]: one self-contained HTML file, written on `finish`, whole or not at all (`output::atomic`) |
 //! | `live.rs` | [`LiveView`]: std::net HTTP server, page + scene + Server-Sent Events, paced to the wall clock |
 //! | `plot.rs` | [`PlotRecorder`]: one SVG/PNG figure (plotters, embedded DejaVu Sans) |
 
@@ -63,12 +63,3 @@ pub const DEFAULT_PORT: u16 = 7000;
 /// Recording period of the 3D views (s): 50 samples per simulated second, the original's
 /// publishing period.
 pub const DEFAULT_PERIOD: f64 = 0.02;
-
-/// Steps between records for a recording `period` and a step `dt` (at least 1).
-fn steps_per_record(period: f64, dt: f64) -> usize {
-    if dt > 0.0 && period > 0.0 {
-        ((period / dt).round() as usize).max(1)
-    } else {
-        1
-    }
-}

@@ -12,9 +12,10 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::util::{check_output_path, write_atomically};
+use super::util::check_output_path;
 use crate::error::{Error, Result};
-use crate::output::{Recorder, RunInfo, Sample};
+use crate::output::atomic::{AtomicFile, write_atomically};
+use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
 use crate::sim::Summary;
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
@@ -93,7 +94,7 @@ impl PlotRecorder {
 
 impl Recorder for PlotRecorder {
     fn every(&self, dt: f64) -> usize {
-        super::steps_per_record(PERIOD, dt)
+        steps_per_record(PERIOD, dt)
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
@@ -135,7 +136,7 @@ impl Recorder for PlotRecorder {
                     self.draw(&root).map_err(failed)?;
                     root.present().map_err(|e| failed(e.to_string()))?;
                 }
-                write_atomically(&self.path, |w| w.write_all(svg.as_bytes()))
+                write_atomically(&self.path, svg.as_bytes())
             }
             Format::Png => {
                 let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
@@ -144,14 +145,17 @@ impl Recorder for PlotRecorder {
                     self.draw(&root).map_err(failed)?;
                     root.present().map_err(|e| failed(e.to_string()))?;
                 }
-                write_atomically(&self.path, |w| {
-                    let mut encoder = png::Encoder::new(w, size.0, size.1);
+                let mut file = AtomicFile::create(&self.path)?;
+                let encoded = (|| {
+                    let mut encoder = png::Encoder::new(file.writer(), size.0, size.1);
                     encoder.set_color(png::ColorType::Rgb);
                     encoder.set_depth(png::BitDepth::Eight);
-                    let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
-                    writer.write_image_data(&rgb).map_err(std::io::Error::other)?;
-                    writer.finish().map_err(std::io::Error::other)
-                })
+                    let mut writer = encoder.write_header()?;
+                    writer.write_image_data(&rgb)?;
+                    writer.finish()
+                })();
+                encoded.map_err(|e| file.error(std::io::Error::other(e)))?;
+                file.commit()
             }
         }
     }

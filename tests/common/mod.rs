@@ -16,11 +16,23 @@ pub fn repo_path(rel: &str) -> PathBuf {
     repo().join(rel)
 }
 
-/// The shared official Faze4 description (data for tests, never copied into the repo).
+/// The official Faze4 description (URDF and meshes), data for the tests that is never copied
+/// into the repository: `$FAZE4_DESCRIPTION`, else `shared/faze4_description` beside the
+/// repository or in any directory above it.
 pub fn shared_description() -> PathBuf {
-    let p = repo().join("../shared/faze4_description");
-    assert!(p.is_dir(), "test data missing: {}", p.display());
-    p
+    if let Some(dir) = std::env::var_os("FAZE4_DESCRIPTION") {
+        return PathBuf::from(dir);
+    }
+    repo()
+        .ancestors()
+        .map(|a| a.join("shared/faze4_description"))
+        .find(|p| p.join("meshes").is_dir())
+        .unwrap_or_else(|| {
+            panic!(
+                "test data missing: no shared/faze4_description above {}; set FAZE4_DESCRIPTION to the official Faze4 URDF folder",
+                repo().display()
+            )
+        })
 }
 
 /// Loads a URDF from a repository-relative path.
@@ -99,4 +111,44 @@ pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 /// max |x| over a slice.
 pub fn max_abs(a: &[f64]) -> f64 {
     a.iter().map(|x| x.abs()).fold(0.0, f64::max)
+}
+
+/// A fresh empty directory for one test's output files.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("faze4-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The result of running the real `faze4` binary.
+pub struct Run {
+    pub status: std::process::ExitStatus,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Runs the `faze4` binary with `args` in directory `dir`.
+pub fn faze4(dir: &Path, args: &[&str]) -> Run {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run faze4");
+    Run {
+        status: out.status,
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+/// A CSV file as its header and rows of numbers.
+pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header = lines.next().expect("header").split(',').map(str::to_string).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().expect("number")).collect())
+        .collect();
+    (header, rows)
 }

@@ -1,0 +1,136 @@
+//! The command line, as clap sees it. Values are parsed here and validated in
+//! [`super::scenario`].
+
+use std::path::PathBuf;
+use std::str::FromStr;
+
+use clap::{Args, Parser, Subcommand};
+
+/// faze4: can the motors of a real arm follow this trajectory? A fast, exact dynamics
+/// simulator of the Faze4 six-axis arm (or any URDF arm) under a 5 kHz digital PD controller.
+#[derive(Debug, Parser)]
+#[command(name = "faze4", version, about, long_about = None)]
+pub struct Cli {
+    /// What to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The experiments.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Every joint follows A·sin(ω t + i·π/3) (SPEC §4).
+    Wave(WaveArgs),
+    /// Replay an N×dof joint trajectory from a .npy file, repeating every --traj-period.
+    Replay(ReplayArgs),
+}
+
+/// `faze4 wave`.
+#[derive(Debug, Args)]
+pub struct WaveArgs {
+    /// Simulated time (s).
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
+    pub duration: f64,
+    /// Angular frequency ω of the wave (rad/s, as the original).
+    #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
+    pub freq: f64,
+    /// Amplitude A (degrees).
+    #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
+    pub amp_deg: f64,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// `faze4 replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The trajectory: an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2.
+    #[arg(long = "q-traj", value_name = "F.npy")]
+    pub q_traj: PathBuf,
+    /// Time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
+    #[arg(long = "traj-period", default_value_t = 5.0, allow_hyphen_values = true)]
+    pub traj_period: f64,
+    /// Simulated time (s).
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
+    pub duration: f64,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// Options every run command shares: model, controller, outputs.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The arm (default: the bundled Faze4, urdf/faze4_arm.urdf).
+    #[arg(long, value_name = "F.urdf")]
+    pub urdf: Option<PathBuf>,
+    /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+    /// The link traced as the tool (default: tool_link, else the last link of the chain).
+    #[arg(long = "tool-link", value_name = "NAME")]
+    pub tool_link: Option<String>,
+    /// Torque limits per joint, N·m (default: the Faze4 motors' for the bundled arm, else the URDF's effort values).
+    #[arg(long, value_name = "E1,E2,…", allow_hyphen_values = true)]
+    pub effort: Option<JointValues>,
+    /// Proportional gains per joint ('auto' keeps the tuned value), e.g. auto,auto,auto,auto,auto,30.
+    #[arg(long, value_name = "KP1,KP2,…", allow_hyphen_values = true)]
+    pub kp: Option<JointValues>,
+    /// Derivative gains per joint ('auto' keeps the tuned value).
+    #[arg(long, value_name = "KD1,KD2,…", allow_hyphen_values = true)]
+    pub kd: Option<JointValues>,
+    /// No gravity feed-forward (PD alone holds the arm up).
+    #[arg(long = "no-ff")]
+    pub no_ff: bool,
+    /// No gravity field.
+    #[arg(long = "no-gravity")]
+    pub no_gravity: bool,
+    /// A point mass at the tool link (kg).
+    #[arg(
+        long = "payload-kg",
+        default_value_t = 0.0,
+        value_name = "M",
+        allow_hyphen_values = true
+    )]
+    pub payload_kg: f64,
+    /// Control and integration period (s); 2e-4 is 5 kHz.
+    #[arg(long, default_value_t = 2e-4, allow_hyphen_values = true)]
+    pub dt: f64,
+    /// Print τ, error, velocity and g(q) every 0.5 s and add them to the trail.
+    #[arg(long)]
+    pub debug: bool,
+    /// Trail CSV (t, x, y, z, q1…); 'none' writes none.
+    #[arg(long, default_value = "faze4_trail.csv", value_name = "F.csv")]
+    pub trail: PathBuf,
+    /// Summary JSON (the machine-readable result).
+    #[arg(long, value_name = "F.json")]
+    pub summary: Option<PathBuf>,
+    /// Time between trail rows (s).
+    #[arg(
+        long = "record-period",
+        default_value_t = 0.02,
+        value_name = "S",
+        allow_hyphen_values = true
+    )]
+    pub record_period: f64,
+}
+
+/// A comma-separated value per joint; `auto` (or nothing) leaves a joint's value alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointValues(pub Vec<Option<f64>>);
+
+impl FromStr for JointValues {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        s.split(',')
+            .map(|item| match item.trim() {
+                "" | "auto" => Ok(None),
+                text => text
+                    .parse::<f64>()
+                    .map(Some)
+                    .map_err(|_| format!("'{text}' is not a number")),
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map(JointValues)
+    }
+}

@@ -1,0 +1,134 @@
+//! The command line: clap arguments → a validated scenario → the run → its outputs.
+
+pub mod args;
+pub mod scenario;
+
+use std::io::Write;
+use std::path::Path;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use self::args::{Cli, Command, RunArgs};
+use crate::error::{Error, Result};
+use crate::output::atomic::write_atomically;
+use crate::output::format::number;
+use crate::output::{Recorder, Terminal, TrailCsv};
+use crate::sim::{self, Scenario, StopFlag, Summary};
+
+/// Exit status of a run that diverged.
+pub const EXIT_DIVERGED: u8 = 1;
+/// Exit status of bad input (arguments, files, models).
+pub const EXIT_INPUT: u8 = 2;
+/// Exit status of a run stopped by Ctrl-C (128 + SIGINT, as shells report it).
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Parses the process arguments, runs, and reports. The whole program.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
+    match execute(&cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("faze4: error: {e}");
+            ExitCode::from(EXIT_INPUT)
+        }
+    }
+}
+
+/// clap's help and version print as usual; its usage errors become one line on stderr.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind::*;
+    if matches!(
+        e.kind(),
+        DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::from(e.exit_code() as u8);
+    }
+    let text = e.to_string();
+    let first = text.lines().next().unwrap_or_default().trim_start_matches("error: ");
+    eprintln!("faze4: error: {first} (faze4 --help lists the options)");
+    ExitCode::from(EXIT_INPUT)
+}
+
+fn execute(cli: &Cli) -> Result<ExitCode> {
+    let (scenario, run) = match &cli.command {
+        Command::Wave(a) => (scenario::wave(a)?, &a.run),
+        Command::Replay(a) => (scenario::replay(a)?, &a.run),
+    };
+    run_and_report(&scenario, run)
+}
+
+/// Runs `scenario` with the outputs `run` asks for; the exit status says whether it diverged.
+fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
+    let mut terminal = Terminal::new(run.debug);
+    let mut trail = match is_none(&run.trail) {
+        true => None,
+        false => Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?),
+    };
+    let mut recorders: Vec<&mut dyn Recorder> = vec![&mut terminal];
+    if let Some(t) = trail.as_mut() {
+        recorders.push(t);
+    }
+    let summary = sim::run(scenario, &mut recorders, &StopFlag::ctrl_c())?;
+    if let Some(path) = &run.summary {
+        write_summary(path, &summary)?;
+    }
+    report_files(scenario, run, &summary, trail.as_ref().map(|t| t.rows()));
+    if let Some(t) = summary.interrupted_at_s {
+        eprintln!("faze4: interrupted at t = {t:.3} s; the trail and summary are complete up to there");
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    match &summary.diverged {
+        None => Ok(ExitCode::SUCCESS),
+        Some(d) => {
+            let joint = &scenario.model.joints[d.joint - 1];
+            let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
+            eprintln!(
+                "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the trail and summary keep the steps before it",
+                d.t,
+                d.joint,
+                joint.name,
+                b.join(", ")
+            );
+            Ok(ExitCode::from(EXIT_DIVERGED))
+        }
+    }
+}
+
+fn report_files(scenario: &Scenario, run: &RunArgs, summary: &Summary, trail_rows: Option<usize>) {
+    let mut done = Vec::new();
+    if let Some(rows) = trail_rows {
+        done.push(format!("trail -> {} ({rows} rows)", run.trail.display()));
+    }
+    if let Some(path) = &run.summary {
+        done.push(format!("summary -> {}", path.display()));
+    }
+    let per_step = summary.wall_time_s / scenario.steps.max(1) as f64;
+    done.push(format!(
+        "{} steps in {:.3} s ({:.2} µs/step)",
+        scenario.steps,
+        summary.wall_time_s,
+        per_step * 1e6
+    ));
+    // a closed stdout (`faze4 … | head`) is not the run's failure
+    let _ = writeln!(std::io::stdout().lock(), "[done] {}", done.join(" · "));
+}
+
+/// Writes the summary JSON (whole or not at all).
+pub fn write_summary(path: &Path, summary: &Summary) -> Result<()> {
+    let mut json = serde_json::to_vec_pretty(summary).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e),
+    })?;
+    json.push(b'\n');
+    write_atomically(path, &json)
+}
+
+/// Whether an output path means "do not write it".
+fn is_none(path: &Path) -> bool {
+    path.as_os_str() == "none"
+}

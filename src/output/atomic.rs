@@ -1,0 +1,99 @@
+//! Files written whole or not at all: a temporary file beside the target, renamed over it
+//! only when complete.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// A file being written. Nothing appears at the target path until [`AtomicFile::commit`];
+/// dropping it uncommitted (an error, a panic, Ctrl-C handled by unwinding) removes the
+/// temporary file.
+pub struct AtomicFile {
+    target: PathBuf,
+    temp: PathBuf,
+    writer: Option<BufWriter<File>>,
+}
+
+impl AtomicFile {
+    /// Starts writing `target` (through a hidden temporary file in the same directory, so
+    /// the final rename never crosses file systems).
+    pub fn create(target: &Path) -> Result<Self> {
+        let name = target.file_name().ok_or_else(|| Error::Io {
+            path: target.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"),
+        })?;
+        let temp = target.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+        let file = File::create(&temp).map_err(|source| Error::Io {
+            path: target.to_path_buf(),
+            source,
+        })?;
+        Ok(Self {
+            target: target.to_path_buf(),
+            temp,
+            writer: Some(BufWriter::new(file)),
+        })
+    }
+
+    /// The writer to fill.
+    pub fn writer(&mut self) -> &mut BufWriter<File> {
+        self.writer.as_mut().expect("not yet committed")
+    }
+
+    /// An I/O error on this file, as the library's error.
+    pub fn error(&self, source: std::io::Error) -> Error {
+        Error::Io {
+            path: self.target.clone(),
+            source,
+        }
+    }
+
+    /// Flushes, syncs and renames the file into place.
+    pub fn commit(mut self) -> Result<()> {
+        let writer = self.writer.take().expect("committed once");
+        let file = writer.into_inner().map_err(|e| Error::Io {
+            path: self.target.clone(),
+            source: e.into_error(),
+        })?;
+        file.sync_all().map_err(|e| self.error(e))?;
+        drop(file);
+        std::fs::rename(&self.temp, &self.target).map_err(|e| self.error(e))
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.writer.take().is_some() {
+            let _ = std::fs::remove_file(&self.temp);
+        }
+    }
+}
+
+/// Writes `bytes` to `target` atomically.
+pub fn write_atomically(target: &Path, bytes: &[u8]) -> Result<()> {
+    let mut file = AtomicFile::create(target)?;
+    file.writer().write_all(bytes).map_err(|e| file.error(e))?;
+    file.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nothing_appears_until_commit_and_an_abandoned_file_leaves_nothing() {
+        let dir = std::env::temp_dir().join(format!("faze4-atomic-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("out.txt");
+        let mut f = AtomicFile::create(&target).unwrap();
+        f.writer().write_all(b"half").unwrap();
+        assert!(!target.exists());
+        drop(f);
+        assert!(!target.exists());
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "temporary file removed");
+        write_atomically(&target, b"whole").unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"whole");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,198 @@
+//! What a run prints (SPEC §5): a banner with the model and the gains, a line every 0.5 s of
+//! simulated time, and the summary.
+
+use std::io::{IsTerminal, Write};
+use std::time::{Duration, Instant};
+
+use super::format::{joint_header, row};
+use super::{Recorder, RunInfo, Sample};
+use crate::sim::Summary;
+
+/// Simulated time between progress lines (s).
+pub const PRINT_PERIOD: f64 = 0.5;
+/// A run shows a progress bar once it has taken this long (and stderr is a terminal).
+const BAR_AFTER: Duration = Duration::from_secs(1);
+/// Time between two redraws of the bar.
+const BAR_REDRAW: Duration = Duration::from_millis(100);
+
+/// Prints to stdout; for runs longer than a second, also a progress bar on stderr when stderr is
+/// a terminal.
+pub struct Terminal {
+    debug: bool,
+    dof: usize,
+    /// Steps between printed lines.
+    print_every: usize,
+    steps: usize,
+    dt: f64,
+    bar: Option<Bar>,
+}
+
+/// The progress bar's state.
+struct Bar {
+    started: Instant,
+    drawn: Option<Instant>,
+}
+
+impl Terminal {
+    /// A printer; `debug` adds τ, the tracking error, v and g(q) to every progress line.
+    pub fn new(debug: bool) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| Bar {
+            started: Instant::now(),
+            drawn: None,
+        });
+        Self {
+            debug,
+            dof: 0,
+            print_every: 1,
+            steps: 0,
+            dt: 0.0,
+            bar,
+        }
+    }
+
+    /// Erases the bar (before a line is printed, and at the end).
+    fn clear_bar(&mut self) {
+        if let Some(bar) = self.bar.as_mut().filter(|b| b.drawn.is_some()) {
+            let _ = write!(std::io::stderr().lock(), "\r\x1b[2K");
+            bar.drawn = None;
+        }
+    }
+
+    fn draw_bar(&mut self, step: usize) {
+        let Some(bar) = self.bar.as_mut() else { return };
+        let now = Instant::now();
+        let elapsed = now - bar.started;
+        if elapsed < BAR_AFTER || bar.drawn.is_some_and(|d| now - d < BAR_REDRAW) {
+            return;
+        }
+        let done = step as f64 / self.steps.max(1) as f64;
+        let width = 30;
+        let full = (done * width as f64).round() as usize;
+        let left = elapsed.as_secs_f64() * (1.0 - done) / done.max(1e-9);
+        let _ = write!(
+            std::io::stderr().lock(),
+            "\r\x1b[2K[{}{}] {:3.0}%  t = {:.1} / {:.1} s  ~{:.*} s left",
+            "#".repeat(full),
+            "-".repeat(width - full),
+            done * 100.0,
+            step as f64 * self.dt,
+            self.steps as f64 * self.dt,
+            if left < 10.0 { 1 } else { 0 },
+            left
+        );
+        bar.drawn = Some(now);
+    }
+}
+
+/// A control rate for people: "5 kHz", "1 kHz", "250 Hz".
+fn rate(hz: f64) -> String {
+    if hz >= 1e3 {
+        format!("{} kHz", (hz / 1e3 * 1e3).round() / 1e3)
+    } else {
+        format!("{} Hz", (hz * 1e3).round() / 1e3)
+    }
+}
+
+fn out(line: &str) -> crate::Result<()> {
+    // a closed stdout (`faze4 … | head`) is not the run's failure
+    let _ = writeln!(std::io::stdout().lock(), "{line}");
+    Ok(())
+}
+
+impl Recorder for Terminal {
+    fn every(&self, dt: f64) -> usize {
+        let print_every = ((PRINT_PERIOD / dt).round() as usize).max(1);
+        // with a bar, look in five times per printed line
+        if self.bar.is_some() {
+            (print_every / 5).max(1)
+        } else {
+            print_every
+        }
+    }
+
+    fn begin(&mut self, run: &RunInfo) -> crate::Result<()> {
+        let m = run.model;
+        self.dof = m.dof();
+        self.print_every = ((PRINT_PERIOD / run.dt).round() as usize).max(1);
+        self.steps = run.steps;
+        self.dt = run.dt;
+        let g = m.gravity.z;
+        out(&format!(
+            "[faze4] {} · {} ({}) · {} dof · gravity {} · Δt {} ms ({}) · {} s = {} steps",
+            run.command,
+            m.name,
+            m.source,
+            m.dof(),
+            if g == 0.0 {
+                "off".to_string()
+            } else {
+                format!("{g} m/s²")
+            },
+            run.dt * 1e3,
+            rate(1.0 / run.dt),
+            run.steps as f64 * run.dt,
+            run.steps
+        ))?;
+        out(&format!(
+            "[faze4] tool {} · gravity feed-forward {}",
+            m.frames[run.tool_frame].name,
+            if run.feedforward { "on" } else { "off" }
+        ))?;
+        let gains = run.gains;
+        out(&joint_header(m.dof()))?;
+        out(&row("torque limit (N·m)", gains.effort.iter().copied()))?;
+        out(&row("eff. inertia (kg·m²)", gains.effective_inertia.iter().copied()))?;
+        out(&row("kp", gains.kp.iter().copied()))?;
+        out(&row("kd", gains.kd.iter().copied()))?;
+        out(&row("b = Δt²·kp/I", gains.stiffness_b(run.dt)))?;
+        // degrees to 0.01: a −8e-15 from sin(π) is 0
+        out(&row(
+            "start pose (deg)",
+            run.start_q
+                .iter()
+                .map(|q| (q.to_degrees() * 100.0).round() / 100.0 + 0.0),
+        ))
+    }
+
+    fn record(&mut self, s: &Sample) -> crate::Result<()> {
+        if !s.step.is_multiple_of(self.print_every) && s.step != self.steps {
+            self.draw_bar(s.step);
+            return Ok(());
+        }
+        self.clear_bar();
+        let list = |v: &mut dyn Iterator<Item = f64>| v.map(|x| format!("{x:7.3}")).collect::<Vec<_>>().join("");
+        out(&format!(
+            "t={:6.2}s  q(rad){}  tool xyz(m){}",
+            s.t,
+            list(&mut s.q.iter().copied()),
+            list(&mut s.tool.iter().copied())
+        ))?;
+        if self.debug {
+            out(&row("    τ command (N·m)", s.tau.iter().copied()))?;
+            out(&row("    error (rad)", s.q_cmd.iter().zip(s.q).map(|(c, q)| c - q)))?;
+            out(&row("    velocity (rad/s)", s.v.iter().copied()))?;
+            out(&row("    g(q) (N·m)", s.g.iter().copied()))?;
+        }
+        self.draw_bar(s.step);
+        Ok(())
+    }
+
+    fn finish(&mut self, s: &Summary) -> crate::Result<()> {
+        self.clear_bar();
+        out(&format!("[summary]{}", &joint_header(self.dof)[9..]))?;
+        out(&row("max track. err (rad)", s.max_tracking_error_rad.iter().copied()))?;
+        out(&row("saturation (%)", s.saturation_pct.iter().copied()))?;
+        let r = &s.tool_range_m;
+        out(&format!(
+            "tool range (m)        x [{:.3}, {:.3}]  y [{:.3}, {:.3}]  z [{:.3}, {:.3}]",
+            r.x[0], r.x[1], r.y[0], r.y[1], r.z[0], r.z[1]
+        ))?;
+        if let Some(d) = &s.path_deviation_mm {
+            out(&format!("path deviation (mm)   max {:.2}  mean {:.2}", d.max, d.mean))?;
+        }
+        if let Some(res) = s.ik_max_residual_m {
+            out(&format!("IK residual (m)       max {res:.1e}"))?;
+        }
+        Ok(())
+    }
+}

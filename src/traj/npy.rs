@@ -1,0 +1,108 @@
+//! Joint trajectories as NumPy `.npy` files: N×dof arrays of float64 or float32, C or
+//! Fortran order. Reading reports exactly what a bad file holds.
+
+use std::io::Cursor;
+use std::path::Path;
+
+use ndarray::Array2;
+use ndarray_npy::npy::header::Header;
+use ndarray_npy::{ReadNpyExt, WriteNpyExt};
+
+use crate::error::{Error, Result};
+use crate::output::atomic::AtomicFile;
+
+/// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
+/// N ≥ 2 rows, every value finite.
+pub fn read_samples(path: &Path) -> Result<Vec<Vec<f64>>> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_samples(&bytes, path)
+}
+
+/// [`read_samples`] on the bytes of a file; `path` names it in errors.
+pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
+    let bad = |message: String| Error::InvalidData {
+        path: path.to_path_buf(),
+        message,
+    };
+    let header =
+        Header::from_reader(&mut Cursor::new(bytes)).map_err(|e| bad(format!("not a NumPy .npy file ({e})")))?;
+    let descr = header.type_descriptor.to_string();
+    let found = || format!("dtype {descr}, shape {:?}", header.shape);
+    if header.shape.len() != 2 {
+        return Err(bad(format!(
+            "expected a 2-D N×dof array of joint angles, found {}",
+            found()
+        )));
+    }
+    let data = |e: ndarray_npy::ReadNpyError| bad(format!("cannot read the {} data: {e}", found()));
+    let array: Array2<f64> = match descr.trim_matches('\'') {
+        "<f8" | ">f8" | "=f8" => Array2::<f64>::read_npy(Cursor::new(bytes)).map_err(data)?,
+        "<f4" | ">f4" | "=f4" => Array2::<f32>::read_npy(Cursor::new(bytes))
+            .map_err(data)?
+            .mapv(f64::from),
+        _ => return Err(bad(format!("expected float64 or float32 values, found {}", found()))),
+    };
+    let (rows, columns) = array.dim();
+    if rows < 2 {
+        return Err(bad(format!("needs at least 2 frames (rows), found {}", found())));
+    }
+    if columns == 0 {
+        return Err(bad(format!("has no columns ({})", found())));
+    }
+    if let Some(((r, c), v)) = array.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(bad(format!(
+            "frame {r}, joint {} is {v}: every value must be finite",
+            c + 1
+        )));
+    }
+    Ok(array.rows().into_iter().map(|row| row.to_vec()).collect())
+}
+
+/// Writes `rows` (N×C) as a float64 C-order `.npy` that NumPy loads, whole or not at all.
+pub fn write_samples(path: &Path, rows: &[Vec<f64>]) -> Result<()> {
+    let columns = rows.first().map_or(0, Vec::len);
+    let array = Array2::from_shape_vec((rows.len(), columns), rows.concat()).map_err(|e| Error::InvalidData {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let mut file = AtomicFile::create(path)?;
+    array.write_npy(file.writer()).map_err(|e| Error::InvalidData {
+        path: path.to_path_buf(),
+        message: format!("writing .npy: {e}"),
+    })?;
+    file.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_fortran_float32() {
+        let dir = std::env::temp_dir().join(format!("faze4-npy-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let rows = vec![vec![0.1, 0.2, 0.3], vec![0.4, 0.5, 0.6]];
+        let p = dir.join("a.npy");
+        write_samples(&p, &rows).unwrap();
+        assert_eq!(read_samples(&p).unwrap(), rows);
+        // float32, Fortran order
+        let f = Array2::from_shape_vec((2, 3), vec![1.0f32, 2.0, 3.0, 4.0, 5.0, 6.0])
+            .unwrap()
+            .reversed_axes();
+        let f = f.as_standard_layout().reversed_axes().to_owned(); // 2x3 in Fortran memory order
+        assert!(f.t().is_standard_layout());
+        let p32 = dir.join("f.npy");
+        f.write_npy(std::fs::File::create(&p32).unwrap()).unwrap();
+        let back = read_samples(&p32).unwrap();
+        assert_eq!(back[0].len(), f.ncols());
+        for (r, row) in back.iter().enumerate() {
+            for (c, v) in row.iter().enumerate() {
+                assert_eq!(*v, f64::from(f[(r, c)]));
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

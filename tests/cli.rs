@@ -1,0 +1,403 @@
+//! The real `faze4` binary: outputs, their contracts, and its answers to bad input.
+
+mod common;
+
+use std::path::Path;
+
+use common::*;
+use serde_json::Value;
+
+/// Writes a .npy by hand (any dtype string, order and shape), as other tools might.
+fn write_npy(path: &Path, descr: &str, fortran: bool, shape: &[usize], data: &[u8]) {
+    let shape_text = match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
+        ),
+    };
+    let mut header = format!(
+        "{{'descr': '{descr}', 'fortran_order': {}, 'shape': {shape_text}, }}",
+        if fortran { "True" } else { "False" }
+    );
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend((header.len() as u16).to_le_bytes());
+    bytes.extend(header.as_bytes());
+    bytes.extend(data);
+    std::fs::write(path, bytes).unwrap();
+}
+
+fn f64_bytes(v: &[f64]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// A gentle N×6 trajectory around the wave start, row-major.
+fn trajectory(n: usize) -> Vec<f64> {
+    (0..n)
+        .flat_map(|k| (0..6).map(move |i| 0.3 * ((k as f64) * 0.2 + i as f64).sin()))
+        .collect()
+}
+
+fn summary(dir: &Path, name: &str) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
+}
+
+#[test]
+fn wave_writes_the_trail_and_summary_contracts() {
+    let dir = temp_dir("contract");
+    let run = faze4(&dir, &["wave", "--duration", "1", "--summary", "s.json"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    // trail: default name, header, t = 0 and the last step, one row per 0.02 s
+    let (header, rows) = read_csv(&dir.join("faze4_trail.csv"));
+    assert_eq!(header, ["t", "x", "y", "z", "q1", "q2", "q3", "q4", "q5", "q6"]);
+    assert_eq!(rows.len(), 51);
+    assert_eq!(rows[0][0], 0.0);
+    assert_eq!(rows[50][0], 1.0);
+    // summary: exactly the contract's keys
+    let s = summary(&dir, "s.json");
+    let mut keys: Vec<&str> = s.as_object().unwrap().keys().map(String::as_str).collect();
+    keys.sort();
+    assert_eq!(
+        keys,
+        [
+            "diverged",
+            "dof",
+            "dt",
+            "effective_inertia",
+            "effort",
+            "kd",
+            "kp",
+            "max_tracking_error_rad",
+            "saturation_pct",
+            "steps",
+            "tool_range_m",
+            "wall_time_s"
+        ]
+    );
+    assert_eq!(s["steps"], 5000);
+    assert!(s["diverged"].is_null());
+    // the printed banner and summary
+    for part in [
+        "6 dof",
+        "5 kHz",
+        "kp",
+        "kd",
+        "eff. inertia",
+        "start pose",
+        "t=  0.50s",
+        "[summary]",
+        "tool range",
+    ] {
+        assert!(run.stdout.contains(part), "stdout lacks {part:?}:\n{}", run.stdout);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn debug_adds_torque_error_velocity_and_gravity() {
+    let dir = temp_dir("debug");
+    let run = faze4(&dir, &["wave", "--duration", "0.5", "--debug", "--trail", "t.csv"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let (header, rows) = read_csv(&dir.join("t.csv"));
+    assert_eq!(header.len(), 4 + 6 * 5);
+    assert!(header.contains(&"tau6".to_string()) && header.contains(&"g2".to_string()));
+    // g2 at t = 0 is the J2 gravity torque of the start pose: a few N·m, within J2's limit
+    let g2 = rows[0][header.iter().position(|h| h == "g2").unwrap()];
+    assert!(g2.abs() > 1.0 && g2.abs() < 8.5, "g2 = {g2}");
+    assert!(run.stdout.contains("g(q) (N·m)"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn payload_raises_the_shoulder_load() {
+    let dir = temp_dir("payload");
+    let light = faze4(
+        &dir,
+        &["wave", "--duration", "0.2", "--trail", "none", "--summary", "a.json"],
+    );
+    let heavy = faze4(
+        &dir,
+        &[
+            "wave",
+            "--duration",
+            "0.2",
+            "--trail",
+            "none",
+            "--payload-kg",
+            "0.5",
+            "--summary",
+            "b.json",
+        ],
+    );
+    assert!(light.status.success() && heavy.status.success());
+    let (a, b) = (summary(&dir, "a.json"), summary(&dir, "b.json"));
+    let (ia, ib) = (vec_f64(&a["effective_inertia"]), vec_f64(&b["effective_inertia"]));
+    assert!(ib[1] > ia[1] * 1.1, "J2 inertia {} → {}", ia[1], ib[1]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn replay_reads_float32_and_fortran_order() {
+    let dir = temp_dir("npy");
+    let n = 20;
+    let rows = trajectory(n);
+    write_npy(&dir.join("c64.npy"), "<f8", false, &[n, 6], &f64_bytes(&rows));
+    // the same values, float32 in Fortran (column-major) order
+    let mut col_major = Vec::new();
+    for i in 0..6 {
+        for k in 0..n {
+            col_major.extend((rows[k * 6 + i] as f32).to_le_bytes());
+        }
+    }
+    write_npy(&dir.join("f32.npy"), "<f4", true, &[n, 6], &col_major);
+    for f in ["c64.npy", "f32.npy"] {
+        let run = faze4(
+            &dir,
+            &[
+                "replay",
+                "--q-traj",
+                f,
+                "--duration",
+                "1",
+                "--trail",
+                &format!("{f}.csv"),
+            ],
+        );
+        assert!(run.status.success(), "{f}: {}", run.stderr);
+    }
+    let (_, a) = read_csv(&dir.join("c64.npy.csv"));
+    let (_, b) = read_csv(&dir.join("f32.npy.csv"));
+    // the start state is frame 0: equal to float32 rounding
+    assert!(max_abs_diff(&a[0][4..], &rows[..6]) == 0.0);
+    assert!(max_abs_diff(&b[0][4..], &rows[..6]) < 1e-7);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs `args`, expects bad-input failure (status 2), one line on stderr containing `parts`,
+/// and no output file left behind.
+fn refuses(dir: &Path, args: &[&str], parts: &[&str]) {
+    let run = faze4(dir, args);
+    assert_eq!(
+        run.status.code(),
+        Some(2),
+        "{args:?} should fail with status 2: {}",
+        run.stderr
+    );
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: one line on stderr, got:\n{}", run.stderr);
+    assert!(lines[0].starts_with("faze4: error: "), "{}", lines[0]);
+    for p in parts {
+        assert!(lines[0].contains(p), "{args:?}: {:?} should mention {p:?}", lines[0]);
+    }
+    assert!(!run.stderr.contains("panicked"));
+    let left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.ends_with(".npy") && !n.ends_with(".urdf"))
+        .collect();
+    assert!(left.is_empty(), "{args:?} left files behind: {left:?}");
+}
+
+#[test]
+fn bad_trajectories_are_refused_with_what_was_found() {
+    let dir = temp_dir("bad-npy");
+    let write =
+        |name: &str, descr: &str, shape: &[usize], data: &[u8]| write_npy(&dir.join(name), descr, false, shape, data);
+    write("one.npy", "<f8", &[1, 6], &f64_bytes(&trajectory(1)));
+    write("cols.npy", "<f8", &[10, 5], &f64_bytes(&trajectory(10)[..50]));
+    write("int.npy", "<i8", &[10, 6], &[0u8; 480]);
+    write("flat.npy", "<f8", &[60], &f64_bytes(&trajectory(10)));
+    let mut nan = trajectory(10);
+    nan[33] = f64::NAN;
+    write("nan.npy", "<f8", &[10, 6], &f64_bytes(&nan));
+    let mut inf = trajectory(10);
+    inf[7] = f64::INFINITY;
+    write("inf.npy", "<f8", &[10, 6], &f64_bytes(&inf));
+    let mut far = trajectory(10);
+    far[4 * 6 + 1] = 2.5; // J2 limit is ±2.094 rad
+    write("limit.npy", "<f8", &[10, 6], &f64_bytes(&far));
+    std::fs::write(dir.join("junk.npy"), b"not an npy file at all").unwrap();
+    write("short.npy", "<f8", &[10, 6], &f64_bytes(&trajectory(5)));
+
+    fn replay(f: &str) -> Vec<&str> {
+        vec!["replay", "--q-traj", f]
+    }
+    refuses(
+        &dir,
+        &replay("one.npy"),
+        &["one.npy", "at least 2 frames", "shape [1, 6]"],
+    );
+    refuses(&dir, &replay("cols.npy"), &["cols.npy", "5 columns", "6 joints"]);
+    refuses(&dir, &replay("int.npy"), &["int.npy", "float64 or float32", "<i8"]);
+    refuses(&dir, &replay("flat.npy"), &["flat.npy", "2-D", "shape [60]"]);
+    refuses(&dir, &replay("nan.npy"), &["nan.npy", "frame 5, joint 4", "NaN"]);
+    refuses(&dir, &replay("inf.npy"), &["inf.npy", "frame 1, joint 2", "inf"]);
+    refuses(
+        &dir,
+        &replay("limit.npy"),
+        &["limit.npy", "frame 4", "J2 (nadlaktica)", "2.5", "limits"],
+    );
+    refuses(&dir, &replay("junk.npy"), &["junk.npy", "not a NumPy .npy file"]);
+    refuses(&dir, &replay("short.npy"), &["short.npy", "cannot read"]);
+    refuses(&dir, &replay("missing.npy"), &["missing.npy", "No such file"]);
+    refuses(
+        &dir,
+        &["replay", "--q-traj", "limit.npy", "--traj-period", "0"],
+        &["--traj-period", "must be > 0"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_arguments_are_refused_naming_the_option() {
+    let dir = temp_dir("bad-args");
+    refuses(&dir, &["wave", "--dt", "0"], &["--dt", "must be > 0"]);
+    refuses(&dir, &["wave", "--dt", "-1e-4"], &["--dt", "must be > 0"]);
+    refuses(&dir, &["wave", "--duration", "0"], &["--duration", "must be > 0"]);
+    refuses(
+        &dir,
+        &["wave", "--duration", "NaN"],
+        &["--duration", "not a finite number"],
+    );
+    refuses(&dir, &["wave", "--freq", "inf"], &["--freq", "not a finite number"]);
+    refuses(
+        &dir,
+        &["wave", "--effort", "1,2,3"],
+        &["--effort", "3 values", "6 joints"],
+    );
+    refuses(&dir, &["wave", "--kp", "1,2,3,4,5,6,7"], &["--kp", "7 values"]);
+    refuses(&dir, &["wave", "--kd", "1,2,x,4,5,6"], &["--kd", "'x' is not a number"]);
+    refuses(
+        &dir,
+        &["wave", "--effort", "1,2,3,4,5,-6"],
+        &["--effort", "J6", "must be > 0"],
+    );
+    refuses(
+        &dir,
+        &["wave", "--amp-deg", "150"],
+        &["--amp-deg", "J2 (nadlaktica)", "limits"],
+    );
+    refuses(
+        &dir,
+        &["wave", "--tool-link", "pen"],
+        &["--tool-link", "no link 'pen'", "tool_link"],
+    );
+    refuses(&dir, &["wave", "--payload-kg", "-1"], &["--payload-kg", "≥ 0"]);
+    refuses(
+        &dir,
+        &["wave", "--duration", "1e-5"],
+        &["--duration", "shorter than one step"],
+    );
+    refuses(&dir, &["wave", "--urdf", "nope.urdf"], &["nope.urdf", "No such file"]);
+    std::fs::write(dir.join("bad.urdf"), "<robot name='x'><link name='a'/><joint name='j' type='revolute'><parent link='a'/><child link='b'/></joint></robot>").unwrap();
+    refuses(
+        &dir,
+        &["wave", "--urdf", "bad.urdf"],
+        &["bad.urdf", "joint 'j'", "child link 'b' does not exist"],
+    );
+    std::fs::remove_file(dir.join("bad.urdf")).unwrap();
+    // clap's own usage errors: also status 2, no panic
+    let run = faze4(&dir, &["wave", "--no-such-option"]);
+    assert_eq!(run.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_diverging_run_stops_at_once_and_says_so() {
+    let dir = temp_dir("diverge");
+    // J6 with kp = 40000 (b = Δt²·kp/I ≈ 248) and no effective torque limit
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--kp",
+            "auto,auto,auto,auto,auto,40000",
+            "--effort",
+            "7.9,8.5,4.7,3.7,3.5,1e9",
+            "--summary",
+            "s.json",
+        ],
+    );
+    assert_eq!(run.status.code(), Some(1), "{}", run.stderr);
+    let line = run
+        .stderr
+        .lines()
+        .find(|l| l.contains("diverged"))
+        .expect("a 'diverged' line");
+    for part in ["J6 (hvataljka)", "t = ", "b = Δt²·kp/I", "248"] {
+        assert!(line.contains(part), "{line:?} lacks {part:?}");
+    }
+    let s = summary(&dir, "s.json");
+    assert_eq!(s["diverged"]["joint"], 6);
+    assert!(s["diverged"]["t"].as_f64().unwrap() < 0.01, "stopped at once");
+    assert!((vec_f64(&s["diverged"]["stiffness_b"])[5] - 248.0).abs() < 1.0);
+    // the trail is kept, complete up to the divergence
+    let (_, rows) = read_csv(&dir.join("faze4_trail.csv"));
+    assert!(!rows.is_empty() && rows.iter().flatten().all(|x| x.is_finite()));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn progress_bar_shows_on_a_terminal_only() {
+    let dir = temp_dir("progress");
+    let exe = env!("CARGO_BIN_EXE_faze4");
+    // a run of a few seconds: under a pseudo-terminal (util-linux `script`) the bar appears…
+    let command = format!("{exe} wave --duration 300 --trail none");
+    let tty = std::process::Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .current_dir(&dir)
+        .output()
+        .expect("util-linux `script` runs the binary under a pseudo-terminal");
+    assert!(tty.status.success());
+    let text = String::from_utf8_lossy(&tty.stdout);
+    assert!(
+        text.contains("%  t = ") && text.contains("s left"),
+        "no progress bar on a terminal"
+    );
+    // …and with stderr a pipe, it does not
+    let piped = faze4(&dir, &["wave", "--duration", "300", "--trail", "none"]);
+    assert!(piped.status.success());
+    assert!(
+        piped.stderr.is_empty(),
+        "stderr should be empty, got {:?}",
+        &piped.stderr[..piped.stderr.len().min(200)]
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn ctrl_c_ends_the_run_with_complete_files() {
+    let dir = temp_dir("ctrl-c");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(["wave", "--duration", "36000", "--trail", "t.csv", "--summary", "s.json"])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("interrupted at t = "));
+    // both files complete: every trail row whole, the summary valid JSON that says where it stopped
+    let (header, rows) = read_csv(&dir.join("t.csv"));
+    assert!(rows.len() > 10 && rows.iter().all(|r| r.len() == header.len()));
+    let s = summary(&dir, "s.json");
+    let t = s["interrupted_at_s"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 36000.0);
+    assert!(
+        (rows.last().unwrap()[0] - t).abs() < 1e-9,
+        "the trail ends where the run stopped"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
