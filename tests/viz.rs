@@ -266,3 +266,67 @@ fn hold_until_returns_when_asked_and_serves_meanwhile() {
     });
     assert_eq!(polls.get(), 3);
 }
+
+/// The recorders behind the real closed loop (`sim::run`): a circle on the board, drawn by
+/// the real arm under the 5 kHz PD controller for 2 s, into the HTML export, the plot and the
+/// live view at once.
+#[test]
+fn the_real_closed_loop_feeds_every_visual_recorder() {
+    use faze4::control::{FAZE4_EFFORT, Pd, auto_tune};
+    use faze4::sim::{Scenario, ShapeRun, StopFlag};
+    use faze4::traj::shape::{BOARD, SHAPE_PERIOD, Shape};
+    use faze4::traj::{Interpolated, Trajectory, Wrap};
+
+    let model = real_model();
+    let reference = Shape::Circle.targets(240, &BOARD);
+    let samples = ik_path(&model, &reference);
+    let trajectory = Trajectory::Interpolated(Interpolated::new(&samples, SHAPE_PERIOD, Wrap::Closed));
+    let dt = 2e-4;
+    let (mut q0, mut v0) = (vec![0.0; 6], vec![0.0; 6]);
+    trajectory.eval(0.0, &mut q0, &mut v0);
+    let mut data = faze4::algo::Data::new(&model);
+    let inertia: Vec<f64> = faze4::algo::crba(&model, &mut data, &q0)
+        .diagonal()
+        .iter()
+        .copied()
+        .collect();
+    let gains = auto_tune(&inertia, &FAZE4_EFFORT, dt);
+    let points: Vec<Vec<f64>> = reference.iter().map(|p| vec![p.x, p.y, p.z]).collect();
+    let scenario = Scenario {
+        command: "shape".into(),
+        tool_frame: model.default_tool_frame(),
+        model,
+        trajectory,
+        dt,
+        steps: 10_000,
+        pd: Pd {
+            kp: gains.kp.clone(),
+            kd: gains.kd.clone(),
+            effort: gains.effort.clone(),
+            feedforward: true,
+        },
+        gains,
+        record_every: 100,
+        shape: Some(ShapeRun {
+            board: BOARD,
+            reference,
+            target: Interpolated::new(&points, SHAPE_PERIOD, Wrap::Closed),
+            ik_max_residual_m: 0.0,
+        }),
+    };
+    let dir = temp_dir("closed-loop");
+    let mut html = HtmlExport::new(dir.join("run.html")).unwrap();
+    let mut plot = PlotRecorder::new(dir.join("run.svg")).unwrap();
+    let mut live = LiveView::start(0).unwrap().with_realtime(false);
+    let summary = faze4::sim::run(&scenario, &mut [&mut html, &mut plot, &mut live], &StopFlag::new()).unwrap();
+    assert!(summary.diverged.is_none());
+    let deviation = summary.path_deviation_mm.unwrap();
+    assert!(deviation.max < 1.0, "the tool follows the circle: {deviation:?}");
+    let page = std::fs::read_to_string(dir.join("run.html")).unwrap();
+    assert!(page.contains("\"path_deviation_mm\""), "the summary is in the page");
+    let svg = std::fs::read_to_string(dir.join("run.svg")).unwrap();
+    assert!(svg.contains("tool distance to the reference path"));
+    let (code, _, scene) = get(live.port(), "/scene");
+    assert_eq!((code, &scene[..4]), (200, &b"F4VZ"[..]));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
