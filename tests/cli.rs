@@ -401,3 +401,151 @@ fn ctrl_c_ends_the_run_with_complete_files() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Broken copies of the bundled arm, each given to every run command: one line naming the file,
+/// the element and what is wrong.
+#[test]
+fn bad_urdfs_are_refused_naming_file_element_and_fault() {
+    let dir = temp_dir("bad-urdf");
+    let good = std::fs::read_to_string(repo_path("urdf/faze4_arm.urdf")).unwrap();
+    let lakat_mass = r#"<mass value="1.2726491805247"/>"#;
+    let variants: [(&str, String, &[&str]); 9] = [
+        ("truncated", good[..good.len() / 2].to_string(), &["malformed URDF"]),
+        (
+            "malformed",
+            good.replace("<link name=\"lakat\">", "<link name=\"lakat\""),
+            &["malformed URDF"],
+        ),
+        (
+            "missing-link",
+            good.replace("<child link=\"saka\"/>", "<child link=\"wrist\"/>"),
+            &["joint 'saka'", "child link 'wrist' does not exist"],
+        ),
+        (
+            "loop",
+            good.replace(
+                "</robot>",
+                r#"<joint name="back" type="fixed"><parent link="saka"/><child link="lakat"/></joint></robot>"#,
+            ),
+            &["joint 'back'", "loop"],
+        ),
+        (
+            "negative-mass",
+            good.replace(lakat_mass, r#"<mass value="-1.27"/>"#),
+            &["link 'lakat' <inertial>", "negative"],
+        ),
+        (
+            "zero-mass",
+            good.replace(lakat_mass, r#"<mass value="0"/>"#),
+            &["link 'lakat'", "mass"],
+        ),
+        (
+            "triangle",
+            good.replace("izz=\"0.00512549454697952\"", "izz=\"0.0512549454697952\""),
+            &["link 'lakat' <inertial>", "triangle inequality"],
+        ),
+        (
+            "nan",
+            good.replace("<origin xyz=\"0.32 0 0\"", "<origin xyz=\"0.32 NaN 0\""),
+            &["joint 'lakat'", "origin", "non-finite"],
+        ),
+        ("empty", String::new(), &["empty"]),
+    ];
+    for (name, text, parts) in variants {
+        assert_ne!(text, good, "test setup: {name} changed nothing");
+        let file = format!("{name}.urdf");
+        std::fs::write(dir.join(&file), text).unwrap();
+        let mut expected = vec![file.as_str()];
+        expected.extend_from_slice(parts);
+        for command in [vec!["wave"], vec!["shape", "--shape", "circle"]] {
+            let mut args = command.clone();
+            args.extend(["--urdf", &file, "--summary", "s.json"]);
+            refuses(&dir, &args, &expected);
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `faze4 shape` writes the joint samples `faze4 replay` plays, and refuses bad shape input.
+#[test]
+fn shape_saves_samples_replay_plays_and_refuses_bad_input() {
+    let dir = temp_dir("shape");
+    let run = faze4(
+        &dir,
+        &[
+            "shape",
+            "--shape",
+            "circle",
+            "--shape-points",
+            "60",
+            "--duration",
+            "1",
+            "--save-q",
+            "q.npy",
+            "--summary",
+            "s.json",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    assert!(run.stdout.contains("path deviation (mm)") && run.stdout.contains("joint samples -> q.npy"));
+    let s = summary(&dir, "s.json");
+    assert!(s["path_deviation_mm"]["max"].as_f64().unwrap() > 0.0);
+    assert!(s["ik_max_residual_m"].as_f64().unwrap() < 1e-6);
+    let q = faze4::traj::npy::read_samples(&dir.join("q.npy")).unwrap();
+    assert_eq!((q.len(), q[0].len()), (60, 6));
+    let replay = faze4(
+        &dir,
+        &["replay", "--q-traj", "q.npy", "--duration", "1", "--trail", "none"],
+    );
+    assert!(replay.status.success(), "{}", replay.stderr);
+    for f in ["q.npy", "s.json", "faze4_trail.csv"] {
+        std::fs::remove_file(dir.join(f)).unwrap();
+    }
+
+    refuses(
+        &dir,
+        &["shape", "--shape", "star"],
+        &["invalid value 'star'", "--shape"],
+    );
+    refuses(&dir, &["shape"], &["--shape"]);
+    refuses(
+        &dir,
+        &["shape", "--shape", "tri", "--shape-points", "0"],
+        &["--shape-points", "at least 3"],
+    );
+    refuses(
+        &dir,
+        &["shape", "--shape", "tri", "--shape-points", "-5"],
+        &["--shape-points"],
+    );
+    refuses(
+        &dir,
+        &["shape", "--shape", "tri", "--duration", "0"],
+        &["--duration", "must be > 0"],
+    );
+    // the base cannot reach the board: the first sample is named with its target and distance
+    refuses(
+        &dir,
+        &[
+            "shape",
+            "--shape",
+            "circle",
+            "--tool-link",
+            "rotary_base",
+            "--save-q",
+            "q.npy",
+        ],
+        &[
+            "IK sample 0 of 240",
+            "(0.240000, -0.480000, 0.550000)",
+            "rotary_base",
+            "closest distance",
+        ],
+    );
+    refuses(
+        &dir,
+        &["shape", "--shape", "sine", "--save-q", "no/such/dir/q.npy"],
+        &["no/such/dir/q.npy"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

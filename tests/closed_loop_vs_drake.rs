@@ -1,16 +1,27 @@
-//! `faze4 wave` and `faze4 replay`, run as the real binary, against the Drake reference loop
-//! (fixtures by tools/oracle/closed_loop_fixtures.py): the whole 8 s trail within 1e-9 m / rad,
-//! and the summary. Plus the regression figures of SPEC §3–4.
+//! `faze4 wave`, `replay` and `shape`, run as the real binary, against the Drake reference loop
+//! (fixtures by tools/oracle/closed_loop_fixtures.py and shape_fixtures.py): the whole trail
+//! within 1e-9 m / rad, and the summary. Plus the regression figures of SPEC §3–4.
 
 mod common;
 
 use common::*;
+use faze4::algo::{Data, forward_kinematics};
+use faze4::spatial::Vec3;
+use faze4::traj::npy;
 use serde_json::Value;
 
 const TRAIL_TOL: f64 = 1e-9;
 
-/// Runs the fixture's experiment and returns (our summary, our trail rows).
-fn run_fixture(name: &str) -> (Value, Value, Vec<Vec<f64>>) {
+/// What one run of the binary gave.
+struct Ours {
+    summary: Value,
+    trail: Vec<Vec<f64>>,
+    /// `shape` only: the joint samples it saved with --save-q.
+    saved_q: Option<Vec<Vec<f64>>>,
+}
+
+/// Runs the fixture's experiment; returns the fixture and what the binary gave.
+fn run_fixture(name: &str) -> (Value, Ours) {
     let fx = fixture(name);
     let dir = temp_dir(name);
     let a = &fx["args"];
@@ -23,6 +34,14 @@ fn run_fixture(name: &str) -> (Value, Value, Vec<Vec<f64>>) {
             repo_path(a["q_traj"].as_str().unwrap()).display().to_string(),
             "--traj-period".into(),
             num("traj_period"),
+        ]),
+        "shape" => args.extend([
+            "--shape".into(),
+            a["shape"].as_str().unwrap().into(),
+            "--shape-points".into(),
+            a["shape_points"].as_u64().unwrap().to_string(),
+            "--save-q".into(),
+            "q.npy".into(),
         ]),
         other => panic!("unknown command {other}"),
     }
@@ -52,12 +71,20 @@ fn run_fixture(name: &str) -> (Value, Value, Vec<Vec<f64>>) {
         .map(|c| c.as_str().unwrap().into())
         .collect();
     assert_eq!(header, columns);
+    let saved_q = (fx["command"] == "shape").then(|| npy::read_samples(&dir.join("q.npy")).unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
-    (fx, summary, rows)
+    let ours = Ours {
+        summary,
+        trail: rows,
+        saved_q,
+    };
+    (fx, ours)
 }
 
-fn compare(name: &str) -> Value {
-    let (fx, ours, rows) = run_fixture(name);
+/// Runs the fixture's experiment, checks trail and summary against Drake's, returns ours.
+fn compare(name: &str) -> Ours {
+    let (fx, run) = run_fixture(name);
+    let (ours, rows) = (&run.summary, &run.trail);
     let drake_rows = mat_f64(&fx["trail"]["rows"]);
     assert_eq!(rows.len(), drake_rows.len(), "{name}: trail rows");
     let mut worst = 0.0f64;
@@ -89,12 +116,12 @@ fn compare(name: &str) -> Value {
         );
         assert!(e < TRAIL_TOL, "{name}: tool range {axis} differs by {e:e}");
     }
-    ours
+    run
 }
 
 #[test]
 fn default_wave_matches_drake_and_tracks_within_5e_4() {
-    let s = compare("closed_loop_wave_default.json");
+    let s = compare("closed_loop_wave_default.json").summary;
     let err = vec_f64(&s["max_tracking_error_rad"]);
     assert!(err.iter().all(|&e| e <= 5e-4), "max error {err:?}");
     assert!(vec_f64(&s["saturation_pct"]).iter().all(|&p| p == 0.0));
@@ -111,7 +138,7 @@ fn default_wave_matches_drake_and_tracks_within_5e_4() {
 
 #[test]
 fn wave_without_feed_forward_matches_drake_and_sags_as_published() {
-    let s = compare("closed_loop_wave_no_ff.json");
+    let s = compare("closed_loop_wave_no_ff.json").summary;
     let err = vec_f64(&s["max_tracking_error_rad"]);
     assert!((err[1] - 0.0412).abs() <= 5e-4, "J2 {}", err[1]);
     assert!((err[2] - 0.0195).abs() <= 5e-4, "J3 {}", err[2]);
@@ -119,11 +146,102 @@ fn wave_without_feed_forward_matches_drake_and_sags_as_published() {
 
 #[test]
 fn wave_without_gravity_matches_drake() {
-    let s = compare("closed_loop_wave_no_gravity.json");
+    let s = compare("closed_loop_wave_no_gravity.json").summary;
     assert!(vec_f64(&s["max_tracking_error_rad"]).iter().all(|&e| e <= 5e-4));
 }
 
 #[test]
 fn replay_matches_drake() {
     compare("closed_loop_replay.json");
+}
+
+/// A `shape` run against Drake playing the same joint samples: the trail (≤ 1e-9), the summary,
+/// and the path deviation (SPEC §4's formula, computed independently by the fixture script).
+/// The samples `--save-q` wrote are the fixture's (the script made it with the binary), each
+/// on its target by our FK (and by Drake's, recorded in the fixture), J4 = J6 = 0 exactly.
+/// Returns the summary.
+fn shape_matches_drake(shape: &str) -> Value {
+    let name = format!("closed_loop_shape_{shape}.json");
+    let run = compare(&name);
+    let fx = fixture(&name);
+    let (ours, drake) = (&run.summary["path_deviation_mm"], &fx["summary"]["path_deviation_mm"]);
+    for key in ["max", "mean"] {
+        let (a, b) = (ours[key].as_f64().unwrap(), drake[key].as_f64().unwrap());
+        assert!(
+            (a - b).abs() <= 1e-6,
+            "{shape}: path deviation {key} {a} mm, Drake {b} mm"
+        );
+    }
+    let ik_residual = run.summary["ik_max_residual_m"].as_f64().unwrap();
+    assert!(ik_residual < 1e-6, "{shape}: IK residual {ik_residual:e} m");
+    let drake_fk = fx["drake_fk_max_residual_m"].as_f64().unwrap();
+    assert!(
+        drake_fk < 1e-6,
+        "{shape}: Drake places the samples {drake_fk:e} m off target"
+    );
+
+    let saved = run.saved_q.unwrap();
+    let committed = npy::read_samples(&repo_path(fx["args"]["q_samples"].as_str().unwrap())).unwrap();
+    assert_eq!(saved.len(), committed.len());
+    let drift = saved
+        .iter()
+        .zip(&committed)
+        .map(|(a, b)| max_abs_diff(a, b))
+        .fold(0.0, f64::max);
+    assert!(
+        drift <= 1e-12,
+        "{shape}: saved q differs from the fixture's by {drift:e} rad"
+    );
+
+    let model = faze4::model::faze4_arm();
+    let tool = model.frame_index("tool_link").unwrap();
+    let mut data = Data::new(&model);
+    for (k, (q, target)) in saved.iter().zip(mat_f64(&fx["targets"])).enumerate() {
+        forward_kinematics(&model, &mut data, q);
+        let off = (data.frame_pose[tool].pos - Vec3::new(target[0], target[1], target[2])).norm();
+        assert!(off < 1e-6, "{shape}: sample {k} is {off:e} m off its target");
+        assert!(q[3] == 0.0 && q[5] == 0.0, "{shape}: sample {k} moves J4 or J6: {q:?}");
+    }
+    run.summary
+}
+
+/// SPEC §4's Drake-equivalent figures (this model, exact IK, 12 s): the path deviation within
+/// 0.02 mm (our exact IK lands 0.01 mm above SPEC's sine and circle: README, Shapes) and the
+/// saturated share of J2.
+fn assert_spec_figures(summary: &Value, max_mm: f64, mean_mm: f64, j2_saturated_pct: f64) {
+    let d = &summary["path_deviation_mm"];
+    let (max, mean) = (d["max"].as_f64().unwrap(), d["mean"].as_f64().unwrap());
+    assert!((max - max_mm).abs() <= 0.02, "max deviation {max} mm, SPEC {max_mm}");
+    assert!(
+        (mean - mean_mm).abs() <= 0.02,
+        "mean deviation {mean} mm, SPEC {mean_mm}"
+    );
+    let j2 = vec_f64(&summary["saturation_pct"])[1];
+    assert!(
+        (j2 - j2_saturated_pct).abs() <= 0.005,
+        "J2 saturated {j2} %, SPEC {j2_saturated_pct}"
+    );
+}
+
+#[test]
+fn sine_matches_drake() {
+    let s = shape_matches_drake("sine");
+    assert_spec_figures(&s, 4.46, 0.57, 0.52);
+    let x = vec_f64(&s["tool_range_m"]["x"]);
+    assert!(
+        (x[0] + 0.110).abs() < 5e-4 && (x[1] - 0.270).abs() < 5e-4,
+        "x range {x:?}"
+    );
+}
+
+#[test]
+fn circle_matches_drake() {
+    let s = shape_matches_drake("circle");
+    assert_spec_figures(&s, 0.39, 0.18, 0.0);
+}
+
+#[test]
+fn triangle_matches_drake() {
+    let s = shape_matches_drake("tri");
+    assert_spec_figures(&s, 3.95, 0.30, 0.01);
 }

@@ -23,6 +23,8 @@ pub enum Command {
     Wave(WaveArgs),
     /// Replay an N×dof joint trajectory from a .npy file, repeating every --traj-period.
     Replay(ReplayArgs),
+    /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (SPEC §4).
+    Shape(ShapeArgs),
 }
 
 /// `faze4 wave`.
@@ -53,6 +55,30 @@ pub struct ReplayArgs {
     /// Simulated time (s).
     #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     pub duration: f64,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// `faze4 shape`.
+#[derive(Debug, Args)]
+pub struct ShapeArgs {
+    /// The path the tool draws on the board.
+    #[arg(long, value_parser = ["sine", "circle", "tri"])]
+    pub shape: String,
+    /// Samples along the path (IK targets), played one loop every 5 s.
+    #[arg(
+        long = "shape-points",
+        default_value_t = 240,
+        value_name = "N",
+        allow_hyphen_values = true
+    )]
+    pub shape_points: usize,
+    /// Simulated time (s).
+    #[arg(long, default_value_t = 12.0, allow_hyphen_values = true)]
+    pub duration: f64,
+    /// Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it).
+    #[arg(long = "save-q", value_name = "F.npy")]
+    pub save_q: Option<PathBuf>,
     #[command(flatten)]
     pub run: RunArgs,
 }

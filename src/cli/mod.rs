@@ -15,6 +15,7 @@ use crate::output::atomic::write_atomically;
 use crate::output::format::number;
 use crate::output::{Recorder, Terminal, TrailCsv};
 use crate::sim::{self, Scenario, StopFlag, Summary};
+use crate::traj::{Trajectory, npy};
 
 /// Exit status of a run that diverged.
 pub const EXIT_DIVERGED: u8 = 1;
@@ -48,27 +49,36 @@ fn usage_error(e: clap::Error) -> ExitCode {
         let _ = e.print();
         return ExitCode::from(e.exit_code() as u8);
     }
+    // clap's first paragraph (the error and its indented details) joined into one line
     let text = e.to_string();
-    let first = text.lines().next().unwrap_or_default().trim_start_matches("error: ");
+    let first: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
+    let first = first.join(" ");
+    let first = first.trim_start_matches("error: ");
     eprintln!("faze4: error: {first} (faze4 --help lists the options)");
     ExitCode::from(EXIT_INPUT)
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
-    let (scenario, run) = match &cli.command {
-        Command::Wave(a) => (scenario::wave(a)?, &a.run),
-        Command::Replay(a) => (scenario::replay(a)?, &a.run),
+    let (scenario, run, save_q) = match &cli.command {
+        Command::Wave(a) => (scenario::wave(a)?, &a.run, None),
+        Command::Replay(a) => (scenario::replay(a)?, &a.run, None),
+        Command::Shape(a) => (scenario::shape(a)?, &a.run, a.save_q.as_deref()),
     };
-    run_and_report(&scenario, run)
+    run_and_report(&scenario, run, save_q)
 }
 
-/// Runs `scenario` with the outputs `run` asks for; the exit status says whether it diverged.
-fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
+/// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
+/// command's joint samples there); the exit status says whether it diverged.
+fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let mut terminal = Terminal::new(run.debug);
     let mut trail = match is_none(&run.trail) {
         true => None,
         false => Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?),
     };
+    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
+        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
+        npy::write_samples(path, &rows)?;
+    }
     let mut recorders: Vec<&mut dyn Recorder> = vec![&mut terminal];
     if let Some(t) = trail.as_mut() {
         recorders.push(t);
@@ -77,7 +87,7 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
     if let Some(path) = &run.summary {
         write_summary(path, &summary)?;
     }
-    report_files(scenario, run, &summary, trail.as_ref().map(|t| t.rows()));
+    report_files(scenario, run, save_q, &summary, trail.as_ref().map(|t| t.rows()));
     if let Some(t) = summary.interrupted_at_s {
         eprintln!("faze4: interrupted at t = {t:.3} s; the trail and summary are complete up to there");
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
@@ -99,13 +109,22 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs) -> Result<ExitCode> {
     }
 }
 
-fn report_files(scenario: &Scenario, run: &RunArgs, summary: &Summary, trail_rows: Option<usize>) {
+fn report_files(
+    scenario: &Scenario,
+    run: &RunArgs,
+    save_q: Option<&Path>,
+    summary: &Summary,
+    trail_rows: Option<usize>,
+) {
     let mut done = Vec::new();
     if let Some(rows) = trail_rows {
         done.push(format!("trail -> {} ({rows} rows)", run.trail.display()));
     }
     if let Some(path) = &run.summary {
         done.push(format!("summary -> {}", path.display()));
+    }
+    if let Some(path) = save_q {
+        done.push(format!("joint samples -> {}", path.display()));
     }
     let per_step = summary.wall_time_s / scenario.steps.max(1) as f64;
     done.push(format!(

@@ -3,13 +3,15 @@
 
 use std::path::Path;
 
-use super::args::{JointValues, ReplayArgs, RunArgs, WaveArgs};
+use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::algo::{Data, crba};
 use crate::control::{FAZE4_EFFORT, Gains, Pd, auto_tune};
 use crate::error::{Error, Result};
+use crate::ik::{IkTask, SHAPE_FREE_JOINTS, solve_path};
 use crate::model::{self, Model, PackagePaths};
 use crate::output::steps_per_record;
 use crate::sim::{Scenario, ShapeRun};
+use crate::traj::shape::{BOARD, Q_SEED, SHAPE_PERIOD, Shape};
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
 /// `faze4 wave` → scenario.
@@ -38,6 +40,44 @@ pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
     let trajectory = Trajectory::Interpolated(Interpolated::new(&frames, args.traj_period, Wrap::Repeat));
     let steps = steps("--duration", args.duration, args.run.dt)?;
     assemble("replay", model, trajectory, steps, &args.run, None)
+}
+
+/// `faze4 shape` → scenario: the board targets, their exact IK, and the joint samples played as a closed loop every [`SHAPE_PERIOD`].
+///
+/// On the Faze4 the IK moves J1, J2, J3 and J5 from [`Q_SEED`] (J4 = J6 = 0, SPEC §4); on
+/// any other arm every joint is free, from the zero pose clamped into the limits.
+pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
+    positive("--duration", args.duration)?;
+    let shape = Shape::from_name(&args.shape)
+        .ok_or_else(|| Error::argument("--shape", format!("'{}' is not one of sine, circle, tri", args.shape)))?;
+    if args.shape_points < 3 {
+        return Err(Error::argument(
+            "--shape-points",
+            format!("{} samples cannot make a closed path: at least 3", args.shape_points),
+        ));
+    }
+    let model = load_model(&args.run)?;
+    let tool = tool_frame(&model, args.run.tool_link.as_deref())?;
+    let (free, seed): (Vec<usize>, Vec<f64>) = if model.is_faze4() {
+        (SHAPE_FREE_JOINTS.to_vec(), Q_SEED.to_vec())
+    } else {
+        let seed = model.joints.iter().map(|j| 0.0_f64.clamp(j.lower, j.upper)).collect();
+        ((0..model.dof()).collect(), seed)
+    };
+    let task = IkTask::new(&model, tool, &free)?;
+    let targets = shape.targets(args.shape_points, &BOARD);
+    let ik = solve_path(&model, &task, &targets, &seed)?;
+    let rows: Vec<Vec<f64>> = targets.iter().map(|p| vec![p.x, p.y, p.z]).collect();
+    let run = ShapeRun {
+        board: BOARD,
+        target: Interpolated::new(&rows, SHAPE_PERIOD, Wrap::Closed),
+        reference: targets,
+        ik_max_residual_m: ik.max_residual_m,
+    };
+    let trajectory = Trajectory::Interpolated(Interpolated::new(&ik.q, SHAPE_PERIOD, Wrap::Closed));
+    let steps = steps("--duration", args.duration, args.run.dt)?;
+    let command = format!("shape {} ({} points)", shape.name(), args.shape_points);
+    assemble(&command, model, trajectory, steps, &args.run, Some(run))
 }
 
 /// The model a run uses: the URDF (or the bundled arm), gravity, tool frame, payload.

@@ -10,7 +10,7 @@ use crate::traj::{Interpolated, Trajectory};
 /// library user. Runs start at the command's start state, q = q_cmd(0), v = v_cmd(0).
 #[derive(Clone, Debug)]
 pub struct Scenario {
-    /// `wave`, `replay` or `shape` (for the printed output).
+    /// What runs, for people: `wave`, `replay`, `shape circle (240 points)`.
     pub command: String,
     /// The simulated model (payload included; gravity as the run wants it).
     pub model: Model,
