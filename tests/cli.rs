@@ -549,3 +549,79 @@ fn shape_saves_samples_replay_plays_and_refuses_bad_input() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The visual outputs' bad input: a port in use, an unwritable HTML or plot path, a plot
+/// format that is not SVG or PNG. All refused before the run, nothing written.
+#[test]
+fn bad_view_options_are_refused_before_the_run() {
+    let dir = temp_dir("bad-view");
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    refuses(
+        &dir,
+        &["wave", "--view", "--port", &port, "--summary", "s.json"],
+        &["--port", &port, "already in use"],
+    );
+    refuses(
+        &dir,
+        &["shape", "--shape", "tri", "--hold", "--port", &port],
+        &["--port", "already in use"],
+    );
+    refuses(&dir, &["wave", "--port", "70000"], &["--port", "70000"]);
+    refuses(
+        &dir,
+        &["wave", "--html", "no/such/dir/a.html"],
+        &["--html", "no/such/dir"],
+    );
+    refuses(
+        &dir,
+        &["wave", "--plot", "no/such/dir/a.svg"],
+        &["--plot", "no/such/dir"],
+    );
+    refuses(&dir, &["wave", "--plot", "a.pdf"], &["--plot", "a.pdf", ".svg or .png"]);
+    drop(taken);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--html`, `--plot` and `--html none` from the real binary (the browser tests open them).
+#[test]
+fn html_and_plot_are_written_whole() {
+    let dir = temp_dir("html-plot");
+    let run = faze4(
+        &dir,
+        &[
+            "shape",
+            "--shape",
+            "tri",
+            "--duration",
+            "2",
+            "--html",
+            "t.html",
+            "--plot",
+            "t.svg",
+            "--trail",
+            "none",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    assert!(run.stdout.contains("html -> t.html") && run.stdout.contains("plot -> t.svg"));
+    let html = std::fs::read_to_string(dir.join("t.html")).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
+    assert!(
+        !html.contains("http://") && !html.contains("https://"),
+        "nothing fetched from the network"
+    );
+    let svg = std::fs::read_to_string(dir.join("t.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("reference path"));
+    let none = faze4(
+        &dir,
+        &["wave", "--duration", "0.1", "--html", "none", "--trail", "none"],
+    );
+    assert!(none.status.success(), "{}", none.stderr);
+    let files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(files.len(), 2, "--html none writes nothing: {files:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

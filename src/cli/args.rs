@@ -138,6 +138,22 @@ pub struct RunArgs {
         allow_hyphen_values = true
     )]
     pub record_period: f64,
+    /// Show the run live in the browser at http://127.0.0.1:PORT, in real time.
+    #[arg(long)]
+    pub view: bool,
+    /// Port of the live view (127.0.0.1 only; 0 picks a free one).
+    #[arg(long, default_value_t = crate::viz::DEFAULT_PORT, value_name = "P")]
+    pub port: u16,
+    /// Keep the live view serving after the run until Ctrl-C (implies --view).
+    #[arg(long)]
+    pub hold: bool,
+    /// One self-contained HTML file that plays the run back offline; 'none' writes none.
+    #[arg(long, value_name = "F.html")]
+    pub html: Option<PathBuf>,
+    /// One figure of joint angles vs command, torques vs limits, tracking error (and path
+    /// deviation for shapes), as .svg or .png.
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
 }
 
 /// A comma-separated value per joint; `auto` (or nothing) leaves a joint's value alone.

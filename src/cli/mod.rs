@@ -16,6 +16,7 @@ use crate::output::format::number;
 use crate::output::{Recorder, Terminal, TrailCsv};
 use crate::sim::{self, Scenario, StopFlag, Summary};
 use crate::traj::{Trajectory, npy};
+use crate::viz::{HtmlExport, LiveView, PlotRecorder};
 
 /// Exit status of a run that diverged.
 pub const EXIT_DIVERGED: u8 = 1;
@@ -70,71 +71,126 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 /// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
 /// command's joint samples there); the exit status says whether it diverged.
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
-    let mut terminal = Terminal::new(run.debug);
-    let mut trail = match is_none(&run.trail) {
-        true => None,
-        false => Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?),
-    };
+    let stop = StopFlag::ctrl_c();
+    let outputs = Outputs::open(run)?;
     if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
         let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
         npy::write_samples(path, &rows)?;
     }
+    let Outputs {
+        mut terminal,
+        mut trail,
+        mut html,
+        mut plot,
+        mut live,
+    } = outputs;
     let mut recorders: Vec<&mut dyn Recorder> = vec![&mut terminal];
     if let Some(t) = trail.as_mut() {
         recorders.push(t);
     }
-    let summary = sim::run(scenario, &mut recorders, &StopFlag::ctrl_c())?;
+    if let Some(h) = html.as_mut() {
+        recorders.push(h);
+    }
+    if let Some(p) = plot.as_mut() {
+        recorders.push(p);
+    }
+    if let Some(l) = live.as_mut() {
+        recorders.push(l);
+    }
+    let summary = sim::run(scenario, &mut recorders, &stop)?;
     if let Some(path) = &run.summary {
         write_summary(path, &summary)?;
     }
-    report_files(scenario, run, save_q, &summary, trail.as_ref().map(|t| t.rows()));
+    let mut written = Vec::new();
+    if let Some(t) = &trail {
+        written.push(format!("trail -> {} ({} rows)", run.trail.display(), t.rows()));
+    }
+    if let Some(path) = &run.summary {
+        written.push(format!("summary -> {}", path.display()));
+    }
+    if let Some(path) = save_q {
+        written.push(format!("joint samples -> {}", path.display()));
+    }
+    if let Some(h) = &html {
+        written.push(format!("html -> {}", h.path().display()));
+    }
+    if let Some(p) = &plot {
+        written.push(format!("plot -> {}", p.path().display()));
+    }
+    report_files(scenario, &summary, written);
     if let Some(t) = summary.interrupted_at_s {
-        eprintln!("faze4: interrupted at t = {t:.3} s; the trail and summary are complete up to there");
+        eprintln!("faze4: interrupted at t = {t:.3} s; the outputs are complete up to there");
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
-    match &summary.diverged {
-        None => Ok(ExitCode::SUCCESS),
+    let code = match &summary.diverged {
+        None => ExitCode::SUCCESS,
         Some(d) => {
             let joint = &scenario.model.joints[d.joint - 1];
             let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
             eprintln!(
-                "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the trail and summary keep the steps before it",
+                "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the outputs keep the steps before it",
                 d.t,
                 d.joint,
                 joint.name,
                 b.join(", ")
             );
-            Ok(ExitCode::from(EXIT_DIVERGED))
+            ExitCode::from(EXIT_DIVERGED)
         }
+    };
+    // the run's files are written: Ctrl-C now only ends the serving
+    if let (Some(l), true) = (&live, run.hold) {
+        l.hold_until(|| stop.is_raised());
+    }
+    Ok(code)
+}
+
+/// The recorders a run writes to, opened (and their paths and port checked) before it starts.
+struct Outputs {
+    terminal: Terminal,
+    trail: Option<TrailCsv>,
+    html: Option<HtmlExport>,
+    plot: Option<PlotRecorder>,
+    live: Option<LiveView>,
+}
+
+impl Outputs {
+    fn open(run: &RunArgs) -> Result<Outputs> {
+        let live = match run.view || run.hold {
+            true => Some(LiveView::start(run.port)?.with_period(run.record_period)),
+            false => None,
+        };
+        let html = match run.html.as_deref().filter(|p| !is_none(p)) {
+            Some(path) => Some(HtmlExport::new(path)?.with_period(run.record_period)),
+            None => None,
+        };
+        let plot = match run.plot.as_deref() {
+            Some(path) => Some(PlotRecorder::new(path)?.with_period(run.record_period)),
+            None => None,
+        };
+        let trail = match is_none(&run.trail) {
+            true => None,
+            false => Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?),
+        };
+        Ok(Outputs {
+            terminal: Terminal::new(run.debug),
+            trail,
+            html,
+            plot,
+            live,
+        })
     }
 }
 
-fn report_files(
-    scenario: &Scenario,
-    run: &RunArgs,
-    save_q: Option<&Path>,
-    summary: &Summary,
-    trail_rows: Option<usize>,
-) {
-    let mut done = Vec::new();
-    if let Some(rows) = trail_rows {
-        done.push(format!("trail -> {} ({rows} rows)", run.trail.display()));
-    }
-    if let Some(path) = &run.summary {
-        done.push(format!("summary -> {}", path.display()));
-    }
-    if let Some(path) = save_q {
-        done.push(format!("joint samples -> {}", path.display()));
-    }
+fn report_files(scenario: &Scenario, summary: &Summary, mut written: Vec<String>) {
     let per_step = summary.wall_time_s / scenario.steps.max(1) as f64;
-    done.push(format!(
+    written.push(format!(
         "{} steps in {:.3} s ({:.2} µs/step)",
         scenario.steps,
         summary.wall_time_s,
         per_step * 1e6
     ));
     // a closed stdout (`faze4 … | head`) is not the run's failure
-    let _ = writeln!(std::io::stdout().lock(), "[done] {}", done.join(" · "));
+    let _ = writeln!(std::io::stdout().lock(), "[done] {}", written.join(" · "));
 }
 
 /// Writes the summary JSON (whole or not at all).

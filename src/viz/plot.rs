@@ -39,6 +39,8 @@ enum Format {
 pub struct PlotRecorder {
     path: PathBuf,
     format: Format,
+    /// Sampling period (s of simulated time).
+    period: f64,
     title: String,
     joints: Vec<String>,
     effort: Vec<f64>,
@@ -74,6 +76,7 @@ impl PlotRecorder {
         Ok(PlotRecorder {
             path,
             format,
+            period: PERIOD,
             title: String::new(),
             joints: Vec::new(),
             effort: Vec::new(),
@@ -86,6 +89,13 @@ impl PlotRecorder {
         })
     }
 
+    /// Samples every `period` seconds of simulated time instead of every 0.01 s (the command
+    /// line passes `--record-period`, so the figure's path deviation is the summary's).
+    pub fn with_period(mut self, period: f64) -> PlotRecorder {
+        self.period = period;
+        self
+    }
+
     /// The file this recorder writes.
     pub fn path(&self) -> &Path {
         &self.path
@@ -94,7 +104,7 @@ impl PlotRecorder {
 
 impl Recorder for PlotRecorder {
     fn every(&self, dt: f64) -> usize {
-        steps_per_record(PERIOD, dt)
+        steps_per_record(self.period, dt)
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
