@@ -7,7 +7,7 @@
 //! With `FAZE4_UPDATE_DOCS=1` the screenshots at the known poses are also copied to
 //! `docs/html_export.png` and `docs/live_view.png`.
 
-mod viz_support;
+mod common;
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -15,7 +15,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use viz_support::*;
+use common::{repo, shared_description};
 
 const WIDTH: usize = 1000;
 const HEIGHT: usize = 700;
@@ -206,7 +206,7 @@ fn real_arm_args() -> Vec<String> {
         "--urdf".into(),
         repo().join("urdf/faze4_real.urdf").display().to_string(),
         "--package-path".into(),
-        description().display().to_string(),
+        shared_description().display().to_string(),
         "--trail".into(),
         "none".into(),
     ]

@@ -1,40 +1,22 @@
 //! Synthetic runs for the visual outputs: the recorder calls a simulation makes (`begin`,
 //! `record` at each recorder's period, `finish`), for a moving Faze4, without the simulation
-//! loop. A wave (q = a sine per joint) or a circle on the board (q from a small IK, the
+//! loop. A wave (q = a sine per joint) or a circle on the board (q from `faze4::ik`, the
 //! "measured" q lagging the command by 10 ms).
 #![allow(dead_code)]
 
-use std::path::{Path, PathBuf};
-
-use faze4::algo::{Data, forward_kinematics, frame_jacobian, gravity};
+use faze4::algo::{Data, forward_kinematics, gravity};
 use faze4::control::{FAZE4_EFFORT, Gains, auto_tune};
+use faze4::ik::{IkTask, solve_path};
 use faze4::model::{Model, PackagePaths};
 use faze4::output::{Recorder, RunInfo, Sample};
 use faze4::sim::{PathDeviation, Summary};
 use faze4::spatial::Vec3;
 use faze4::traj::shape::{BOARD, Q_SEED, SHAPE_PERIOD, Shape, distance_to_closed_path};
+use faze4::traj::{Interpolated, Wrap};
 
-pub fn repo() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The official Faze4 description (meshes), never copied into the repository:
-/// `$FAZE4_DESCRIPTION`, else `shared/faze4_description` beside the repository or above it.
-pub fn description() -> PathBuf {
-    if let Some(dir) = std::env::var_os("FAZE4_DESCRIPTION") {
-        return PathBuf::from(dir);
-    }
-    repo()
-        .ancestors()
-        .map(|a| a.join("shared/faze4_description"))
-        .find(|p| p.join("meshes").is_dir())
-        .unwrap_or_else(|| {
-            panic!(
-                "test data missing: no shared/faze4_description above {}; set FAZE4_DESCRIPTION",
-                repo().display()
-            )
-        })
-}
+#[path = "../common/mod.rs"]
+mod common;
+pub use common::{repo, shared_description as description};
 
 /// `urdf/faze4_real.urdf` with the official meshes resolved.
 pub fn real_model() -> Model {
@@ -54,7 +36,7 @@ pub enum Motion {
     /// q_i(t) = amp·sin(ω t + i·π/3).
     Wave { amp: f64, omega: f64 },
     /// The tool draws SPEC's circle (5 s per loop); joint samples by IK.
-    Circle { samples: Vec<Vec<f64>> },
+    Circle { samples: Interpolated },
 }
 
 pub struct SyntheticRun {
@@ -82,7 +64,7 @@ impl SyntheticRun {
 
     pub fn circle(model: Model, duration: f64) -> SyntheticRun {
         let reference = Shape::Circle.targets(240, &BOARD);
-        let samples = ik_path(&model, &reference);
+        let samples = Interpolated::new(&ik_path(&model, &reference), SHAPE_PERIOD, Wrap::Closed);
         Self::new(model, Motion::Circle { samples }, duration, Some(reference))
     }
 
@@ -111,12 +93,9 @@ impl SyntheticRun {
                 .map(|i| amp * (omega * t + i as f64 * std::f64::consts::PI / 3.0).sin())
                 .collect(),
             Motion::Circle { samples } => {
-                let n = samples.len();
-                let x = (t / SHAPE_PERIOD).rem_euclid(1.0) * n as f64;
-                let k = (x.floor() as usize).min(n - 1);
-                let f = x - k as f64;
-                let (a, b) = (&samples[k], &samples[(k + 1) % n]);
-                a.iter().zip(b).map(|(a, b)| a + f * (b - a)).collect()
+                let (mut q, mut v) = (vec![0.0; 6], vec![0.0; 6]);
+                samples.eval(t, &mut q, &mut v);
+                q
             }
         }
     }
@@ -222,33 +201,9 @@ impl SyntheticRun {
     }
 }
 
-/// Joint samples that put the tool on each point of `path` (J1, J2, J3, J5; J4 = J6 = 0),
-/// each solved from the previous one, the first from Q_SEED (damped least squares).
+/// Joint samples that put the tool on each point of `path` by `faze4::ik` (SPEC §4's task:
+/// J1, J2, J3, J5 free, the first from Q_SEED).
 pub fn ik_path(model: &Model, path: &[Vec3]) -> Vec<Vec<f64>> {
-    let tool = model.default_tool_frame();
-    let mut data = Data::new(model);
-    let mut q = Q_SEED.to_vec();
-    let free = [0usize, 1, 2, 4];
-    path.iter()
-        .map(|target| {
-            for _ in 0..100 {
-                forward_kinematics(model, &mut data, &q);
-                let e = target - data.frame_pose[tool].pos;
-                if e.norm() < 1e-9 {
-                    break;
-                }
-                let jac = frame_jacobian(model, &mut data, tool);
-                let j = nalgebra::Matrix3x4::from_fn(|r, c| jac[(r + 3, free[c])]);
-                let jjt = j * j.transpose() + nalgebra::Matrix3::identity() * 1e-8;
-                let dq = j.transpose() * jjt.try_inverse().unwrap() * e;
-                for (c, &i) in free.iter().enumerate() {
-                    q[i] += dq[c];
-                }
-            }
-            forward_kinematics(model, &mut data, &q);
-            let residual = (target - data.frame_pose[tool].pos).norm();
-            assert!(residual < 1e-6, "IK residual {residual} at {target:?}");
-            q.clone()
-        })
-        .collect()
+    let task = IkTask::shapes(model).unwrap();
+    solve_path(model, &task, path, &Q_SEED).unwrap().q
 }
