@@ -15,7 +15,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use common::{repo, shared_description};
+use common::{interrupt, repo, shared_description};
 
 const WIDTH: usize = 1000;
 const HEIGHT: usize = 700;
@@ -336,11 +336,7 @@ fn live_page_draws_the_arm_and_follows_the_run() {
     assert!(serving, "no 'serving … until Ctrl-C' line after the run");
     assert!(dir.join("s.json").is_file(), "the summary is written before holding");
     assert!(child.try_wait().unwrap().is_none(), "--hold keeps serving");
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
+    interrupt(child.id());
     let status = child.wait().unwrap();
     reader.join().unwrap();
     assert_eq!(status.code(), Some(0), "Ctrl-C while holding ends cleanly");

@@ -152,3 +152,10 @@ pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .collect();
     (header, rows)
 }
+
+/// Sends SIGINT (what Ctrl-C sends) to process `pid`.
+pub fn interrupt(pid: u32) {
+    // SAFETY: kill(2) only reads its arguments
+    let sent = unsafe { libc::kill(pid as libc::pid_t, libc::SIGINT) };
+    assert_eq!(sent, 0, "kill(SIGINT) failed: {}", std::io::Error::last_os_error());
+}
