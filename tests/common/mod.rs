@@ -133,6 +133,8 @@ pub fn faze4(dir: &Path, args: &[&str]) -> Run {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
         .args(args)
         .current_dir(dir)
+        // a panic would print a backtrace: the one-line error checks would see it
+        .env("RUST_BACKTRACE", "1")
         .output()
         .expect("run faze4");
     Run {
