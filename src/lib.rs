@@ -9,6 +9,8 @@ pub mod algo;
 pub mod cli;
 pub mod control;
 pub mod error;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod model;
 pub mod output;
 pub mod sim;

@@ -1,0 +1,86 @@
+//! Every input a fuzzer broke faze4 with (`tests/fuzz_regressions/<target>/`, bytes as found)
+//! and every fuzz seed (`fuzz/seeds/<target>/`) goes through the fuzz target's own code
+//! (`faze4::fuzzing`): no panic, no broken invariant, and for the regressions the error that
+//! the fix gives. See the README's "Reliability" section.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+
+use faze4::fuzzing;
+
+/// What each stored regression input must give: a fragment of its error message, or `None`
+/// for "accepted". Every file under tests/fuzz_regressions/ needs an entry.
+const EXPECTED: &[(&str, &str, Option<&str>)] = &[];
+
+fn inputs(target: &str) -> Vec<(PathBuf, bool)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for (dir, is_regression) in [("tests/fuzz_regressions", true), ("fuzz/seeds", false)] {
+        let Ok(entries) = std::fs::read_dir(root.join(dir).join(target)) else {
+            continue;
+        };
+        for entry in entries {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                files.push((path, is_regression));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// Runs `run` on every input of `target`, collecting every failure before failing.
+fn check_all(target: &str, run: impl Fn(&[u8]) -> Option<Result<(), String>>) {
+    let files = inputs(target);
+    assert!(!files.is_empty(), "no inputs for {target}");
+    let mut failures = Vec::new();
+    for (path, is_regression) in &files {
+        let name = path.file_name().unwrap().to_str().unwrap();
+        let bytes = std::fs::read(path).unwrap();
+        let outcome = match catch_unwind(AssertUnwindSafe(|| run(&bytes))) {
+            Ok(outcome) => outcome,
+            Err(_) => {
+                failures.push(format!("{}: panicked", path.display()));
+                continue;
+            }
+        };
+        if !is_regression {
+            continue;
+        }
+        let expected = EXPECTED.iter().find(|(t, n, _)| *t == target && *n == name);
+        let Some((_, _, expected)) = expected else {
+            failures.push(format!("{}: no entry in EXPECTED", path.display()));
+            continue;
+        };
+        match (expected, outcome) {
+            (None, Some(Ok(()))) => {}
+            (Some(fragment), Some(Err(message))) if message.contains(fragment) => {}
+            (expected, got) => failures.push(format!("{}: expected {expected:?}, got {got:?}", path.display())),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn urdf_model_inputs() {
+    check_all("urdf_model", |bytes| {
+        fuzzing::urdf_model(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))
+    });
+}
+
+#[test]
+fn npy_samples_inputs() {
+    check_all("npy_samples", |bytes| {
+        Some(fuzzing::npy_samples(bytes).map(|_| ()).map_err(|e| e.to_string()))
+    });
+}
+
+#[test]
+fn every_expectation_has_its_input() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (target, name, _) in EXPECTED {
+        let path = root.join("tests/fuzz_regressions").join(target).join(name);
+        assert!(path.is_file(), "{} is missing", path.display());
+    }
+}
