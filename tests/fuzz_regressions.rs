@@ -10,7 +10,23 @@ use faze4::fuzzing;
 
 /// What each stored regression input must give: a fragment of its error message, or `None`
 /// for "accepted". Every file under tests/fuzz_regressions/ needs an entry.
-const EXPECTED: &[(&str, &str, Option<&str>)] = &[];
+const EXPECTED: &[(&str, &str, Option<&str>)] = &[
+    // The first seed of extreme values: its axis (1e-300, 0, 1e300) has an infinite norm and
+    // was normalised to zero; its 1e300 kg link at 1e10 m gave an infinite body inertia.
+    (
+        "urdf_model",
+        "extreme-values-seed",
+        Some("link 'h' <inertial>: mass, centre of mass and inertia overflow"),
+    ),
+    // (hand-made) each of those alone: a huge axis is a direction like any other ...
+    ("urdf_model", "huge-axis", None),
+    // ... and offsets that add up to infinity are refused, naming the joint
+    (
+        "urdf_model",
+        "placement-overflow",
+        Some("joint 'g' <origin>: places link 'd' beyond the range"),
+    ),
+];
 
 fn inputs(target: &str) -> Vec<(PathBuf, bool)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
