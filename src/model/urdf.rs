@@ -10,7 +10,7 @@ use std::path::Path;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 use super::{Model, PackagePaths};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, one_line};
 use crate::spatial::{Pose, Vec3};
 
 /// Reads and validates the URDF file at `path`.
@@ -37,7 +37,7 @@ pub fn read_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
 pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<RobotDescription> {
     let syntax = |message: String| Error::UrdfSyntax {
         file: file.to_string(),
-        message,
+        message: one_line(&message),
     };
     if text.trim().is_empty() {
         return Err(syntax("the file is empty".into()));
