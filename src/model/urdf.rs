@@ -42,6 +42,13 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
     if text.trim().is_empty() {
         return Err(syntax("the file is empty".into()));
     }
+    // urdf-rs walks the element tree recursively, so deep nesting overflows the stack (a
+    // crash, not a panic: catch_unwind cannot help). A URDF nests about 5 deep.
+    if let Some(line) = nested_deeper_than(text, MAX_NESTING) {
+        return Err(syntax(format!(
+            "elements nest more than {MAX_NESTING} deep (line {line}); a URDF needs about 5 levels"
+        )));
+    }
     // urdf-rs panics on a few malformed inputs instead of returning an error; keep that from
     // taking the process down.
     let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(text))
@@ -106,6 +113,56 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
     })
 }
 
+/// The deepest element nesting [`describe`] hands to urdf-rs.
+const MAX_NESTING: usize = 100;
+
+/// The line on which XML `text` first has more than `limit` elements open, if it does. A
+/// lexical scan (comments, CDATA, processing instructions, declarations and quoted attribute
+/// values skipped), linear in the length of the text; malformed XML is left to the parser.
+fn nested_deeper_than(text: &str, limit: usize) -> Option<usize> {
+    let b = text.as_bytes();
+    let find = |from: usize, pat: &[u8]| -> usize {
+        (b.get(from..).unwrap_or_default().windows(pat.len()))
+            .position(|w| w == pat)
+            .map_or(b.len(), |p| from + p + pat.len())
+    };
+    let (mut depth, mut i) = (0usize, 0usize);
+    while let Some(p) = b.get(i..).and_then(|rest| rest.iter().position(|&c| c == b'<')) {
+        let at = i + p;
+        let rest = &b[at..];
+        i = if rest.starts_with(b"<!--") {
+            find(at + 4, b"-->")
+        } else if rest.starts_with(b"<![CDATA[") {
+            find(at + 9, b"]]>")
+        } else if rest.starts_with(b"<?") {
+            find(at + 2, b"?>")
+        } else if rest.starts_with(b"<!") || rest.starts_with(b"</") {
+            depth = depth.saturating_sub(usize::from(rest.starts_with(b"</")));
+            find(at + 1, b">")
+        } else {
+            // a start tag: find its '>' outside quotes; "/>" closes it at once
+            let (mut j, mut quote) = (at + 1, None);
+            while j < b.len() {
+                match (quote, b[j]) {
+                    (None, b'"' | b'\'') => quote = Some(b[j]),
+                    (Some(q), c) if c == q => quote = None,
+                    (None, b'>') => break,
+                    _ => {}
+                }
+                j += 1;
+            }
+            if b.get(j.wrapping_sub(1)) != Some(&b'/') {
+                depth += 1;
+                if depth > limit {
+                    return Some(1 + b[..at].iter().filter(|&&c| c == b'\n').count());
+                }
+            }
+            j + 1
+        };
+    }
+    None
+}
+
 fn visual(
     v: &urdf_rs::Visual,
     materials: &[urdf_rs::Material],
@@ -145,5 +202,28 @@ fn visual(
         origin: Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
         geometry,
         rgba,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nesting_depth_counts_elements_only() {
+        let nested = |n: usize| format!("<robot>\n{}{}</robot>", "<a>".repeat(n), "</a>".repeat(n));
+        assert_eq!(nested_deeper_than(&nested(99), 100), None);
+        assert_eq!(nested_deeper_than(&nested(100), 100), Some(2));
+        // siblings, empty elements, comments, CDATA, declarations and quoted '>' do not nest
+        let flat = format!(
+            "<?xml version=\"1.0\"?><!DOCTYPE robot><robot>{}<!-- {} --><![CDATA[{}]]><a b=\"/>\" c='>'>x</a></robot>",
+            "<link name=\"x\"/><joint></joint>".repeat(500),
+            "<a>".repeat(500),
+            "<a>".repeat(500)
+        );
+        assert_eq!(nested_deeper_than(&flat, 3), None);
+        assert_eq!(nested_deeper_than("<a><b><c><d>", 3), Some(1));
+        assert_eq!(nested_deeper_than("<a", 0), Some(1));
+        assert_eq!(nested_deeper_than("", 0), None);
     }
 }
