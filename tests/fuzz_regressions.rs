@@ -36,6 +36,18 @@ const EXPECTED: &[(&str, &str, Option<&str>)] = &[
         "huge-shape",
         Some("it needs 48000000000000000 bytes, the file has 48"),
     ),
+    // RustyXML (inside urdf-rs) panics with "No namespace prefix bound": caught as before, but
+    // the panic message and backtrace went to stderr; as found, and minimised by cargo fuzz tmin
+    (
+        "urdf_model",
+        "xml-namespace-panic",
+        Some("urdf-rs panicked: No namespace prefix bound"),
+    ),
+    (
+        "urdf_model",
+        "xml-namespace-panic-min",
+        Some("urdf-rs panicked: No namespace prefix bound"),
+    ),
 ];
 
 fn inputs(target: &str) -> Vec<(PathBuf, bool)> {
@@ -114,6 +126,25 @@ fn deep_nesting_is_refused_before_the_parser() {
     );
     let error = fuzzing::urdf_model(text.as_bytes()).unwrap().unwrap_err().to_string();
     assert!(error.contains("elements nest more than 100 deep"), "{error}");
+}
+
+/// A panic inside urdf-rs is one line from the CLI, backtraces on or not.
+#[test]
+fn urdf_parser_panic_is_one_quiet_line_from_the_cli() {
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions/urdf_model/xml-namespace-panic-min");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(["wave", "--trail", "none", "--urdf"])
+        .arg(&input)
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with("faze4: error: ") && stderr.contains("urdf-rs panicked: No namespace prefix bound"),
+        "{stderr}"
+    );
 }
 
 #[test]

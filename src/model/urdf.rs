@@ -6,7 +6,9 @@
 //! expansion needs ROS), a missing `<limit>` reads as all zeros (taken as "no limits"), and
 //! `<transmission>` is dropped (faze4 drives joints directly).
 
+use std::cell::Cell;
 use std::path::Path;
+use std::sync::Once;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 use super::{Model, PackagePaths};
@@ -49,10 +51,14 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
             "elements nest more than {MAX_NESTING} deep (line {line}); a URDF needs about 5 levels"
         )));
     }
-    // urdf-rs panics on a few malformed inputs instead of returning an error; keep that from
-    // taking the process down.
-    let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(text))
-        .map_err(|_| syntax("the XML parser failed on this input".into()))?
+    // urdf-rs panics on a few malformed inputs instead of returning an error (RustyXML's "No
+    // namespace prefix bound" on `<" xmlns="N":=""/>`): catch it, quietly, and report it.
+    let parsed = parse_quietly(text)
+        .map_err(|panic| {
+            syntax(format!(
+                "the XML parser failed on this input (urdf-rs panicked: {panic})"
+            ))
+        })?
         .map_err(|e| syntax(e.to_string()))?;
 
     let links = parsed
@@ -110,6 +116,37 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
         file: file.to_string(),
         links,
         joints,
+    })
+}
+
+thread_local! {
+    /// Whether this thread is inside urdf-rs, under [`parse_quietly`]'s `catch_unwind`.
+    static IN_PARSER: Cell<bool> = const { Cell::new(false) };
+}
+
+/// `urdf_rs::read_from_string(text)`, with a panic inside it caught and returned as its
+/// message. The panic is not printed: a process-wide panic hook, installed on the first call,
+/// stays silent for panics on a thread that is inside urdf-rs and hands every other panic to
+/// the hook that was there before (by default the one that prints message and backtrace; under
+/// the fuzzer, libFuzzer's, which aborts). A hook set after the first call replaces it, which
+/// only makes a caught parser panic visible again.
+fn parse_quietly(text: &str) -> std::result::Result<urdf_rs::Result<urdf_rs::Robot>, String> {
+    static QUIET_HOOK: Once = Once::new();
+    QUIET_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !IN_PARSER.get() {
+                previous(info);
+            }
+        }));
+    });
+    IN_PARSER.set(true);
+    let result = std::panic::catch_unwind(|| urdf_rs::read_from_string(text));
+    IN_PARSER.set(false);
+    result.map_err(|payload| {
+        (payload.downcast_ref::<&str>().map(|s| s.to_string()))
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into())
     })
 }
 
