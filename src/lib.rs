@@ -3,7 +3,8 @@
 //!
 //! Layers, bottom up: [`spatial`] (6D algebra), [`model`] (URDF → immutable model),
 //! [`algo`] (kinematics and dynamics on a preallocated workspace), [`control`] (PD + tuning),
-//! [`traj`] (commands), [`sim`] (closed-loop runs), [`output`] (the recorder interface).
+//! [`traj`] (commands), [`sim`] (closed-loop runs), [`output`] (the recorder interface),
+//! [`viz`] (the 3D view, live and exported, and the plot: recorders).
 
 pub mod algo;
 pub mod cli;
@@ -11,10 +12,12 @@ pub mod control;
 pub mod error;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod ik;
 pub mod model;
 pub mod output;
 pub mod sim;
 pub mod spatial;
 pub mod traj;
+pub mod viz;
 
 pub use error::{Error, Result};

@@ -1,0 +1,595 @@
+//! Triangle meshes: STL files (binary and ASCII) → indexed meshes with crease-aware normals,
+//! primitive shapes, and the compact form the viewer receives (quantised positions, packed
+//! normals, 16-bit indices where they fit).
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// Normals of faces meeting at a vertex are averaged when they differ by less than this angle;
+/// sharper edges keep one vertex per side (CAD parts: flat faces, sharp edges).
+pub const CREASE_ANGLE_DEG: f32 = 35.0;
+
+/// An indexed triangle mesh with one unit normal per vertex (f32, metres).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals, one per position.
+    pub normals: Vec<[f32; 3]>,
+    /// Three vertex indices per triangle.
+    pub indices: Vec<u32>,
+}
+
+impl TriMesh {
+    /// Number of triangles.
+    pub fn triangles(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Axis-aligned bounds (min, max); zeros for an empty mesh.
+    pub fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        if self.positions.is_empty() {
+            return ([0.0; 3], [0.0; 3]);
+        }
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for p in &self.positions {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Indexes a triangle soup (three corners per triangle): identical positions are merged,
+    /// degenerate triangles dropped, and each corner gets the area-weighted normal of the faces
+    /// around its position that lie within [`CREASE_ANGLE_DEG`] of its own face; corners with
+    /// the same position and normal become one vertex.
+    pub fn from_soup(corners: &[[f32; 3]]) -> TriMesh {
+        // 1. weld identical positions (-0.0 and 0.0 are the same point)
+        let key = |p: &[f32; 3]| [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits(), (p[2] + 0.0).to_bits()];
+        let mut welded: HashMap<[u32; 3], u32> = HashMap::with_capacity(corners.len() / 3);
+        let mut points: Vec<[f32; 3]> = Vec::with_capacity(corners.len() / 3);
+        let mut tri: Vec<[u32; 3]> = Vec::with_capacity(corners.len() / 3);
+        let mut face_n: Vec<[f32; 3]> = Vec::with_capacity(corners.len() / 3);
+        for c in corners.chunks_exact(3) {
+            let mut t = [0u32; 3];
+            for (k, p) in c.iter().enumerate() {
+                t[k] = *welded.entry(key(p)).or_insert_with(|| {
+                    points.push(*p);
+                    (points.len() - 1) as u32
+                });
+            }
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                continue;
+            }
+            let n = cross(sub(c[1], c[0]), sub(c[2], c[0])); // length = 2·area
+            if dot(n, n).is_nan() || dot(n, n) <= 0.0 {
+                continue;
+            }
+            tri.push(t);
+            face_n.push(n);
+        }
+        // 2. faces around each point (CSR)
+        let mut start = vec![0u32; points.len() + 1];
+        for t in &tri {
+            for &v in t {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..points.len() {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut around = vec![0u32; tri.len() * 3];
+        for (f, t) in tri.iter().enumerate() {
+            for &v in t {
+                around[fill[v as usize] as usize] = f as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        let unit: Vec<[f32; 3]> = face_n.iter().map(|n| normalize(*n)).collect();
+        let cos_crease = CREASE_ANGLE_DEG.to_radians().cos();
+        // 3. crease-aware corner normals, and vertices = distinct (point, normal)
+        let mut mesh = TriMesh::default();
+        let mut vertex: HashMap<(u32, [u32; 3]), u32> = HashMap::with_capacity(points.len() * 2);
+        for (f, t) in tri.iter().enumerate() {
+            for &v in t {
+                let mut n = [0.0f32; 3];
+                for &g in &around[start[v as usize] as usize..start[v as usize + 1] as usize] {
+                    if dot(unit[f], unit[g as usize]) >= cos_crease {
+                        n = add(n, face_n[g as usize]);
+                    }
+                }
+                let n = normalize(n);
+                let k = (v, [n[0].to_bits(), n[1].to_bits(), n[2].to_bits()]);
+                let index = *vertex.entry(k).or_insert_with(|| {
+                    mesh.positions.push(points[v as usize]);
+                    mesh.normals.push(n);
+                    (mesh.positions.len() - 1) as u32
+                });
+                mesh.indices.push(index);
+            }
+        }
+        mesh
+    }
+
+    /// This mesh with every position multiplied by `scale` per axis (normals recomputed by
+    /// re-indexing, so non-uniform and mirroring scales shade correctly).
+    pub fn scaled(&self, scale: [f32; 3]) -> TriMesh {
+        if scale == [1.0; 3] {
+            return self.clone();
+        }
+        let soup: Vec<[f32; 3]> = self
+            .indices
+            .iter()
+            .map(|&i| {
+                let p = self.positions[i as usize];
+                [p[0] * scale[0], p[1] * scale[1], p[2] * scale[2]]
+            })
+            .collect();
+        TriMesh::from_soup(&soup)
+    }
+
+    /// An axis-aligned box with side lengths `size`, centred on the origin.
+    pub fn cuboid(size: [f32; 3]) -> TriMesh {
+        let h = [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0];
+        let mut mesh = TriMesh::default();
+        // each face: its normal axis and sign, and two in-plane axes forming a right-handed frame
+        for (axis, sign) in [(0, 1.0f32), (0, -1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)] {
+            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+            let base = mesh.positions.len() as u32;
+            for (a, b) in [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let mut p = [0.0; 3];
+                p[axis] = sign * h[axis];
+                p[u] = a * h[u] * sign;
+                p[w] = b * h[w];
+                let mut n = [0.0; 3];
+                n[axis] = sign;
+                mesh.positions.push(p);
+                mesh.normals.push(n);
+            }
+            mesh.indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        }
+        mesh
+    }
+
+    /// A cylinder of `radius` and `length` along z, centred on the origin, with `segments`
+    /// sides.
+    pub fn cylinder(radius: f32, length: f32, segments: usize) -> TriMesh {
+        let mut mesh = TriMesh::default();
+        let h = length / 2.0;
+        let ring = |k: usize| {
+            let a = std::f32::consts::TAU * k as f32 / segments as f32;
+            (a.cos(), a.sin())
+        };
+        // side
+        for k in 0..=segments {
+            let (c, s) = ring(k);
+            mesh.positions.push([radius * c, radius * s, -h]);
+            mesh.normals.push([c, s, 0.0]);
+            mesh.positions.push([radius * c, radius * s, h]);
+            mesh.normals.push([c, s, 0.0]);
+        }
+        for k in 0..segments as u32 {
+            let (a, b) = (2 * k, 2 * k + 2);
+            mesh.indices.extend([a, b, a + 1, a + 1, b, b + 1]);
+        }
+        // caps
+        for (z, nz) in [(h, 1.0f32), (-h, -1.0)] {
+            let centre = mesh.positions.len() as u32;
+            mesh.positions.push([0.0, 0.0, z]);
+            mesh.normals.push([0.0, 0.0, nz]);
+            for k in 0..segments {
+                let (c, s) = ring(k);
+                mesh.positions.push([radius * c, radius * s, z]);
+                mesh.normals.push([0.0, 0.0, nz]);
+            }
+            for k in 0..segments as u32 {
+                let (a, b) = (centre + 1 + k, centre + 1 + (k + 1) % segments as u32);
+                if nz > 0.0 {
+                    mesh.indices.extend([centre, a, b]);
+                } else {
+                    mesh.indices.extend([centre, b, a]);
+                }
+            }
+        }
+        mesh
+    }
+
+    /// A UV sphere of `radius` centred on the origin (`rings` ≥ 2 latitude bands, `sectors` ≥ 3
+    /// longitude bands).
+    pub fn sphere(radius: f32, rings: usize, sectors: usize) -> TriMesh {
+        let mut mesh = TriMesh::default();
+        for r in 0..=rings {
+            let theta = std::f32::consts::PI * r as f32 / rings as f32;
+            // exact poles and seam, so that welding the sphere merges them
+            let (st, ct) = match r {
+                0 => (0.0, 1.0),
+                r if r == rings => (0.0, -1.0),
+                _ => theta.sin_cos(),
+            };
+            for s in 0..=sectors {
+                let phi = std::f32::consts::TAU * (s % sectors) as f32 / sectors as f32;
+                let n = [st * phi.cos(), st * phi.sin(), ct];
+                mesh.positions.push([radius * n[0], radius * n[1], radius * n[2]]);
+                mesh.normals.push(n);
+            }
+        }
+        let w = sectors as u32 + 1;
+        for r in 0..rings as u32 {
+            for s in 0..sectors as u32 {
+                let (a, b) = (r * w + s, (r + 1) * w + s);
+                if r > 0 {
+                    mesh.indices.extend([a, b, a + 1]);
+                }
+                if r + 1 < rings as u32 {
+                    mesh.indices.extend([a + 1, b, b + 1]);
+                }
+            }
+        }
+        mesh
+    }
+}
+
+/// Reads an STL file, binary or ASCII, into an indexed mesh (see [`TriMesh::from_soup`]).
+pub fn read_stl(path: &Path) -> Result<TriMesh> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let soup = parse_stl(&bytes).map_err(|message| Error::InvalidData {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    Ok(TriMesh::from_soup(&soup))
+}
+
+/// The triangle corners of an STL file's contents (three per triangle). Binary when the size
+/// matches the triangle count in the header (SolidWorks writes binary files that start with
+/// "solid"), ASCII when the text starts with `solid`.
+pub fn parse_stl(bytes: &[u8]) -> std::result::Result<Vec<[f32; 3]>, String> {
+    if bytes.len() >= 84 {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+        if n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len()) {
+            let mut soup = Vec::with_capacity(3 * n);
+            for t in bytes[84..].chunks_exact(50) {
+                for k in 0..3 {
+                    let o = 12 + 12 * k;
+                    let f = |i: usize| f32::from_le_bytes([t[o + i], t[o + i + 1], t[o + i + 2], t[o + i + 3]]);
+                    soup.push([f(0), f(4), f(8)]);
+                }
+            }
+            return check_finite(soup);
+        }
+    }
+    let text = std::str::from_utf8(bytes)
+        .map_err(|_| "neither a binary STL (size does not match its triangle count) nor ASCII text".to_string())?;
+    if !text.trim_start().starts_with("solid") {
+        return Err(
+            "neither a binary STL (size does not match its triangle count) nor an ASCII STL (no 'solid')".into(),
+        );
+    }
+    let mut soup = Vec::new();
+    let mut words = text.split_ascii_whitespace();
+    while let Some(w) = words.next() {
+        if w == "vertex" {
+            let mut p = [0.0f32; 3];
+            for c in &mut p {
+                let word = words.next().ok_or("a 'vertex' with fewer than 3 numbers")?;
+                *c = word
+                    .parse()
+                    .map_err(|_| format!("'vertex' coordinate '{word}' is not a number"))?;
+            }
+            soup.push(p);
+        }
+    }
+    if soup.is_empty() || soup.len() % 3 != 0 {
+        return Err(format!("{} vertices: not a whole number of triangles", soup.len()));
+    }
+    check_finite(soup)
+}
+
+fn check_finite(soup: Vec<[f32; 3]>) -> std::result::Result<Vec<[f32; 3]>, String> {
+    match soup.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+        Some(i) => Err(format!("triangle {} has a non-finite coordinate", i / 3)),
+        None => Ok(soup),
+    }
+}
+
+/// Vertex indices in the narrowest type that holds them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Indices {
+    /// Up to 65,536 vertices.
+    U16(Vec<u16>),
+    /// More.
+    U32(Vec<u32>),
+}
+
+/// A mesh as the viewer receives it: positions quantised to 16 bits per axis within the
+/// bounding box (error ≤ extent / 131,070 per axis), normals octahedron-encoded in two signed
+/// bytes (error < 1°), indices 16-bit where they fit. 8 bytes per vertex.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompactMesh {
+    /// Bounding box minimum (m).
+    pub min: [f32; 3],
+    /// Bounding box maximum (m).
+    pub max: [f32; 3],
+    /// Three u16 per vertex: `p = min + q / 65535 · (max − min)`.
+    pub positions: Vec<u16>,
+    /// Two i8 per vertex, octahedron encoding of the unit normal.
+    pub normals: Vec<i8>,
+    /// Three per triangle.
+    pub indices: Indices,
+}
+
+impl CompactMesh {
+    /// Compacts `mesh`.
+    pub fn new(mesh: &TriMesh) -> CompactMesh {
+        let (min, max) = mesh.bounds();
+        let mut positions = Vec::with_capacity(mesh.positions.len() * 3);
+        for p in &mesh.positions {
+            for a in 0..3 {
+                let ext = max[a] - min[a];
+                let q = if ext > 0.0 {
+                    ((p[a] - min[a]) / ext * 65535.0).round()
+                } else {
+                    0.0
+                };
+                positions.push(q.clamp(0.0, 65535.0) as u16);
+            }
+        }
+        let normals = mesh.normals.iter().flat_map(|n| oct_encode(*n)).collect();
+        let indices = if mesh.positions.len() <= 1 << 16 {
+            Indices::U16(mesh.indices.iter().map(|&i| i as u16).collect())
+        } else {
+            Indices::U32(mesh.indices.clone())
+        };
+        CompactMesh {
+            min,
+            max,
+            positions,
+            normals,
+            indices,
+        }
+    }
+
+    /// Number of vertices.
+    pub fn vertices(&self) -> usize {
+        self.positions.len() / 3
+    }
+
+    /// The mesh back in f32 (what the viewer draws).
+    pub fn expand(&self) -> TriMesh {
+        let positions = self
+            .positions
+            .chunks_exact(3)
+            .map(|q| std::array::from_fn(|a| self.min[a] + q[a] as f32 / 65535.0 * (self.max[a] - self.min[a])))
+            .collect();
+        let normals = self.normals.chunks_exact(2).map(|e| oct_decode([e[0], e[1]])).collect();
+        let indices = match &self.indices {
+            Indices::U16(i) => i.iter().map(|&i| i as u32).collect(),
+            Indices::U32(i) => i.clone(),
+        };
+        TriMesh {
+            positions,
+            normals,
+            indices,
+        }
+    }
+
+    /// Bytes this mesh takes in the viewer's data (before base64).
+    pub fn byte_size(&self) -> usize {
+        let index_bytes = match &self.indices {
+            Indices::U16(i) => 2 * i.len(),
+            Indices::U32(i) => 4 * i.len(),
+        };
+        2 * self.positions.len() + self.normals.len() + index_bytes
+    }
+}
+
+/// Octahedron encoding of a unit vector into two signed bytes (Cigolle et al. 2014).
+pub fn oct_encode(n: [f32; 3]) -> [i8; 2] {
+    let l1 = n[0].abs() + n[1].abs() + n[2].abs();
+    if l1.is_nan() || l1 <= 0.0 {
+        return [0, 0];
+    }
+    let (mut x, mut y) = (n[0] / l1, n[1] / l1);
+    if n[2] < 0.0 {
+        let (ox, oy) = (x, y);
+        x = (1.0 - oy.abs()) * sign(ox);
+        y = (1.0 - ox.abs()) * sign(oy);
+    }
+    [
+        (x.clamp(-1.0, 1.0) * 127.0).round() as i8,
+        (y.clamp(-1.0, 1.0) * 127.0).round() as i8,
+    ]
+}
+
+/// The unit vector of an [`oct_encode`]d pair (what the viewer's shader computes).
+pub fn oct_decode(e: [i8; 2]) -> [f32; 3] {
+    let (mut x, mut y) = ((e[0] as f32 / 127.0).max(-1.0), (e[1] as f32 / 127.0).max(-1.0));
+    let z = 1.0 - x.abs() - y.abs();
+    let t = (-z).max(0.0);
+    x += if x >= 0.0 { -t } else { t };
+    y += if y >= 0.0 { -t } else { t };
+    normalize([x, y, z])
+}
+
+fn sign(v: f32) -> f32 {
+    if v >= 0.0 { 1.0 } else { -1.0 }
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn normalize(a: [f32; 3]) -> [f32; 3] {
+    let l = dot(a, a).sqrt();
+    if l > 0.0 {
+        [a[0] / l, a[1] / l, a[2] / l]
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube as 12 triangles (36 corners), outward winding.
+    fn cube_soup() -> Vec<[f32; 3]> {
+        let m = TriMesh::cuboid([1.0, 1.0, 1.0]);
+        m.indices.iter().map(|&i| m.positions[i as usize]).collect()
+    }
+
+    fn binary_stl(soup: &[[f32; 3]], header: &[u8]) -> Vec<u8> {
+        let mut b = vec![0u8; 80];
+        b[..header.len()].copy_from_slice(header);
+        b.extend((soup.len() as u32 / 3).to_le_bytes());
+        for t in soup.chunks(3) {
+            b.extend([0u8; 12]); // facet normal, ignored
+            for p in t {
+                for c in p {
+                    b.extend(c.to_le_bytes());
+                }
+            }
+            b.extend([0u8; 2]);
+        }
+        b
+    }
+
+    fn ascii_stl(soup: &[[f32; 3]]) -> String {
+        let mut s = String::from("solid cube\n");
+        for t in soup.chunks(3) {
+            s += "  facet normal 0 0 0\n    outer loop\n";
+            for p in t {
+                s += &format!("      vertex {:e} {} {}\n", p[0], p[1], p[2]);
+            }
+            s += "    endloop\n  endfacet\n";
+        }
+        s + "endsolid cube\n"
+    }
+
+    #[test]
+    fn binary_and_ascii_stl_give_the_same_cube_with_sharp_edges() {
+        let soup = cube_soup();
+        // a binary file whose header starts with "solid", as SolidWorks writes them
+        let bin = parse_stl(&binary_stl(&soup, b"solid SolidWorks export")).unwrap();
+        let txt = parse_stl(ascii_stl(&soup).as_bytes()).unwrap();
+        assert_eq!(bin, soup);
+        assert_eq!(txt, soup);
+        let mesh = TriMesh::from_soup(&bin);
+        assert_eq!(mesh.triangles(), 12);
+        // 8 corners × 3 faces each: every edge of a cube is a crease
+        assert_eq!(mesh.positions.len(), 24);
+        for (t, tri) in mesh.indices.chunks(3).enumerate() {
+            let n = mesh.normals[tri[0] as usize];
+            assert!(tri.iter().all(|&i| mesh.normals[i as usize] == n), "flat face {t}");
+            assert_eq!(n.iter().map(|c| c.abs()).sum::<f32>(), 1.0, "axis normal {n:?}");
+        }
+    }
+
+    #[test]
+    fn smooth_surfaces_share_vertices_and_average_normals() {
+        let s = TriMesh::sphere(1.0, 12, 16);
+        let soup: Vec<[f32; 3]> = s.indices.iter().map(|&i| s.positions[i as usize]).collect();
+        let mesh = TriMesh::from_soup(&soup);
+        // the seam and pole duplicates of the UV sphere are welded: 2 poles + 11 rings of 16
+        assert_eq!(mesh.positions.len(), 2 + 11 * 16);
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            assert!(dot(*p, *n) > 0.97, "normal {n:?} at {p:?} points outwards");
+        }
+    }
+
+    #[test]
+    fn malformed_stl_is_refused_with_a_reason() {
+        assert!(parse_stl(b"hello").unwrap_err().contains("neither"));
+        let e = parse_stl(b"solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 zero\n").unwrap_err();
+        assert!(e.contains("'zero'"), "{e}");
+        let e = parse_stl(b"solid x\n vertex 0 0 0\n vertex 1 0 0\n endsolid").unwrap_err();
+        assert!(e.contains("whole number"), "{e}");
+        let mut bin = binary_stl(&cube_soup(), b"");
+        bin[84 + 12..84 + 16].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert!(parse_stl(&bin).unwrap_err().contains("non-finite"));
+    }
+
+    #[test]
+    fn compaction_round_trip_stays_within_its_error_bounds() {
+        let s = TriMesh::sphere(0.13, 20, 30);
+        let soup: Vec<[f32; 3]> = s.indices.iter().map(|&i| s.positions[i as usize]).collect();
+        let mut mesh = TriMesh::from_soup(&soup);
+        // a lopsided box so the three axes have different extents
+        for p in &mut mesh.positions {
+            p[0] = p[0] * 2.0 + 0.3;
+            p[2] -= 1.0;
+        }
+        let compact = CompactMesh::new(&mesh);
+        assert!(matches!(compact.indices, Indices::U16(_)));
+        assert_eq!(compact.byte_size(), 8 * mesh.positions.len() + 2 * mesh.indices.len());
+        let back = compact.expand();
+        assert_eq!(back.indices, mesh.indices);
+        let (lo, hi) = mesh.bounds();
+        for (a, b) in mesh.positions.iter().zip(&back.positions) {
+            for k in 0..3 {
+                let bound = (hi[k] - lo[k]) / 131_070.0 + 1e-6 * hi[k].abs().max(lo[k].abs());
+                assert!((a[k] - b[k]).abs() <= bound, "axis {k}: {} vs {}", a[k], b[k]);
+            }
+        }
+        let worst = mesh
+            .normals
+            .iter()
+            .zip(&back.normals)
+            .map(|(a, b)| dot(*a, *b).min(1.0).acos().to_degrees())
+            .fold(0.0f32, f32::max);
+        assert!(worst < 1.0, "normal error {worst}°");
+        // every direction, including the octants below the equator and the poles
+        for n in [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.3, -0.4, -0.866]] {
+            let d = oct_decode(oct_encode(normalize(n)));
+            assert!(dot(d, normalize(n)) > 0.9998, "{n:?} → {d:?}");
+        }
+    }
+
+    #[test]
+    fn primitives_are_closed_with_outward_normals() {
+        for mesh in [
+            TriMesh::cuboid([0.1, 0.2, 0.3]),
+            TriMesh::cylinder(0.05, 0.2, 24),
+            TriMesh::sphere(0.1, 8, 12),
+        ] {
+            for tri in mesh.indices.chunks(3) {
+                let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[tri[k] as usize]);
+                let face = cross(sub(b, a), sub(c, a));
+                let centre = [
+                    (a[0] + b[0] + c[0]) / 3.0,
+                    (a[1] + b[1] + c[1]) / 3.0,
+                    (a[2] + b[2] + c[2]) / 3.0,
+                ];
+                assert!(dot(face, centre) > 0.0, "counter-clockwise seen from outside");
+                assert!(dot(mesh.normals[tri[0] as usize], centre) > 0.0);
+            }
+        }
+        let (lo, hi) = TriMesh::cuboid([0.1, 0.2, 0.3]).bounds();
+        assert_eq!((lo, hi), ([-0.05, -0.1, -0.15], [0.05, 0.1, 0.15]));
+    }
+}

@@ -1,0 +1,356 @@
+//! `--plot F.svg | F.png`: one figure of the run (plotters). Per joint: angle against command,
+//! torque against its limit; then the tracking error of every joint, and for shapes the tool's
+//! distance to the reference path (otherwise the tool position).
+//!
+//! Text is laid out with DejaVu Sans, embedded in the binary (`assets/fonts/`, its licence
+//! beside it), so neither format needs a system font or library: SVG names the font family
+//! for the viewer, PNG is rasterised here and encoded with the `png` crate.
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::util::check_output_path;
+use crate::error::{Error, Result};
+use crate::output::atomic::{AtomicFile, write_atomically};
+use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
+use crate::sim::Summary;
+use crate::spatial::Vec3;
+use crate::traj::shape::distance_to_closed_path;
+
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+const FAMILY: &str = "sans-serif";
+/// Recording period of the plot (s).
+const PERIOD: f64 = 0.01;
+const WIDTH: u32 = 1400;
+const ROW_HEIGHT: u32 = 220;
+const TITLE_HEIGHT: u32 = 44;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Svg,
+    Png,
+}
+
+/// Collects the run and draws the figure on [`Recorder::finish`], written whole or not at all.
+#[derive(Debug)]
+pub struct PlotRecorder {
+    path: PathBuf,
+    format: Format,
+    title: String,
+    joints: Vec<String>,
+    effort: Vec<f64>,
+    reference: Option<Vec<Vec3>>,
+    t: Vec<f64>,
+    /// Per sample: q, q_cmd, τ (dof each).
+    q: Vec<Vec<f64>>,
+    q_cmd: Vec<Vec<f64>>,
+    tau: Vec<Vec<f64>>,
+    tool: Vec<Vec3>,
+}
+
+impl PlotRecorder {
+    /// A plot to `path`, an `.svg` or `.png` file. Fails at once (before the run) on another
+    /// extension or a missing directory.
+    pub fn new(path: impl Into<PathBuf>) -> Result<PlotRecorder> {
+        let path = path.into();
+        check_output_path(&path, "--plot")?;
+        let format = match path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .as_deref()
+        {
+            Some("svg") => Format::Svg,
+            Some("png") => Format::Png,
+            _ => {
+                return Err(Error::argument(
+                    "--plot",
+                    format!("{}: the plot is written as .svg or .png", path.display()),
+                ));
+            }
+        };
+        Ok(PlotRecorder {
+            path,
+            format,
+            title: String::new(),
+            joints: Vec::new(),
+            effort: Vec::new(),
+            reference: None,
+            t: Vec::new(),
+            q: Vec::new(),
+            q_cmd: Vec::new(),
+            tau: Vec::new(),
+            tool: Vec::new(),
+        })
+    }
+
+    /// The file this recorder writes.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Recorder for PlotRecorder {
+    fn every(&self, dt: f64) -> usize {
+        steps_per_record(PERIOD, dt)
+    }
+
+    fn begin(&mut self, run: &RunInfo) -> Result<()> {
+        self.title = format!(
+            "faze4 · {} · {} · Δt = {} s{}",
+            run.model.name,
+            run.command,
+            run.dt,
+            if run.feedforward { "" } else { " · no feed-forward" }
+        );
+        self.joints = run.model.joints.iter().map(|j| j.name.clone()).collect();
+        self.effort = run.gains.effort.clone();
+        self.reference = run.reference_path.map(|p| p.to_vec());
+        Ok(())
+    }
+
+    fn record(&mut self, s: &Sample) -> Result<()> {
+        self.t.push(s.t);
+        self.q.push(s.q.to_vec());
+        self.q_cmd.push(s.q_cmd.to_vec());
+        self.tau.push(s.tau.to_vec());
+        self.tool.push(s.tool);
+        Ok(())
+    }
+
+    fn finish(&mut self, _summary: &Summary) -> Result<()> {
+        register_font();
+        let rows = self.joints.len() as u32 + 1;
+        let size = (WIDTH, TITLE_HEIGHT + rows * ROW_HEIGHT);
+        let failed = |e: String| Error::Io {
+            path: self.path.clone(),
+            source: std::io::Error::other(format!("drawing the plot: {e}")),
+        };
+        match self.format {
+            Format::Svg => {
+                let mut svg = String::new();
+                {
+                    let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+                    self.draw(&root).map_err(failed)?;
+                    root.present().map_err(|e| failed(e.to_string()))?;
+                }
+                write_atomically(&self.path, svg.as_bytes())
+            }
+            Format::Png => {
+                let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
+                {
+                    let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+                    self.draw(&root).map_err(failed)?;
+                    root.present().map_err(|e| failed(e.to_string()))?;
+                }
+                let mut file = AtomicFile::create(&self.path)?;
+                let encoded = (|| {
+                    let mut encoder = png::Encoder::new(file.writer(), size.0, size.1);
+                    encoder.set_color(png::ColorType::Rgb);
+                    encoder.set_depth(png::BitDepth::Eight);
+                    let mut writer = encoder.write_header()?;
+                    writer.write_image_data(&rgb)?;
+                    writer.finish()
+                })();
+                encoded.map_err(|e| file.error(std::io::Error::other(e)))?;
+                file.commit()
+            }
+        }
+    }
+}
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        if plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_err() {
+            panic!("the embedded DejaVu Sans font does not load");
+        }
+    });
+}
+
+/// Joint colours (J1..J6, then repeating).
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+const COMMAND: RGBColor = RGBColor(255, 175, 95);
+const MEASURED: RGBColor = RGBColor(31, 90, 180);
+const LIMIT: RGBColor = RGBColor(110, 110, 110);
+
+/// `[lo, hi]` of `values` with a margin, never empty.
+fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    if !lo.is_finite() {
+        return -1.0..1.0;
+    }
+    let pad = ((hi - lo) * 0.08).max(0.005);
+    (lo - pad)..(hi + pad)
+}
+
+type Area<'a, DB> = DrawingArea<DB, Shift>;
+
+impl PlotRecorder {
+    fn draw<DB: DrawingBackend>(&self, root: &Area<DB>) -> std::result::Result<(), String> {
+        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        root.fill(&WHITE).map_err(e)?;
+        let (top, body) = root.split_vertically(TITLE_HEIGHT);
+        top.draw(&Text::new(
+            self.title.clone(),
+            (16, 12),
+            (FAMILY, 20).into_font().color(&BLACK),
+        ))
+        .map_err(e)?;
+        let n = self.joints.len();
+        let panels = body.split_evenly((n + 1, 2));
+        let t_end = self.t.last().copied().unwrap_or(1.0).max(1e-6);
+        let column = |k: usize, of: &[Vec<f64>]| of.iter().map(move |v| v[k]).collect::<Vec<f64>>();
+        for j in 0..n {
+            let (q, q_cmd, tau) = (column(j, &self.q), column(j, &self.q_cmd), column(j, &self.tau));
+            let name = format!("J{} {}", j + 1, self.joints[j]);
+            // angle against command
+            let y = range(q.iter().chain(&q_cmd).copied());
+            let mut chart = new_chart(
+                &panels[2 * j],
+                &format!("{name}: q (blue), q_cmd (orange), rad"),
+                t_end,
+                y,
+            )?;
+            for (series, colour, width) in [(&q_cmd, COMMAND, 3), (&q, MEASURED, 1)] {
+                chart
+                    .draw_series(LineSeries::new(
+                        self.t.iter().copied().zip(series.iter().copied()),
+                        colour.stroke_width(width),
+                    ))
+                    .map_err(e)?;
+            }
+            // torque against its limit
+            let limit = self.effort.get(j).copied().filter(|x| x.is_finite());
+            let y = range(tau.iter().copied().chain(limit.into_iter().flat_map(|l| [l, -l])));
+            let caption = match limit {
+                Some(l) => format!("{name}: τ (N·m), limit ±{l} (grey)"),
+                None => format!("{name}: τ (N·m), unlimited"),
+            };
+            let mut chart = new_chart(&panels[2 * j + 1], &caption, t_end, y)?;
+            if let Some(l) = limit {
+                for level in [l, -l] {
+                    chart
+                        .draw_series(LineSeries::new([(0.0, level), (t_end, level)], LIMIT.stroke_width(1)))
+                        .map_err(e)?;
+                }
+            }
+            chart
+                .draw_series(LineSeries::new(
+                    self.t.iter().copied().zip(tau.iter().copied()),
+                    PALETTE[j % 6].stroke_width(1),
+                ))
+                .map_err(e)?;
+        }
+        // tracking error of every joint
+        let errors: Vec<Vec<f64>> = (0..n)
+            .map(|j| {
+                self.q
+                    .iter()
+                    .zip(&self.q_cmd)
+                    .map(|(q, c)| (c[j] - q[j]) * 1e3)
+                    .collect()
+            })
+            .collect();
+        let y = range(errors.iter().flatten().copied());
+        let mut chart = new_chart(&panels[2 * n], "tracking error q_cmd − q (mrad)", t_end, y)?;
+        for (j, err) in errors.iter().enumerate() {
+            chart
+                .draw_series(LineSeries::new(
+                    self.t.iter().copied().zip(err.iter().copied()),
+                    PALETTE[j % 6].stroke_width(1),
+                ))
+                .map_err(e)?
+                .label(format!("J{}", j + 1))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], PALETTE[j % 6].stroke_width(2)));
+        }
+        legend(&mut chart).map_err(e)?;
+        // the path deviation, or the tool position
+        match &self.reference {
+            Some(path) => {
+                let dev: Vec<f64> = self
+                    .tool
+                    .iter()
+                    .map(|p| distance_to_closed_path(p, path) * 1e3)
+                    .collect();
+                let max = dev.iter().copied().fold(0.0, f64::max);
+                let mean = dev.iter().sum::<f64>() / dev.len().max(1) as f64;
+                let y = range(dev.iter().copied().chain([0.0]));
+                let caption = format!("tool distance to the reference path (mm): max {max:.2}, mean {mean:.2}");
+                let mut chart = new_chart(&panels[2 * n + 1], &caption, t_end, y)?;
+                chart
+                    .draw_series(LineSeries::new(
+                        self.t.iter().copied().zip(dev.iter().copied()),
+                        MEASURED.stroke_width(1),
+                    ))
+                    .map_err(e)?;
+            }
+            None => {
+                let y = range(self.tool.iter().flat_map(|p| [p.x, p.y, p.z]));
+                let mut chart = new_chart(&panels[2 * n + 1], "tool position (m)", t_end, y)?;
+                for (a, label) in ["x", "y", "z"].into_iter().enumerate() {
+                    chart
+                        .draw_series(LineSeries::new(
+                            self.t.iter().copied().zip(self.tool.iter().map(|p| p[a])),
+                            PALETTE[a].stroke_width(1),
+                        ))
+                        .map_err(e)?
+                        .label(label)
+                        .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], PALETTE[a].stroke_width(2)));
+                }
+                legend(&mut chart).map_err(e)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+type Chart<'a, DB> =
+    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
+
+fn new_chart<'a, DB: DrawingBackend>(
+    area: &'a Area<DB>,
+    caption: &str,
+    t_end: f64,
+    y: std::ops::Range<f64>,
+) -> std::result::Result<Chart<'a, DB>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FAMILY, 15))
+        .margin(8)
+        .margin_right(20)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..t_end, y)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("t (s)")
+        .label_style((FAMILY, 12))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
+}
+
+fn legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+) -> std::result::Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .label_font((FAMILY, 12))
+        .draw()
+}
