@@ -67,8 +67,8 @@ impl Error {
     pub fn model(file: &str, element: impl Into<String>, message: impl Into<String>) -> Self {
         Error::InvalidModel {
             file: file.to_string(),
-            element: element.into(),
-            message: message.into(),
+            element: one_line(&element.into()),
+            message: one_line(&message.into()),
         }
     }
 
@@ -79,6 +79,12 @@ impl Error {
             message: message.into(),
         }
     }
+}
+
+/// `text` on one line (errors are one line on stderr): every run of whitespace, line breaks
+/// included, becomes one space. For messages quoting the input (names, parser reports).
+pub(crate) fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// `Result` with faze4's [`Error`].

@@ -10,6 +10,8 @@ pub mod algo;
 pub mod cli;
 pub mod control;
 pub mod error;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod ik;
 pub mod model;
 pub mod output;

@@ -134,6 +134,16 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
                 let parent = &model.frames[frame_of_link[link_index[joint.parent.as_str()]]];
                 let parent_body = parent.body;
                 let origin = parent.placement.compose(&Pose::from_xyz_rpy(joint.xyz, joint.rpy));
+                if !origin.is_finite() {
+                    return Err(Error::model(
+                        file,
+                        format!("{} <origin>", joint_element(joint)),
+                        format!(
+                            "places link '{}' beyond the range of floating-point numbers (the offsets on its path from the root add up to infinity)",
+                            joint.child
+                        ),
+                    ));
+                }
                 match moving_joint(file, joint)? {
                     None => Frame {
                         name: joint.child.clone(),
@@ -164,6 +174,13 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
             if let Some(body) = frame.body {
                 // Express the link's inertia in its body's frame: Xᵀ I X with X = link_X_body.
                 model.inertia[body] += inertia.transform_to_source(&frame.placement.to_xform());
+                if !model.inertia[body].is_finite() {
+                    return Err(Error::model(
+                        file,
+                        format!("link '{}' <inertial>", link_desc.name),
+                        "mass, centre of mass and inertia overflow the range of floating-point numbers once expressed in its body's frame",
+                    ));
+                }
             }
         }
         for visual in &link_desc.visuals {
@@ -215,7 +232,12 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
         JointType::Unsupported(_) => unreachable!("rejected before the tree is built"),
     };
     let axis = Vec3::from(joint.axis);
+    // |axis| overflows for components near f64::MAX; the direction does not
     let norm = axis.norm();
+    let unit = match norm.is_finite() {
+        true => axis / norm,
+        false => (axis / axis.amax()).normalize(),
+    };
     if norm < 1e-12 {
         return Err(Error::model(
             file,
@@ -244,7 +266,7 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
     Ok(Some(Joint {
         name: joint.name.clone(),
         kind,
-        axis: axis / norm,
+        axis: unit,
         lower,
         upper,
         effort: joint.effort.filter(|&e| e > 0.0),

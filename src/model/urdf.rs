@@ -6,11 +6,13 @@
 //! expansion needs ROS), a missing `<limit>` reads as all zeros (taken as "no limits"), and
 //! `<transmission>` is dropped (faze4 drives joints directly).
 
+use std::cell::Cell;
 use std::path::Path;
+use std::sync::Once;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 use super::{Model, PackagePaths};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, one_line};
 use crate::spatial::{Pose, Vec3};
 
 /// Reads and validates the URDF file at `path`.
@@ -37,15 +39,26 @@ pub fn read_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
 pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<RobotDescription> {
     let syntax = |message: String| Error::UrdfSyntax {
         file: file.to_string(),
-        message,
+        message: one_line(&message),
     };
     if text.trim().is_empty() {
         return Err(syntax("the file is empty".into()));
     }
-    // urdf-rs panics on a few malformed inputs instead of returning an error; keep that from
-    // taking the process down.
-    let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(text))
-        .map_err(|_| syntax("the XML parser failed on this input".into()))?
+    // urdf-rs walks the element tree recursively, so deep nesting overflows the stack (a
+    // crash, not a panic: catch_unwind cannot help). A URDF nests about 5 deep.
+    if let Some(line) = nested_deeper_than(text, MAX_NESTING) {
+        return Err(syntax(format!(
+            "elements nest more than {MAX_NESTING} deep (line {line}); a URDF needs about 5 levels"
+        )));
+    }
+    // urdf-rs panics on a few malformed inputs instead of returning an error (RustyXML's "No
+    // namespace prefix bound" on `<" xmlns="N":=""/>`): catch it, quietly, and report it.
+    let parsed = parse_quietly(text)
+        .map_err(|panic| {
+            syntax(format!(
+                "the XML parser failed on this input (urdf-rs panicked: {panic})"
+            ))
+        })?
         .map_err(|e| syntax(e.to_string()))?;
 
     let links = parsed
@@ -106,6 +119,87 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
     })
 }
 
+thread_local! {
+    /// Whether this thread is inside urdf-rs, under [`parse_quietly`]'s `catch_unwind`.
+    static IN_PARSER: Cell<bool> = const { Cell::new(false) };
+}
+
+/// `urdf_rs::read_from_string(text)`, with a panic inside it caught and returned as its
+/// message. The panic is not printed: a process-wide panic hook, installed on the first call,
+/// stays silent for panics on a thread that is inside urdf-rs and hands every other panic to
+/// the hook that was there before (by default the one that prints message and backtrace; under
+/// the fuzzer, libFuzzer's, which aborts). A hook set after the first call replaces it, which
+/// only makes a caught parser panic visible again.
+fn parse_quietly(text: &str) -> std::result::Result<urdf_rs::Result<urdf_rs::Robot>, String> {
+    static QUIET_HOOK: Once = Once::new();
+    QUIET_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !IN_PARSER.get() {
+                previous(info);
+            }
+        }));
+    });
+    IN_PARSER.set(true);
+    let result = std::panic::catch_unwind(|| urdf_rs::read_from_string(text));
+    IN_PARSER.set(false);
+    result.map_err(|payload| {
+        (payload.downcast_ref::<&str>().map(|s| s.to_string()))
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into())
+    })
+}
+
+/// The deepest element nesting [`describe`] hands to urdf-rs.
+const MAX_NESTING: usize = 100;
+
+/// The line on which XML `text` first has more than `limit` elements open, if it does. A
+/// lexical scan (comments, CDATA, processing instructions, declarations and quoted attribute
+/// values skipped), linear in the length of the text; malformed XML is left to the parser.
+fn nested_deeper_than(text: &str, limit: usize) -> Option<usize> {
+    let b = text.as_bytes();
+    let find = |from: usize, pat: &[u8]| -> usize {
+        (b.get(from..).unwrap_or_default().windows(pat.len()))
+            .position(|w| w == pat)
+            .map_or(b.len(), |p| from + p + pat.len())
+    };
+    let (mut depth, mut i) = (0usize, 0usize);
+    while let Some(p) = b.get(i..).and_then(|rest| rest.iter().position(|&c| c == b'<')) {
+        let at = i + p;
+        let rest = &b[at..];
+        i = if rest.starts_with(b"<!--") {
+            find(at + 4, b"-->")
+        } else if rest.starts_with(b"<![CDATA[") {
+            find(at + 9, b"]]>")
+        } else if rest.starts_with(b"<?") {
+            find(at + 2, b"?>")
+        } else if rest.starts_with(b"<!") || rest.starts_with(b"</") {
+            depth = depth.saturating_sub(usize::from(rest.starts_with(b"</")));
+            find(at + 1, b">")
+        } else {
+            // a start tag: find its '>' outside quotes; "/>" closes it at once
+            let (mut j, mut quote) = (at + 1, None);
+            while j < b.len() {
+                match (quote, b[j]) {
+                    (None, b'"' | b'\'') => quote = Some(b[j]),
+                    (Some(q), c) if c == q => quote = None,
+                    (None, b'>') => break,
+                    _ => {}
+                }
+                j += 1;
+            }
+            if b.get(j.wrapping_sub(1)) != Some(&b'/') {
+                depth += 1;
+                if depth > limit {
+                    return Some(1 + b[..at].iter().filter(|&&c| c == b'\n').count());
+                }
+            }
+            j + 1
+        };
+    }
+    None
+}
+
 fn visual(
     v: &urdf_rs::Visual,
     materials: &[urdf_rs::Material],
@@ -145,5 +239,28 @@ fn visual(
         origin: Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
         geometry,
         rgba,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nesting_depth_counts_elements_only() {
+        let nested = |n: usize| format!("<robot>\n{}{}</robot>", "<a>".repeat(n), "</a>".repeat(n));
+        assert_eq!(nested_deeper_than(&nested(99), 100), None);
+        assert_eq!(nested_deeper_than(&nested(100), 100), Some(2));
+        // siblings, empty elements, comments, CDATA, declarations and quoted '>' do not nest
+        let flat = format!(
+            "<?xml version=\"1.0\"?><!DOCTYPE robot><robot>{}<!-- {} --><![CDATA[{}]]><a b=\"/>\" c='>'>x</a></robot>",
+            "<link name=\"x\"/><joint></joint>".repeat(500),
+            "<a>".repeat(500),
+            "<a>".repeat(500)
+        );
+        assert_eq!(nested_deeper_than(&flat, 3), None);
+        assert_eq!(nested_deeper_than("<a><b><c><d>", 3), Some(1));
+        assert_eq!(nested_deeper_than("<a", 0), Some(1));
+        assert_eq!(nested_deeper_than("", 0), None);
     }
 }

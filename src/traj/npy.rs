@@ -8,7 +8,7 @@ use ndarray::Array2;
 use ndarray_npy::npy::header::Header;
 use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, one_line};
 use crate::output::atomic::AtomicFile;
 
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
@@ -23,12 +23,21 @@ pub fn read_samples(path: &Path) -> Result<Vec<Vec<f64>>> {
 
 /// [`read_samples`] on the bytes of a file; `path` names it in errors.
 pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
+    // ndarray-npy's messages can quote the header over several lines
     let bad = |message: String| Error::InvalidData {
         path: path.to_path_buf(),
-        message,
+        message: one_line(&message),
     };
-    let header =
-        Header::from_reader(&mut Cursor::new(bytes)).map_err(|e| bad(format!("not a NumPy .npy file ({e})")))?;
+    // ndarray-npy allocates what the file claims before reading it: check the claims against
+    // the bytes there are first.
+    if let Some(claimed) = claimed_header_end(bytes).filter(|&end| end > bytes.len() as u64) {
+        return Err(bad(format!(
+            "truncated: the header claims to end at byte {claimed}, the file has {} bytes",
+            bytes.len()
+        )));
+    }
+    let mut cursor = Cursor::new(bytes);
+    let header = Header::from_reader(&mut cursor).map_err(|e| bad(format!("not a NumPy .npy file ({e})")))?;
     let descr = header.type_descriptor.to_string();
     let found = || format!("dtype {descr}, shape {:?}", header.shape);
     if header.shape.len() != 2 {
@@ -37,13 +46,26 @@ pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
             found()
         )));
     }
+    let (double, item_size) = match descr.trim_matches('\'') {
+        "<f8" | ">f8" | "=f8" => (true, 8),
+        "<f4" | ">f4" | "=f4" => (false, 4),
+        _ => return Err(bad(format!("expected float64 or float32 values, found {}", found()))),
+    };
+    let available = bytes.len() as u64 - cursor.position();
+    let needed = (header.shape.iter()).try_fold(item_size, |n: u64, &d| n.checked_mul(d as u64));
+    if needed.is_none_or(|n| n > available) {
+        return Err(bad(format!(
+            "cannot read the {} data: it needs {} bytes, the file has {available} after the header",
+            found(),
+            needed.map_or("more than 2^64".into(), |n| n.to_string())
+        )));
+    }
     let data = |e: ndarray_npy::ReadNpyError| bad(format!("cannot read the {} data: {e}", found()));
-    let array: Array2<f64> = match descr.trim_matches('\'') {
-        "<f8" | ">f8" | "=f8" => Array2::<f64>::read_npy(Cursor::new(bytes)).map_err(data)?,
-        "<f4" | ">f4" | "=f4" => Array2::<f32>::read_npy(Cursor::new(bytes))
+    let array: Array2<f64> = match double {
+        true => Array2::<f64>::read_npy(Cursor::new(bytes)).map_err(data)?,
+        false => Array2::<f32>::read_npy(Cursor::new(bytes))
             .map_err(data)?
             .mapv(f64::from),
-        _ => return Err(bad(format!("expected float64 or float32 values, found {}", found()))),
     };
     let (rows, columns) = array.dim();
     if rows < 2 {
@@ -59,6 +81,25 @@ pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
         )));
     }
     Ok(array.rows().into_iter().map(|row| row.to_vec()).collect())
+}
+
+/// Where the header of `.npy` bytes says it ends (magic string, version, header length field,
+/// header), if the bytes get as far as the length field of a known version.
+fn claimed_header_end(bytes: &[u8]) -> Option<u64> {
+    if bytes.get(..6)? != b"\x93NUMPY" {
+        return None;
+    }
+    let (length_field, rest) = match bytes.get(6..8)? {
+        [1, 0] => (2, bytes.get(8..10).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64)?),
+        [2 | 3, 0] => (
+            4,
+            bytes
+                .get(8..12)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64)?,
+        ),
+        _ => return None,
+    };
+    Some(8 + length_field + rest)
 }
 
 /// Writes `rows` (N×C) as a float64 C-order `.npy` that NumPy loads, whole or not at all.

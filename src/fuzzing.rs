@@ -1,0 +1,170 @@
+//! The fuzz targets' code (`fuzz/fuzz_targets/`), kept in the library so that the regression
+//! tests (`tests/fuzz_regressions.rs`) run exactly the same path on every stored input.
+//!
+//! Each entry point takes arbitrary bytes. Bad input must come back as an error; anything else
+//! (a panic in faze4 or a dependency, a broken invariant, asserted here) is a bug.
+
+use std::path::Path;
+
+use crate::algo::{
+    Data, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
+    frame_position, gravity, rnea,
+};
+use crate::error::{Error, Result};
+use crate::model::{Model, PackagePaths, urdf};
+use crate::traj::npy;
+
+/// The name the fuzzed URDF goes by in error messages.
+pub const URDF_LABEL: &str = "fuzz.urdf";
+/// The name the fuzzed `.npy` goes by in error messages.
+pub const NPY_LABEL: &str = "fuzz.npy";
+
+/// `urdf_model`: bytes → (if UTF-8) [`urdf::read_str`] → on success, every algorithm at q = 0
+/// and at joint values taken from the bytes, one discrete step from a limit, forward
+/// kinematics and Jacobians. `None` if the bytes are not UTF-8 (the CLI refuses those before
+/// parsing).
+///
+/// Checks: a refused model gets a one-line error naming the file; an accepted one is
+/// consistent (bodies root to tip, every number finite).
+pub fn urdf_model(data: &[u8]) -> Option<Result<Model>> {
+    let text = std::str::from_utf8(data).ok()?;
+    let result = urdf::read_str(text, URDF_LABEL, None, &PackagePaths::default());
+    match &result {
+        Ok(model) => {
+            check_model(model);
+            exercise(model, data);
+        }
+        Err(e) => check_error(e, URDF_LABEL),
+    }
+    Some(result)
+}
+
+/// `npy_samples`: bytes → [`npy::parse_samples`]. Checks: an error is one line naming the
+/// file; accepted samples are N ≥ 2 rows of the same non-zero width, all finite.
+pub fn npy_samples(data: &[u8]) -> Result<Vec<Vec<f64>>> {
+    let result = npy::parse_samples(data, Path::new(NPY_LABEL));
+    match &result {
+        Ok(rows) => {
+            assert!(rows.len() >= 2, "{} rows accepted", rows.len());
+            let width = rows[0].len();
+            assert!(width > 0, "zero-width rows accepted");
+            for row in rows {
+                assert_eq!(row.len(), width, "ragged rows");
+                assert!(row.iter().all(|v| v.is_finite()), "non-finite sample accepted: {row:?}");
+            }
+        }
+        Err(e) => check_error(e, NPY_LABEL),
+    }
+    result
+}
+
+/// One line, naming the input first.
+fn check_error(e: &Error, label: &str) {
+    let message = e.to_string();
+    assert!(
+        message.starts_with(&format!("{label}: ")),
+        "the error does not name the file first: {message:?}"
+    );
+    assert!(
+        !message.contains(['\n', '\r']),
+        "the error is not one line: {message:?}"
+    );
+}
+
+/// The builder's promises: bodies numbered root to tip, one body per moving joint, unit axes,
+/// positive masses, and no number that is not finite (limits may be infinite, not NaN).
+fn check_model(model: &Model) {
+    let n = model.dof();
+    assert_eq!(model.parent.len(), n);
+    assert_eq!(model.x_tree.len(), n);
+    assert_eq!(model.tree_pose.len(), n);
+    assert_eq!(model.s.len(), n);
+    assert_eq!(model.inertia.len(), n);
+    assert!(!model.frames.is_empty(), "a model without frames");
+    for i in 0..n {
+        if let Some(p) = model.parent[i] {
+            assert!(p < i, "body {i} has parent {p}");
+        }
+        let joint = &model.joints[i];
+        assert!((joint.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", joint.axis);
+        assert!(!joint.lower.is_nan() && !joint.upper.is_nan() && joint.lower <= joint.upper);
+        assert!(joint.damping.is_finite() && joint.damping >= 0.0);
+        assert!(joint.effort.is_none_or(|e| e > 0.0));
+        let inertia = &model.inertia[i];
+        assert!(
+            inertia.is_finite() && inertia.mass > 0.0,
+            "body {i} ({}): inertia {inertia:?}",
+            joint.child_link
+        );
+        assert!(
+            model.tree_pose[i].is_finite() && model.s[i].is_finite(),
+            "joint {}: placement {:?}",
+            joint.name,
+            model.tree_pose[i]
+        );
+        let x = &model.x_tree[i];
+        assert!(x.e.iter().chain(x.r.iter()).all(|v| v.is_finite()));
+    }
+    for frame in &model.frames {
+        assert!(frame.body.is_none_or(|b| b < n));
+        assert!(
+            frame.placement.is_finite(),
+            "frame {}: {:?}",
+            frame.name,
+            frame.placement
+        );
+    }
+    for (frame, _) in &model.visuals {
+        assert!(*frame < model.frames.len());
+    }
+}
+
+/// Runs every algorithm; results may be non-finite for extreme models, but nothing may panic.
+fn exercise(model: &Model, data: &[u8]) {
+    let n = model.dof();
+    let mut d = Data::new(model);
+    let zero = vec![0.0; n];
+    compute_all_terms(model, &mut d, &zero, &zero);
+
+    // Joint values from the input: small angles from single bytes, and raw 8-byte floats
+    // (any value, NaN and ±∞ included).
+    let small: Vec<f64> = (0..n).map(|i| byte(data, i, 0) as f64 / 16.0 - 8.0).collect();
+    let raw: Vec<f64> = (0..n)
+        .map(|i| f64::from_le_bytes(std::array::from_fn(|k| byte(data, 8 * i + k, 1))))
+        .collect();
+    let velocity: Vec<f64> = (0..n).map(|i| byte(data, i, 2) as f64 - 128.0).collect();
+    for q in [&small, &raw] {
+        compute_all_terms(model, &mut d, q, &velocity);
+        crba(model, &mut d, q);
+        rnea(model, &mut d, q, &velocity, &small);
+        gravity(model, &mut d, q);
+        bias(model, &mut d, q, &velocity);
+        let _ = forward_dynamics(model, &mut d, q, &velocity, &small);
+        forward_kinematics(model, &mut d, q);
+        for frame in 0..model.frames.len() {
+            frame_jacobian(model, &mut d, frame);
+            let _ = frame_position(model, q, frame);
+        }
+    }
+
+    // One step from each joint's upper limit (or the small angle) moving fast outwards, so
+    // that the limit solve runs.
+    let mut q: Vec<f64> = (0..n)
+        .map(|i| match model.joints[i].upper {
+            u if u.is_finite() => u,
+            _ => small[i],
+        })
+        .collect();
+    let mut v: Vec<f64> = velocity.iter().map(|v| v.abs() + 1.0).collect();
+    let tau: Vec<f64> = (0..n).map(|i| (byte(data, i, 3) as f64 - 128.0) * 10.0).collect();
+    let _ = discrete_step(model, &mut d, &mut q, &mut v, &tau, 2e-4);
+    let _ = model.default_tool_frame();
+}
+
+/// Byte `i` of the input, cycled, shifted by `salt` so that the derived vectors differ.
+fn byte(data: &[u8], i: usize, salt: usize) -> u8 {
+    match data.len() {
+        0 => 0,
+        len => data[(i.wrapping_mul(7).wrapping_add(salt * 13)) % len],
+    }
+}
