@@ -30,11 +30,21 @@ pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
     };
     // ndarray-npy allocates what the file claims before reading it: check the claims against
     // the bytes there are first.
-    if let Some(claimed) = claimed_header_end(bytes).filter(|&end| end > bytes.len() as u64) {
-        return Err(bad(format!(
-            "truncated: the header claims to end at byte {claimed}, the file has {} bytes",
-            bytes.len()
-        )));
+    if let Some((start, end)) = claimed_header(bytes) {
+        if end > bytes.len() as u64 {
+            return Err(bad(format!(
+                "truncated: the header claims to end at byte {end}, the file has {} bytes",
+                bytes.len()
+            )));
+        }
+        // ndarray-npy's parser of the header's Python literal takes exponential time on nested
+        // brackets (a 128-byte header took over 10 s); an array header nests 2 deep
+        let depth = bracket_depth(&bytes[start as usize..end as usize]);
+        if depth > MAX_HEADER_NESTING {
+            return Err(bad(format!(
+                "not a NumPy .npy array header: its brackets nest {depth} deep (an array's nest 2)"
+            )));
+        }
     }
     let mut cursor = Cursor::new(bytes);
     let header = Header::from_reader(&mut cursor).map_err(|e| bad(format!("not a NumPy .npy file ({e})")))?;
@@ -83,9 +93,13 @@ pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
     Ok(array.rows().into_iter().map(|row| row.to_vec()).collect())
 }
 
-/// Where the header of `.npy` bytes says it ends (magic string, version, header length field,
-/// header), if the bytes get as far as the length field of a known version.
-fn claimed_header_end(bytes: &[u8]) -> Option<u64> {
+/// Deepest bracket nesting accepted in a header (an array's is 2: the dict and the shape).
+const MAX_HEADER_NESTING: usize = 4;
+
+/// Where the header text of `.npy` bytes starts and where the header says it ends (after the
+/// magic string, version and header length field), if the bytes get as far as the length
+/// field of a known version.
+fn claimed_header(bytes: &[u8]) -> Option<(u64, u64)> {
     if bytes.get(..6)? != b"\x93NUMPY" {
         return None;
     }
@@ -99,7 +113,26 @@ fn claimed_header_end(bytes: &[u8]) -> Option<u64> {
         ),
         _ => return None,
     };
-    Some(8 + length_field + rest)
+    Some((8 + length_field, 8 + length_field + rest))
+}
+
+/// The deepest nesting of `{`, `[`, `(` in `text`, outside quoted strings.
+fn bracket_depth(text: &[u8]) -> usize {
+    let (mut depth, mut deepest, mut quote) = (0usize, 0, None);
+    for &c in text {
+        match (quote, c) {
+            (Some(q), _) if c == q => quote = None,
+            (Some(_), _) => {}
+            (None, b'\'' | b'"') => quote = Some(c),
+            (None, b'{' | b'[' | b'(') => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            (None, b'}' | b']' | b')') => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    deepest
 }
 
 /// Writes `rows` (N×C) as a float64 C-order `.npy` that NumPy loads, whole or not at all.
@@ -120,6 +153,16 @@ pub fn write_samples(path: &Path, rows: &[Vec<f64>]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bracket_depth_ignores_quoted_brackets() {
+        assert_eq!(
+            bracket_depth(b"{'descr': '<f8', 'fortran_order': False, 'shape': (10, 6), }"),
+            2
+        );
+        assert_eq!(bracket_depth(b"{'descr': '(((((', 'shape': (1,)}"), 2);
+        assert_eq!(bracket_depth(b"{ ({ [ ("), 5);
+    }
 
     #[test]
     fn round_trip_and_fortran_float32() {
