@@ -22,8 +22,15 @@ flags=(-timeout=10 -rss_limit_mb=2048 -print_final_stats=1)
 case $target in
 urdf_model)
     extra+=(urdf tests/urdf)
-    description=${FAZE4_DESCRIPTION:-/work/shared/faze4_description}
-    [[ -d $description/urdf ]] && extra+=("$description/urdf")
+    # the official description, found as the tests find it: $FAZE4_DESCRIPTION, else
+    # shared/faze4_description in the nearest folder above the repository that has one
+    description=${FAZE4_DESCRIPTION:-}
+    dir=$PWD
+    while [[ -z $description && $dir != / ]]; do
+        dir=$(dirname "$dir")
+        [[ -d $dir/shared/faze4_description ]] && description=$dir/shared/faze4_description
+    done
+    [[ -n $description && -d $description/urdf ]] && extra+=("$description/urdf")
     flags+=(-dict=fuzz/urdf.dict)
     ;;
 npy_samples)
