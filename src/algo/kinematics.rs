@@ -9,7 +9,7 @@ use crate::spatial::Vec3;
 #[inline]
 pub fn update_joint_transforms(model: &Model, data: &mut Data, q: &[f64]) {
     for i in 0..model.dof() {
-        data.xup[i] = model.joints[i].motion_pose(q[i]).to_xform().compose(&model.x_tree[i]);
+        data.xup[i] = model.joints[i].xform_from_parent(q[i], &model.x_tree[i]);
     }
 }
 

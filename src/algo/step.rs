@@ -32,17 +32,20 @@ pub fn integrate_discrete(
     dt: f64,
 ) -> Result<()> {
     let n = model.dof();
-    // A = M + Δt·D,  b = M v + Δt (τ − bias)
+    // A = M + Δt·D,  b = M v + Δt (τ − bias); M is column-major, so M v is summed column by
+    // column (`max(1)`: a model without moving joints has no columns at all)
     data.step_matrix.copy_from(&data.m);
     for (i, joint) in model.joints.iter().enumerate() {
         data.step_matrix[(i, i)] += dt * joint.damping;
     }
-    for i in 0..n {
-        let mut mv = 0.0;
-        for k in 0..n {
-            mv += data.m[(i, k)] * v[k];
+    let rhs = data.rhs.as_mut_slice();
+    for ((b, &t), &bias) in rhs.iter_mut().zip(tau).zip(data.bias.as_slice()) {
+        *b = dt * (t - bias);
+    }
+    for (column, &vk) in data.m.as_slice().chunks_exact(n.max(1)).zip(v.iter()) {
+        for (b, &mik) in rhs.iter_mut().zip(column) {
+            *b += mik * vk;
         }
-        data.rhs[i] = mv + dt * (tau[i] - data.bias[i]);
     }
     data.limit_rhs.copy_from(&data.rhs);
     if !cholesky_factor(&data.step_matrix, &mut data.chol) {

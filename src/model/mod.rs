@@ -85,6 +85,31 @@ impl Joint {
         }
     }
 
+    /// `X_J(q) · X_T`: the Plücker transform from the parent body's frame to the child's, given
+    /// the fixed tree transform `x_tree` (parent frame to joint origin frame). The same as
+    /// `self.motion_pose(q).to_xform().compose(x_tree)`, without its products by zero or one:
+    ///
+    /// ```text
+    ///   revolute:   X = (R(a, q)ᵀ E_T,  r_T),    R(a, q)ᵀ = R(a, −q)
+    ///   prismatic:  X = (E_T,  r_T + E_Tᵀ a q)
+    /// ```
+    #[inline]
+    pub fn xform_from_parent(&self, q: f64, x_tree: &Xform) -> Xform {
+        match self.kind {
+            JointKind::Revolute | JointKind::Continuous => {
+                let (s, c) = q.sin_cos();
+                Xform {
+                    e: rotation_about_axis(&self.axis, -s, c) * x_tree.e,
+                    r: x_tree.r,
+                }
+            }
+            JointKind::Prismatic => Xform {
+                e: x_tree.e,
+                r: x_tree.r + x_tree.e.tr_mul(&(self.axis * q)),
+            },
+        }
+    }
+
     /// The joint's motion subspace `s` in the child frame: `(axis, 0)` for a rotation,
     /// `(0, axis)` for a translation.
     pub fn motion_subspace(&self) -> Motion {
@@ -202,5 +227,33 @@ impl Model {
     /// Reads a URDF file; `packages` resolves `package://` mesh references.
     pub fn from_urdf_file(path: &std::path::Path, packages: &PackagePaths) -> crate::Result<Model> {
         urdf::read_file(path, packages)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xform_from_parent_is_the_joint_motion_composed_with_the_tree_transform() {
+        let x_tree = Pose::from_xyz_rpy([0.1, -0.25, 0.4], [0.3, -1.1, 2.0]).to_xform();
+        for kind in [JointKind::Revolute, JointKind::Continuous, JointKind::Prismatic] {
+            let joint = Joint {
+                name: "j".into(),
+                kind,
+                axis: Vec3::new(0.14804, 0.90477, 0.39934).normalize(),
+                lower: f64::NEG_INFINITY,
+                upper: f64::INFINITY,
+                effort: None,
+                damping: 0.0,
+                child_link: "c".into(),
+            };
+            for q in [-2.7, -0.4, 0.0, 0.9, 3.1] {
+                let fast = joint.xform_from_parent(q, &x_tree);
+                let slow = joint.motion_pose(q).to_xform().compose(&x_tree);
+                assert!((fast.e - slow.e).abs().max() < 1e-15, "{kind:?} at {q}");
+                assert!((fast.r - slow.r).abs().max() < 1e-15, "{kind:?} at {q}");
+            }
+        }
     }
 }

@@ -79,24 +79,16 @@ impl Inertia {
     /// ```
     #[inline]
     pub fn transform_to_source(&self, x: &Xform) -> Inertia {
-        let r = &x.r;
-        let y = x.e.tr_mul(&self.h);
+        let (e, r) = (&x.e, &x.r);
+        let y = e.tr_mul(&self.h);
         let mr = r * self.mass;
         let diag = mr.dot(r) + 2.0 * r.dot(&y);
-        // symmetric: compute the upper triangle of m r rᵀ + r yᵀ + y rᵀ and mirror it
-        let mut rot = x.e.tr_mul(&(self.rot * x.e));
-        for a in 0..3 {
-            for b in a..3 {
-                let outer = mr[a] * r[b] + r[a] * y[b] + y[a] * r[b];
-                let v = if a == b {
-                    rot[(a, a)] + diag - outer
-                } else {
-                    0.5 * (rot[(a, b)] + rot[(b, a)]) - outer
-                };
-                rot[(a, b)] = v;
-                rot[(b, a)] = v;
-            }
-        }
+        // symmetric: the upper triangle of Eᵀ (Ī E) − (m r rᵀ + r yᵀ + y rᵀ), mirrored
+        let ie = self.rot * e;
+        let entry = |a: usize, b: usize| e.column(a).dot(&ie.column(b)) - (mr[a] * r[b] + r[a] * y[b] + y[a] * r[b]);
+        let (xx, yy, zz) = (entry(0, 0) + diag, entry(1, 1) + diag, entry(2, 2) + diag);
+        let (xy, xz, yz) = (entry(0, 1), entry(0, 2), entry(1, 2));
+        let rot = Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
         Inertia {
             mass: self.mass,
             h: y + mr,
