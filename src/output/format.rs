@@ -24,15 +24,18 @@ pub fn number(x: f64, width: usize) -> String {
     format!("{s:>width$}")
 }
 
-/// `x` exactly (the shortest decimal that reads back to the same `f64`), in scientific notation
-/// when it is very small or very large so that files stay short.
-pub fn exact(x: f64) -> String {
+/// Appends `x` exactly (the shortest decimal that reads back to the same `f64`) to `out`, in
+/// scientific notation when it is very small or very large so that files stay short. Writes in
+/// place: the trail calls this for every number of every row.
+pub fn push_exact(out: &mut String, x: f64) {
+    use std::fmt::Write;
     let a = x.abs();
-    if a != 0.0 && !(1e-4..1e15).contains(&a) {
-        format!("{x:e}")
+    // writing to a String cannot fail
+    let _ = if a != 0.0 && !(1e-4..1e15).contains(&a) {
+        write!(out, "{x:e}")
     } else {
-        format!("{x}")
-    }
+        write!(out, "{x}")
+    };
 }
 
 /// A row: a left label, then one right-aligned number per joint.
@@ -64,6 +67,11 @@ mod tests {
         assert_eq!(number(6.452e-6, 0), "6.45e-6");
         assert_eq!(number(0.0, 4), "   0");
         assert_eq!(number(f64::INFINITY, 0), "inf");
+        let exact = |x: f64| {
+            let mut s = String::new();
+            push_exact(&mut s, x);
+            s
+        };
         for x in [-1.4033517506376317e-16, 0.12000000000000001, 3.0, 1e300, -0.0, 5e-5] {
             assert_eq!(exact(x).parse::<f64>().unwrap().to_bits(), x.to_bits(), "{}", exact(x));
         }

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::atomic::AtomicFile;
-use super::format::exact;
+use super::format::push_exact;
 use super::{Recorder, RunInfo, Sample};
 use crate::sim::Summary;
 
@@ -72,7 +72,7 @@ impl Recorder for TrailCsv {
     fn record(&mut self, s: &Sample) -> crate::Result<()> {
         // shortest round-trip decimals: the file holds the simulation's exact values
         let mut push = |x: f64| {
-            self.line.push_str(&exact(x));
+            push_exact(&mut self.line, x);
             self.line.push(',');
         };
         push(s.t);
