@@ -24,18 +24,11 @@ pub fn number(x: f64, width: usize) -> String {
     format!("{s:>width$}")
 }
 
-/// Appends `x` exactly (the shortest decimal that reads back to the same `f64`) to `out`, in
-/// scientific notation when it is very small or very large so that files stay short. Writes in
-/// place: the trail calls this for every number of every row.
+/// Appends `x` exactly: the shortest decimal that reads back to the same `f64` (Ryū), positional
+/// from 1e-5 to 1e16 and scientific outside, so that files stay short. The trail calls this for
+/// every number of every row; Ryū is several times faster than `{}` formatting.
 pub fn push_exact(out: &mut String, x: f64) {
-    use std::fmt::Write;
-    let a = x.abs();
-    // writing to a String cannot fail
-    let _ = if a != 0.0 && !(1e-4..1e15).contains(&a) {
-        write!(out, "{x:e}")
-    } else {
-        write!(out, "{x}")
-    };
+    out.push_str(ryu::Buffer::new().format(x));
 }
 
 /// A row: a left label, then one right-aligned number per joint.
