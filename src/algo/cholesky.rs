@@ -3,8 +3,10 @@
 use nalgebra::{DMatrix, DVector};
 
 /// Factors the symmetric positive-definite `a` into `l` (lower triangle, `a = L Lᵀ`); only
-/// the lower triangle of `a` is read. Returns `false` if `a` is not positive definite (or not
-/// finite), leaving `l` unspecified.
+/// the lower triangle of `a` is read. The diagonal of `l` holds the reciprocals `1 / L_jj`, so
+/// that neither the factor nor [`cholesky_solve`] divides more than once per column (a
+/// division's latency is several multiplications', and here each one waits for the last).
+/// Returns `false` if `a` is not positive definite (or not finite), leaving `l` unspecified.
 pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
     let n = a.nrows();
     // column-major storage: entry (i, j) is at i + j·n
@@ -19,21 +21,22 @@ pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
         if d.is_nan() || d <= 0.0 {
             return false;
         }
-        let ljj = d.sqrt();
-        l[j + j * n] = ljj;
+        let inv_ljj = 1.0 / d.sqrt();
+        l[j + j * n] = inv_ljj;
         // L_ij = (A_ij − Σ_k L_ik L_jk) / L_jj, i > j
         for i in j + 1..n {
             let mut s = a[i + j * n];
             for k in 0..j {
                 s -= l[i + k * n] * l[j + k * n];
             }
-            l[i + j * n] = s / ljj;
+            l[i + j * n] = s * inv_ljj;
         }
     }
     true
 }
 
-/// Solves `L Lᵀ x = b` in place (`b` becomes x), with `l` from [`cholesky_factor`].
+/// Solves `L Lᵀ x = b` in place (`b` becomes x), with `l` from [`cholesky_factor`] (its
+/// diagonal holding `1 / L_ii`).
 pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
     let n = l.nrows();
     let l = l.as_slice();
@@ -44,7 +47,7 @@ pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
         for k in 0..i {
             s -= l[i + k * n] * b[k];
         }
-        b[i] = s / l[i + i * n];
+        b[i] = s * l[i + i * n];
     }
     // back substitution: Lᵀ x = y
     for i in (0..n).rev() {
@@ -52,7 +55,7 @@ pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
         for k in i + 1..n {
             s -= l[k + i * n] * b[k];
         }
-        b[i] = s / l[i + i * n];
+        b[i] = s * l[i + i * n];
     }
 }
 
