@@ -29,9 +29,9 @@ pub fn compute_all_terms(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) 
             None => a0,
         };
         // only the linear part is non-zero: X (0, a) = (0, E a)
-        let a_g = Motion::new(Default::default(), data.xup[i].e * a_parent.lin);
-        data.a[i] = a_g;
-        data.g[i] = model.s[i].dot(&data.ic[i].mul_motion(&a_g));
+        let a_g = data.xup[i].e * a_parent.lin;
+        data.a[i] = Motion::new(Default::default(), a_g);
+        data.g[i] = model.s[i].dot(&data.ic[i].mul_translation(&a_g));
     }
     // C(q, qd) qd by RNEA without gravity, then add g
     velocity_bias_from_transforms(model, data, qd);

@@ -58,6 +58,16 @@ impl Inertia {
         }
     }
 
+    /// `I (0, a)`: the momentum of a body translating with `a` and not rotating, `(h × a, m a)`
+    /// ([`Inertia::mul_motion`] with the angular part known to be zero).
+    #[inline]
+    pub fn mul_translation(&self, a: &Vec3) -> Force {
+        Force {
+            ang: self.h.cross(a),
+            lin: a * self.mass,
+        }
+    }
+
     /// Centre of mass (m); undefined for a massless body.
     pub fn com(&self) -> Vec3 {
         self.h / self.mass
@@ -140,6 +150,10 @@ mod tests {
         let lhs = i_b.transform_to_source(&x).mul_motion(&m);
         let rhs = x.transpose_apply_force(&i_b.mul_motion(&x.apply_motion(&m)));
         assert!((lhs - rhs).ang.norm() + (lhs - rhs).lin.norm() < 1e-14);
+        // a pure translation through either product
+        let a = Vec3::new(0.4, -9.81, 1.3);
+        let d = i_b.mul_translation(&a) - i_b.mul_motion(&Motion::new(Vec3::zeros(), a));
+        assert!(d.ang.norm() + d.lin.norm() < 1e-15);
         // round trip through the centre of mass
         let back = Inertia::from_com(i_b.mass, i_b.com(), i_b.rot_about_com());
         assert!((back.rot - i_b.rot).abs().max() < 1e-16);
