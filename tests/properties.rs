@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use faze4::algo::{
     Data, bias, cholesky_factor, compute_all_terms, crba, forward_dynamics, forward_kinematics, frame_jacobian,
-    gravity, rnea,
+    gravity, rnea, update_joint_transforms,
 };
 use faze4::model::Model;
 use nalgebra::{DMatrix, DVector};
@@ -30,6 +30,19 @@ fn for_each_state(mut check: impl FnMut(&str, &Model, &mut Data, &[f64], &[f64],
             check(path, &model, &mut data, &q, &v, &a);
         }
     }
+}
+
+#[test]
+fn joint_transforms_are_the_joint_motion_composed_with_the_tree_transform() {
+    // the loop's shortcut (the axis split, no products by zero or one) against the definition
+    for_each_state(|path, model, data, q, _, _| {
+        update_joint_transforms(model, data, q);
+        for i in 0..model.dof() {
+            let x = model.joints[i].motion_pose(q[i]).to_xform().compose(&model.x_tree[i]);
+            let (de, dr) = ((data.xup[i].e - x.e).amax(), (data.xup[i].r - x.r).amax());
+            assert!(de < 1e-15 && dr < 1e-15, "{path}: joint {i}: {de:e}, {dr:e}");
+        }
+    });
 }
 
 #[test]

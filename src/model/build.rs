@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
-use super::{Frame, Joint, JointKind, Model, STANDARD_GRAVITY};
+use super::{AxisSplit, Frame, Joint, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result};
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
@@ -113,6 +113,7 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
         joints: Vec::new(),
         parent: Vec::new(),
         x_tree: Vec::new(),
+        axis_split: Vec::new(),
         tree_pose: Vec::new(),
         s: Vec::new(),
         inertia: Vec::new(),
@@ -153,7 +154,9 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
                     Some(moving) => {
                         let body = model.joints.len();
                         model.parent.push(parent_body);
-                        model.x_tree.push(origin.to_xform());
+                        let x_tree = origin.to_xform();
+                        model.axis_split.push(AxisSplit::new(&moving.axis, &x_tree.e));
+                        model.x_tree.push(x_tree);
                         model.tree_pose.push(origin);
                         model.s.push(moving.motion_subspace());
                         model.inertia.push(Inertia::ZERO);

@@ -18,7 +18,7 @@ pub mod urdf;
 pub use description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 pub use package::PackagePaths;
 
-use crate::spatial::{Inertia, Motion, Pose, Vec3, Xform, rotation_about_axis};
+use crate::spatial::{Inertia, Mat3, Motion, Pose, Vec3, Xform, rotation_about_axis, skew};
 
 /// The bundled Faze4 URDF (`urdf/faze4_arm.urdf`), built into the binary so it runs from any
 /// directory.
@@ -85,31 +85,6 @@ impl Joint {
         }
     }
 
-    /// `X_J(q) · X_T`: the Plücker transform from the parent body's frame to the child's, given
-    /// the fixed tree transform `x_tree` (parent frame to joint origin frame). The same as
-    /// `self.motion_pose(q).to_xform().compose(x_tree)`, without its products by zero or one:
-    ///
-    /// ```text
-    ///   revolute:   X = (R(a, q)ᵀ E_T,  r_T),    R(a, q)ᵀ = R(a, −q)
-    ///   prismatic:  X = (E_T,  r_T + E_Tᵀ a q)
-    /// ```
-    #[inline]
-    pub fn xform_from_parent(&self, q: f64, x_tree: &Xform) -> Xform {
-        match self.kind {
-            JointKind::Revolute | JointKind::Continuous => {
-                let (s, c) = q.sin_cos();
-                Xform {
-                    e: rotation_about_axis(&self.axis, -s, c) * x_tree.e,
-                    r: x_tree.r,
-                }
-            }
-            JointKind::Prismatic => Xform {
-                e: x_tree.e,
-                r: x_tree.r + x_tree.e.tr_mul(&(self.axis * q)),
-            },
-        }
-    }
-
     /// The joint's motion subspace `s` in the child frame: `(axis, 0)` for a rotation,
     /// `(0, axis)` for a translation.
     pub fn motion_subspace(&self) -> Motion {
@@ -122,6 +97,44 @@ impl Joint {
     /// Whether `q` lies within the joint's limits.
     pub fn within_limits(&self, q: f64) -> bool {
         q >= self.lower && q <= self.upper
+    }
+}
+
+/// A revolute joint's tree rotation with Rodrigues' formula folded in, so that the joint's
+/// transform at q needs only `sin q` and `cos q` and no matrix product (the 5 kHz loop
+/// computes it for every joint at every step):
+///
+/// ```text
+///   E(q) = R(a, q)ᵀ E_T = P + cos q · Q − sin q · S,    P = a aᵀ E_T,  Q = E_T − P,  S = [a]× E_T
+/// ```
+///
+/// from Rodrigues, `R(a, q)ᵀ = R(a, −q) = cos q · 1 − sin q · [a]× + (1 − cos q) a aᵀ`. `a` is the
+/// unit axis and `E_T` the tree rotation (parent to joint frame) of [`Model::x_tree`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisSplit {
+    /// `P = a aᵀ E_T`: the part of `E_T` along the axis, which the rotation leaves alone.
+    pub along: Mat3,
+    /// `Q = E_T − P`: the part across the axis, scaled by `cos q`.
+    pub across: Mat3,
+    /// `S = [a]× E_T`: the part across the axis turned a quarter turn, scaled by `−sin q`.
+    pub turned: Mat3,
+}
+
+impl AxisSplit {
+    /// The split of `E_T` (`e_tree`) about the unit axis `axis`.
+    pub fn new(axis: &Vec3, e_tree: &Mat3) -> Self {
+        let along = axis * (axis.transpose() * e_tree);
+        Self {
+            along,
+            across: e_tree - along,
+            turned: skew(axis) * e_tree,
+        }
+    }
+
+    /// `E(q) = R(a, q)ᵀ E_T`, given `sin q` and `cos q`.
+    #[inline]
+    pub fn rotation(&self, sin: f64, cos: f64) -> Mat3 {
+        self.along + self.across * cos - self.turned * sin
     }
 }
 
@@ -150,6 +163,9 @@ pub struct Model {
     /// `x_tree[i]`: Plücker transform from the parent body's frame to joint i's frame at
     /// q = 0 (the URDF joint origin, fixed joints on the way folded in). n entries.
     pub x_tree: Vec<Xform>,
+    /// `axis_split[i]`: `x_tree[i]`'s rotation split about joint i's axis (used for revolute
+    /// and continuous joints; see [`AxisSplit`]). n entries.
+    pub axis_split: Vec<AxisSplit>,
     /// `tree_pose[i]`: the same placement as a pose `λ_T_joint` (parent frame → joint frame).
     pub tree_pose: Vec<Pose>,
     /// `s[i]`: motion subspace of joint i in body i's frame (6-vector). n entries.
@@ -227,33 +243,5 @@ impl Model {
     /// Reads a URDF file; `packages` resolves `package://` mesh references.
     pub fn from_urdf_file(path: &std::path::Path, packages: &PackagePaths) -> crate::Result<Model> {
         urdf::read_file(path, packages)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn xform_from_parent_is_the_joint_motion_composed_with_the_tree_transform() {
-        let x_tree = Pose::from_xyz_rpy([0.1, -0.25, 0.4], [0.3, -1.1, 2.0]).to_xform();
-        for kind in [JointKind::Revolute, JointKind::Continuous, JointKind::Prismatic] {
-            let joint = Joint {
-                name: "j".into(),
-                kind,
-                axis: Vec3::new(0.14804, 0.90477, 0.39934).normalize(),
-                lower: f64::NEG_INFINITY,
-                upper: f64::INFINITY,
-                effort: None,
-                damping: 0.0,
-                child_link: "c".into(),
-            };
-            for q in [-2.7, -0.4, 0.0, 0.9, 3.1] {
-                let fast = joint.xform_from_parent(q, &x_tree);
-                let slow = joint.motion_pose(q).to_xform().compose(&x_tree);
-                assert!((fast.e - slow.e).abs().max() < 1e-15, "{kind:?} at {q}");
-                assert!((fast.r - slow.r).abs().max() < 1e-15, "{kind:?} at {q}");
-            }
-        }
     }
 }
