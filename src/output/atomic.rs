@@ -49,14 +49,18 @@ impl AtomicFile {
         }
     }
 
-    /// Flushes, syncs and renames the file into place.
+    /// Flushes the file and renames it into place.
+    ///
+    /// No `fsync`: the rename alone makes the file whole or absent whatever happens to the
+    /// process (an error, a panic, Ctrl-C, a kill). Only an operating-system crash or a power
+    /// cut right after the run could leave it empty, and a run's outputs are made again by
+    /// running it; a flush to disk took about 0.6 ms per file here (a whole 8 s wave takes 32 ms).
     pub fn commit(mut self) -> Result<()> {
         let writer = self.writer.take().expect("committed once");
         let file = writer.into_inner().map_err(|e| Error::Io {
             path: self.target.clone(),
             source: e.into_error(),
         })?;
-        file.sync_all().map_err(|e| self.error(e))?;
         drop(file);
         std::fs::rename(&self.temp, &self.target).map_err(|e| self.error(e))
     }
