@@ -49,6 +49,7 @@ trap 'kill -INT -- -$pid 2>/dev/null || true' EXIT INT TERM
 
 last_cov=-1
 last_growth=$start
+reason="the fuzzer ended on its own (a crash, or stopped from outside)"
 while kill -0 "$pid" 2>/dev/null; do
     sleep 10
     cov=$(grep -aoE 'cov: [0-9]+' "$log" | tail -1 | grep -oE '[0-9]+' || echo 0)
@@ -56,6 +57,7 @@ while kill -0 "$pid" 2>/dev/null; do
         last_cov=$cov
         last_growth=$(date +%s)
     elif (($(date +%s) - last_growth >= minutes * 60)); then
+        reason="the plateau: no new cov for $minutes min"
         kill -INT -- -"$pid" 2>/dev/null || true
         break
     fi
@@ -69,7 +71,8 @@ execs=$(grep -aoE 'stat::number_of_executed_units: [0-9]+' "$log" | grep -oE '[0
     echo "$status" | grep -oE '^#[0-9]+' | tr -d '#')
 echo "target:     $target"
 echo "log:        $log"
-echo "time:       $((end - start)) s (stopped after $minutes min without new cov)"
+echo "time:       $((end - start)) s"
+echo "stopped:    $reason"
 echo "executions: $execs"
 echo "final:      $(echo "$status" | grep -oE 'cov: [0-9]+ ft: [0-9]+')"
 echo "corpus:     $(find "$corpus" -type f | wc -l) inputs"
