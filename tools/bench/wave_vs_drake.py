@@ -67,7 +67,7 @@ def main():
     print(f"  {'':8s}{'process (s)':>14s}{'loop (s)':>12s}{'µs/step':>10s}")
     for n in ("drake", "faze4"):
         print(f"  {n:8s}{med[n][0]:14.3f}{med[n][1]:12.4f}{med[n][1] / steps * 1e6:10.2f}")
-    print(f"  ratio   {med['drake'][0] / med['faze4'][0]:14.0f}x{med['drake'][1] / med['faze4'][1]:11.0f}x")
+    print(f"  ratio   {med['drake'][0] / med['faze4'][0]:14.1f}x{med['drake'][1] / med['faze4'][1]:11.1f}x")
 
 
 if __name__ == "__main__":
