@@ -8,7 +8,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use faze4::algo::{
     Data, compute_all_terms, crba, discrete_step, forward_kinematics, gravity, integrate_discrete, rnea,
 };
-use faze4::control::{FAZE4_EFFORT, Pd, auto_tune};
+use faze4::control::{Pd, auto_tune};
+use faze4::faze4::EFFORT as FAZE4_EFFORT;
 use faze4::model::{Model, PackagePaths};
 use faze4::traj::Wave;
 

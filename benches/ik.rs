@@ -4,9 +4,10 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use faze4::ik::{IkTask, IkWorkspace, solve_path, solve_position};
+use faze4::faze4::{BOARD, Q_SEED, shape_ik_task};
+use faze4::ik::{IkWorkspace, solve_path, solve_position};
 use faze4::model::{Model, PackagePaths};
-use faze4::traj::shape::{BOARD, Q_SEED, Shape};
+use faze4::traj::shape::Shape;
 
 fn faze4() -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("urdf/faze4_arm.urdf");
@@ -15,7 +16,7 @@ fn faze4() -> Model {
 
 fn ik(c: &mut Criterion) {
     let model = faze4();
-    let task = IkTask::shapes(&model).unwrap();
+    let task = shape_ik_task(&model).unwrap();
     // the whole circle: 240 targets, each from the previous solution (sample 0 from Q_SEED)
     c.bench_function("ik_circle_240", |b| {
         b.iter(|| {

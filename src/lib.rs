@@ -7,9 +7,11 @@
 //! [`viz`] (the 3D view, live and exported, and the plot: recorders).
 
 pub mod algo;
+pub mod atomic;
 pub mod cli;
 pub mod control;
 pub mod error;
+pub mod faze4;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod ik;

@@ -193,7 +193,7 @@ fn shape_matches_drake(shape: &str) -> Value {
         "{shape}: saved q differs from the fixture's by {drift:e} rad"
     );
 
-    let model = faze4::model::faze4_arm();
+    let model = faze4::faze4::model();
     let tool = model.frame_index("tool_link").unwrap();
     let mut data = Data::new(&model);
     for (k, (q, target)) in saved.iter().zip(mat_f64(&fx["targets"])).enumerate() {

@@ -8,10 +8,11 @@ mod common;
 use common::*;
 use faze4::Error;
 use faze4::algo::{Data, crba, forward_kinematics};
-use faze4::ik::{IkTask, IkWeights, IkWorkspace, SHAPE_FREE_JOINTS, solve_path, solve_position};
+use faze4::faze4::{BOARD, Q_SEED, SHAPE_FREE_JOINTS, shape_ik_task};
+use faze4::ik::{IkTask, IkWeights, IkWorkspace, solve_path, solve_position};
 use faze4::model::Model;
 use faze4::spatial::{Mat3, Vec3};
-use faze4::traj::shape::{BOARD, Q_SEED, Shape};
+use faze4::traj::shape::Shape;
 
 const POINTS: usize = 240;
 
@@ -36,7 +37,7 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 fn shapes_are_solved_exactly_smoothly_and_within_limits() {
     let model = faze4();
     let mut data = Data::new(&model);
-    let task = IkTask::shapes(&model).unwrap();
+    let task = shape_ik_task(&model).unwrap();
     assert_eq!(model.frames[task.frame].name, "tool_link");
     for shape in Shape::ALL {
         let targets = shape.targets(POINTS, &BOARD);
@@ -108,7 +109,7 @@ fn shapes_are_solved_exactly_smoothly_and_within_limits() {
 fn solved_tool_ranges_match_the_spec() {
     let model = faze4();
     let mut data = Data::new(&model);
-    let task = IkTask::shapes(&model).unwrap();
+    let task = shape_ik_task(&model).unwrap();
     let expected = [
         (Shape::Tri, (-0.0586, 0.2186), (0.47, 0.71), 1e-4),
         (Shape::Sine, (-0.110, 0.270), (0.43, 0.67), 1e-3),
@@ -149,7 +150,7 @@ fn closest_in(message: &str) -> f64 {
 fn an_unreachable_target_names_the_sample_and_the_closest_distance() {
     let model = faze4();
     let mut data = Data::new(&model);
-    let task = IkTask::shapes(&model).unwrap();
+    let task = shape_ik_task(&model).unwrap();
     let base = fk(&model, &mut data, &[0.0; 6], 0);
     let far = base + Vec3::new(1.2, -1.6, 0.0); // 2 m from the base link
     let targets = [Shape::Circle.point(0.0, &BOARD), far];
@@ -266,7 +267,7 @@ fn assert_weighted_minimum(model: &Model, q: &[f64], q_prev: &[f64], target: &Ve
 fn the_solution_is_the_weighted_minimum_change() {
     let model = faze4();
     let mut ws = IkWorkspace::new(&model);
-    let task = IkTask::shapes(&model).unwrap();
+    let task = shape_ik_task(&model).unwrap();
     let targets = Shape::Circle.targets(POINTS, &BOARD);
 
     // identity: the first circle sample is 0.23 m from the seed's tool position
@@ -303,7 +304,7 @@ fn a_target_next_to_a_joint_limit_is_solved_within_the_limit() {
     let model = faze4();
     let mut data = Data::new(&model);
     let w = [1.0, 1.0, 1.0, 1.0, 1e-3, 1.0];
-    let task = IkTask::shapes(&model)
+    let task = shape_ik_task(&model)
         .unwrap()
         .with_weights(IkWeights::Diagonal(w.to_vec()));
     let j5 = 4;
@@ -355,7 +356,7 @@ fn bad_tasks_and_inputs_are_rejected() {
     assert!(IkTask::new(&model, tool, &[0, 1, 1]).is_err(), "a repeated joint");
     assert!(IkTask::new(&model, tool, &[0, 1, 9]).is_err(), "joint out of range");
     assert!(IkTask::new(&model, 99, &[0, 1, 2]).is_err(), "frame out of range");
-    let task = IkTask::shapes(&model).unwrap();
+    let task = shape_ik_task(&model).unwrap();
     let target = Shape::Circle.point(0.0, &BOARD);
     let mut ws = IkWorkspace::new(&model);
     assert!(solve_position(&model, &mut ws, &task, &target, &Q_SEED[..5]).is_err());

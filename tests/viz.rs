@@ -272,9 +272,10 @@ fn hold_until_returns_when_asked_and_serves_meanwhile() {
 /// live view at once.
 #[test]
 fn the_real_closed_loop_feeds_every_visual_recorder() {
-    use faze4::control::{FAZE4_EFFORT, Pd, auto_tune};
+    use faze4::control::{Pd, auto_tune};
+    use faze4::faze4::{BOARD, EFFORT as FAZE4_EFFORT, SHAPE_PERIOD};
     use faze4::sim::{Scenario, ShapeRun, StopFlag};
-    use faze4::traj::shape::{BOARD, SHAPE_PERIOD, Shape};
+    use faze4::traj::shape::Shape;
     use faze4::traj::{Interpolated, Trajectory, Wrap};
 
     let model = real_model();

@@ -10,11 +10,11 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use self::args::{Cli, Command, RunArgs};
+use crate::atomic::write_atomically;
 use crate::error::{Error, Result};
-use crate::output::atomic::write_atomically;
 use crate::output::format::number;
-use crate::output::{Recorder, Terminal, TrailCsv};
-use crate::sim::{self, Scenario, StopFlag, Summary};
+use crate::output::{Terminal, TrailCsv};
+use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 use crate::traj::{Trajectory, npy};
 use crate::viz::{HtmlExport, LiveView, PlotRecorder};
 

@@ -5,13 +5,13 @@ use std::path::Path;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::algo::{Data, crba};
-use crate::control::{FAZE4_EFFORT, Gains, Pd, auto_tune};
+use crate::control::{Gains, Pd, auto_tune};
 use crate::error::{Error, Result};
-use crate::ik::{IkTask, SHAPE_FREE_JOINTS, solve_path};
-use crate::model::{self, Model, PackagePaths};
-use crate::output::steps_per_record;
-use crate::sim::{Scenario, ShapeRun};
-use crate::traj::shape::{BOARD, Q_SEED, SHAPE_PERIOD, Shape};
+use crate::faze4::{self, BOARD, Q_SEED, SHAPE_FREE_JOINTS, SHAPE_PERIOD};
+use crate::ik::{IkTask, solve_path};
+use crate::model::{Model, PackagePaths};
+use crate::sim::{Scenario, ShapeRun, steps_per_record};
+use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
 /// `faze4 wave` → scenario.
@@ -58,7 +58,7 @@ pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
     }
     let model = load_model(&args.run)?;
     let tool = tool_frame(&model, args.run.tool_link.as_deref())?;
-    let (free, seed): (Vec<usize>, Vec<f64>) = if model.is_faze4() {
+    let (free, seed): (Vec<usize>, Vec<f64>) = if faze4::is_faze4(&model) {
         (SHAPE_FREE_JOINTS.to_vec(), Q_SEED.to_vec())
     } else {
         let seed = model.joints.iter().map(|j| 0.0_f64.clamp(j.lower, j.upper)).collect();
@@ -87,7 +87,7 @@ pub fn load_model(run: &RunArgs) -> Result<Model> {
     non_negative("--payload-kg", run.payload_kg)?;
     let mut model = match &run.urdf {
         Some(path) => Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
-        None => model::faze4_arm(),
+        None => faze4::model(),
     };
     if run.no_gravity {
         model.gravity = Default::default();
@@ -134,7 +134,7 @@ pub fn assemble(
             }
             e
         }
-        None if model.is_faze4() => FAZE4_EFFORT.to_vec(),
+        None if faze4::is_faze4(&model) => faze4::EFFORT.to_vec(),
         None => {
             let unlimited: Vec<&str> = model
                 .joints

@@ -4,4 +4,4 @@ mod pd;
 mod tuning;
 
 pub use pd::Pd;
-pub use tuning::{FAZE4_EFFORT, Gains, auto_tune};
+pub use tuning::{Gains, auto_tune};

@@ -2,10 +2,6 @@
 
 use serde::Serialize;
 
-/// Torque limits of the Faze4's NEMA17 + cycloidal joints (N·m), J1..J6 (SPEC §3). Not the
-/// URDF effort values.
-pub const FAZE4_EFFORT: [f64; 6] = [7.9, 8.5, 4.7, 3.7, 3.5, 6.0];
-
 /// Per-joint controller gains and the figures they came from. All vectors have one entry per
 /// joint.
 #[derive(Clone, Debug, PartialEq, Serialize)]

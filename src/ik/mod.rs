@@ -34,9 +34,6 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::spatial::Vec3;
 
-/// The free joints of SPEC §4's shapes on the Faze4: J1, J2, J3 and J5 (J4 = J6 = 0 held).
-pub const SHAPE_FREE_JOINTS: [usize; 4] = [0, 1, 2, 4];
-
 /// Default position tolerance (m): the residual |p_frame(q) − target| a solution reaches.
 pub const DEFAULT_TOLERANCE_M: f64 = 1e-12;
 
@@ -86,12 +83,6 @@ impl IkTask {
         };
         task.validate(model)?;
         Ok(task)
-    }
-
-    /// SPEC §4's task: the model's tool frame ([`Model::default_tool_frame`]) with
-    /// [`SHAPE_FREE_JOINTS`] free.
-    pub fn shapes(model: &Model) -> Result<IkTask> {
-        IkTask::new(model, model.default_tool_frame(), &SHAPE_FREE_JOINTS)
     }
 
     /// This task with weighting `weights`.

@@ -20,22 +20,6 @@ pub use package::PackagePaths;
 
 use crate::spatial::{Inertia, Mat3, Motion, Pose, Vec3, Xform, rotation_about_axis, skew};
 
-/// The bundled Faze4 URDF (`urdf/faze4_arm.urdf`), built into the binary so it runs from any
-/// directory.
-pub const FAZE4_ARM_URDF: &str = include_str!("../../urdf/faze4_arm.urdf");
-
-/// Name under which the bundled model reports its source.
-pub const FAZE4_ARM_SOURCE: &str = "bundled urdf/faze4_arm.urdf";
-
-/// Robot names of the bundled Faze4 models, which get the Faze4 torque limits by default.
-pub const FAZE4_NAMES: [&str; 2] = ["faze4_arm", "faze4_real"];
-
-/// The bundled Faze4 model (SPEC §1).
-pub fn faze4_arm() -> Model {
-    urdf::read_str(FAZE4_ARM_URDF, FAZE4_ARM_SOURCE, None, &PackagePaths::default())
-        .expect("the bundled URDF is valid (tested)")
-}
-
 /// Standard gravity used by faze4 (m/s²), pointing along world −z.
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
@@ -206,16 +190,6 @@ impl Model {
     /// Joint damping coefficients, one per joint.
     pub fn damping(&self) -> impl Iterator<Item = f64> + '_ {
         self.joints.iter().map(|j| j.damping)
-    }
-
-    /// Whether this is one of the bundled Faze4 models (by robot name).
-    pub fn is_faze4(&self) -> bool {
-        FAZE4_NAMES.contains(&self.name.as_str()) && self.dof() == 6
-    }
-
-    /// Total mass of the moving bodies (kg); links welded to the world are not counted.
-    pub fn moving_mass(&self) -> f64 {
-        self.inertia.iter().map(|i| i.mass).sum()
     }
 
     /// This model with a point mass `mass` (kg) fixed at the origin of frame `frame` (e.g. a

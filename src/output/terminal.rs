@@ -5,8 +5,7 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row};
-use super::{Recorder, RunInfo, Sample};
-use crate::sim::Summary;
+use crate::sim::{Recorder, RunInfo, Sample, Summary};
 
 /// Simulated time between progress lines (s).
 pub const PRINT_PERIOD: f64 = 0.5;
@@ -20,8 +19,6 @@ const BAR_REDRAW: Duration = Duration::from_millis(100);
 pub struct Terminal {
     debug: bool,
     dof: usize,
-    /// Steps between printed lines.
-    print_every: usize,
     steps: usize,
     dt: f64,
     bar: Option<Bar>,
@@ -43,7 +40,6 @@ impl Terminal {
         Self {
             debug,
             dof: 0,
-            print_every: 1,
             steps: 0,
             dt: 0.0,
             bar,
@@ -100,20 +96,13 @@ fn out(line: &str) -> crate::Result<()> {
 }
 
 impl Recorder for Terminal {
-    fn every(&self, dt: f64) -> usize {
-        let print_every = ((PRINT_PERIOD / dt).round() as usize).max(1);
-        // with a bar, look in five times per printed line
-        if self.bar.is_some() {
-            (print_every / 5).max(1)
-        } else {
-            print_every
-        }
+    fn period(&self) -> f64 {
+        PRINT_PERIOD
     }
 
     fn begin(&mut self, run: &RunInfo) -> crate::Result<()> {
         let m = run.model;
         self.dof = m.dof();
-        self.print_every = ((PRINT_PERIOD / run.dt).round() as usize).max(1);
         self.steps = run.steps;
         self.dt = run.dt;
         let g = m.gravity.z;
@@ -155,10 +144,6 @@ impl Recorder for Terminal {
     }
 
     fn record(&mut self, s: &Sample) -> crate::Result<()> {
-        if !s.step.is_multiple_of(self.print_every) && s.step != self.steps {
-            self.draw_bar(s.step);
-            return Ok(());
-        }
         self.clear_bar();
         let list = |v: &mut dyn Iterator<Item = f64>| v.map(|x| format!("{x:7.3}")).collect::<Vec<_>>().join("");
         out(&format!(

@@ -4,10 +4,9 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::atomic::AtomicFile;
 use super::format::push_exact;
-use super::{Recorder, RunInfo, Sample};
-use crate::sim::Summary;
+use crate::atomic::AtomicFile;
+use crate::sim::{Recorder, RunInfo, Sample, Summary};
 
 /// Streams rows into a temporary file and renames it into place at the end, so memory does
 /// not grow with the run and a failed run leaves no half file.
@@ -46,14 +45,9 @@ impl TrailCsv {
     }
 }
 
-/// The row period in steps for `record_period` seconds at step `dt`.
-pub fn steps_per_record(record_period: f64, dt: f64) -> usize {
-    ((record_period / dt).round() as usize).max(1)
-}
-
 impl Recorder for TrailCsv {
-    fn every(&self, dt: f64) -> usize {
-        steps_per_record(self.record_period, dt)
+    fn period(&self) -> f64 {
+        self.record_period
     }
 
     fn begin(&mut self, run: &RunInfo) -> crate::Result<()> {

@@ -1,11 +1,13 @@
 //! Closed-loop runs: a [`Scenario`] (model, command, controller) stepped at Δt by [`run`],
 //! reported to recorders, summarised in a [`Summary`].
 
+mod record;
 mod run;
 mod scenario;
 mod stop;
 mod summary;
 
+pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{Scenario, ShapeRun};
 pub use stop::StopFlag;

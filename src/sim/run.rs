@@ -4,11 +4,12 @@ use std::time::Instant;
 
 use crate::algo::{Data, compute_all_terms, frame_position, integrate_discrete};
 use crate::error::Result;
-use crate::output::{Recorder, RunInfo, Sample};
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
-use super::{Diverged, PathDeviation, Scenario, StopFlag, Summary, ToolRange};
+use super::{
+    Diverged, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, steps_per_record,
+};
 
 /// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
 const STOP_POLL_STEPS: usize = 1024;
@@ -57,7 +58,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     }
     // each recorder's period in steps, and the next step it is due (counters, not k % every:
     // an integer division per recorder per step is a measurable share of a 1 µs step)
-    let every: Vec<usize> = recorders.iter().map(|r| r.every(dt).max(1)).collect();
+    let every: Vec<usize> = recorders.iter().map(|r| steps_per_record(r.period(), dt)).collect();
     let mut due: Vec<usize> = vec![0; recorders.len()];
     let mut metrics_due = 0;
     let mut target = [0.0; 3];

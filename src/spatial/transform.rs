@@ -210,15 +210,6 @@ impl Xform {
             r: -(self.e * self.r),
         }
     }
-
-    /// The placement `a_T_b` of frame B seen from frame A.
-    #[inline]
-    pub fn to_pose(&self) -> Pose {
-        Pose {
-            rot: self.e.transpose(),
-            pos: self.r,
-        }
-    }
 }
 
 #[cfg(test)]

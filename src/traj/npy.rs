@@ -8,8 +8,8 @@ use ndarray::Array2;
 use ndarray_npy::npy::header::Header;
 use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
+use crate::atomic::AtomicFile;
 use crate::error::{Error, Result, one_line};
-use crate::output::atomic::AtomicFile;
 
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
 /// N ≥ 2 rows, every value finite.

@@ -15,23 +15,12 @@ pub struct Board {
     pub height: f64,
 }
 
-/// The board of the original: plane y = −0.48 m, centred at x = 0.08, z = 0.55, 0.50 × 0.44 m.
-pub const BOARD: Board = Board {
-    center: Vec3::new(0.08, -0.48, 0.55),
-    width: 0.50,
-    height: 0.44,
-};
-
 /// Radius of the circle, and of the circle the triangle is inscribed in (m).
 pub const CIRCLE_RADIUS: f64 = 0.16;
 /// Half-length L of the sine's sweep (m).
 pub const SINE_HALF_LENGTH: f64 = 0.19;
 /// Amplitude A of the sine (m).
 pub const SINE_AMPLITUDE: f64 = 0.12;
-/// The joint configuration IK starts from for the first sample (rad), the original's seed.
-pub const Q_SEED: [f64; 6] = [0.0104, 0.1795, -0.5049, 0.0, -0.0938, 0.0];
-/// Time for one loop of a shape (s).
-pub const SHAPE_PERIOD: f64 = 5.0;
 
 /// The three closed paths of SPEC §4.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -118,6 +107,7 @@ fn distance_to_segment(p: &Vec3, a: &Vec3, b: &Vec3) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::faze4::BOARD;
 
     fn range(points: &[Vec3], axis: usize) -> (f64, f64) {
         points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {

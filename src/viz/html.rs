@@ -7,10 +7,10 @@ use serde_json::json;
 use super::scene::{SampleEncoder, Scene};
 use super::util::{base64, check_output_path, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
+use crate::atomic::AtomicFile;
 use crate::error::Result;
-use crate::output::atomic::AtomicFile;
-use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
 use crate::sim::Summary;
+use crate::sim::{Recorder, RunInfo, Sample, steps_per_record};
 
 /// Records a run and writes it, on [`Recorder::finish`], as one HTML file that plays it back
 /// offline (WebGL2; geometry, motion and player inside, no network).
@@ -51,16 +51,17 @@ impl HtmlExport {
 }
 
 impl Recorder for HtmlExport {
-    fn every(&self, dt: f64) -> usize {
-        steps_per_record(self.period, dt)
+    fn period(&self) -> f64 {
+        self.period
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
         let scene = Scene::for_run(run, self.period);
         scene.warn_fallbacks();
         self.encoder = Some(SampleEncoder::new(run.model, &scene.slots));
-        self.records =
-            Vec::with_capacity((run.steps / self.every(run.dt) + 2) * self.encoder.as_ref().unwrap().stride());
+        self.records = Vec::with_capacity(
+            (run.steps / steps_per_record(self.period, run.dt) + 2) * self.encoder.as_ref().unwrap().stride(),
+        );
         self.scene = Some(scene);
         Ok(())
     }

@@ -20,8 +20,8 @@ use super::scene::{SampleEncoder, Scene};
 use super::util::{base64, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
 use crate::error::{Error, Result};
-use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
 use crate::sim::Summary;
+use crate::sim::{Recorder, RunInfo, Sample};
 
 /// Connections served at once; more are closed at once.
 const MAX_CONNECTIONS: usize = 64;
@@ -224,8 +224,8 @@ impl Drop for Server {
 }
 
 impl Recorder for LiveView {
-    fn every(&self, dt: f64) -> usize {
-        steps_per_record(self.period, dt)
+    fn period(&self) -> f64 {
+        self.period
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {

@@ -1,11 +1,11 @@
 //! The visual side of a run: the 3D view in the browser (live and exported), and the plot.
-//! Each output is a [`Recorder`](crate::output::Recorder); the simulation knows nothing else
+//! Each output is a [`Recorder`](crate::sim::Recorder); the simulation knows nothing else
 //! about them.
 //!
 //! # API for the command line
 //!
 //! ```no_run
-//! use faze4::output::Recorder;
+//! use faze4::sim::Recorder;
 //! use faze4::viz::{DEFAULT_PORT, HtmlExport, LiveView, PlotRecorder};
 //! # fn main() -> faze4::Result<()> {
 //! # let stop = std::sync::atomic::AtomicBool::new(false);
@@ -25,7 +25,7 @@
 //! # Ok(()) }
 //! ```
 //!
-//! The live view paces [`Recorder::record`](crate::output::Recorder::record) to the wall
+//! The live view paces [`Recorder::record`](crate::sim::Recorder::record) to the wall
 //! clock (sample t is shown t seconds after the first), so a run with `--view` takes its
 //! simulated duration in real time. Recorders that are boxed away can leave a
 //! [`LiveHandle`] (`live.handle()`) to hold the server with.

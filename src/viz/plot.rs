@@ -13,10 +13,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::util::check_output_path;
+use crate::atomic::{AtomicFile, write_atomically};
 use crate::error::{Error, Result};
-use crate::output::atomic::{AtomicFile, write_atomically};
-use crate::output::{Recorder, RunInfo, Sample, steps_per_record};
 use crate::sim::Summary;
+use crate::sim::{Recorder, RunInfo, Sample};
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
@@ -103,8 +103,8 @@ impl PlotRecorder {
 }
 
 impl Recorder for PlotRecorder {
-    fn every(&self, dt: f64) -> usize {
-        steps_per_record(self.period, dt)
+    fn period(&self) -> f64 {
+        self.period
     }
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {

@@ -15,7 +15,7 @@ use serde_json::json;
 use super::mesh::{CompactMesh, Indices, TriMesh, read_stl};
 use crate::algo::{Data, forward_kinematics};
 use crate::model::{Geometry, Model};
-use crate::output::{RunInfo, Sample};
+use crate::sim::{RunInfo, Sample};
 use crate::spatial::{Mat3, Pose, Vec3};
 use crate::traj::shape::Board;
 

@@ -5,13 +5,14 @@
 #![allow(dead_code)]
 
 use faze4::algo::{Data, forward_kinematics, gravity};
-use faze4::control::{FAZE4_EFFORT, Gains, auto_tune};
-use faze4::ik::{IkTask, solve_path};
+use faze4::control::{Gains, auto_tune};
+use faze4::faze4::{BOARD, EFFORT as FAZE4_EFFORT, Q_SEED, SHAPE_PERIOD, shape_ik_task};
+use faze4::ik::solve_path;
 use faze4::model::{Model, PackagePaths};
-use faze4::output::{Recorder, RunInfo, Sample};
 use faze4::sim::{PathDeviation, Summary};
+use faze4::sim::{Recorder, RunInfo, Sample, steps_per_record};
 use faze4::spatial::Vec3;
-use faze4::traj::shape::{BOARD, Q_SEED, SHAPE_PERIOD, Shape, distance_to_closed_path};
+use faze4::traj::shape::{Shape, distance_to_closed_path};
 use faze4::traj::{Interpolated, Wrap};
 
 #[path = "../common/mod.rs"]
@@ -123,7 +124,10 @@ impl SyntheticRun {
         for r in recorders.iter_mut() {
             r.begin(&info).unwrap();
         }
-        let every: Vec<usize> = recorders.iter().map(|r| r.every(self.dt)).collect();
+        let every: Vec<usize> = recorders
+            .iter()
+            .map(|r| steps_per_record(r.period(), self.dt))
+            .collect();
         let mut data = Data::new(&self.model);
         let mut summary = Summary {
             dof: 6,
@@ -204,6 +208,6 @@ impl SyntheticRun {
 /// Joint samples that put the tool on each point of `path` by `faze4::ik` (SPEC §4's task:
 /// J1, J2, J3, J5 free, the first from Q_SEED).
 pub fn ik_path(model: &Model, path: &[Vec3]) -> Vec<Vec<f64>> {
-    let task = IkTask::shapes(model).unwrap();
+    let task = shape_ik_task(model).unwrap();
     solve_path(model, &task, path, &Q_SEED).unwrap().q
 }

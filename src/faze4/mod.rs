@@ -1,0 +1,59 @@
+//! The Faze4 arm's facts, in one place: the bundled model and its names, the torque limits of
+//! its motors, and the original experiment's drawing board, IK seed, free joints and shape
+//! period. Everything else in faze4 works on any URDF arm; these are what the original program
+//! knew about its one arm.
+
+use crate::error::Result;
+use crate::ik::IkTask;
+use crate::model::{Model, PackagePaths, urdf};
+use crate::spatial::Vec3;
+use crate::traj::shape::Board;
+
+/// The bundled Faze4 URDF (`urdf/faze4_arm.urdf`), built into the binary so it runs from any
+/// directory.
+pub const URDF: &str = include_str!("../../urdf/faze4_arm.urdf");
+
+/// Name under which the bundled model reports its source.
+pub const SOURCE: &str = "bundled urdf/faze4_arm.urdf";
+
+/// Robot names (`<robot name>`) of the Faze4 models in this repository: a 6-dof model with one
+/// of these names gets the Faze4's torque limits and shape task by default.
+pub const ROBOT_NAMES: [&str; 2] = ["faze4_arm", "faze4_real"];
+
+/// Torque limits of the Faze4's joints (N·m), J1..J6: 0.315 N·m at each NEMA17 stepper (70 % of
+/// a 0.45 N·m motor's holding torque) times the joint's reduction ratio (25, 27, 15, 11.846, 11,
+/// 19.19), rounded as the original program gave them. Not the URDF effort values.
+pub const EFFORT: [f64; 6] = [7.9, 8.5, 4.7, 3.7, 3.5, 6.0];
+
+/// The original's drawing board: plane y = −0.48 m, centred at x = 0.08, z = 0.55, 0.50 × 0.44 m.
+pub const BOARD: Board = Board {
+    center: Vec3::new(0.08, -0.48, 0.55),
+    width: 0.50,
+    height: 0.44,
+};
+
+/// The joint configuration the shapes' IK starts from for the first sample (rad), the
+/// original's seed.
+pub const Q_SEED: [f64; 6] = [0.0104, 0.1795, -0.5049, 0.0, -0.0938, 0.0];
+
+/// The joints the shapes' IK moves: J1, J2, J3 and J5 (J4 = J6 = 0 held), as indices.
+pub const SHAPE_FREE_JOINTS: [usize; 4] = [0, 1, 2, 4];
+
+/// Time for one loop of a shape (s).
+pub const SHAPE_PERIOD: f64 = 5.0;
+
+/// The bundled Faze4 model.
+pub fn model() -> Model {
+    urdf::read_str(URDF, SOURCE, None, &PackagePaths::default()).expect("the bundled URDF is valid (tested)")
+}
+
+/// Whether `model` is one of the Faze4 models (by robot name and degrees of freedom).
+pub fn is_faze4(model: &Model) -> bool {
+    ROBOT_NAMES.contains(&model.name.as_str()) && model.dof() == 6
+}
+
+/// The shapes' IK task on a Faze4 model: its tool frame ([`Model::default_tool_frame`]) with
+/// [`SHAPE_FREE_JOINTS`] free.
+pub fn shape_ik_task(model: &Model) -> Result<IkTask> {
+    IkTask::new(model, model.default_tool_frame(), &SHAPE_FREE_JOINTS)
+}

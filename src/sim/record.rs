@@ -1,0 +1,86 @@
+//! The one interface every output of a run implements ([`Recorder`]), and what the run tells
+//! it: [`RunInfo`] once, a [`Sample`] at every recording step, the [`Summary`] at the end. It
+//! sits in `sim`, below every recorder (the terminal, the trail, the 3D views, the plot), so
+//! the recorders import the run and never the other way round.
+
+use super::Summary;
+use crate::control::Gains;
+use crate::model::Model;
+use crate::spatial::Vec3;
+use crate::traj::shape::Board;
+
+/// What a run is, told to every recorder before the first sample.
+#[derive(Clone, Copy, Debug)]
+pub struct RunInfo<'a> {
+    /// The command name: `wave`, `replay` or `shape`.
+    pub command: &'a str,
+    /// The simulated model (payload included).
+    pub model: &'a Model,
+    /// The frame whose origin is the tool (trail x, y, z).
+    pub tool_frame: usize,
+    /// Control and integration period Δt (s).
+    pub dt: f64,
+    /// Number of steps the run will take.
+    pub steps: usize,
+    /// Gains and limits in use.
+    pub gains: &'a Gains,
+    /// Whether g(q) is fed forward.
+    pub feedforward: bool,
+    /// The start state q (= q_cmd(0)).
+    pub start_q: &'a [f64],
+    /// For shapes: the drawing board.
+    pub board: Option<&'a Board>,
+    /// For shapes: the closed reference path the tool should draw (world, m).
+    pub reference_path: Option<&'a [Vec3]>,
+}
+
+/// The state of the run after `step` steps (t = step·Δt), with the torque computed from it.
+#[derive(Clone, Copy, Debug)]
+pub struct Sample<'a> {
+    /// Steps taken.
+    pub step: usize,
+    /// Simulated time (s).
+    pub t: f64,
+    /// Measured joint positions.
+    pub q: &'a [f64],
+    /// Measured joint velocities.
+    pub v: &'a [f64],
+    /// Commanded positions at t.
+    pub q_cmd: &'a [f64],
+    /// Commanded velocities at t.
+    pub v_cmd: &'a [f64],
+    /// Torque held over the next step (clipped).
+    pub tau: &'a [f64],
+    /// Gravity forces g(q) at this state.
+    pub g: &'a [f64],
+    /// Tool frame origin in the world (m).
+    pub tool: Vec3,
+    /// For shapes: the reference point the tool should be at now (world, m).
+    pub target: Option<Vec3>,
+}
+
+/// A consumer of a run's output. `begin` once, `record` at every sample its period asks for
+/// (see [`Recorder::period`]), `finish` once with the summary (also after a divergence).
+pub trait Recorder {
+    /// Simulated time between two recorded samples (s). The run records at step 0, every
+    /// [`steps_per_record`]`(period, Δt)` steps, and after the last step.
+    fn period(&self) -> f64;
+
+    /// Called once before the first sample.
+    fn begin(&mut self, _run: &RunInfo) -> crate::Result<()> {
+        Ok(())
+    }
+
+    /// Called at step 0, every [`Recorder::period`], and after the last step.
+    fn record(&mut self, sample: &Sample) -> crate::Result<()>;
+
+    /// Called once at the end with the run's summary.
+    fn finish(&mut self, _summary: &Summary) -> crate::Result<()> {
+        Ok(())
+    }
+}
+
+/// The recording period in steps for `period` seconds at step `dt` (at least one step).
+pub fn steps_per_record(period: f64, dt: f64) -> usize {
+    ((period / dt).round() as usize).max(1)
+}
