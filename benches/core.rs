@@ -8,10 +8,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use faze4::algo::{
     Data, compute_all_terms, crba, discrete_step, forward_kinematics, gravity, integrate_discrete, rnea,
 };
-use faze4::control::{Pd, auto_tune};
-use faze4::faze4::EFFORT as FAZE4_EFFORT;
 use faze4::model::{Model, PackagePaths};
-use faze4::traj::Wave;
+use faze4::sim::Scenario;
+use faze4::traj::{Trajectory, Wave};
 
 fn faze4() -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("urdf/faze4_arm.urdf");
@@ -59,14 +58,11 @@ fn closed_loop_step(c: &mut Criterion) {
     };
     let (mut q0, mut v0) = ([0.0; 6], [0.0; 6]);
     wave.eval(0.0, &mut q0, &mut v0);
-    let inertia: Vec<f64> = crba(&model, &mut data, &q0).diagonal().iter().copied().collect();
-    let gains = auto_tune(&inertia, &FAZE4_EFFORT, dt);
-    let pd = Pd {
-        kp: gains.kp,
-        kd: gains.kd,
-        effort: gains.effort,
-        feedforward: true,
-    };
+    let pd = Scenario::builder(model.clone(), Trajectory::Wave(wave.clone()))
+        .dt(dt)
+        .build()
+        .unwrap()
+        .controller;
     let (mut q, mut v) = (q0, v0);
     let (mut q_cmd, mut v_cmd, mut tau_raw, mut tau) = ([0.0; 6], [0.0; 6], [0.0; 6], [0.0; 6]);
     let mut k = 0usize;

@@ -272,54 +272,12 @@ fn hold_until_returns_when_asked_and_serves_meanwhile() {
 /// live view at once.
 #[test]
 fn the_real_closed_loop_feeds_every_visual_recorder() {
-    use faze4::control::{Pd, auto_tune};
-    use faze4::faze4::{BOARD, EFFORT as FAZE4_EFFORT, SHAPE_PERIOD};
-    use faze4::sim::{Scenario, ShapeRun, StopFlag};
-    use faze4::traj::shape::Shape;
-    use faze4::traj::{Interpolated, Trajectory, Wrap};
-
-    let model = real_model();
-    let reference = Shape::Circle.targets(240, &BOARD);
-    let samples = ik_path(&model, &reference);
-    let trajectory = Trajectory::Interpolated(Interpolated::new(&samples, SHAPE_PERIOD, Wrap::Closed));
-    let dt = 2e-4;
-    let (mut q0, mut v0) = (vec![0.0; 6], vec![0.0; 6]);
-    trajectory.eval(0.0, &mut q0, &mut v0);
-    let mut data = faze4::algo::Data::new(&model);
-    let inertia: Vec<f64> = faze4::algo::crba(&model, &mut data, &q0)
-        .diagonal()
-        .iter()
-        .copied()
-        .collect();
-    let gains = auto_tune(&inertia, &FAZE4_EFFORT, dt);
-    let points: Vec<Vec<f64>> = reference.iter().map(|p| vec![p.x, p.y, p.z]).collect();
-    let scenario = Scenario {
-        command: "shape".into(),
-        tool_frame: model.default_tool_frame(),
-        model,
-        trajectory,
-        dt,
-        steps: 10_000,
-        pd: Pd {
-            kp: gains.kp.clone(),
-            kd: gains.kd.clone(),
-            effort: gains.effort.clone(),
-            feedforward: true,
-        },
-        gains,
-        record_every: 100,
-        shape: Some(ShapeRun {
-            board: BOARD,
-            reference,
-            target: Interpolated::new(&points, SHAPE_PERIOD, Wrap::Closed),
-            ik_max_residual_m: 0.0,
-        }),
-    };
+    let run = SyntheticRun::circle(real_model(), 2.0);
     let dir = temp_dir("closed-loop");
     let mut html = HtmlExport::new(dir.join("run.html")).unwrap();
     let mut plot = PlotRecorder::new(dir.join("run.svg")).unwrap();
     let mut live = LiveView::start(0).unwrap().with_realtime(false);
-    let summary = faze4::sim::run(&scenario, &mut [&mut html, &mut plot, &mut live], &StopFlag::new()).unwrap();
+    let summary = run.drive(&mut [&mut html, &mut plot, &mut live]);
     assert!(summary.diverged.is_none());
     let deviation = summary.path_deviation_mm.unwrap();
     assert!(deviation.max < 1.0, "the tool follows the circle: {deviation:?}");

@@ -73,6 +73,9 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let outputs = Outputs::open(run)?;
+    for warning in &scenario.warnings {
+        eprintln!("faze4: {warning}");
+    }
     if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
         let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
         npy::write_samples(path, &rows)?;

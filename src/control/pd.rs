@@ -1,15 +1,13 @@
-//! SPEC §3's PD law with gravity feed-forward and torque clipping.
+//! The PD law with gravity feed-forward and torque clipping.
 
-/// The controller of one run: gains, limits and whether g(q) is fed forward.
-#[derive(Clone, Debug)]
+use super::Gains;
+
+/// The controller of one run: gains and limits, and whether g(q) is fed forward.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Pd {
-    /// Proportional gains, one per joint.
-    pub kp: Vec<f64>,
-    /// Derivative gains, one per joint.
-    pub kd: Vec<f64>,
-    /// Torque limits E, one per joint (+∞: unlimited).
-    pub effort: Vec<f64>,
-    /// Add g(q) to the command (SPEC's feed-forward; `--no-ff` turns it off).
+    /// kp, kd, the torque limits E (+∞: unlimited) and the inertias they were tuned from.
+    pub gains: Gains,
+    /// Add g(q) to the command (gravity feed-forward; `--no-ff` turns it off).
     pub feedforward: bool,
 }
 
@@ -33,19 +31,20 @@ impl Pd {
         tau_raw: &mut [f64],
         tau: &mut [f64],
     ) {
+        let Gains { kp, kd, effort, .. } = &self.gains;
         for i in 0..q.len() {
-            let mut t = self.kp[i] * (q_cmd[i] - q[i]) + self.kd[i] * (v_cmd[i] - v[i]);
+            let mut t = kp[i] * (q_cmd[i] - q[i]) + kd[i] * (v_cmd[i] - v[i]);
             if self.feedforward {
                 t += g[i];
             }
             tau_raw[i] = t;
-            tau[i] = t.clamp(-self.effort[i], self.effort[i]);
+            tau[i] = t.clamp(-effort[i], effort[i]);
         }
     }
 
     /// Whether joint i's unclipped torque reaches its limit (`|τ_raw,i| ≥ E_i`).
     #[inline]
     pub fn saturated(&self, i: usize, tau_raw: f64) -> bool {
-        tau_raw.abs() >= self.effort[i]
+        tau_raw.abs() >= self.gains.effort[i]
     }
 }

@@ -4,7 +4,7 @@ use serde::Serialize;
 
 /// Per-joint controller gains and the figures they came from. All vectors have one entry per
 /// joint.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Gains {
     /// Effective inertia I_i = M_ii(q_start) seen by each joint (kg·m² or kg).
     pub effective_inertia: Vec<f64>,

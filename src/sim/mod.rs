@@ -3,12 +3,14 @@
 
 mod record;
 mod run;
-mod scenario;
+pub(crate) mod scenario;
 mod stop;
 mod summary;
 
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
-pub use scenario::{Scenario, ShapeRun};
+pub use scenario::{
+    DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
+};
 pub use stop::StopFlag;
 pub use summary::{Diverged, PathDeviation, Summary, ToolRange};

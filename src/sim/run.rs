@@ -47,8 +47,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         tool_frame: sc.tool_frame,
         dt,
         steps: sc.steps,
-        gains: &sc.gains,
-        feedforward: sc.pd.feedforward,
+        gains: &sc.controller.gains,
+        feedforward: sc.controller.feedforward,
         start_q: &start_q,
         board: sc.shape.as_ref().map(|s| &s.board),
         reference_path: sc.shape.as_ref().map(|s| s.reference.as_slice()),
@@ -78,13 +78,13 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             // g, bias and M at (q_k, v_k); the command at t_k; the held torque
             compute_all_terms(model, &mut data, &q, &v);
             sc.trajectory.eval(t, &mut q_cmd, &mut v_cmd);
-            sc.pd
+            sc.controller
                 .torque(&q, &v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw, &mut tau);
         }
         if !last {
             for i in 0..n {
                 max_error[i] = max_error[i].max((q_cmd[i] - q[i]).abs());
-                saturated[i] += u64::from(sc.pd.saturated(i, tau_raw[i]));
+                saturated[i] += u64::from(sc.controller.saturated(i, tau_raw[i]));
             }
         }
 
@@ -139,7 +139,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             diverged = Some(Diverged {
                 t: done as f64 * dt,
                 joint: joint + 1,
-                stiffness_b: sc.gains.stiffness_b(dt),
+                stiffness_b: sc.controller.gains.stiffness_b(dt),
             });
         }
     }
@@ -150,10 +150,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         dof: n,
         dt,
         steps: sc.steps,
-        effective_inertia: sc.gains.effective_inertia.clone(),
-        kp: sc.gains.kp.clone(),
-        kd: sc.gains.kd.clone(),
-        effort: sc.gains.effort.clone(),
+        gains: sc.controller.gains.clone(),
         max_tracking_error_rad: max_error,
         saturation_pct: saturated.iter().map(|&s| 100.0 * s as f64 / steps_done).collect(),
         tool_range_m: metrics.range,

@@ -1,20 +1,48 @@
-//! A validated, ready-to-run experiment.
+//! A validated, ready-to-run experiment, and the builder that makes one: it tunes the
+//! controller, checks every input, and returns its warnings as values (it prints nothing).
+//!
+//! ```no_run
+//! use faze4::sim::{Scenario, StopFlag, run};
+//! use faze4::traj::{Trajectory, Wave};
+//! # fn main() -> faze4::Result<()> {
+//! let model = faze4::faze4::model();
+//! let wave = Trajectory::Wave(Wave { amplitude: 0.3, omega: 0.5, dof: model.dof() });
+//! let scenario = Scenario::builder(model, wave).duration(4.0).payload_kg(0.5).build()?;
+//! let summary = run(&scenario, &mut [], &StopFlag::new())?;
+//! println!("J2 saturated {} % of the steps", summary.saturation_pct[1]);
+//! # Ok(()) }
+//! ```
 
-use crate::control::{Gains, Pd};
+use std::fmt;
+
+use crate::algo::{Data, crba};
+use crate::control::{Gains, Pd, auto_tune};
+use crate::error::{Error, Result};
+use crate::faze4;
+use crate::ik::{IkTask, solve_path};
 use crate::model::Model;
 use crate::spatial::Vec3;
-use crate::traj::shape::Board;
-use crate::traj::{Interpolated, Trajectory};
+use crate::traj::shape::{Board, Shape};
+use crate::traj::{Interpolated, Trajectory, Wrap};
 
-/// Everything one closed-loop run needs; built (and validated) by the command line or by a
-/// library user. Runs start at the command's start state, q = q_cmd(0), v = v_cmd(0).
+use super::steps_per_record;
+
+/// Default control and integration period Δt (s): 5 kHz.
+pub const DEFAULT_DT: f64 = 2e-4;
+/// Default time between two trail samples, where the tool range and path deviation are taken (s).
+pub const DEFAULT_RECORD_PERIOD: f64 = 0.02;
+/// Default simulated time (s) of a run built without [`ScenarioBuilder::duration`].
+pub const DEFAULT_DURATION: f64 = 8.0;
+
+/// Everything one closed-loop run needs, validated. Runs start at the command's start state,
+/// q = q_cmd(0), v = v_cmd(0). Made by [`Scenario::builder`].
 #[derive(Clone, Debug)]
 pub struct Scenario {
     /// What runs, for people: `wave`, `replay`, `shape circle (240 points)`.
     pub command: String,
     /// The simulated model (payload included; gravity as the run wants it).
     pub model: Model,
-    /// The frame traced as the tool.
+    /// The frame traced as the tool (index into `model.frames`).
     pub tool_frame: usize,
     /// The joint command.
     pub trajectory: Trajectory,
@@ -22,15 +50,40 @@ pub struct Scenario {
     pub dt: f64,
     /// Number of steps (duration / Δt, rounded).
     pub steps: usize,
-    /// Gains and limits (and the inertias they were tuned from).
-    pub gains: Gains,
-    /// The controller built from `gains`.
-    pub pd: Pd,
+    /// The controller: its gains, the inertias they were tuned from, the torque limits.
+    pub controller: Pd,
     /// Metric sampling period in steps: tool range and path deviation are taken every
     /// `record_every` steps and after the last (the trail's rows).
     pub record_every: usize,
     /// For `shape`: the board, the reference path and the moving target.
     pub shape: Option<ShapeRun>,
+    /// What the builder noticed and the user should know before the run.
+    pub warnings: Vec<Warning>,
+}
+
+/// Something a scenario runs with that the user should know about; the builder returns these
+/// instead of printing them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Warning {
+    /// The model gives no torque limit for these joints (by name): their torque is not clipped.
+    UnlimitedEffort {
+        /// The model's source (file).
+        source: String,
+        /// The joints without a limit.
+        joints: Vec<String>,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::UnlimitedEffort { source, joints } => write!(
+                f,
+                "{source} gives no effort limit for {}: their torque is not clipped (set --effort)",
+                joints.join(", ")
+            ),
+        }
+    }
 }
 
 /// The drawing part of a `shape` run.
@@ -44,4 +97,357 @@ pub struct ShapeRun {
     pub target: Interpolated,
     /// Largest IK position residual over the samples (m).
     pub ik_max_residual_m: f64,
+}
+
+impl ShapeRun {
+    /// Plans a shape on the Faze4's board: `points` targets along `shape`, their exact IK for
+    /// the origin of frame `tool`, and the joint samples as a closed loop every
+    /// [`faze4::SHAPE_PERIOD`]. On a Faze4 model the IK moves J1, J2, J3 and J5 from
+    /// [`faze4::Q_SEED`] (J4 = J6 = 0); on any other arm every joint is free, from the zero pose
+    /// clamped into the limits. Returns the joint command and the drawing part of the run.
+    pub fn plan(model: &Model, tool: usize, shape: Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
+        if points < 3 {
+            return Err(Error::argument(
+                "--shape-points",
+                format!("{points} samples cannot make a closed path: at least 3"),
+            ));
+        }
+        let (free, seed): (Vec<usize>, Vec<f64>) = if faze4::is_faze4(model) {
+            (faze4::SHAPE_FREE_JOINTS.to_vec(), faze4::Q_SEED.to_vec())
+        } else {
+            let seed = model.joints.iter().map(|j| 0.0_f64.clamp(j.lower, j.upper)).collect();
+            ((0..model.dof()).collect(), seed)
+        };
+        let task = IkTask::new(model, tool, &free)?;
+        let targets = shape.targets(points, &faze4::BOARD);
+        let ik = solve_path(model, &task, &targets, &seed)?;
+        let rows: Vec<Vec<f64>> = targets.iter().map(|p| vec![p.x, p.y, p.z]).collect();
+        let run = ShapeRun {
+            board: faze4::BOARD,
+            target: Interpolated::new(&rows, faze4::SHAPE_PERIOD, Wrap::Closed),
+            reference: targets,
+            ik_max_residual_m: ik.max_residual_m,
+        };
+        let trajectory = Trajectory::Interpolated(Interpolated::new(&ik.q, faze4::SHAPE_PERIOD, Wrap::Closed));
+        Ok((trajectory, run))
+    }
+}
+
+impl Scenario {
+    /// A builder for a run of `model` following `trajectory`, with the defaults: Δt 2e-4 s,
+    /// 8 s, gravity and its feed-forward on, no payload, the tuned gains, the model's torque
+    /// limits (the Faze4's motor limits for a Faze4 model), the model's default tool frame.
+    pub fn builder(model: Model, trajectory: Trajectory) -> ScenarioBuilder {
+        ScenarioBuilder {
+            command: String::from(match trajectory {
+                Trajectory::Wave(_) => "wave",
+                Trajectory::Interpolated(_) => "replay",
+            }),
+            model,
+            trajectory,
+            dt: DEFAULT_DT,
+            duration: DEFAULT_DURATION,
+            record_period: DEFAULT_RECORD_PERIOD,
+            payload_kg: 0.0,
+            gravity: true,
+            feedforward: true,
+            tool_frame: None,
+            effort: None,
+            kp: Vec::new(),
+            kd: Vec::new(),
+            shape: None,
+        }
+    }
+}
+
+/// Builds a [`Scenario`]; see [`Scenario::builder`]. Every setter takes the value as given;
+/// [`ScenarioBuilder::build`] checks them all, each error naming the command-line option of the
+/// same meaning (`--dt`, `--payload-kg`, …).
+#[derive(Clone, Debug)]
+pub struct ScenarioBuilder {
+    command: String,
+    model: Model,
+    trajectory: Trajectory,
+    dt: f64,
+    duration: f64,
+    record_period: f64,
+    payload_kg: f64,
+    gravity: bool,
+    feedforward: bool,
+    tool_frame: Option<usize>,
+    effort: Option<Vec<f64>>,
+    kp: Vec<Option<f64>>,
+    kd: Vec<Option<f64>>,
+    shape: Option<ShapeRun>,
+}
+
+impl ScenarioBuilder {
+    /// What runs, for people (the banner's first word): `wave`, `replay`, `shape circle …`.
+    pub fn command(mut self, command: impl Into<String>) -> Self {
+        self.command = command.into();
+        self
+    }
+
+    /// Control and integration period Δt (s), > 0.
+    pub fn dt(mut self, dt: f64) -> Self {
+        self.dt = dt;
+        self
+    }
+
+    /// Simulated time (s), at least one step.
+    pub fn duration(mut self, duration: f64) -> Self {
+        self.duration = duration;
+        self
+    }
+
+    /// Time between two trail samples (s), where the tool range and path deviation are taken.
+    pub fn record_period(mut self, period: f64) -> Self {
+        self.record_period = period;
+        self
+    }
+
+    /// A point mass (kg, ≥ 0) at the tool frame's origin.
+    pub fn payload_kg(mut self, mass: f64) -> Self {
+        self.payload_kg = mass;
+        self
+    }
+
+    /// Whether the gravity field is on (default) or off (`--no-gravity`).
+    pub fn gravity(mut self, on: bool) -> Self {
+        self.gravity = on;
+        self
+    }
+
+    /// Whether the controller adds g(q) to its torque (default) or not (`--no-ff`).
+    pub fn feedforward(mut self, on: bool) -> Self {
+        self.feedforward = on;
+        self
+    }
+
+    /// The frame traced as the tool (index into `model.frames`).
+    pub fn tool_frame(mut self, frame: usize) -> Self {
+        self.tool_frame = Some(frame);
+        self
+    }
+
+    /// Torque limits, one per joint (N·m or N, > 0; +∞ for none).
+    pub fn effort(mut self, effort: Vec<f64>) -> Self {
+        self.effort = Some(effort);
+        self
+    }
+
+    /// Proportional gains that replace the tuned ones, one entry per joint (`None` keeps the
+    /// tuned value). An empty vector keeps them all.
+    pub fn kp(mut self, kp: Vec<Option<f64>>) -> Self {
+        self.kp = kp;
+        self
+    }
+
+    /// Derivative gains that replace the tuned ones, as [`ScenarioBuilder::kp`].
+    pub fn kd(mut self, kd: Vec<Option<f64>>) -> Self {
+        self.kd = kd;
+        self
+    }
+
+    /// The drawing part of a shape run (see [`ShapeRun::plan`]).
+    pub fn shape(mut self, shape: ShapeRun) -> Self {
+        self.shape = Some(shape);
+        self
+    }
+
+    /// Checks everything, applies gravity and the payload, tunes the controller at the start
+    /// pose, and returns the scenario with its warnings.
+    pub fn build(self) -> Result<Scenario> {
+        positive("--dt", self.dt)?;
+        positive("--duration", self.duration)?;
+        positive("--record-period", self.record_period)?;
+        non_negative("--payload-kg", self.payload_kg)?;
+        let mut model = self.model;
+        let n = model.dof();
+        if self.trajectory.dof() != n {
+            return Err(Error::argument(
+                "trajectory",
+                format!("commands {} joints; the model has {n}", self.trajectory.dof()),
+            ));
+        }
+        let tool_frame = self.tool_frame.unwrap_or_else(|| model.default_tool_frame());
+        if tool_frame >= model.frames.len() {
+            return Err(Error::argument(
+                "--tool-link",
+                format!("frame index {tool_frame} out of range ({} frames)", model.frames.len()),
+            ));
+        }
+        let steps = steps(self.duration, self.dt)?;
+        check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
+        if !self.gravity {
+            model.gravity = Default::default();
+        }
+        if self.payload_kg > 0.0 {
+            model = model.with_point_mass(tool_frame, self.payload_kg);
+        }
+
+        let mut warnings = Vec::new();
+        let effort = match self.effort {
+            Some(effort) => {
+                count("--effort", effort.len(), n)?;
+                if let Some((i, x)) = effort.iter().enumerate().find(|(_, x)| x.is_nan() || **x <= 0.0) {
+                    return Err(Error::argument("--effort", format!("J{} limit {x} must be > 0", i + 1)));
+                }
+                effort
+            }
+            None if faze4::is_faze4(&model) => faze4::EFFORT.to_vec(),
+            None => {
+                let unlimited: Vec<String> = (model.joints.iter())
+                    .filter(|j| j.effort.is_none())
+                    .map(|j| j.name.clone())
+                    .collect();
+                if !unlimited.is_empty() {
+                    warnings.push(Warning::UnlimitedEffort {
+                        source: model.source.clone(),
+                        joints: unlimited,
+                    });
+                }
+                model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect()
+            }
+        };
+
+        let mut gains = tune(&model, &self.trajectory, &effort, self.dt);
+        override_gains("--kp", &mut gains.kp, &self.kp, n)?;
+        override_gains("--kd", &mut gains.kd, &self.kd, n)?;
+        Ok(Scenario {
+            command: self.command,
+            model,
+            tool_frame,
+            trajectory: self.trajectory,
+            dt: self.dt,
+            steps,
+            controller: Pd {
+                gains,
+                feedforward: self.feedforward,
+            },
+            record_every: steps_per_record(self.record_period, self.dt),
+            shape: self.shape,
+            warnings,
+        })
+    }
+}
+
+/// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then
+/// [`auto_tune`] with the torque limits `effort` at step `dt`.
+pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> Gains {
+    let n = model.dof();
+    let (mut q0, mut v0) = (vec![0.0; n], vec![0.0; n]);
+    trajectory.eval(0.0, &mut q0, &mut v0);
+    let mut data = Data::new(model);
+    let inertia: Vec<f64> = crba(model, &mut data, &q0).diagonal().iter().copied().collect();
+    auto_tune(&inertia, effort, dt)
+}
+
+fn override_gains(option: &str, gains: &mut [f64], values: &[Option<f64>], n: usize) -> Result<()> {
+    if values.is_empty() {
+        return Ok(());
+    }
+    count(option, values.len(), n)?;
+    for (i, v) in values.iter().enumerate() {
+        if let Some(v) = *v {
+            if !v.is_finite() || v < 0.0 {
+                return Err(Error::argument(
+                    option,
+                    format!("J{} value {v} must be finite and ≥ 0", i + 1),
+                ));
+            }
+            gains[i] = v;
+        }
+    }
+    Ok(())
+}
+
+fn count(option: &str, given: usize, n: usize) -> Result<()> {
+    if given != n {
+        return Err(Error::argument(
+            option,
+            format!("{given} values given; the model has {n} joints"),
+        ));
+    }
+    Ok(())
+}
+
+/// Number of steps for `duration` at `dt` (at least one).
+fn steps(duration: f64, dt: f64) -> Result<usize> {
+    let steps = (duration / dt).round();
+    if steps < 1.0 {
+        return Err(Error::argument(
+            "--duration",
+            format!("{duration} s is shorter than one step of --dt {dt} s"),
+        ));
+    }
+    if steps > 1e12 {
+        return Err(Error::argument(
+            "--duration",
+            format!("{duration} s at --dt {dt} s is {steps:e} steps: too many"),
+        ));
+    }
+    Ok(steps as usize)
+}
+
+/// A wave's command must stay inside the joint limits: where the amplitude could cross a
+/// limit, the command is scanned at every step to report the first crossing.
+fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usize) -> Result<()> {
+    let Trajectory::Wave(wave) = trajectory else {
+        return Ok(());
+    };
+    if model
+        .joints
+        .iter()
+        .all(|j| j.within_limits(wave.amplitude) && j.within_limits(-wave.amplitude))
+    {
+        return Ok(());
+    }
+    let n = model.dof();
+    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..=steps {
+        let t = k as f64 * dt;
+        trajectory.eval(t, &mut q, &mut v);
+        if let Some(i) = (0..n).find(|&i| !model.joints[i].within_limits(q[i])) {
+            let j = &model.joints[i];
+            return Err(Error::argument(
+                "--amp-deg",
+                format!(
+                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]",
+                    i + 1,
+                    j.name,
+                    q[i],
+                    j.lower,
+                    j.upper
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `x` is a finite number, else an error for `option`.
+pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
+    if !x.is_finite() {
+        return Err(Error::argument(option, format!("{x} is not a finite number")));
+    }
+    Ok(())
+}
+
+/// `x` is finite and > 0, else an error for `option`.
+pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
+    finite(option, x)?;
+    if x <= 0.0 {
+        return Err(Error::argument(option, format!("{x} must be > 0")));
+    }
+    Ok(())
+}
+
+/// `x` is finite and ≥ 0, else an error for `option`.
+pub(crate) fn non_negative(option: &str, x: f64) -> Result<()> {
+    finite(option, x)?;
+    if x < 0.0 {
+        return Err(Error::argument(option, format!("{x} must be ≥ 0")));
+    }
+    Ok(())
 }

@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::control::Gains;
+
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct ToolRange {
@@ -42,14 +44,10 @@ pub struct Summary {
     pub dt: f64,
     /// Steps taken.
     pub steps: usize,
-    /// Effective inertia per joint, M_ii(q_start).
-    pub effective_inertia: Vec<f64>,
-    /// Proportional gains.
-    pub kp: Vec<f64>,
-    /// Derivative gains.
-    pub kd: Vec<f64>,
-    /// Torque limits (null in JSON where unlimited).
-    pub effort: Vec<f64>,
+    /// The gains and limits the run used, and the effective inertias they were tuned from
+    /// (`effective_inertia`, `kp`, `kd`, `effort` in the JSON; an unlimited effort is `null`).
+    #[serde(flatten)]
+    pub gains: Gains,
     /// max over steps of |q_cmd − q| per joint (rad or m).
     pub max_tracking_error_rad: Vec<f64>,
     /// Share of steps with |τ_raw| ≥ E per joint (%).
