@@ -81,9 +81,35 @@ pub fn write_atomically(target: &Path, bytes: &[u8]) -> Result<()> {
     file.commit()
 }
 
+/// Checks, before a run, that `path` can be written later: it names a file and its directory
+/// exists. `option` names the command-line option in the error.
+pub fn check_output_path(path: &Path, option: &str) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if path.file_name().is_none() {
+        return Err(Error::argument(option, format!("{}: not a file name", path.display())));
+    }
+    if !dir.is_dir() {
+        return Err(Error::argument(
+            option,
+            format!("{}: directory {} does not exist", path.display(), dir.display()),
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn output_paths_are_checked_before_the_run() {
+        assert!(check_output_path(Path::new("/nonexistent-faze4/x.svg"), "--plot").is_err());
+        assert!(check_output_path(Path::new("x.html"), "--html").is_ok());
+        assert!(check_output_path(&std::env::temp_dir().join("x.html"), "--html").is_ok());
+    }
 
     #[test]
     fn nothing_appears_until_commit_and_an_abandoned_file_leaves_nothing() {

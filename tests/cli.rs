@@ -75,6 +75,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
             "saturation_pct",
             "steps",
             "tool_range_m",
+            "verdict",
             "wall_time_s"
         ]
     );

@@ -121,9 +121,43 @@ pub struct RunArgs {
     /// Control and integration period (s); 2e-4 is 5 kHz.
     #[arg(long, default_value_t = 2e-4, allow_hyphen_values = true)]
     pub dt: f64,
-    /// Print τ, error, velocity and g(q) every 0.5 s and add them to the trail.
+    /// Print τ, error, velocity and g(q) with every progress line and add them to the trail.
     #[arg(long)]
     pub debug: bool,
+    /// Print only the verdict and errors.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Simulated time between progress lines (s); default 0.5 s, or longer so that a long run
+    /// prints at most about 40 lines.
+    #[arg(long = "print-period", value_name = "S", allow_hyphen_values = true)]
+    pub print_period: Option<f64>,
+    /// The verdict "follows" allows each joint to saturate at most this share of the steps (%).
+    #[arg(
+        long = "max-saturation-pct",
+        default_value_t = 5.0,
+        value_name = "PCT",
+        allow_hyphen_values = true
+    )]
+    pub max_saturation_pct: f64,
+    /// The verdict "follows" allows tracking errors up to this (rad, or m for a prismatic joint).
+    #[arg(
+        long = "max-error",
+        default_value_t = 0.05,
+        value_name = "RAD",
+        allow_hyphen_values = true
+    )]
+    pub max_error: f64,
+    /// The verdict "follows" allows a shape's path deviation up to this (mm).
+    #[arg(
+        long = "max-deviation-mm",
+        default_value_t = 5.0,
+        value_name = "MM",
+        allow_hyphen_values = true
+    )]
+    pub max_deviation_mm: f64,
+    /// Exit with status 3 when the verdict is "cannot follow" (for CI jobs that guard a motion).
+    #[arg(long)]
+    pub strict: bool,
     /// Trail CSV (t, x, y, z, q1…); 'none' writes none.
     #[arg(long, default_value = "faze4_trail.csv", value_name = "F.csv")]
     pub trail: PathBuf,

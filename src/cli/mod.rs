@@ -10,10 +10,11 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use self::args::{Cli, Command, RunArgs};
-use crate::atomic::write_atomically;
+use crate::atomic::{check_output_path, write_atomically};
 use crate::error::{Error, Result};
 use crate::output::format::number;
-use crate::output::{Terminal, TrailCsv};
+use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
+use crate::sim::scenario::positive;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 use crate::traj::{Trajectory, npy};
 use crate::viz::{HtmlExport, LiveView, PlotRecorder};
@@ -22,6 +23,8 @@ use crate::viz::{HtmlExport, LiveView, PlotRecorder};
 pub const EXIT_DIVERGED: u8 = 1;
 /// Exit status of bad input (arguments, files, models).
 pub const EXIT_INPUT: u8 = 2;
+/// Exit status of a run whose verdict is "cannot follow", under `--strict`.
+pub const EXIT_CANNOT_FOLLOW: u8 = 3;
 /// Exit status of a run stopped by Ctrl-C (128 + SIGINT, as shells report it).
 pub const EXIT_INTERRUPTED: u8 = 130;
 
@@ -55,7 +58,23 @@ fn usage_error(e: clap::Error) -> ExitCode {
     let first: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
     let first = first.join(" ");
     let first = first.trim_start_matches("error: ");
-    eprintln!("faze4: error: {first} (faze4 --help lists the options)");
+    // a mistyped subcommand, option or value: clap's closest match
+    use clap::error::{ContextKind, ContextValue};
+    let suggestion = [
+        ContextKind::SuggestedSubcommand,
+        ContextKind::SuggestedArg,
+        ContextKind::SuggestedValue,
+    ]
+    .into_iter()
+    .find_map(|kind| match e.get(kind) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        Some(ContextValue::Strings(v)) if !v.is_empty() => Some(v.join("' or '")),
+        _ => None,
+    });
+    match suggestion {
+        Some(s) => eprintln!("faze4: error: {first}; did you mean '{s}'? (faze4 --help lists the options)"),
+        None => eprintln!("faze4: error: {first} (faze4 --help lists the options)"),
+    }
     ExitCode::from(EXIT_INPUT)
 }
 
@@ -69,87 +88,65 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 }
 
 /// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
-/// command's joint samples there); the exit status says whether it diverged.
+/// command's joint samples there). The last line says whether the arm follows its command; the
+/// exit status says whether the run diverged (1), was interrupted (130), or, with `--strict`,
+/// cannot follow (3).
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
-    let outputs = Outputs::open(run)?;
-    for warning in &scenario.warnings {
-        eprintln!("faze4: {warning}");
+    let mut outputs = Outputs::open(scenario, run, save_q)?;
+    if !run.quiet {
+        for warning in &scenario.warnings {
+            eprintln!("faze4: {warning}");
+        }
     }
     if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
         let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
         npy::write_samples(path, &rows)?;
     }
-    let Outputs {
-        mut terminal,
-        mut trail,
-        mut html,
-        mut plot,
-        mut live,
-    } = outputs;
-    let mut recorders: Vec<&mut dyn Recorder> = vec![&mut terminal];
-    if let Some(t) = trail.as_mut() {
-        recorders.push(t);
-    }
-    if let Some(h) = html.as_mut() {
-        recorders.push(h);
-    }
-    if let Some(p) = plot.as_mut() {
-        recorders.push(p);
-    }
-    if let Some(l) = live.as_mut() {
-        recorders.push(l);
-    }
-    let summary = sim::run(scenario, &mut recorders, &stop)?;
+    let summary = sim::run(scenario, &mut outputs.recorders(), &stop)?;
     if let Some(path) = &run.summary {
         write_summary(path, &summary)?;
     }
-    let mut written = Vec::new();
-    if let Some(t) = &trail {
-        written.push(format!("trail -> {} ({} rows)", run.trail.display(), t.rows()));
+    if !run.quiet {
+        report_files(&outputs, run, save_q, &summary);
     }
-    if let Some(path) = &run.summary {
-        written.push(format!("summary -> {}", path.display()));
+    if let Some(d) = &summary.diverged {
+        let joint = &scenario.model.joints[d.joint - 1];
+        let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
+        eprintln!(
+            "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the outputs keep the steps before it",
+            d.t,
+            d.joint,
+            joint.name,
+            b.join(", ")
+        );
     }
-    if let Some(path) = save_q {
-        written.push(format!("joint samples -> {}", path.display()));
-    }
-    if let Some(h) = &html {
-        written.push(format!("html -> {}", h.path().display()));
-    }
-    if let Some(p) = &plot {
-        written.push(format!("plot -> {}", p.path().display()));
-    }
-    report_files(scenario, &summary, written);
     if let Some(t) = summary.interrupted_at_s {
         eprintln!("faze4: interrupted at t = {t:.3} s; the outputs are complete up to there");
+    }
+    // the answer, always the last line on stdout
+    let _ = writeln!(std::io::stdout().lock(), "{}", summary.verdict);
+    if summary.interrupted_at_s.is_some() {
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
-    let code = match &summary.diverged {
-        None => ExitCode::SUCCESS,
-        Some(d) => {
-            let joint = &scenario.model.joints[d.joint - 1];
-            let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
-            eprintln!(
-                "faze4: diverged at t = {:.4} s on joint J{} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the outputs keep the steps before it",
-                d.t,
-                d.joint,
-                joint.name,
-                b.join(", ")
-            );
-            ExitCode::from(EXIT_DIVERGED)
-        }
+    let code = if summary.diverged.is_some() {
+        ExitCode::from(EXIT_DIVERGED)
+    } else if run.strict && !summary.verdict.follows {
+        ExitCode::from(EXIT_CANNOT_FOLLOW)
+    } else {
+        ExitCode::SUCCESS
     };
     // the run's files are written: Ctrl-C now only ends the serving
-    if let (Some(l), true) = (&live, run.hold) {
+    if let (Some(l), true) = (&outputs.live, run.hold) {
         l.hold_until(|| stop.is_raised());
     }
     Ok(code)
 }
 
-/// The recorders a run writes to, opened (and their paths and port checked) before it starts.
+/// The recorders a run writes to, opened (and every output path and the port checked) before
+/// it starts.
 struct Outputs {
-    terminal: Terminal,
+    terminal: Option<Terminal>,
     trail: Option<TrailCsv>,
     html: Option<HtmlExport>,
     plot: Option<PlotRecorder>,
@@ -157,7 +154,20 @@ struct Outputs {
 }
 
 impl Outputs {
-    fn open(run: &RunArgs) -> Result<Outputs> {
+    fn open(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<Outputs> {
+        if let Some(path) = &run.summary {
+            check_output_path(path, "--summary")?;
+        }
+        if let Some(path) = save_q {
+            check_output_path(path, "--save-q")?;
+        }
+        let print_period = match run.print_period {
+            Some(p) => {
+                positive("--print-period", p)?;
+                p
+            }
+            None => default_print_period(scenario.steps as f64 * scenario.dt),
+        };
         let live = match run.view || run.hold {
             true => Some(LiveView::start(run.port)?.with_period(run.record_period)),
             false => None,
@@ -172,23 +182,81 @@ impl Outputs {
         };
         let trail = match is_none(&run.trail) {
             true => None,
-            false => Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?),
+            false => {
+                check_output_path(&run.trail, "--trail")?;
+                Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?)
+            }
         };
         Ok(Outputs {
-            terminal: Terminal::new(run.debug),
+            terminal: (!run.quiet).then(|| Terminal::new(run.debug, print_period)),
             trail,
             html,
             plot,
             live,
         })
     }
+
+    fn recorders(&mut self) -> Vec<&mut dyn Recorder> {
+        let mut recorders: Vec<&mut dyn Recorder> = Vec::new();
+        if let Some(t) = self.terminal.as_mut() {
+            recorders.push(t);
+        }
+        if let Some(t) = self.trail.as_mut() {
+            recorders.push(t);
+        }
+        if let Some(h) = self.html.as_mut() {
+            recorders.push(h);
+        }
+        if let Some(p) = self.plot.as_mut() {
+            recorders.push(p);
+        }
+        if let Some(l) = self.live.as_mut() {
+            recorders.push(l);
+        }
+        recorders
+    }
 }
 
-fn report_files(scenario: &Scenario, summary: &Summary, mut written: Vec<String>) {
-    let per_step = summary.wall_time_s / scenario.steps.max(1) as f64;
+/// Progress lines every 0.5 s of simulated time, or, for runs longer than 20 s, at the first
+/// of 1, 2, 5, 10, 20, 50… seconds that keeps them to at most 40.
+fn default_print_period(duration: f64) -> f64 {
+    const MOST_LINES: f64 = 40.0;
+    if duration <= PRINT_PERIOD * MOST_LINES {
+        return PRINT_PERIOD;
+    }
+    let wanted = duration / MOST_LINES;
+    let mut decade = 1.0;
+    loop {
+        for step in [1.0, 2.0, 5.0] {
+            if step * decade >= wanted {
+                return step * decade;
+            }
+        }
+        decade *= 10.0;
+    }
+}
+
+fn report_files(outputs: &Outputs, run: &RunArgs, save_q: Option<&Path>, summary: &Summary) {
+    let mut written = Vec::new();
+    if let Some(t) = &outputs.trail {
+        written.push(format!("trail -> {} ({} rows)", run.trail.display(), t.rows()));
+    }
+    if let Some(path) = &run.summary {
+        written.push(format!("summary -> {}", path.display()));
+    }
+    if let Some(path) = save_q {
+        written.push(format!("joint samples -> {}", path.display()));
+    }
+    if let Some(h) = &outputs.html {
+        written.push(format!("html -> {}", h.path().display()));
+    }
+    if let Some(p) = &outputs.plot {
+        written.push(format!("plot -> {}", p.path().display()));
+    }
+    let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
     written.push(format!(
         "{} steps in {:.3} s ({:.2} µs/step)",
-        scenario.steps,
+        summary.steps,
         summary.wall_time_s,
         per_step * 1e6
     ));

@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::faze4;
 use crate::model::{Model, PackagePaths};
 use crate::sim::scenario::{finite, non_negative, positive};
-use crate::sim::{Scenario, ScenarioBuilder, ShapeRun};
+use crate::sim::{Scenario, ScenarioBuilder, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
@@ -96,7 +96,12 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
         .record_period(run.record_period)
         .payload_kg(run.payload_kg)
         .gravity(!run.no_gravity)
-        .feedforward(!run.no_ff);
+        .feedforward(!run.no_ff)
+        .thresholds(Thresholds {
+            max_saturation_pct: run.max_saturation_pct,
+            max_error: run.max_error,
+            max_deviation_mm: run.max_deviation_mm,
+        });
     if let Some(effort) = &run.effort {
         builder = builder.effort(all_given("--effort", effort, n)?);
     }

@@ -40,6 +40,15 @@ pub fn row(label: &str, values: impl IntoIterator<Item = f64>) -> String {
     line
 }
 
+/// A row of texts, one right-aligned per joint, as [`row`] aligns numbers.
+pub fn text_row(label: &str, values: impl IntoIterator<Item = String>) -> String {
+    let mut line = format!("{label:<22}");
+    for v in values {
+        line.push_str(&format!("{v:>10}"));
+    }
+    line
+}
+
 /// The header row `J1 … Jn` aligned with [`row`].
 pub fn joint_header(n: usize) -> String {
     let mut line = format!("{:<22}", "");

@@ -1,13 +1,14 @@
-//! What a run prints (SPEC §5): a banner with the model and the gains, a line every 0.5 s of
-//! simulated time, and the summary.
+//! What a run prints: a banner with the model and the gains, a line every print period of
+//! simulated time (0.5 s unless the run is long or `--print-period` says otherwise), and the
+//! summary.
 
 use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
-use super::format::{joint_header, row};
-use crate::sim::{Recorder, RunInfo, Sample, Summary};
+use super::format::{joint_header, row, text_row};
+use crate::sim::{Recorder, RunInfo, Sample, Summary, percent};
 
-/// Simulated time between progress lines (s).
+/// Simulated time between progress lines (s), unless a run asks for another.
 pub const PRINT_PERIOD: f64 = 0.5;
 /// A run shows a progress bar once it has taken this long (and stderr is a terminal).
 const BAR_AFTER: Duration = Duration::from_secs(1);
@@ -18,6 +19,8 @@ const BAR_REDRAW: Duration = Duration::from_millis(100);
 /// a terminal.
 pub struct Terminal {
     debug: bool,
+    /// Simulated time between progress lines (s).
+    print_period: f64,
     dof: usize,
     steps: usize,
     dt: f64,
@@ -31,14 +34,16 @@ struct Bar {
 }
 
 impl Terminal {
-    /// A printer; `debug` adds τ, the tracking error, v and g(q) to every progress line.
-    pub fn new(debug: bool) -> Self {
+    /// A printer with a progress line every `print_period` s of simulated time; `debug` adds τ,
+    /// the tracking error, v and g(q) to every progress line.
+    pub fn new(debug: bool, print_period: f64) -> Self {
         let bar = std::io::stderr().is_terminal().then(|| Bar {
             started: Instant::now(),
             drawn: None,
         });
         Self {
             debug,
+            print_period,
             dof: 0,
             steps: 0,
             dt: 0.0,
@@ -97,7 +102,7 @@ fn out(line: &str) -> crate::Result<()> {
 
 impl Recorder for Terminal {
     fn period(&self) -> f64 {
-        PRINT_PERIOD
+        self.print_period
     }
 
     fn begin(&mut self, run: &RunInfo) -> crate::Result<()> {
@@ -133,7 +138,10 @@ impl Recorder for Terminal {
         out(&row("eff. inertia (kg·m²)", gains.effective_inertia.iter().copied()))?;
         out(&row("kp", gains.kp.iter().copied()))?;
         out(&row("kd", gains.kd.iter().copied()))?;
-        out(&row("b = Δt²·kp/I", gains.stiffness_b(run.dt)))?;
+        out(&format!(
+            "{}   (safe ≤ 0.4, the rule's cap; one joint alone goes unstable above 0.5)",
+            row("b = Δt²·kp/I", gains.stiffness_b(run.dt))
+        ))?;
         // degrees to 0.01: a −8e-15 from sin(π) is 0
         out(&row(
             "start pose (deg)",
@@ -166,7 +174,10 @@ impl Recorder for Terminal {
         self.clear_bar();
         out(&format!("[summary]{}", &joint_header(self.dof)[9..]))?;
         out(&row("max track. err (rad)", s.max_tracking_error_rad.iter().copied()))?;
-        out(&row("saturation (%)", s.saturation_pct.iter().copied()))?;
+        out(&text_row(
+            "saturation (% steps)",
+            s.saturation_pct.iter().map(|&p| percent(p)),
+        ))?;
         let r = &s.tool_range_m;
         out(&format!(
             "tool range (m)        x [{:.3}, {:.3}]  y [{:.3}, {:.3}]  z [{:.3}, {:.3}]",

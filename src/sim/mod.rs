@@ -6,6 +6,7 @@ mod run;
 pub(crate) mod scenario;
 mod stop;
 mod summary;
+mod verdict;
 
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
@@ -14,3 +15,4 @@ pub use scenario::{
 };
 pub use stop::StopFlag;
 pub use summary::{Diverged, PathDeviation, Summary, ToolRange};
+pub use verdict::{Reason, Thresholds, Verdict, percent};

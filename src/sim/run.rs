@@ -4,11 +4,13 @@ use std::time::Instant;
 
 use crate::algo::{Data, compute_all_terms, frame_position, integrate_discrete};
 use crate::error::Result;
+use crate::model::JointKind;
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, steps_per_record,
+    Diverged, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, Verdict,
+    steps_per_record,
 };
 
 /// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
@@ -146,10 +148,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let wall_time_s = wall.elapsed().as_secs_f64();
 
     let steps_done = done.max(1) as f64;
-    let summary = Summary {
+    let mut summary = Summary {
         dof: n,
         dt,
-        steps: sc.steps,
+        steps: done,
         gains: sc.controller.gains.clone(),
         max_tracking_error_rad: max_error,
         saturation_pct: saturated.iter().map(|&s| 100.0 * s as f64 / steps_done).collect(),
@@ -162,7 +164,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         }),
         ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
         interrupted_at_s,
+        ..Summary::default()
     };
+    let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
+    summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic);
     for r in recorders.iter_mut() {
         r.finish(&summary)?;
     }

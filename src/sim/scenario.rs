@@ -25,7 +25,7 @@ use crate::spatial::Vec3;
 use crate::traj::shape::{Board, Shape};
 use crate::traj::{Interpolated, Trajectory, Wrap};
 
-use super::steps_per_record;
+use super::{Thresholds, steps_per_record};
 
 /// Default control and integration period Δt (s): 5 kHz.
 pub const DEFAULT_DT: f64 = 2e-4;
@@ -57,6 +57,8 @@ pub struct Scenario {
     pub record_every: usize,
     /// For `shape`: the board, the reference path and the moving target.
     pub shape: Option<ShapeRun>,
+    /// The limits within which the arm is judged to follow its command.
+    pub thresholds: Thresholds,
     /// What the builder noticed and the user should know before the run.
     pub warnings: Vec<Warning>,
 }
@@ -156,6 +158,7 @@ impl Scenario {
             kp: Vec::new(),
             kd: Vec::new(),
             shape: None,
+            thresholds: Thresholds::default(),
         }
     }
 }
@@ -179,6 +182,7 @@ pub struct ScenarioBuilder {
     kp: Vec<Option<f64>>,
     kd: Vec<Option<f64>>,
     shape: Option<ShapeRun>,
+    thresholds: Thresholds,
 }
 
 impl ScenarioBuilder {
@@ -249,6 +253,12 @@ impl ScenarioBuilder {
         self
     }
 
+    /// The limits within which the arm is judged to follow (see [`Thresholds`]).
+    pub fn thresholds(mut self, thresholds: Thresholds) -> Self {
+        self.thresholds = thresholds;
+        self
+    }
+
     /// The drawing part of a shape run (see [`ShapeRun::plan`]).
     pub fn shape(mut self, shape: ShapeRun) -> Self {
         self.shape = Some(shape);
@@ -261,6 +271,9 @@ impl ScenarioBuilder {
         positive("--dt", self.dt)?;
         positive("--duration", self.duration)?;
         positive("--record-period", self.record_period)?;
+        non_negative("--max-saturation-pct", self.thresholds.max_saturation_pct)?;
+        non_negative("--max-error", self.thresholds.max_error)?;
+        non_negative("--max-deviation-mm", self.thresholds.max_deviation_mm)?;
         non_negative("--payload-kg", self.payload_kg)?;
         let mut model = self.model;
         let n = model.dof();
@@ -327,6 +340,7 @@ impl ScenarioBuilder {
             },
             record_every: steps_per_record(self.record_period, self.dt),
             shape: self.shape,
+            thresholds: self.thresholds,
             warnings,
         })
     }

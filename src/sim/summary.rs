@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::Verdict;
 use crate::control::Gains;
 
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
@@ -42,7 +43,7 @@ pub struct Summary {
     pub dof: usize,
     /// Step Δt (s).
     pub dt: f64,
-    /// Steps taken.
+    /// Steps taken: the run's steps, or those before it diverged or was interrupted.
     pub steps: usize,
     /// The gains and limits the run used, and the effective inertias they were tuned from
     /// (`effective_inertia`, `kp`, `kd`, `effort` in the JSON; an unlimited effort is `null`).
@@ -56,6 +57,8 @@ pub struct Summary {
     pub tool_range_m: ToolRange,
     /// `null`, or where the run went unstable.
     pub diverged: Option<Diverged>,
+    /// Whether the arm follows its command, and if not, why (see [`Verdict`]).
+    pub verdict: Verdict,
     /// Wall-clock time of the simulation loop (s).
     pub wall_time_s: f64,
     /// Shapes only: tool distance to the reference path.

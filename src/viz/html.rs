@@ -5,9 +5,10 @@ use std::path::{Path, PathBuf};
 use serde_json::json;
 
 use super::scene::{SampleEncoder, Scene};
-use super::util::{base64, check_output_path, f32_bytes};
+use super::util::{base64, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
 use crate::atomic::AtomicFile;
+use crate::atomic::check_output_path;
 use crate::error::Result;
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample, steps_per_record};

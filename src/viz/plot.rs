@@ -12,7 +12,7 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::util::check_output_path;
+use crate::atomic::check_output_path;
 use crate::atomic::{AtomicFile, write_atomically};
 use crate::error::{Error, Result};
 use crate::sim::Summary;

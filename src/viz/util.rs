@@ -1,8 +1,4 @@
-//! Small helpers: base64 (for the HTML export and the event stream), output path checks.
-
-use std::path::Path;
-
-use crate::error::{Error, Result};
+//! Small helpers: base64 (for the HTML export and the event stream), little-endian floats.
 
 const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
@@ -43,25 +39,6 @@ pub fn f32_bytes(floats: &[f32]) -> Vec<u8> {
     floats.iter().flat_map(|x| x.to_le_bytes()).collect()
 }
 
-/// Checks, before a run, that `path` can be written later: its directory exists. `option`
-/// names the command-line option in the error.
-pub fn check_output_path(path: &Path, option: &str) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if path.file_name().is_none() {
-        return Err(Error::argument(option, format!("{}: not a file name", path.display())));
-    }
-    if !dir.is_dir() {
-        return Err(Error::argument(
-            option,
-            format!("{}: directory {} does not exist", path.display(), dir.display()),
-        ));
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -80,12 +57,5 @@ mod tests {
             assert_eq!(base64(input.as_bytes()), expected);
         }
         assert_eq!(base64(&[0xff, 0xfe, 0xfd]), "//79");
-    }
-
-    #[test]
-    fn output_paths_are_checked_before_the_run() {
-        assert!(check_output_path(Path::new("/nonexistent-faze4/x.svg"), "--plot").is_err());
-        assert!(check_output_path(Path::new("x.html"), "--html").is_ok());
-        assert!(check_output_path(&std::env::temp_dir().join("x.html"), "--html").is_ok());
     }
 }

@@ -1,0 +1,256 @@
+//! The answer to the question a run is for: can the arm follow its command?
+//!
+//! A run follows when it did not diverge, no joint saturates more than
+//! [`Thresholds::max_saturation_pct`] of the steps, every joint's tracking error stays within
+//! [`Thresholds::max_error`] (rad, or m for a prismatic joint) and, for shapes, the tool's path
+//! deviation stays within [`Thresholds::max_deviation_mm`]. Each figure beyond its threshold is a
+//! [`Reason`], naming the joint and the figure.
+
+use std::fmt;
+
+use serde::{Serialize, Serializer};
+
+use super::Summary;
+
+/// The limits a run must stay within to follow its command.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Thresholds {
+    /// Largest share of steps a joint may saturate (%), 5 by default.
+    pub max_saturation_pct: f64,
+    /// Largest tracking error |q_cmd − q| of any joint (rad, or m for a prismatic joint), 0.05
+    /// by default.
+    pub max_error: f64,
+    /// Largest distance of the tool from a shape's path (mm), 5 by default.
+    pub max_deviation_mm: f64,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Thresholds {
+            max_saturation_pct: 5.0,
+            max_error: 0.05,
+            max_deviation_mm: 5.0,
+        }
+    }
+}
+
+/// Why a run cannot follow its command. Joints are 0-based here and J1…Jn in the text.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reason {
+    /// The loop went unstable at time `t` (s) on joint `joint`.
+    Diverged {
+        /// Simulated time (s).
+        t: f64,
+        /// The joint (0-based).
+        joint: usize,
+    },
+    /// A joint's torque reached its limit in more than the allowed share of the steps.
+    Saturates {
+        /// The joint (0-based).
+        joint: usize,
+        /// Its share of saturated steps (%).
+        pct: f64,
+        /// The allowed share (%).
+        limit: f64,
+    },
+    /// A joint's tracking error went beyond the allowed error.
+    TrackingError {
+        /// The joint (0-based).
+        joint: usize,
+        /// Its largest |q_cmd − q| (rad or m).
+        error: f64,
+        /// The allowed error (rad or m).
+        limit: f64,
+        /// Whether the joint is prismatic (the figures are metres).
+        prismatic: bool,
+    },
+    /// The tool left the shape's path by more than allowed.
+    PathDeviation {
+        /// The largest distance (mm).
+        max_mm: f64,
+        /// The allowed distance (mm).
+        limit: f64,
+    },
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Reason::Diverged { t, joint } => write!(f, "the loop diverged at t = {t:.4} s on J{}", joint + 1),
+            Reason::Saturates { joint, pct, limit } => {
+                write!(
+                    f,
+                    "J{} saturates {} of the steps (limit {limit} %)",
+                    joint + 1,
+                    percent(pct)
+                )
+            }
+            Reason::TrackingError {
+                joint,
+                error,
+                limit,
+                prismatic,
+            } => {
+                let unit = if prismatic { "m" } else { "rad" };
+                write!(
+                    f,
+                    "J{} tracking error {error:.3} {unit} (limit {limit} {unit})",
+                    joint + 1
+                )
+            }
+            Reason::PathDeviation { max_mm, limit } => {
+                write!(f, "path deviation {max_mm:.1} mm (limit {limit} mm)")
+            }
+        }
+    }
+}
+
+impl Serialize for Reason {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// A share in percent for people: `0 %`, `< 0.01 %`, `0.52 %`, `99.0 %`.
+pub fn percent(pct: f64) -> String {
+    if pct == 0.0 {
+        "0 %".into()
+    } else if pct < 0.01 {
+        "< 0.01 %".into()
+    } else if pct < 10.0 {
+        format!("{pct:.2} %")
+    } else {
+        format!("{pct:.1} %")
+    }
+}
+
+/// Whether the arm follows its command, and if not, why.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Verdict {
+    /// True when no reason was found.
+    pub follows: bool,
+    /// Every figure beyond its threshold (empty when the arm follows).
+    pub reasons: Vec<Reason>,
+}
+
+impl Verdict {
+    /// The verdict on `summary` under `thresholds`; `prismatic[i]` says joint i is prismatic.
+    pub fn judge(summary: &Summary, thresholds: &Thresholds, prismatic: &[bool]) -> Verdict {
+        let mut reasons = Vec::new();
+        if let Some(d) = &summary.diverged {
+            reasons.push(Reason::Diverged {
+                t: d.t,
+                joint: d.joint - 1,
+            });
+        }
+        for (joint, &pct) in summary.saturation_pct.iter().enumerate() {
+            if pct > thresholds.max_saturation_pct {
+                reasons.push(Reason::Saturates {
+                    joint,
+                    pct,
+                    limit: thresholds.max_saturation_pct,
+                });
+            }
+        }
+        for (joint, &error) in summary.max_tracking_error_rad.iter().enumerate() {
+            if error > thresholds.max_error || error.is_nan() {
+                reasons.push(Reason::TrackingError {
+                    joint,
+                    error,
+                    limit: thresholds.max_error,
+                    prismatic: prismatic.get(joint).copied().unwrap_or(false),
+                });
+            }
+        }
+        if let Some(d) = &summary.path_deviation_mm
+            && (d.max > thresholds.max_deviation_mm || d.max.is_nan())
+        {
+            reasons.push(Reason::PathDeviation {
+                max_mm: d.max,
+                limit: thresholds.max_deviation_mm,
+            });
+        }
+        Verdict {
+            follows: reasons.is_empty(),
+            reasons,
+        }
+    }
+}
+
+impl fmt::Display for Verdict {
+    /// One line: `verdict: follows`, or `verdict: cannot follow — ` and the reasons.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.follows {
+            return write!(f, "verdict: follows");
+        }
+        let reasons: Vec<String> = self.reasons.iter().map(Reason::to_string).collect();
+        write!(f, "verdict: cannot follow — {}", reasons.join("; "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{Diverged, PathDeviation};
+
+    fn summary(saturation: [f64; 2], error: [f64; 2], deviation: Option<f64>) -> Summary {
+        Summary {
+            saturation_pct: saturation.to_vec(),
+            max_tracking_error_rad: error.to_vec(),
+            path_deviation_mm: deviation.map(|max| PathDeviation { max, mean: max / 2.0 }),
+            ..Summary::default()
+        }
+    }
+
+    #[test]
+    fn each_threshold_is_a_reason_and_only_beyond_it() {
+        let t = Thresholds::default();
+        let at_limits = summary([5.0, 0.0], [0.05, 0.0], Some(5.0));
+        assert_eq!(
+            Verdict::judge(&at_limits, &t, &[false; 2]).to_string(),
+            "verdict: follows"
+        );
+        let beyond = summary([0.0, 99.04], [0.31, 0.001], Some(564.2));
+        let v = Verdict::judge(&beyond, &t, &[false, true]);
+        assert!(!v.follows);
+        assert_eq!(
+            v.to_string(),
+            "verdict: cannot follow — J2 saturates 99.0 % of the steps (limit 5 %); J1 tracking error 0.310 rad (limit 0.05 rad); path deviation 564.2 mm (limit 5 mm)"
+        );
+        let strict = Thresholds {
+            max_saturation_pct: 1.0,
+            max_error: 0.0005,
+            max_deviation_mm: 0.1,
+        };
+        let v = Verdict::judge(&summary([0.0, 0.0], [0.0, 0.001], None), &strict, &[false, true]);
+        assert_eq!(v.reasons.len(), 1);
+        assert!(v.to_string().contains("J2 tracking error 0.001 m"), "{v}");
+    }
+
+    #[test]
+    fn a_diverged_run_never_follows() {
+        let mut s = summary([0.0, 0.0], [0.0, 0.0], None);
+        s.diverged = Some(Diverged {
+            t: 0.0016,
+            joint: 2,
+            stiffness_b: vec![0.4, 0.4],
+        });
+        let v = Verdict::judge(&s, &Thresholds::default(), &[false; 2]);
+        assert_eq!(
+            v.to_string(),
+            "verdict: cannot follow — the loop diverged at t = 0.0016 s on J2"
+        );
+        assert_eq!(
+            serde_json::to_value(&v).unwrap(),
+            serde_json::json!({"follows": false, "reasons": ["the loop diverged at t = 0.0016 s on J2"]})
+        );
+    }
+
+    #[test]
+    fn percentages_read_as_percentages() {
+        assert_eq!(percent(0.0), "0 %");
+        assert_eq!(percent(0.0067), "< 0.01 %");
+        assert_eq!(percent(0.52), "0.52 %");
+        assert_eq!(percent(99.04), "99.0 %");
+    }
+}
