@@ -53,13 +53,55 @@ pub enum Error {
         message: String,
     },
 
-    /// The simulation went unstable and was stopped.
-    #[error("{0}")]
-    Diverged(String),
+    /// The equations of motion cannot be solved at a state: the mass matrix (in a step, plus
+    /// Δt·D) is not positive definite. A physical state never does this; a run that has gone
+    /// unstable can.
+    #[error(
+        "the mass matrix is not positive definite at joint J{} (pivot {pivot:e}): the state is not physical, or the run has gone unstable",
+        joint + 1
+    )]
+    Diverged {
+        /// The joint (0-based) whose Cholesky pivot failed: the first that cannot be solved.
+        joint: usize,
+        /// That pivot (≤ 0 or NaN).
+        pivot: f64,
+    },
 
     /// Inverse kinematics could not reach a target.
-    #[error("{0}")]
-    Unreachable(String),
+    #[error(
+        "IK{}: target ({:.6}, {:.6}, {:.6}) m of frame '{frame}' is out of reach: closest distance reached {} m",
+        sample.map_or(String::new(), |(k, n)| format!(" sample {k} of {n}")),
+        target[0], target[1], target[2],
+        distance(*closest_m)
+    )]
+    Unreachable {
+        /// For a path: the sample (0-based) and the number of samples.
+        sample: Option<(usize, usize)>,
+        /// The target (world, m).
+        target: [f64; 3],
+        /// The frame placed on it (URDF link name).
+        frame: String,
+        /// The closest distance reached (m).
+        closest_m: f64,
+    },
+
+    /// An inverse-kinematics task or its input does not fit the model.
+    #[error("IK {field}: {message}")]
+    InvalidIk {
+        /// What is wrong: `frame`, `free joints`, `weights`, `tolerance`, `q_prev`, `target`.
+        field: &'static str,
+        /// What is wrong with it.
+        message: String,
+    },
+}
+
+/// A distance in m for messages: µm resolution, or three significant digits below 1 mm.
+fn distance(d: f64) -> String {
+    if d >= 1e-3 {
+        format!("{d:.6}")
+    } else {
+        format!("{d:.3e}")
+    }
 }
 
 impl Error {
@@ -69,6 +111,14 @@ impl Error {
             file: file.to_string(),
             element: one_line(&element.into()),
             message: one_line(&message.into()),
+        }
+    }
+
+    /// An [`Error::InvalidIk`] for `field`.
+    pub fn ik(field: &'static str, message: impl Into<String>) -> Self {
+        Error::InvalidIk {
+            field,
+            message: message.into(),
         }
     }
 

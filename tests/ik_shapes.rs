@@ -155,9 +155,17 @@ fn an_unreachable_target_names_the_sample_and_the_closest_distance() {
     let far = base + Vec3::new(1.2, -1.6, 0.0); // 2 m from the base link
     let targets = [Shape::Circle.point(0.0, &BOARD), far];
     let err = solve_path(&model, &task, &targets, &Q_SEED).unwrap_err();
-    let Error::Unreachable(message) = &err else {
+    let Error::Unreachable {
+        sample, frame, target, ..
+    } = &err
+    else {
         panic!("not Unreachable: {err}")
     };
+    assert_eq!(
+        (*sample, frame.as_str(), *target),
+        (Some((1, 2)), "tool_link", far.into())
+    );
+    let message = &err.to_string();
     eprintln!("{message}");
     assert!(!message.contains('\n'), "one line");
     assert!(message.contains("sample 1 of 2"), "{message}");
@@ -181,9 +189,10 @@ fn an_unreachable_target_names_the_sample_and_the_closest_distance() {
     // the single-target form names the target
     let mut ws = IkWorkspace::new(&model);
     let err = solve_position(&model, &mut ws, &task, &far, &Q_SEED).unwrap_err();
-    let Error::Unreachable(message) = &err else {
-        panic!("not Unreachable: {err}")
+    let Error::Unreachable { sample: None, .. } = &err else {
+        panic!("not a single-target Unreachable: {err}")
     };
+    let message = &err.to_string();
     assert!(message.contains(&format!("{:.6}", far.x)), "{message}");
     assert!((closest_in(message) - closest).abs() < 1e-3, "{message}");
 }
@@ -364,7 +373,7 @@ fn bad_tasks_and_inputs_are_rejected() {
     q[3] = 4.0; // held J4 outside ±π
     assert!(matches!(
         solve_position(&model, &mut ws, &task, &target, &q),
-        Err(Error::InvalidArgument { .. })
+        Err(Error::InvalidIk { field: "q_prev", .. })
     ));
     let bad = task
         .clone()

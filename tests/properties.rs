@@ -51,7 +51,10 @@ fn mass_matrix_is_symmetric_positive_definite() {
         let m = crba(model, data, q).clone();
         assert_eq!(m, m.transpose(), "{path}: M not symmetric");
         let mut l = DMatrix::zeros(model.dof(), model.dof());
-        assert!(cholesky_factor(&m, &mut l), "{path}: M not positive definite at {q:?}");
+        assert!(
+            cholesky_factor(&m, &mut l).is_ok(),
+            "{path}: M not positive definite at {q:?}"
+        );
     });
 }
 

@@ -6,8 +6,9 @@ use nalgebra::{DMatrix, DVector};
 /// the lower triangle of `a` is read. The diagonal of `l` holds the reciprocals `1 / L_jj`, so
 /// that neither the factor nor [`cholesky_solve`] divides more than once per column (a
 /// division's latency is several multiplications', and here each one waits for the last).
-/// Returns `false` if `a` is not positive definite (or not finite), leaving `l` unspecified.
-pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
+/// Fails if `a` is not positive definite (or not finite) with the column j whose pivot
+/// `A_jj − Σ_k L_jk²` is not positive, and that pivot; `l` is then unspecified.
+pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> Result<(), (usize, f64)> {
     let n = a.nrows();
     // column-major storage: entry (i, j) is at i + j·n
     let a = a.as_slice();
@@ -19,7 +20,7 @@ pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
             d -= l[j + k * n] * l[j + k * n];
         }
         if d.is_nan() || d <= 0.0 {
-            return false;
+            return Err((j, d));
         }
         let inv_ljj = 1.0 / d.sqrt();
         l[j + j * n] = inv_ljj;
@@ -32,7 +33,7 @@ pub fn cholesky_factor(a: &DMatrix<f64>, l: &mut DMatrix<f64>) -> bool {
             l[i + j * n] = s * inv_ljj;
         }
     }
-    true
+    Ok(())
 }
 
 /// Solves `L Lᵀ x = b` in place (`b` becomes x), with `l` from [`cholesky_factor`] (its
@@ -69,10 +70,10 @@ mod tests {
         let x = DVector::from_vec(vec![0.3, -1.0, 2.0]);
         let mut b = &a * &x;
         let mut l = DMatrix::zeros(3, 3);
-        assert!(cholesky_factor(&a, &mut l));
+        assert!(cholesky_factor(&a, &mut l).is_ok());
         cholesky_solve(&l, &mut b);
         assert!((b - x).amax() < 1e-15);
         let not_pd = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
-        assert!(!cholesky_factor(&not_pd, &mut DMatrix::zeros(2, 2)));
+        assert_eq!(cholesky_factor(&not_pd, &mut DMatrix::zeros(2, 2)), Err((1, -3.0)));
     }
 }

@@ -16,11 +16,7 @@ pub fn forward_dynamics<'d>(
     tau: &[f64],
 ) -> Result<&'d DVector<f64>> {
     compute_all_terms(model, data, q, qd);
-    if !cholesky_factor(&data.m, &mut data.chol) {
-        return Err(Error::Diverged(format!(
-            "mass matrix is not positive definite at q = {q:?}"
-        )));
-    }
+    cholesky_factor(&data.m, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged { joint, pivot })?;
     for (i, joint) in model.joints.iter().enumerate() {
         data.qdd[i] = tau[i] - joint.damping * qd[i] - data.bias[i];
     }

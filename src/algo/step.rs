@@ -48,9 +48,7 @@ pub fn integrate_discrete(
         }
     }
     data.limit_rhs.copy_from(&data.rhs);
-    if !cholesky_factor(&data.step_matrix, &mut data.chol) {
-        return Err(Error::Diverged("the mass matrix is not positive definite".into()));
-    }
+    cholesky_factor(&data.step_matrix, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged { joint, pivot })?;
     cholesky_solve(&data.chol, &mut data.rhs);
     if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
         solve_with_limits(model, data, q, dt);
@@ -136,7 +134,7 @@ fn solve_clamped(data: &mut Data, n: usize) {
         }
     }
     // a principal submatrix of a positive-definite A is positive definite
-    if cholesky_factor(&data.limit_matrix, &mut data.chol) {
+    if cholesky_factor(&data.limit_matrix, &mut data.chol).is_ok() {
         cholesky_solve(&data.chol, &mut data.rhs);
     }
 }

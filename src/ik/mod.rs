@@ -95,8 +95,8 @@ impl IkTask {
     pub fn validate(&self, model: &Model) -> Result<()> {
         let n = model.dof();
         if self.frame >= model.frames.len() {
-            return Err(Error::argument(
-                "IK frame",
+            return Err(Error::ik(
+                "frame",
                 format!(
                     "frame index {} out of range ({} frames)",
                     self.frame,
@@ -105,35 +105,35 @@ impl IkTask {
             ));
         }
         if self.free.len() < 3 {
-            return Err(Error::argument(
-                "IK free joints",
+            return Err(Error::ik(
+                "free joints",
                 format!("{} free joints given, a position needs at least 3", self.free.len()),
             ));
         }
         for (k, &j) in self.free.iter().enumerate() {
             if j >= n {
-                return Err(Error::argument(
-                    "IK free joints",
+                return Err(Error::ik(
+                    "free joints",
                     format!("joint index {j} out of range ({n} joints)"),
                 ));
             }
             if self.free[..k].contains(&j) {
-                return Err(Error::argument(
-                    "IK free joints",
+                return Err(Error::ik(
+                    "free joints",
                     format!("joint {j} ('{}') listed twice", model.joints[j].name),
                 ));
             }
         }
         if let IkWeights::Diagonal(w) = &self.weights {
             if w.len() != n {
-                return Err(Error::argument(
-                    "IK weights",
+                return Err(Error::ik(
+                    "weights",
                     format!("{} weights given, the model has {n} joints", w.len()),
                 ));
             }
             if let Some(&j) = self.free.iter().find(|&&j| !(w[j] > 0.0 && w[j].is_finite())) {
-                return Err(Error::argument(
-                    "IK weights",
+                return Err(Error::ik(
+                    "weights",
                     format!(
                         "weight of free joint {j} ('{}') is {}, must be > 0",
                         model.joints[j].name, w[j]
@@ -142,10 +142,7 @@ impl IkTask {
             }
         }
         if self.tolerance_m.is_nan() || self.tolerance_m <= 0.0 {
-            return Err(Error::argument(
-                "IK tolerance",
-                format!("{} m, must be > 0", self.tolerance_m),
-            ));
+            return Err(Error::ik("tolerance", format!("{} m, must be > 0", self.tolerance_m)));
         }
         Ok(())
     }
@@ -228,9 +225,4 @@ impl IkWorkspace {
 enum Limit {
     Lower,
     Upper,
-}
-
-/// "(x, y, z)" with µm resolution, for messages.
-fn fmt_point(p: &Vec3) -> String {
-    format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z)
 }

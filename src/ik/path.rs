@@ -1,7 +1,7 @@
 //! A sequence of targets, each solved from the previous solution.
 
-use super::position::{check_inputs, check_target, fmt_distance, solve};
-use super::{IkTask, IkWorkspace, fmt_point};
+use super::position::{check_inputs, check_target, solve};
+use super::{IkTask, IkWorkspace};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::spatial::Vec3;
@@ -34,14 +34,11 @@ pub fn solve_path(model: &Model, task: &IkTask, targets: &[Vec3], seed: &[f64]) 
     for (k, target) in targets.iter().enumerate() {
         check_target(target)?;
         let q_prev = rows.last().map_or(seed, Vec::as_slice);
-        let sol = solve(model, &mut ws, task, target, q_prev).map_err(|closest| {
-            Error::Unreachable(format!(
-                "IK sample {k} of {}: target {} m of frame '{}' is out of reach: closest distance reached {} m",
-                targets.len(),
-                fmt_point(target),
-                model.frames[task.frame].name,
-                fmt_distance(closest)
-            ))
+        let sol = solve(model, &mut ws, task, target, q_prev).map_err(|closest_m| Error::Unreachable {
+            sample: Some((k, targets.len())),
+            target: (*target).into(),
+            frame: model.frames[task.frame].name.clone(),
+            closest_m,
         })?;
         max_residual_m = max_residual_m.max(sol.residual_m);
         iterations += sol.iterations;

@@ -1,6 +1,6 @@
 //! One position target: the weighted-minimum-change solve.
 
-use super::{IkSolution, IkTask, IkWeights, IkWorkspace, Limit, fmt_point};
+use super::{IkSolution, IkTask, IkWeights, IkWorkspace, Limit};
 use crate::algo::{cholesky_factor, cholesky_solve, crba, forward_kinematics, frame_jacobian, frame_position};
 use crate::error::{Error, Result};
 use crate::model::{JointKind, Model};
@@ -56,13 +56,11 @@ pub fn solve_position(
 ) -> Result<IkSolution> {
     check_inputs(model, task, q_prev)?;
     check_target(target)?;
-    solve(model, ws, task, target, q_prev).map_err(|closest| {
-        Error::Unreachable(format!(
-            "IK: target {} m of frame '{}' is out of reach: closest distance reached {} m",
-            fmt_point(target),
-            model.frames[task.frame].name,
-            fmt_distance(closest)
-        ))
+    solve(model, ws, task, target, q_prev).map_err(|closest_m| Error::Unreachable {
+        sample: None,
+        target: (*target).into(),
+        frame: model.frames[task.frame].name.clone(),
+        closest_m,
     })
 }
 
@@ -71,21 +69,18 @@ pub(super) fn check_inputs(model: &Model, task: &IkTask, q: &[f64]) -> Result<()
     task.validate(model)?;
     let n = model.dof();
     if q.len() != n {
-        return Err(Error::argument(
-            "IK q_prev",
+        return Err(Error::ik(
+            "q_prev",
             format!("{} joint positions given, the model has {n} joints", q.len()),
         ));
     }
     for (j, joint) in model.joints.iter().enumerate() {
         if !q[j].is_finite() {
-            return Err(Error::argument(
-                "IK q_prev",
-                format!("joint '{}' is {}", joint.name, q[j]),
-            ));
+            return Err(Error::ik("q_prev", format!("joint '{}' is {}", joint.name, q[j])));
         }
         if !task.free.contains(&j) && !joint.within_limits(q[j]) {
-            return Err(Error::argument(
-                "IK q_prev",
+            return Err(Error::ik(
+                "q_prev",
                 format!(
                     "held joint '{}' at {} is outside its limits [{}, {}]",
                     joint.name, q[j], joint.lower, joint.upper
@@ -101,19 +96,7 @@ pub(super) fn check_target(target: &Vec3) -> Result<()> {
     if target.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
-        Err(Error::argument(
-            "IK target",
-            format!("{target:?} is not a finite point"),
-        ))
-    }
-}
-
-/// A distance in m for messages: µm resolution, or three significant digits below 1 mm.
-pub(super) fn fmt_distance(d: f64) -> String {
-    if d >= 1e-3 {
-        format!("{d:.6}")
-    } else {
-        format!("{d:.3e}")
+        Err(Error::ik("target", format!("{target:?} is not a finite point")))
     }
 }
 
@@ -300,7 +283,7 @@ fn subproblem(
                     ws.reduced[(j, k)] = ws.hess[(j, k)] + s * ws.col[j].dot(&ws.col[k]);
                 }
             }
-            if cholesky_factor(&ws.reduced, &mut ws.chol) {
+            if cholesky_factor(&ws.reduced, &mut ws.chol).is_ok() {
                 sigma = Some(s);
                 break;
             }

@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use crate::algo::{Data, compute_all_terms, frame_position, integrate_discrete};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::JointKind;
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
@@ -137,10 +137,16 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 .filter(|&i| v[i].abs() > RUNAWAY_SPEED)
                 .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
         });
-        if let Some(joint) = bad_joint.or(stepped.is_err().then_some(0)) {
+        // a step that cannot be solved names the joint whose pivot failed
+        let unsolvable = match stepped {
+            Ok(()) => None,
+            Err(Error::Diverged { joint, .. }) => Some(joint),
+            Err(e) => return Err(e),
+        };
+        if let Some(joint) = bad_joint.or(unsolvable) {
             diverged = Some(Diverged {
                 t: done as f64 * dt,
-                joint: joint + 1,
+                joint,
                 stiffness_b: sc.controller.gains.stiffness_b(dt),
             });
         }

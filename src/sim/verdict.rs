@@ -138,10 +138,7 @@ impl Verdict {
     pub fn judge(summary: &Summary, thresholds: &Thresholds, prismatic: &[bool]) -> Verdict {
         let mut reasons = Vec::new();
         if let Some(d) = &summary.diverged {
-            reasons.push(Reason::Diverged {
-                t: d.t,
-                joint: d.joint - 1,
-            });
+            reasons.push(Reason::Diverged { t: d.t, joint: d.joint });
         }
         for (joint, &pct) in summary.saturation_pct.iter().enumerate() {
             if pct > thresholds.max_saturation_pct {
@@ -232,7 +229,7 @@ mod tests {
         let mut s = summary([0.0, 0.0], [0.0, 0.0], None);
         s.diverged = Some(Diverged {
             t: 0.0016,
-            joint: 2,
+            joint: 1,
             stiffness_b: vec![0.4, 0.4],
         });
         let v = Verdict::judge(&s, &Thresholds::default(), &[false; 2]);
