@@ -38,7 +38,10 @@ fn joint_transforms_are_the_joint_motion_composed_with_the_tree_transform() {
     for_each_state(|path, model, data, q, _, _| {
         update_joint_transforms(model, data, q);
         for i in 0..model.dof() {
-            let x = model.joints[i].motion_pose(q[i]).to_xform().compose(&model.x_tree[i]);
+            let x = model.joints[i]
+                .motion_pose(q[i])
+                .to_xform()
+                .compose(&model.tree_pose[i].to_xform());
             let (de, dr) = ((data.xup[i].e - x.e).amax(), (data.xup[i].r - x.r).amax());
             assert!(de < 1e-15 && dr < 1e-15, "{path}: joint {i}: {de:e}, {dr:e}");
         }

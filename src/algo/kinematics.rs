@@ -5,7 +5,8 @@ use crate::model::{JointKind, Model};
 use crate::spatial::{Vec3, Xform};
 
 /// Computes `data.xup[i] = i_X_λ(i)(q)` for every joint: the joint's own motion composed with
-/// its fixed tree transform, `X_J(q_i) · X_T(i)`:
+/// its fixed tree transform `X_T(i) = (E_T, r_T)` (`tree_pose[i]` = `(E_Tᵀ, r_T)`),
+/// `X_J(q_i) · X_T(i)`:
 ///
 /// ```text
 ///   revolute:   X = (R(a, q)ᵀ E_T,  r_T)     (R(a, q)ᵀ E_T from the model's axis split)
@@ -14,18 +15,18 @@ use crate::spatial::{Vec3, Xform};
 #[inline]
 pub fn update_joint_transforms(model: &Model, data: &mut Data, q: &[f64]) {
     for i in 0..model.dof() {
-        let (joint, x_tree) = (&model.joints[i], &model.x_tree[i]);
+        let (joint, tree) = (&model.joints[i], &model.tree_pose[i]);
         data.xup[i] = match joint.kind {
             JointKind::Revolute | JointKind::Continuous => {
                 let (s, c) = q[i].sin_cos();
                 Xform {
                     e: model.axis_split[i].rotation(s, c),
-                    r: x_tree.r,
+                    r: tree.pos,
                 }
             }
             JointKind::Prismatic => Xform {
-                e: x_tree.e,
-                r: x_tree.r + x_tree.e.tr_mul(&(joint.axis * q[i])),
+                e: tree.rot.transpose(),
+                r: tree.pos + tree.rot * (joint.axis * q[i]),
             },
         };
     }

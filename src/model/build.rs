@@ -112,9 +112,8 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
         source: desc.file.clone(),
         joints: Vec::new(),
         parent: Vec::new(),
-        x_tree: Vec::new(),
-        axis_split: Vec::new(),
         tree_pose: Vec::new(),
+        axis_split: Vec::new(),
         s: Vec::new(),
         inertia: Vec::new(),
         gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
@@ -154,9 +153,9 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
                     Some(moving) => {
                         let body = model.joints.len();
                         model.parent.push(parent_body);
-                        let x_tree = origin.to_xform();
-                        model.axis_split.push(AxisSplit::new(&moving.axis, &x_tree.e));
-                        model.x_tree.push(x_tree);
+                        model
+                            .axis_split
+                            .push(AxisSplit::new(&moving.axis, &origin.to_xform().e));
                         model.tree_pose.push(origin);
                         model.s.push(moving.motion_subspace());
                         model.inertia.push(Inertia::ZERO);

@@ -18,7 +18,7 @@ pub mod urdf;
 pub use description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 pub use package::PackagePaths;
 
-use crate::spatial::{Inertia, Mat3, Motion, Pose, Vec3, Xform, rotation_about_axis, skew};
+use crate::spatial::{Inertia, Mat3, Motion, Pose, Vec3, rotation_about_axis, skew};
 
 /// Standard gravity used by faze4 (m/s²), pointing along world −z.
 pub const STANDARD_GRAVITY: f64 = 9.81;
@@ -93,7 +93,7 @@ impl Joint {
 /// ```
 ///
 /// from Rodrigues, `R(a, q)ᵀ = R(a, −q) = cos q · 1 − sin q · [a]× + (1 − cos q) a aᵀ`. `a` is the
-/// unit axis and `E_T` the tree rotation (parent to joint frame) of [`Model::x_tree`].
+/// unit axis and `E_T` the tree rotation (parent to joint frame), `tree_pose[i].rot`ᵀ.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisSplit {
     /// `P = a aᵀ E_T`: the part of `E_T` along the axis, which the rotation leaves alone.
@@ -144,14 +144,14 @@ pub struct Model {
     pub joints: Vec<Joint>,
     /// `parent[i]`: the body that carries joint i (`None`: the world). Always `< i`.
     pub parent: Vec<Option<usize>>,
-    /// `x_tree[i]`: Plücker transform from the parent body's frame to joint i's frame at
-    /// q = 0 (the URDF joint origin, fixed joints on the way folded in). n entries.
-    pub x_tree: Vec<Xform>,
-    /// `axis_split[i]`: `x_tree[i]`'s rotation split about joint i's axis (used for revolute
-    /// and continuous joints; see [`AxisSplit`]). n entries.
-    pub axis_split: Vec<AxisSplit>,
-    /// `tree_pose[i]`: the same placement as a pose `λ_T_joint` (parent frame → joint frame).
+    /// `tree_pose[i]`: the placement `λ_T_joint` of joint i's frame in its parent body's frame
+    /// at q = 0 (the URDF joint origin, fixed joints on the way folded in); its Plücker
+    /// transform `X_T(i)` is `tree_pose[i].to_xform()`. n entries.
     pub tree_pose: Vec<Pose>,
+    /// `axis_split[i]`: `X_T(i)`'s rotation split about joint i's axis, derived from
+    /// `tree_pose[i]` when the model is built (the 5 kHz loop's form of it; see [`AxisSplit`]).
+    /// n entries.
+    pub(crate) axis_split: Vec<AxisSplit>,
     /// `s[i]`: motion subspace of joint i in body i's frame (6-vector). n entries.
     pub s: Vec<Motion>,
     /// `inertia[i]`: spatial inertia of body i (its link and every link welded to it) about
