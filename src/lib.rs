@@ -1,10 +1,29 @@
 //! faze4: fast, exact rigid-body dynamics of robot arms, and the closed-loop experiments
 //! built on them (a 5 kHz digital PD controller, torque limits, trajectories).
 //!
-//! Layers, bottom up: [`spatial`] (6D algebra), [`model`] (URDF → immutable model),
-//! [`algo`] (kinematics and dynamics on a preallocated workspace), [`control`] (PD + tuning),
-//! [`traj`] (commands), [`sim`] (closed-loop runs), [`output`] (the recorder interface),
-//! [`viz`] (the 3D view, live and exported, and the plot: recorders).
+//! Layers, bottom up (each uses only those below it; `ARCHITECTURE.md` has the table):
+//! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
+//! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
+//! workspace), [`control`] (PD + tuning), [`traj`] (commands), [`ik`] (inverse kinematics),
+//! [`faze4`] (the Faze4 arm's facts), [`sim`] (scenarios, the closed loop, the recorder
+//! interface, the summary and verdict), [`output`] (terminal and trail recorders), [`viz`]
+//! (the 3D view, live and exported, and the plot), [`cli`] (the command line).
+//!
+//! A run from the library, without the command line:
+//!
+//! ```no_run
+//! use faze4::sim::{Scenario, StopFlag, run};
+//! use faze4::traj::{Trajectory, Wave};
+//! # fn main() -> faze4::Result<()> {
+//! let model = faze4::faze4::model();
+//! let wave = Trajectory::Wave(Wave { amplitude: 0.4, omega: 0.5, dof: model.dof() });
+//! let scenario = Scenario::builder(model, wave).payload_kg(1.0).build()?;
+//! let summary = run(&scenario, &mut [], &StopFlag::new())?;
+//! println!("{}", summary.verdict);
+//! # Ok(()) }
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod algo;
 pub mod atomic;

@@ -39,6 +39,7 @@ pub struct WaveArgs {
     /// Amplitude A (degrees).
     #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
     pub amp_deg: f64,
+    /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
 }
@@ -55,6 +56,7 @@ pub struct ReplayArgs {
     /// Simulated time (s).
     #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     pub duration: f64,
+    /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
 }
@@ -79,6 +81,7 @@ pub struct ShapeArgs {
     /// Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it).
     #[arg(long = "save-q", value_name = "F.npy")]
     pub save_q: Option<PathBuf>,
+    /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
 }
