@@ -41,7 +41,8 @@
 //! | `scene.rs` | model (+ board, reference path) → scene blob; samples → f32 records (world pose per visual frame) |
 //! | `page.rs`, `web/` | the viewer page: `index.html` + `viewer.js` (WebGL2, orbit camera, timeline player), inlined |
 //! | `html.rs` | [`HtmlExport`]: one self-contained HTML file, written on `finish`, whole or not at all (`output::atomic`) |
-//! | `live.rs` | [`LiveView`]: std::net HTTP server, page + scene + Server-Sent Events, paced to the wall clock |
+//! | `live.rs` | [`LiveView`]: the recorder, paced to the wall clock |
+//! | `server.rs` | the live view's std::net HTTP server on 127.0.0.1: page + scene + Server-Sent Events |
 //! | `plot.rs` | [`PlotRecorder`]: one SVG/PNG figure (plotters, embedded DejaVu Sans) |
 
 mod html;
@@ -50,6 +51,7 @@ pub mod mesh;
 mod page;
 mod plot;
 pub mod scene;
+mod server;
 mod util;
 
 pub use html::HtmlExport;
