@@ -207,122 +207,159 @@ fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
 
 type Area<'a, DB> = DrawingArea<DB, Shift>;
 
+/// A drawing error as text.
+fn err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
+    e.to_string()
+}
+
 impl PlotRecorder {
+    /// The whole figure: a title, then per joint its angle and its torque, then the tracking
+    /// error of every joint and the path deviation (or the tool position).
     fn draw<DB: DrawingBackend>(&self, root: &Area<DB>) -> std::result::Result<(), String> {
-        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-        root.fill(&WHITE).map_err(e)?;
+        root.fill(&WHITE).map_err(err)?;
         let (top, body) = root.split_vertically(TITLE_HEIGHT);
         top.draw(&Text::new(
             self.title.clone(),
             (16, 12),
             (FAMILY, 20).into_font().color(&BLACK),
         ))
-        .map_err(e)?;
+        .map_err(err)?;
         let n = self.joints.len();
         let panels = body.split_evenly((n + 1, 2));
         let t_end = self.t.last().copied().unwrap_or(1.0).max(1e-6);
-        let column = |k: usize, of: &[Vec<f64>]| of.iter().map(move |v| v[k]).collect::<Vec<f64>>();
         for j in 0..n {
-            let (q, q_cmd, tau) = (column(j, &self.q), column(j, &self.q_cmd), column(j, &self.tau));
-            let name = format!("J{} {}", j + 1, self.joints[j]);
-            // angle against command
-            let y = range(q.iter().chain(&q_cmd).copied());
-            let mut chart = new_chart(
-                &panels[2 * j],
-                &format!("{name}: q (blue), q_cmd (orange), rad"),
-                t_end,
-                y,
-            )?;
-            for (series, colour, width) in [(&q_cmd, COMMAND, 3), (&q, MEASURED, 1)] {
-                chart
-                    .draw_series(LineSeries::new(
-                        self.t.iter().copied().zip(series.iter().copied()),
-                        colour.stroke_width(width),
-                    ))
-                    .map_err(e)?;
-            }
-            // torque against its limit
-            let limit = self.effort.get(j).copied().filter(|x| x.is_finite());
-            let y = range(tau.iter().copied().chain(limit.into_iter().flat_map(|l| [l, -l])));
-            let caption = match limit {
-                Some(l) => format!("{name}: τ (N·m), limit ±{l} (grey)"),
-                None => format!("{name}: τ (N·m), unlimited"),
-            };
-            let mut chart = new_chart(&panels[2 * j + 1], &caption, t_end, y)?;
-            if let Some(l) = limit {
-                for level in [l, -l] {
-                    chart
-                        .draw_series(LineSeries::new([(0.0, level), (t_end, level)], LIMIT.stroke_width(1)))
-                        .map_err(e)?;
-                }
-            }
+            self.draw_angle(&panels[2 * j], j, t_end)?;
+            self.draw_torque(&panels[2 * j + 1], j, t_end)?;
+        }
+        self.draw_tracking_error(&panels[2 * n], t_end)?;
+        match &self.reference {
+            Some(path) => self.draw_path_deviation(&panels[2 * n + 1], path, t_end),
+            None => self.draw_tool_position(&panels[2 * n + 1], t_end),
+        }
+    }
+
+    /// Joint j's values of `of` over the samples.
+    fn column(&self, j: usize, of: &[Vec<f64>]) -> Vec<f64> {
+        of.iter().map(|v| v[j]).collect()
+    }
+
+    fn joint_name(&self, j: usize) -> String {
+        format!("J{} {}", j + 1, self.joints[j])
+    }
+
+    /// Joint j's angle against its command.
+    fn draw_angle<DB: DrawingBackend>(&self, area: &Area<DB>, j: usize, t_end: f64) -> std::result::Result<(), String> {
+        let (q, q_cmd) = (self.column(j, &self.q), self.column(j, &self.q_cmd));
+        let y = range(q.iter().chain(&q_cmd).copied());
+        let caption = format!("{}: q (blue), q_cmd (orange), rad", self.joint_name(j));
+        let mut chart = new_chart(area, &caption, t_end, y)?;
+        for (series, colour, width) in [(&q_cmd, COMMAND, 3), (&q, MEASURED, 1)] {
             chart
                 .draw_series(LineSeries::new(
-                    self.t.iter().copied().zip(tau.iter().copied()),
-                    PALETTE[j % 6].stroke_width(1),
+                    self.t.iter().copied().zip(series.iter().copied()),
+                    colour.stroke_width(width),
                 ))
-                .map_err(e)?;
+                .map_err(err)?;
         }
-        // tracking error of every joint
-        let errors: Vec<Vec<f64>> = (0..n)
+        Ok(())
+    }
+
+    /// Joint j's torque against its limit.
+    fn draw_torque<DB: DrawingBackend>(
+        &self,
+        area: &Area<DB>,
+        j: usize,
+        t_end: f64,
+    ) -> std::result::Result<(), String> {
+        let tau = self.column(j, &self.tau);
+        let limit = self.effort.get(j).copied().filter(|x| x.is_finite());
+        let y = range(tau.iter().copied().chain(limit.into_iter().flat_map(|l| [l, -l])));
+        let caption = match limit {
+            Some(l) => format!("{}: τ (N·m), limit ±{l} (grey)", self.joint_name(j)),
+            None => format!("{}: τ (N·m), unlimited", self.joint_name(j)),
+        };
+        let mut chart = new_chart(area, &caption, t_end, y)?;
+        if let Some(l) = limit {
+            for level in [l, -l] {
+                chart
+                    .draw_series(LineSeries::new([(0.0, level), (t_end, level)], LIMIT.stroke_width(1)))
+                    .map_err(err)?;
+            }
+        }
+        chart
+            .draw_series(LineSeries::new(
+                self.t.iter().copied().zip(tau.iter().copied()),
+                PALETTE[j % 6].stroke_width(1),
+            ))
+            .map_err(err)?;
+        Ok(())
+    }
+
+    /// The tracking error of every joint, in one panel.
+    fn draw_tracking_error<DB: DrawingBackend>(&self, area: &Area<DB>, t_end: f64) -> std::result::Result<(), String> {
+        let errors: Vec<Vec<f64>> = (0..self.joints.len())
             .map(|j| {
-                self.q
-                    .iter()
-                    .zip(&self.q_cmd)
+                (self.q.iter().zip(&self.q_cmd))
                     .map(|(q, c)| (c[j] - q[j]) * 1e3)
                     .collect()
             })
             .collect();
         let y = range(errors.iter().flatten().copied());
-        let mut chart = new_chart(&panels[2 * n], "tracking error q_cmd − q (mrad)", t_end, y)?;
-        for (j, err) in errors.iter().enumerate() {
+        let mut chart = new_chart(area, "tracking error q_cmd − q (mrad)", t_end, y)?;
+        for (j, e) in errors.iter().enumerate() {
             chart
                 .draw_series(LineSeries::new(
-                    self.t.iter().copied().zip(err.iter().copied()),
+                    self.t.iter().copied().zip(e.iter().copied()),
                     PALETTE[j % 6].stroke_width(1),
                 ))
-                .map_err(e)?
+                .map_err(err)?
                 .label(format!("J{}", j + 1))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], PALETTE[j % 6].stroke_width(2)));
         }
-        legend(&mut chart).map_err(e)?;
-        // the path deviation, or the tool position
-        match &self.reference {
-            Some(path) => {
-                let dev: Vec<f64> = self
-                    .tool
-                    .iter()
-                    .map(|p| distance_to_closed_path(p, path) * 1e3)
-                    .collect();
-                let max = dev.iter().copied().fold(0.0, f64::max);
-                let mean = dev.iter().sum::<f64>() / dev.len().max(1) as f64;
-                let y = range(dev.iter().copied().chain([0.0]));
-                let caption = format!("tool distance to the reference path (mm): max {max:.2}, mean {mean:.2}");
-                let mut chart = new_chart(&panels[2 * n + 1], &caption, t_end, y)?;
-                chart
-                    .draw_series(LineSeries::new(
-                        self.t.iter().copied().zip(dev.iter().copied()),
-                        MEASURED.stroke_width(1),
-                    ))
-                    .map_err(e)?;
-            }
-            None => {
-                let y = range(self.tool.iter().flat_map(|p| [p.x, p.y, p.z]));
-                let mut chart = new_chart(&panels[2 * n + 1], "tool position (m)", t_end, y)?;
-                for (a, label) in ["x", "y", "z"].into_iter().enumerate() {
-                    chart
-                        .draw_series(LineSeries::new(
-                            self.t.iter().copied().zip(self.tool.iter().map(|p| p[a])),
-                            PALETTE[a].stroke_width(1),
-                        ))
-                        .map_err(e)?
-                        .label(label)
-                        .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], PALETTE[a].stroke_width(2)));
-                }
-                legend(&mut chart).map_err(e)?;
-            }
-        }
+        legend(&mut chart).map_err(err)
+    }
+
+    /// A shape's tool distance to its reference path.
+    fn draw_path_deviation<DB: DrawingBackend>(
+        &self,
+        area: &Area<DB>,
+        path: &[Vec3],
+        t_end: f64,
+    ) -> std::result::Result<(), String> {
+        let dev: Vec<f64> = self
+            .tool
+            .iter()
+            .map(|p| distance_to_closed_path(p, path) * 1e3)
+            .collect();
+        let max = dev.iter().copied().fold(0.0, f64::max);
+        let mean = dev.iter().sum::<f64>() / dev.len().max(1) as f64;
+        let y = range(dev.iter().copied().chain([0.0]));
+        let caption = format!("tool distance to the reference path (mm): max {max:.2}, mean {mean:.2}");
+        let mut chart = new_chart(area, &caption, t_end, y)?;
+        chart
+            .draw_series(LineSeries::new(
+                self.t.iter().copied().zip(dev.iter().copied()),
+                MEASURED.stroke_width(1),
+            ))
+            .map_err(err)?;
         Ok(())
+    }
+
+    /// The tool position, when there is no reference path.
+    fn draw_tool_position<DB: DrawingBackend>(&self, area: &Area<DB>, t_end: f64) -> std::result::Result<(), String> {
+        let y = range(self.tool.iter().flat_map(|p| [p.x, p.y, p.z]));
+        let mut chart = new_chart(area, "tool position (m)", t_end, y)?;
+        for (a, label) in ["x", "y", "z"].into_iter().enumerate() {
+            chart
+                .draw_series(LineSeries::new(
+                    self.t.iter().copied().zip(self.tool.iter().map(|p| p[a])),
+                    PALETTE[a].stroke_width(1),
+                ))
+                .map_err(err)?
+                .label(label)
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], PALETTE[a].stroke_width(2)));
+        }
+        legend(&mut chart).map_err(err)
     }
 }
 
