@@ -1,4 +1,4 @@
-//! The closed loop: SPEC §2's step driven by SPEC §3's controller.
+//! The closed loop: the discrete step driven by the PD controller (docs/model.md).
 
 use std::time::Instant;
 
@@ -39,9 +39,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let start_q = q.clone();
     let (mut q_cmd, mut v_cmd) = (vec![0.0; n], vec![0.0; n]);
     let (mut tau_raw, mut tau) = (vec![0.0; n], vec![0.0; n]);
-    let mut saturated = vec![0u64; n];
-    let mut max_error = vec![0.0f64; n];
-    let mut metrics = SampleMetrics::new();
+    let mut steps = StepMetrics::new(n);
+    let mut samples = SampleMetrics::new();
 
     let info = RunInfo {
         command: &sc.command,
@@ -58,11 +57,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     for r in recorders.iter_mut() {
         r.begin(&info)?;
     }
-    // each recorder's period in steps, and the next step it is due (counters, not k % every:
-    // an integer division per recorder per step is a measurable share of a 1 µs step)
-    let every: Vec<usize> = recorders.iter().map(|r| steps_per_record(r.period(), dt)).collect();
-    let mut due: Vec<usize> = vec![0; recorders.len()];
-    let mut metrics_due = 0;
+    let mut schedule = Schedule::new(recorders, dt, sc.record_every);
     let mut target = [0.0; 3];
     let mut target_rate = [0.0; 3];
 
@@ -84,17 +79,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 .torque(&q, &v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw, &mut tau);
         }
         if !last {
-            for i in 0..n {
-                max_error[i] = max_error[i].max((q_cmd[i] - q[i]).abs());
-                saturated[i] += u64::from(sc.controller.saturated(i, tau_raw[i]));
-            }
+            steps.add(sc, &q, &q_cmd, &tau_raw);
         }
 
-        let record_metrics = k == metrics_due || last;
-        let recorders_due = due.contains(&k) || last;
-        if k == metrics_due {
-            metrics_due += sc.record_every;
-        }
+        let (record_metrics, recorders_due) = schedule.due(k, last);
         if (record_metrics || recorders_due) && diverged.is_none() {
             let tool = frame_position(model, &q, sc.tool_frame);
             let target = sc.shape.as_ref().map(|s| {
@@ -102,7 +90,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 Vec3::from(target)
             });
             if record_metrics {
-                metrics.add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
+                samples.add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
             }
             let sample = Sample {
                 step: k,
@@ -116,34 +104,15 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 tool,
                 target,
             };
-            for ((r, next), &e) in recorders.iter_mut().zip(due.iter_mut()).zip(&every) {
-                if k == *next || last {
-                    r.record(&sample)?;
-                }
-                if k == *next {
-                    *next += e;
-                }
-            }
+            schedule.record(recorders, k, last, &sample)?;
         }
         if last {
             break;
         }
 
-        // the step; then: still finite, still sane?
         let stepped = integrate_discrete(model, &mut data, &mut q, &mut v, &tau, dt);
         done = k + 1;
-        let bad_joint = (0..n).find(|&i| !q[i].is_finite() || !v[i].is_finite()).or_else(|| {
-            (0..n)
-                .filter(|&i| v[i].abs() > RUNAWAY_SPEED)
-                .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
-        });
-        // a step that cannot be solved names the joint whose pivot failed
-        let unsolvable = match stepped {
-            Ok(()) => None,
-            Err(Error::Diverged { joint, .. }) => Some(joint),
-            Err(e) => return Err(e),
-        };
-        if let Some(joint) = bad_joint.or(unsolvable) {
+        if let Some(joint) = runaway_joint(&q, &v, stepped)? {
             diverged = Some(Diverged {
                 t: done as f64 * dt,
                 joint,
@@ -153,20 +122,21 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     }
     let wall_time_s = wall.elapsed().as_secs_f64();
 
-    let steps_done = done.max(1) as f64;
     let mut summary = Summary {
         dof: n,
         dt,
         steps: done,
         gains: sc.controller.gains.clone(),
-        max_tracking_error_rad: max_error,
-        saturation_pct: saturated.iter().map(|&s| 100.0 * s as f64 / steps_done).collect(),
-        tool_range_m: metrics.range,
+        max_tracking_error_rad: steps.max_error,
+        saturation_pct: (steps.saturated.iter())
+            .map(|&s| 100.0 * s as f64 / done.max(1) as f64)
+            .collect(),
+        tool_range_m: samples.range,
         diverged,
         wall_time_s,
         path_deviation_mm: sc.shape.as_ref().map(|_| PathDeviation {
-            max: metrics.deviation_max * 1e3,
-            mean: metrics.deviation_sum / metrics.samples.max(1) as f64 * 1e3,
+            max: samples.deviation_max * 1e3,
+            mean: samples.deviation_sum / samples.samples.max(1) as f64 * 1e3,
         }),
         ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
         interrupted_at_s,
@@ -178,6 +148,92 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         r.finish(&summary)?;
     }
     Ok(summary)
+}
+
+/// After a step: the joint that has gone bad, if any — a non-finite state, the fastest joint
+/// beyond [`RUNAWAY_SPEED`], or the joint whose pivot failed when the step could not be solved.
+fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<usize>> {
+    let n = q.len();
+    let bad = (0..n).find(|&i| !q[i].is_finite() || !v[i].is_finite()).or_else(|| {
+        (0..n)
+            .filter(|&i| v[i].abs() > RUNAWAY_SPEED)
+            .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
+    });
+    match stepped {
+        Ok(()) => Ok(bad),
+        Err(Error::Diverged { joint, .. }) => Ok(bad.or(Some(joint))),
+        Err(e) => Err(e),
+    }
+}
+
+/// When each recorder and the metric samples are due. Each recorder's period in steps, and the
+/// next step it is due: counters, not `k % every` (an integer division per recorder per step is
+/// a measurable share of a 1 µs step).
+struct Schedule {
+    every: Vec<usize>,
+    due: Vec<usize>,
+    metrics_every: usize,
+    metrics_due: usize,
+}
+
+impl Schedule {
+    fn new(recorders: &[&mut dyn Recorder], dt: f64, metrics_every: usize) -> Self {
+        Schedule {
+            every: recorders.iter().map(|r| steps_per_record(r.period(), dt)).collect(),
+            due: vec![0; recorders.len()],
+            metrics_every,
+            metrics_due: 0,
+        }
+    }
+
+    /// Whether step k takes a metric sample, and whether any recorder records it (the last step
+    /// always does both).
+    #[inline]
+    fn due(&mut self, k: usize, last: bool) -> (bool, bool) {
+        let metrics = k == self.metrics_due || last;
+        if k == self.metrics_due {
+            self.metrics_due += self.metrics_every;
+        }
+        (metrics, last || self.due.contains(&k))
+    }
+
+    /// Hands step k's sample to the recorders that are due, and moves their next due step on.
+    fn record(&mut self, recorders: &mut [&mut dyn Recorder], k: usize, last: bool, sample: &Sample) -> Result<()> {
+        for ((r, next), &e) in recorders.iter_mut().zip(self.due.iter_mut()).zip(&self.every) {
+            if k == *next || last {
+                r.record(sample)?;
+            }
+            if k == *next {
+                *next += e;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Tracking error and saturation over the steps.
+struct StepMetrics {
+    /// max over steps of |q_cmd − q| per joint (rad or m).
+    max_error: Vec<f64>,
+    /// Steps with |τ_raw| ≥ E per joint.
+    saturated: Vec<u64>,
+}
+
+impl StepMetrics {
+    fn new(n: usize) -> Self {
+        StepMetrics {
+            max_error: vec![0.0; n],
+            saturated: vec![0; n],
+        }
+    }
+
+    #[inline]
+    fn add(&mut self, sc: &Scenario, q: &[f64], q_cmd: &[f64], tau_raw: &[f64]) {
+        for i in 0..q.len() {
+            self.max_error[i] = self.max_error[i].max((q_cmd[i] - q[i]).abs());
+            self.saturated[i] += u64::from(sc.controller.saturated(i, tau_raw[i]));
+        }
+    }
 }
 
 /// Tool range and path deviation over the metric samples.
