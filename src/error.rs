@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use crate::id::JointId;
+
 /// Everything that can go wrong in faze4. Every message names the file (or argument), the
 /// element and what is wrong, so that one line on stderr is enough to fix it.
 #[derive(Debug, thiserror::Error)]
@@ -57,12 +59,11 @@ pub enum Error {
     /// Δt·D) is not positive definite. A physical state never does this; a run that has gone
     /// unstable can.
     #[error(
-        "the mass matrix is not positive definite at joint J{} (pivot {pivot:e}): the state is not physical, or the run has gone unstable",
-        joint + 1
+        "the mass matrix is not positive definite at joint {joint} (pivot {pivot:e}): the state is not physical, or the run has gone unstable"
     )]
     Diverged {
-        /// The joint (0-based) whose Cholesky pivot failed: the first that cannot be solved.
-        joint: usize,
+        /// The joint whose Cholesky pivot failed: the first that cannot be solved.
+        joint: JointId,
         /// That pivot (≤ 0 or NaN).
         pivot: f64,
     },

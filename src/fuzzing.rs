@@ -11,7 +11,7 @@ use crate::algo::{
     frame_position, gravity, rnea,
 };
 use crate::error::{Error, Result};
-use crate::model::{Model, PackagePaths, urdf};
+use crate::model::{FrameId, Model, PackagePaths, urdf};
 use crate::traj::npy;
 
 /// The name the fuzzed URDF goes by in error messages.
@@ -103,7 +103,7 @@ fn check_model(model: &Model) {
         );
     }
     for frame in &model.frames {
-        assert!(frame.body.is_none_or(|b| b < n));
+        assert!(frame.body.is_none_or(|b| b.0 < n));
         assert!(
             frame.placement.is_finite(),
             "frame {}: {:?}",
@@ -139,8 +139,8 @@ fn exercise(model: &Model, data: &[u8]) {
         let _ = forward_dynamics(model, &mut d, q, &velocity, &small);
         forward_kinematics(model, &mut d, q);
         for frame in 0..model.frames.len() {
-            frame_jacobian(model, &mut d, frame);
-            let _ = frame_position(model, q, frame);
+            frame_jacobian(model, &mut d, FrameId(frame));
+            let _ = frame_position(model, q, FrameId(frame));
         }
     }
 

@@ -33,6 +33,7 @@ pub mod error;
 pub mod faze4;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod id;
 pub mod ik;
 pub mod model;
 pub mod output;

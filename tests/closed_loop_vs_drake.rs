@@ -198,7 +198,7 @@ fn shape_matches_drake(shape: &str) -> Value {
     let mut data = Data::new(&model);
     for (k, (q, target)) in saved.iter().zip(mat_f64(&fx["targets"])).enumerate() {
         forward_kinematics(&model, &mut data, q);
-        let off = (data.frame_pose[tool].pos - Vec3::new(target[0], target[1], target[2])).norm();
+        let off = (data.frame_pose[tool.0].pos - Vec3::new(target[0], target[1], target[2])).norm();
         assert!(off < 1e-6, "{shape}: sample {k} is {off:e} m off its target");
         assert!(q[3] == 0.0 && q[5] == 0.0, "{shape}: sample {k} moves J4 or J6: {q:?}");
     }

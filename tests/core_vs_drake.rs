@@ -21,7 +21,7 @@ fn model_and_order(fx: &serde_json::Value) -> (Model, Vec<usize>) {
         .as_array()
         .unwrap()
         .iter()
-        .map(|n| model.joint_index(n.as_str().unwrap()).expect("joint in our model"))
+        .map(|n| model.joint_index(n.as_str().unwrap()).expect("joint in our model").0)
         .collect();
     assert_eq!(order.len(), model.dof());
     (model, order)
@@ -52,7 +52,7 @@ fn check_model(fixture_name: &str) {
             let f = model
                 .frame_index(name)
                 .unwrap_or_else(|| panic!("frame {name} missing"));
-            let ours_pose = &data.frame_pose[f];
+            let ours_pose = &data.frame_pose[f.0];
             let p = vec_f64(&pose["p"]);
             let r = mat_f64(&pose["R"]);
             for a in 0..3 {

@@ -10,7 +10,7 @@ use faze4::Error;
 use faze4::algo::{Data, crba, forward_kinematics};
 use faze4::faze4::{BOARD, Q_SEED, SHAPE_FREE_JOINTS, shape_ik_task};
 use faze4::ik::{IkTask, IkWeights, IkWorkspace, solve_path, solve_position};
-use faze4::model::Model;
+use faze4::model::{FrameId, JointId, Model};
 use faze4::spatial::{Mat3, Vec3};
 use faze4::traj::shape::Shape;
 
@@ -21,9 +21,9 @@ fn faze4() -> Model {
 }
 
 /// World position of `frame`'s origin by full forward kinematics.
-fn fk(model: &Model, data: &mut Data, q: &[f64], frame: usize) -> Vec3 {
+fn fk(model: &Model, data: &mut Data, q: &[f64], frame: FrameId) -> Vec3 {
     forward_kinematics(model, data, q);
-    data.frame_pose[frame].pos
+    data.frame_pose[frame.0].pos
 }
 
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -38,7 +38,7 @@ fn shapes_are_solved_exactly_smoothly_and_within_limits() {
     let model = faze4();
     let mut data = Data::new(&model);
     let task = shape_ik_task(&model).unwrap();
-    assert_eq!(model.frames[task.frame].name, "tool_link");
+    assert_eq!(model.frame(task.frame).name, "tool_link");
     for shape in Shape::ALL {
         let targets = shape.targets(POINTS, &BOARD);
         let path = solve_path(&model, &task, &targets, &Q_SEED).unwrap_or_else(|e| panic!("{shape:?}: {e}"));
@@ -151,7 +151,7 @@ fn an_unreachable_target_names_the_sample_and_the_closest_distance() {
     let model = faze4();
     let mut data = Data::new(&model);
     let task = shape_ik_task(&model).unwrap();
-    let base = fk(&model, &mut data, &[0.0; 6], 0);
+    let base = fk(&model, &mut data, &[0.0; 6], FrameId(0));
     let far = base + Vec3::new(1.2, -1.6, 0.0); // 2 m from the base link
     let targets = [Shape::Circle.point(0.0, &BOARD), far];
     let err = solve_path(&model, &task, &targets, &Q_SEED).unwrap_err();
@@ -209,10 +209,10 @@ fn null_vector(rows: &[[f64; 4]; 3]) -> [f64; 4] {
 }
 
 /// Linear Jacobian of `frame` on the free joints, by central differences of FK.
-fn free_jacobian(model: &Model, data: &mut Data, q: &[f64], frame: usize) -> [[f64; 4]; 3] {
+fn free_jacobian(model: &Model, data: &mut Data, q: &[f64], frame: FrameId) -> [[f64; 4]; 3] {
     let mut rows = [[0.0; 4]; 3];
     let h = 1e-6;
-    for (c, &j) in SHAPE_FREE_JOINTS.iter().enumerate() {
+    for (c, &JointId(j)) in SHAPE_FREE_JOINTS.iter().enumerate() {
         let (mut qp, mut qm) = (q.to_vec(), q.to_vec());
         qp[j] += h;
         qm[j] -= h;
@@ -225,7 +225,7 @@ fn free_jacobian(model: &Model, data: &mut Data, q: &[f64], frame: usize) -> [[f
 }
 
 /// Moves `q` back onto p(q) = target by Gauss–Newton with the pseudo-inverse (free joints).
-fn project(model: &Model, data: &mut Data, q: &mut [f64], target: &Vec3, frame: usize) {
+fn project(model: &Model, data: &mut Data, q: &mut [f64], target: &Vec3, frame: FrameId) {
     for _ in 0..20 {
         let e = target - fk(model, data, q, frame);
         if e.norm() < 1e-14 {
@@ -234,7 +234,7 @@ fn project(model: &Model, data: &mut Data, q: &mut [f64], target: &Vec3, frame: 
         let j = free_jacobian(model, data, q, frame);
         let jjt = Mat3::from_fn(|r, c| (0..4).map(|k| j[r][k] * j[c][k]).sum());
         let y = jjt.try_inverse().unwrap() * e;
-        for (c, &jj) in SHAPE_FREE_JOINTS.iter().enumerate() {
+        for (c, &JointId(jj)) in SHAPE_FREE_JOINTS.iter().enumerate() {
             q[jj] += (0..3).map(|r| j[r][c] * y[r]).sum::<f64>();
         }
     }
@@ -245,20 +245,20 @@ fn project(model: &Model, data: &mut Data, q: &mut [f64], target: &Vec3, frame: 
 fn weighted_distance(q: &[f64], q_prev: &[f64], w: &[f64]) -> f64 {
     SHAPE_FREE_JOINTS
         .iter()
-        .map(|&j| 0.5 * w[j] * (q[j] - q_prev[j]).powi(2))
+        .map(|&JointId(j)| 0.5 * w[j] * (q[j] - q_prev[j]).powi(2))
         .sum()
 }
 
 /// Checks that `q` is a local minimum of the weighted distance to `q_prev` on the manifold
 /// p(q) = target: moving along the null space of the free Jacobian (both ways, several sizes)
 /// and back onto the manifold never gets closer to `q_prev`.
-fn assert_weighted_minimum(model: &Model, q: &[f64], q_prev: &[f64], target: &Vec3, frame: usize, w: &[f64]) {
+fn assert_weighted_minimum(model: &Model, q: &[f64], q_prev: &[f64], target: &Vec3, frame: FrameId, w: &[f64]) {
     let mut data = Data::new(model);
     let f0 = weighted_distance(q, q_prev, w);
     let n = null_vector(&free_jacobian(model, &mut data, q, frame));
     for eps in [3e-2, 1e-2, 1e-3, 1e-4, -1e-4, -1e-3, -1e-2, -3e-2] {
         let mut qe = q.to_vec();
-        for (c, &j) in SHAPE_FREE_JOINTS.iter().enumerate() {
+        for (c, &JointId(j)) in SHAPE_FREE_JOINTS.iter().enumerate() {
             qe[j] += eps * n[c];
         }
         project(model, &mut data, &mut qe, target, frame);
@@ -349,7 +349,7 @@ fn a_target_next_to_a_joint_limit_is_solved_within_the_limit() {
     // the same configuration as the three-joint solve holding J5 there
     let mut q_at_limit = q_prev.clone();
     q_at_limit[j5] = upper;
-    let three = IkTask::new(&model, task.frame, &[0, 1, 2]).unwrap();
+    let three = IkTask::new(&model, task.frame, &[JointId(0), JointId(1), JointId(2)]).unwrap();
     let sol3 = solve_position(&model, &mut ws, &three, &target, &q_at_limit).unwrap();
     assert!(max_abs_diff(&sol.q, &sol3.q) < 1e-9, "{:?} vs {:?}", sol.q, sol3.q);
     // the limit costs something: the limited solution is farther from q_prev
@@ -361,10 +361,23 @@ fn a_target_next_to_a_joint_limit_is_solved_within_the_limit() {
 fn bad_tasks_and_inputs_are_rejected() {
     let model = faze4();
     let tool = model.default_tool_frame();
-    assert!(IkTask::new(&model, tool, &[0, 1]).is_err(), "fewer than 3 free joints");
-    assert!(IkTask::new(&model, tool, &[0, 1, 1]).is_err(), "a repeated joint");
-    assert!(IkTask::new(&model, tool, &[0, 1, 9]).is_err(), "joint out of range");
-    assert!(IkTask::new(&model, 99, &[0, 1, 2]).is_err(), "frame out of range");
+    let joints = |ids: &[usize]| ids.iter().map(|&j| JointId(j)).collect::<Vec<_>>();
+    assert!(
+        IkTask::new(&model, tool, &joints(&[0, 1])).is_err(),
+        "fewer than 3 free joints"
+    );
+    assert!(
+        IkTask::new(&model, tool, &joints(&[0, 1, 1])).is_err(),
+        "a repeated joint"
+    );
+    assert!(
+        IkTask::new(&model, tool, &joints(&[0, 1, 9])).is_err(),
+        "joint out of range"
+    );
+    assert!(
+        IkTask::new(&model, FrameId(99), &joints(&[0, 1, 2])).is_err(),
+        "frame out of range"
+    );
     let task = shape_ik_task(&model).unwrap();
     let target = Shape::Circle.point(0.0, &BOARD);
     let mut ws = IkWorkspace::new(&model);

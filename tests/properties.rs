@@ -112,7 +112,7 @@ fn jacobian_is_the_derivative_of_forward_kinematics() {
     for_each_state(|path, model, data, q, _, _| {
         for frame in 0..model.frames.len() {
             forward_kinematics(model, data, q);
-            let jac = frame_jacobian(model, data, frame).clone();
+            let jac = frame_jacobian(model, data, faze4::model::FrameId(frame)).clone();
             for j in 0..model.dof() {
                 let mut qp = q.to_vec();
                 let mut qm = q.to_vec();

@@ -28,7 +28,7 @@ fn tool_positions_match_the_spec_table() {
     ];
     for (q, expected, tol) in table {
         forward_kinematics(&model, &mut data, &q);
-        let p = data.frame_pose[tool].pos;
+        let p = data.frame_pose[tool.0].pos;
         for a in 0..3 {
             assert!(
                 (p[a] - expected[a]).abs() <= tol,
@@ -116,7 +116,7 @@ fn official_description_loads_and_matches_the_bundled_arm() {
         );
         forward_kinematics(&with_tool, &mut a, &q);
         forward_kinematics(&bundled, &mut b, &q);
-        let d = (a.frame_pose[hand].pos - b.frame_pose[bundled.frame_index("hvataljka").unwrap()].pos).norm();
+        let d = (a.frame_pose[hand.0].pos - b.frame_pose[bundled.frame_index("hvataljka").unwrap().0].pos).norm();
         assert!(d < 1e-15);
     }
 }

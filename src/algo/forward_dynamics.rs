@@ -4,7 +4,7 @@ use nalgebra::DVector;
 
 use super::{Data, cholesky_factor, cholesky_solve, compute_all_terms};
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{JointId, Model};
 
 /// `data.qdd = M(q)⁻¹ (τ − D qd − C(q, qd) qd − g(q))`, D the joint damping; also leaves
 /// `data.g`, `data.bias` and `data.m` at (q, qd). Fails only if M(q) is not positive definite.
@@ -16,7 +16,10 @@ pub fn forward_dynamics<'d>(
     tau: &[f64],
 ) -> Result<&'d DVector<f64>> {
     compute_all_terms(model, data, q, qd);
-    cholesky_factor(&data.m, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged { joint, pivot })?;
+    cholesky_factor(&data.m, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged {
+        joint: JointId(joint),
+        pivot,
+    })?;
     for (i, joint) in model.joints.iter().enumerate() {
         data.qdd[i] = tau[i] - joint.damping * qd[i] - data.bias[i];
     }

@@ -1,7 +1,7 @@
 //! The frame Jacobian.
 
 use super::Data;
-use crate::model::{JointKind, Model};
+use crate::model::{FrameId, JointKind, Model};
 
 /// `data.jacobian` (6×n): the spatial velocity of frame `frame` from the joint velocities,
 /// rows angular ω (3) then the linear velocity of the frame origin (3), both in world
@@ -12,10 +12,10 @@ use crate::model::{JointKind, Model};
 /// origin `o`: `(a, a × (p − o))` for a rotation, `(0, a)` for a translation; zero otherwise.
 ///
 /// [`forward_kinematics`]: crate::algo::forward_kinematics
-pub fn frame_jacobian<'d>(model: &Model, data: &'d mut Data, frame: usize) -> &'d nalgebra::DMatrix<f64> {
+pub fn frame_jacobian<'d>(model: &Model, data: &'d mut Data, frame: FrameId) -> &'d nalgebra::DMatrix<f64> {
     data.jacobian.fill(0.0);
-    let p = data.frame_pose[frame].pos;
-    let mut body = model.frames[frame].body;
+    let p = data.frame_pose[frame.0].pos;
+    let mut body = model.frame(frame).body.map(|b| b.0);
     while let Some(j) = body {
         let pose = &data.body_pose[j];
         let joint = &model.joints[j];

@@ -1,7 +1,7 @@
 //! Forward kinematics: joint transforms, and world poses of bodies and frames.
 
 use super::Data;
-use crate::model::{JointKind, Model};
+use crate::model::{FrameId, JointId, JointKind, Model};
 use crate::spatial::{Vec3, Xform};
 
 /// Computes `data.xup[i] = i_X_λ(i)(q)` for every joint: the joint's own motion composed with
@@ -45,7 +45,7 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
     // o_T_frame = o_T_body · body_T_frame
     for (k, frame) in model.frames.iter().enumerate() {
         data.frame_pose[k] = match frame.body {
-            Some(b) => data.body_pose[b].compose(&frame.placement),
+            Some(b) => data.body_pose[b.0].compose(&frame.placement),
             None => frame.placement,
         };
     }
@@ -53,9 +53,9 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
 
 /// World position of frame `frame`'s origin, computed along its own branch only, tip to root
 /// (cheap enough to call at every recorded sample; no workspace needed).
-pub fn frame_position(model: &Model, q: &[f64], frame: usize) -> Vec3 {
-    let f = &model.frames[frame];
-    let Some(body) = f.body else {
+pub fn frame_position(model: &Model, q: &[f64], frame: FrameId) -> Vec3 {
+    let f = model.frame(frame);
+    let Some(JointId(body)) = f.body else {
         return f.placement.pos;
     };
     // walk up to the root, then compose root to tip

@@ -3,7 +3,7 @@
 
 use super::{Data, cholesky_factor, cholesky_solve, compute_all_terms};
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{JointId, Model};
 
 /// Advances (q, v) by one step of length `dt` under the joint forces `tau` (held over the
 /// step): [`compute_all_terms`] at (q, v), then [`integrate_discrete`].
@@ -48,7 +48,10 @@ pub fn integrate_discrete(
         }
     }
     data.limit_rhs.copy_from(&data.rhs);
-    cholesky_factor(&data.step_matrix, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged { joint, pivot })?;
+    cholesky_factor(&data.step_matrix, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged {
+        joint: JointId(joint),
+        pivot,
+    })?;
     cholesky_solve(&data.chol, &mut data.rhs);
     if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
         solve_with_limits(model, data, q, dt);

@@ -7,7 +7,7 @@ use std::path::Path;
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::error::{Error, Result};
 use crate::faze4;
-use crate::model::{Model, PackagePaths};
+use crate::model::{FrameId, Model, PackagePaths};
 use crate::sim::scenario::{finite, non_negative, positive};
 use crate::sim::{Scenario, ScenarioBuilder, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
@@ -73,7 +73,7 @@ pub fn load_model(run: &RunArgs) -> Result<Model> {
 }
 
 /// The tool frame: `--tool-link`, or the model's default.
-pub fn tool_frame(model: &Model, name: Option<&str>) -> Result<usize> {
+pub fn tool_frame(model: &Model, name: Option<&str>) -> Result<FrameId> {
     match name {
         None => Ok(model.default_tool_frame()),
         Some(name) => model.frame_index(name).ok_or_else(|| {

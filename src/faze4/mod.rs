@@ -5,7 +5,7 @@
 
 use crate::error::Result;
 use crate::ik::IkTask;
-use crate::model::{Model, PackagePaths, urdf};
+use crate::model::{JointId, Model, PackagePaths, urdf};
 use crate::spatial::Vec3;
 use crate::traj::shape::Board;
 
@@ -36,8 +36,8 @@ pub const BOARD: Board = Board {
 /// original's seed.
 pub const Q_SEED: [f64; 6] = [0.0104, 0.1795, -0.5049, 0.0, -0.0938, 0.0];
 
-/// The joints the shapes' IK moves: J1, J2, J3 and J5 (J4 = J6 = 0 held), as indices.
-pub const SHAPE_FREE_JOINTS: [usize; 4] = [0, 1, 2, 4];
+/// The joints the shapes' IK moves: J1, J2, J3 and J5 (J4 = J6 = 0 held).
+pub const SHAPE_FREE_JOINTS: [JointId; 4] = [JointId(0), JointId(1), JointId(2), JointId(4)];
 
 /// Time for one loop of a shape (s).
 pub const SHAPE_PERIOD: f64 = 5.0;

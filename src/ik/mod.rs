@@ -31,7 +31,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::algo::Data;
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{FrameId, JointId, Model};
 use crate::spatial::Vec3;
 
 /// Default position tolerance (m): the residual |p_frame(q) − target| a solution reaches.
@@ -57,10 +57,10 @@ pub enum IkWeights {
 #[derive(Clone, Debug, PartialEq)]
 pub struct IkTask {
     /// Index into `model.frames` of the frame whose origin goes on the target.
-    pub frame: usize,
-    /// The free joints (indices into `model.joints`, distinct, at least 3). Every other joint
-    /// is held exactly at its value in `q_prev`.
-    pub free: Vec<usize>,
+    pub frame: FrameId,
+    /// The free joints (distinct, at least 3). Every other joint is held exactly at its value
+    /// in `q_prev`.
+    pub free: Vec<JointId>,
     /// The weighting W of the change from `q_prev`.
     pub weights: IkWeights,
     /// Position residual to reach (m), [`DEFAULT_TOLERANCE_M`] by default.
@@ -73,7 +73,7 @@ impl IkTask {
     /// A task for frame `frame` with free joints `free`, identity weights and the default
     /// tolerance. Fails when the frame or a joint index is out of range, a joint is repeated,
     /// or fewer than 3 joints are free (a position needs 3).
-    pub fn new(model: &Model, frame: usize, free: &[usize]) -> Result<IkTask> {
+    pub fn new(model: &Model, frame: FrameId, free: &[JointId]) -> Result<IkTask> {
         let task = IkTask {
             frame,
             free: free.to_vec(),
@@ -94,12 +94,12 @@ impl IkTask {
     /// Checks the task against `model` (the fields are public, so the solvers check again).
     pub fn validate(&self, model: &Model) -> Result<()> {
         let n = model.dof();
-        if self.frame >= model.frames.len() {
+        if self.frame.0 >= model.frames.len() {
             return Err(Error::ik(
                 "frame",
                 format!(
                     "frame index {} out of range ({} frames)",
-                    self.frame,
+                    self.frame.0,
                     model.frames.len()
                 ),
             ));
@@ -110,14 +110,14 @@ impl IkTask {
                 format!("{} free joints given, a position needs at least 3", self.free.len()),
             ));
         }
-        for (k, &j) in self.free.iter().enumerate() {
+        for (k, &JointId(j)) in self.free.iter().enumerate() {
             if j >= n {
                 return Err(Error::ik(
                     "free joints",
                     format!("joint index {j} out of range ({n} joints)"),
                 ));
             }
-            if self.free[..k].contains(&j) {
+            if self.free[..k].contains(&JointId(j)) {
                 return Err(Error::ik(
                     "free joints",
                     format!("joint {j} ('{}') listed twice", model.joints[j].name),
@@ -131,7 +131,7 @@ impl IkTask {
                     format!("{} weights given, the model has {n} joints", w.len()),
                 ));
             }
-            if let Some(&j) = self.free.iter().find(|&&j| !(w[j] > 0.0 && w[j].is_finite())) {
+            if let Some(&JointId(j)) = (self.free.iter()).find(|&&JointId(j)| !(w[j] > 0.0 && w[j].is_finite())) {
                 return Err(Error::ik(
                     "weights",
                     format!(

@@ -37,7 +37,7 @@ pub fn solve_path(model: &Model, task: &IkTask, targets: &[Vec3], seed: &[f64]) 
         let sol = solve(model, &mut ws, task, target, q_prev).map_err(|closest_m| Error::Unreachable {
             sample: Some((k, targets.len())),
             target: (*target).into(),
-            frame: model.frames[task.frame].name.clone(),
+            frame: model.frame(task.frame).name.clone(),
             closest_m,
         })?;
         max_residual_m = max_residual_m.max(sol.residual_m);

@@ -3,7 +3,7 @@
 use super::{IkSolution, IkTask, IkWeights, IkWorkspace, Limit};
 use crate::algo::{cholesky_factor, cholesky_solve, crba, forward_kinematics, frame_jacobian, frame_position};
 use crate::error::{Error, Result};
-use crate::model::{JointKind, Model};
+use crate::model::{JointId, JointKind, Model};
 use crate::spatial::{Mat3, Vec3};
 
 /// Below this step (rad, max over joints) a subproblem step is taken whole, without the line
@@ -59,7 +59,7 @@ pub fn solve_position(
     solve(model, ws, task, target, q_prev).map_err(|closest_m| Error::Unreachable {
         sample: None,
         target: (*target).into(),
-        frame: model.frames[task.frame].name.clone(),
+        frame: model.frame(task.frame).name.clone(),
         closest_m,
     })
 }
@@ -78,7 +78,7 @@ pub(super) fn check_inputs(model: &Model, task: &IkTask, q: &[f64]) -> Result<()
         if !q[j].is_finite() {
             return Err(Error::ik("q_prev", format!("joint '{}' is {}", joint.name, q[j])));
         }
-        if !task.free.contains(&j) && !joint.within_limits(q[j]) {
+        if !task.free.contains(&JointId(j)) && !joint.within_limits(q[j]) {
             return Err(Error::ik(
                 "q_prev",
                 format!(
@@ -110,14 +110,14 @@ pub(super) fn solve(
 ) -> std::result::Result<IkSolution, f64> {
     set_weights(model, ws, task, q_prev);
     ws.on_branch.fill(false);
-    let mut body = model.frames[task.frame].body;
+    let mut body = model.frame(task.frame).body.map(|b| b.0);
     while let Some(j) = body {
         ws.on_branch[j] = true;
         body = model.parent[j];
     }
     // q_0 = q_prev, free joints clamped into their limits
     ws.q.copy_from_slice(q_prev);
-    for &j in &task.free {
+    for &JointId(j) in &task.free {
         let joint = &model.joints[j];
         ws.q[j] = ws.q[j].clamp(joint.lower, joint.upper);
         ws.active[j] = None;
@@ -146,7 +146,7 @@ pub(super) fn solve(
                     }
                 }
                 // no active set settled: start the next subproblem from none
-                None => task.free.iter().for_each(|&j| ws.active[j] = None),
+                None => task.free.iter().for_each(|&JointId(j)| ws.active[j] = None),
             }
         }
         if sqp_step.is_none() && !damped_step(model, ws, task, target, e_norm, &mut nu) {
@@ -187,8 +187,8 @@ fn set_weights(model: &Model, ws: &mut IkWorkspace, task: &IkTask, q_prev: &[f64
             }
         }
     }
-    let mean = task.free.iter().map(|&j| ws.w[j]).sum::<f64>() / task.free.len() as f64;
-    for &j in &task.free {
+    let mean = task.free.iter().map(|&JointId(j)| ws.w[j]).sum::<f64>() / task.free.len() as f64;
+    for &JointId(j) in &task.free {
         ws.w[j] /= mean;
     }
 }
@@ -199,7 +199,7 @@ fn set_weights(model: &Model, ws: &mut IkWorkspace, task: &IkTask, q_prev: &[f64
 fn linearise(model: &Model, ws: &mut IkWorkspace, task: &IkTask) -> Vec3 {
     forward_kinematics(model, &mut ws.data, &ws.q);
     let jac = frame_jacobian(model, &mut ws.data, task.frame);
-    for &j in &task.free {
+    for &JointId(j) in &task.free {
         // rows 3..6 of the 6×n spatial Jacobian: the origin's linear velocity
         ws.col[j] = Vec3::new(jac[(3, j)], jac[(4, j)], jac[(5, j)]);
         ws.axis[j] = match model.joints[j].kind {
@@ -207,7 +207,7 @@ fn linearise(model: &Model, ws: &mut IkWorkspace, task: &IkTask) -> Vec3 {
             JointKind::Prismatic => Vec3::zeros(),
         };
     }
-    ws.data.frame_pose[task.frame].pos
+    ws.data.frame_pose[task.frame.0].pos
 }
 
 /// ∂²p/∂q_j∂q_k (world, m/rad²) for joints j, k on the frame's branch: ω_a × c_b, with a the
@@ -248,8 +248,8 @@ fn subproblem(
     // H_jk = w_j δ_jk − λ · ∂²p/∂q_j∂q_k
     let lambda_model = if exact { ws.lambda } else { Vec3::zeros() };
     ws.hess.fill(0.0);
-    for &j in free {
-        for &k in free {
+    for &JointId(j) in free {
+        for &JointId(k) in free {
             let w = if j == k { ws.w[j] } else { 0.0 };
             ws.hess[(j, k)] = w - lambda_model.dot(&second_derivative(ws, j, k));
         }
@@ -262,15 +262,15 @@ fn subproblem(
     for _ in 0..2 * free.len() + 2 {
         // Δ_A on the limits; R the joints off them
         ws.step.fill(0.0);
-        for &j in free {
+        for &JointId(j) in free {
             if let Some(limit) = ws.active[j] {
                 ws.step[j] = bound(ws, j, limit);
             }
         }
         let mean_c2 = free
             .iter()
-            .filter(|&&j| ws.active[j].is_none())
-            .map(|&j| ws.col[j].norm_squared())
+            .filter(|&&JointId(j)| ws.active[j].is_none())
+            .map(|&JointId(j)| ws.col[j].norm_squared())
             .sum::<f64>()
             / free.len() as f64;
         // M = H_RR + σ C_RᵀC_R, the identity outside R (those rows decouple)
@@ -278,8 +278,8 @@ fn subproblem(
         for scale in CONVEXIFY {
             let s = if scale == 0.0 { 0.0 } else { scale / mean_c2 };
             ws.reduced.fill_with_identity();
-            for &j in free.iter().filter(|&&j| ws.active[j].is_none()) {
-                for &k in free.iter().filter(|&&k| ws.active[k].is_none()) {
+            for &JointId(j) in free.iter().filter(|&&JointId(j)| ws.active[j].is_none()) {
+                for &JointId(k) in free.iter().filter(|&&JointId(k)| ws.active[k].is_none()) {
                     ws.reduced[(j, k)] = ws.hess[(j, k)] + s * ws.col[j].dot(&ws.col[k]);
                 }
             }
@@ -292,18 +292,18 @@ fn subproblem(
         // h_R = g_R + H_RA Δ_A + σ C_Rᵀ (C_A Δ_A − e),  C_A Δ_A = Σ_A c_j Δ_j
         let ca: Vec3 = free
             .iter()
-            .filter(|&&j| ws.active[j].is_some())
-            .map(|&j| ws.col[j] * ws.step[j])
+            .filter(|&&JointId(j)| ws.active[j].is_some())
+            .map(|&JointId(j)| ws.col[j] * ws.step[j])
             .sum();
         for i in 0..3 {
             ws.m_inv_c[i].fill(0.0);
         }
         ws.m_inv_h.fill(0.0);
-        for &j in free.iter().filter(|&&j| ws.active[j].is_none()) {
+        for &JointId(j) in free.iter().filter(|&&JointId(j)| ws.active[j].is_none()) {
             let h_ra: f64 = free
                 .iter()
-                .filter(|&&k| ws.active[k].is_some())
-                .map(|&k| ws.hess[(j, k)] * ws.step[k])
+                .filter(|&&JointId(k)| ws.active[k].is_some())
+                .map(|&JointId(k)| ws.hess[(j, k)] * ws.step[k])
                 .sum();
             ws.m_inv_h[j] = grad(ws, j) + h_ra + sigma * ws.col[j].dot(&(ca - e));
             for i in 0..3 {
@@ -318,7 +318,7 @@ fn subproblem(
         // (C_R Y) λ = e − C_A Δ_A + C_R z,  then Δ_R = Y λ − z
         let mut schur = Mat3::zeros();
         let mut rhs = e - ca;
-        for &j in free.iter().filter(|&&j| ws.active[j].is_none()) {
+        for &JointId(j) in free.iter().filter(|&&JointId(j)| ws.active[j].is_none()) {
             for i in 0..3 {
                 for l in 0..3 {
                     schur[(i, l)] += ws.col[j][i] * ws.m_inv_c[l][j];
@@ -330,12 +330,12 @@ fn subproblem(
         if !lambda.iter().all(|x| x.is_finite()) {
             return None;
         }
-        for &j in free.iter().filter(|&&j| ws.active[j].is_none()) {
+        for &JointId(j) in free.iter().filter(|&&JointId(j)| ws.active[j].is_none()) {
             ws.step[j] = (0..3).map(|i| ws.m_inv_c[i][j] * lambda[i]).sum::<f64>() - ws.m_inv_h[j];
         }
         // the joint crossing its limit the most becomes active
         let mut worst: Option<(usize, Limit, f64)> = None;
-        for &j in free.iter().filter(|&&j| ws.active[j].is_none()) {
+        for &JointId(j) in free.iter().filter(|&&JointId(j)| ws.active[j].is_none()) {
             let (lo, hi) = (bound(ws, j, Limit::Lower), bound(ws, j, Limit::Upper));
             let (limit, excess) = if ws.step[j] < lo {
                 (Limit::Lower, lo - ws.step[j])
@@ -353,9 +353,9 @@ fn subproblem(
         // an active limit whose multiplier μ_j = (H Δ)_j + g_j − c_j·λ pulls out of the box
         // (μ < 0 at a lower limit, μ > 0 at an upper one) is released, the worst first
         let mut release: Option<(usize, f64)> = None;
-        for &j in free {
+        for &JointId(j) in free {
             let Some(limit) = ws.active[j] else { continue };
-            let h_delta: f64 = free.iter().map(|&k| ws.hess[(j, k)] * ws.step[k]).sum();
+            let h_delta: f64 = free.iter().map(|&JointId(k)| ws.hess[(j, k)] * ws.step[k]).sum();
             let mu = h_delta + grad(ws, j) - ws.col[j].dot(&lambda);
             let wrong = if limit == Limit::Lower { -mu } else { mu };
             if wrong > 0.0 && release.is_none_or(|(_, x)| wrong > x) {
@@ -367,7 +367,7 @@ fn subproblem(
             continue;
         }
         // Δ clamped onto the limits it may cross by LIMIT_SLACK
-        for &j in free {
+        for &JointId(j) in free {
             ws.step[j] = ws.step[j].clamp(bound(ws, j, Limit::Lower), bound(ws, j, Limit::Upper));
         }
         return Some(lambda);
@@ -387,9 +387,13 @@ fn line_search(
     e_norm: f64,
     rho: f64,
 ) -> Option<f64> {
-    let size = task.free.iter().map(|&j| ws.step[j].abs()).fold(0.0, f64::max);
+    let size = task.free.iter().map(|&JointId(j)| ws.step[j].abs()).fold(0.0, f64::max);
     let merit = |w: &[f64], q: &[f64], e: f64| {
-        let d2: f64 = task.free.iter().map(|&j| w[j] * (q[j] - q_prev[j]).powi(2)).sum();
+        let d2: f64 = task
+            .free
+            .iter()
+            .map(|&JointId(j)| w[j] * (q[j] - q_prev[j]).powi(2))
+            .sum();
         0.5 * d2 + rho * e
     };
     // slope of φ along Δ at α = 0: Σ w_j (q_k,j − q_prev,j) Δ_j − ρ|e_k| (the linearised
@@ -397,7 +401,7 @@ fn line_search(
     let slope: f64 = task
         .free
         .iter()
-        .map(|&j| ws.w[j] * (ws.q[j] - q_prev[j]) * ws.step[j])
+        .map(|&JointId(j)| ws.w[j] * (ws.q[j] - q_prev[j]) * ws.step[j])
         .sum::<f64>()
         - rho * e_norm;
     let phi0 = merit(&ws.w, &ws.q, e_norm);
@@ -419,7 +423,7 @@ fn line_search(
 /// `ws.q_try = ws.q + α·ws.step`, free joints clamped into their limits (against rounding).
 fn trial_point(model: &Model, ws: &mut IkWorkspace, task: &IkTask, alpha: f64) {
     ws.q_try.copy_from_slice(&ws.q);
-    for &j in &task.free {
+    for &JointId(j) in &task.free {
         let joint = &model.joints[j];
         ws.q_try[j] = (ws.q[j] + alpha * ws.step[j]).clamp(joint.lower, joint.upper);
     }
@@ -429,7 +433,7 @@ fn trial_point(model: &Model, ws: &mut IkWorkspace, task: &IkTask, alpha: f64) {
 /// Δ = W⁻¹Cᵀ (C W⁻¹ Cᵀ + ν|e|² I)⁻¹ e, joints that would cross a limit held on it; the damping
 /// grows 10× until |e| decreases. On success `ws.q_try` holds the new point and `nu` is relaxed.
 fn damped_step(model: &Model, ws: &mut IkWorkspace, task: &IkTask, target: &Vec3, e_norm: f64, nu: &mut f64) -> bool {
-    let e = target - ws.data.frame_pose[task.frame].pos;
+    let e = target - ws.data.frame_pose[task.frame.0].pos;
     // bounds on Δ_j: lower_j − q_k,j ≤ Δ_j ≤ upper_j − q_k,j
     let bound = |q: &[f64], j: usize, limit: Limit| match limit {
         Limit::Lower => model.joints[j].lower - q[j],
@@ -440,14 +444,14 @@ fn damped_step(model: &Model, ws: &mut IkWorkspace, task: &IkTask, target: &Vec3
     }
     'tries: for _ in 0..DAMPING_TRIES {
         let damping = *nu * e_norm * e_norm;
-        for &j in &task.free {
+        for &JointId(j) in &task.free {
             ws.held[j] = None;
         }
         for _ in 0..=task.free.len() {
             // (Σ_free c_j c_jᵀ / w_j + μ² I) λ = e − Σ_held c_j Δ_j,  Δ_j = c_j·λ / w_j
             let mut a = Mat3::identity() * damping;
             let mut b = e;
-            for &j in &task.free {
+            for &JointId(j) in &task.free {
                 match ws.held[j] {
                     None => a += ws.col[j] * ws.col[j].transpose() / ws.w[j],
                     Some(limit) => b -= ws.col[j] * bound(&ws.q, j, limit),
@@ -459,7 +463,7 @@ fn damped_step(model: &Model, ws: &mut IkWorkspace, task: &IkTask, target: &Vec3
             };
             let lambda = chol.solve(&b);
             let mut crossed = false;
-            for &j in &task.free {
+            for &JointId(j) in &task.free {
                 if let Some(limit) = ws.held[j] {
                     ws.step[j] = bound(&ws.q, j, limit);
                     continue;
@@ -492,6 +496,7 @@ fn damped_step(model: &Model, ws: &mut IkWorkspace, task: &IkTask, target: &Vec3
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::FrameId;
     use crate::model::PackagePaths;
 
     fn load(rel: &str) -> Model {
@@ -515,13 +520,14 @@ mod tests {
                 .map(|i| 0.3 + 0.17 * i as f64 * if i % 2 == 0 { 1.0 } else { -1.0 })
                 .collect();
             for frame in 1..model.frames.len() {
+                let frame = FrameId(frame);
                 let task = IkTask {
                     frame,
-                    free: (0..n).collect(),
-                    ..IkTask::new(&model, frame, &[0, 1, 2]).unwrap()
+                    free: JointId::all(n).collect(),
+                    ..IkTask::new(&model, frame, &[JointId(0), JointId(1), JointId(2)]).unwrap()
                 };
                 ws.on_branch.fill(false);
-                let mut body = model.frames[frame].body;
+                let mut body = model.frame(frame).body.map(|b| b.0);
                 while let Some(j) = body {
                     ws.on_branch[j] = true;
                     body = model.parent[j];
@@ -543,7 +549,8 @@ mod tests {
                         let exact = second_derivative(&ws, j, k);
                         assert!(
                             (fd - exact).norm() < 1e-8,
-                            "{rel} frame {frame} ({j}, {k}): {exact:?} vs {fd:?}"
+                            "{rel} frame {} ({j}, {k}): {exact:?} vs {fd:?}",
+                            frame.0
                         );
                     }
                 }

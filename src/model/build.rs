@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
-use super::{AxisSplit, Frame, Joint, JointKind, Model, STANDARD_GRAVITY};
+use super::{AxisSplit, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result};
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
@@ -152,7 +152,7 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
                     },
                     Some(moving) => {
                         let body = model.joints.len();
-                        model.parent.push(parent_body);
+                        model.parent.push(parent_body.map(|b| b.0));
                         model
                             .axis_split
                             .push(AxisSplit::new(&moving.axis, &origin.to_xform().e));
@@ -162,7 +162,7 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
                         model.joints.push(moving);
                         Frame {
                             name: joint.child.clone(),
-                            body: Some(body),
+                            body: Some(JointId(body)),
                             placement: Pose::IDENTITY,
                         }
                     }
@@ -173,7 +173,7 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
         let link_desc = &desc.links[link];
         if let Some(inertial) = &link_desc.inertial {
             let inertia = link_inertia(file, &link_desc.name, inertial)?;
-            if let Some(body) = frame.body {
+            if let Some(JointId(body)) = frame.body {
                 // Express the link's inertia in its body's frame: Xᵀ I X with X = link_X_body.
                 model.inertia[body] += inertia.transform_to_source(&frame.placement.to_xform());
                 if !model.inertia[body].is_finite() {

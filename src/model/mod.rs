@@ -18,6 +18,8 @@ pub mod urdf;
 pub use description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 pub use package::PackagePaths;
 
+pub use crate::id::{FrameId, JointId};
+
 use crate::spatial::{Inertia, Mat3, Motion, Pose, Vec3, rotation_about_axis, skew};
 
 /// Standard gravity used by faze4 (m/s²), pointing along world −z.
@@ -127,8 +129,9 @@ impl AxisSplit {
 pub struct Frame {
     /// The URDF link name.
     pub name: String,
-    /// The body it is fixed to; `None` for frames welded to the world.
-    pub body: Option<usize>,
+    /// The body it is fixed to (body i is moved by joint i); `None` for frames welded to the
+    /// world.
+    pub body: Option<JointId>,
     /// Its placement `body_T_frame` in that body's frame (or in the world).
     pub placement: Pose,
 }
@@ -171,20 +174,30 @@ impl Model {
         self.joints.len()
     }
 
-    /// Index of the frame named `name`.
-    pub fn frame_index(&self, name: &str) -> Option<usize> {
-        self.frames.iter().position(|f| f.name == name)
+    /// The frame named `name`.
+    pub fn frame_index(&self, name: &str) -> Option<FrameId> {
+        self.frames.iter().position(|f| f.name == name).map(FrameId)
     }
 
-    /// Index of the joint named `name`.
-    pub fn joint_index(&self, name: &str) -> Option<usize> {
-        self.joints.iter().position(|j| j.name == name)
+    /// The joint named `name`.
+    pub fn joint_index(&self, name: &str) -> Option<JointId> {
+        self.joints.iter().position(|j| j.name == name).map(JointId)
+    }
+
+    /// Frame `id`.
+    pub fn frame(&self, id: FrameId) -> &Frame {
+        &self.frames[id.0]
+    }
+
+    /// Joint `id`.
+    pub fn joint(&self, id: JointId) -> &Joint {
+        &self.joints[id.0]
     }
 
     /// The frame a tool is taken at by default: `tool_link` if the model has one, otherwise
     /// the last link of the chain (the last frame in depth-first order).
-    pub fn default_tool_frame(&self) -> usize {
-        self.frame_index("tool_link").unwrap_or(self.frames.len() - 1)
+    pub fn default_tool_frame(&self) -> FrameId {
+        self.frame_index("tool_link").unwrap_or(FrameId(self.frames.len() - 1))
     }
 
     /// Joint damping coefficients, one per joint.
@@ -194,16 +207,16 @@ impl Model {
 
     /// This model with a point mass `mass` (kg) fixed at the origin of frame `frame` (e.g. a
     /// payload at the tool).
-    pub fn with_point_mass(&self, frame: usize, mass: f64) -> Model {
+    pub fn with_point_mass(&self, frame: FrameId, mass: f64) -> Model {
         self.with_added_inertia(frame, Inertia::point_mass(mass, Vec3::zeros()))
     }
 
     /// This model with a rigid body of inertia `inertia` (given about frame `frame`'s origin,
     /// in its coordinates) welded to that frame. A frame welded to the world changes nothing.
-    pub fn with_added_inertia(&self, frame: usize, inertia: Inertia) -> Model {
+    pub fn with_added_inertia(&self, frame: FrameId, inertia: Inertia) -> Model {
         let mut model = self.clone();
-        let f = &self.frames[frame];
-        if let Some(b) = f.body {
+        let f = self.frame(frame);
+        if let Some(JointId(b)) = f.body {
             model.inertia[b] += inertia.transform_to_source(&f.placement.to_xform());
         }
         model

@@ -129,7 +129,7 @@ impl Recorder for Terminal {
         ))?;
         out(&format!(
             "[faze4] tool {} · gravity feed-forward {}",
-            m.frames[run.tool_frame].name,
+            m.frame(run.tool_frame).name,
             if run.feedforward { "on" } else { "off" }
         ))?;
         let gains = run.gains;

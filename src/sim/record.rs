@@ -5,7 +5,7 @@
 
 use super::Summary;
 use crate::control::Gains;
-use crate::model::Model;
+use crate::model::{FrameId, Model};
 use crate::spatial::Vec3;
 use crate::traj::shape::Board;
 
@@ -17,7 +17,7 @@ pub struct RunInfo<'a> {
     /// The simulated model (payload included).
     pub model: &'a Model,
     /// The frame whose origin is the tool (trail x, y, z).
-    pub tool_frame: usize,
+    pub tool_frame: FrameId,
     /// Control and integration period Δt (s).
     pub dt: f64,
     /// Number of steps the run will take.

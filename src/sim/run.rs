@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use crate::algo::{Data, compute_all_terms, frame_position, integrate_discrete};
 use crate::error::{Error, Result};
-use crate::model::JointKind;
+use crate::model::{JointId, JointKind};
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
@@ -152,13 +152,16 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
 
 /// After a step: the joint that has gone bad, if any — a non-finite state, the fastest joint
 /// beyond [`RUNAWAY_SPEED`], or the joint whose pivot failed when the step could not be solved.
-fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<usize>> {
+fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<JointId>> {
     let n = q.len();
-    let bad = (0..n).find(|&i| !q[i].is_finite() || !v[i].is_finite()).or_else(|| {
-        (0..n)
-            .filter(|&i| v[i].abs() > RUNAWAY_SPEED)
-            .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
-    });
+    let bad = (0..n)
+        .find(|&i| !q[i].is_finite() || !v[i].is_finite())
+        .or_else(|| {
+            (0..n)
+                .filter(|&i| v[i].abs() > RUNAWAY_SPEED)
+                .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
+        })
+        .map(JointId);
     match stepped {
         Ok(()) => Ok(bad),
         Err(Error::Diverged { joint, .. }) => Ok(bad.or(Some(joint))),

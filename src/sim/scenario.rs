@@ -20,7 +20,7 @@ use crate::control::{Gains, Pd, auto_tune};
 use crate::error::{Error, Result};
 use crate::faze4;
 use crate::ik::{IkTask, solve_path};
-use crate::model::Model;
+use crate::model::{FrameId, JointId, Model};
 use crate::spatial::Vec3;
 use crate::traj::shape::{Board, Shape};
 use crate::traj::{Interpolated, Trajectory, Wrap};
@@ -42,8 +42,8 @@ pub struct Scenario {
     pub command: String,
     /// The simulated model (payload included; gravity as the run wants it).
     pub model: Model,
-    /// The frame traced as the tool (index into `model.frames`).
-    pub tool_frame: usize,
+    /// The frame traced as the tool.
+    pub tool_frame: FrameId,
     /// The joint command.
     pub trajectory: Trajectory,
     /// Control and integration period Δt (s).
@@ -107,18 +107,18 @@ impl ShapeRun {
     /// [`faze4::SHAPE_PERIOD`]. On a Faze4 model the IK moves J1, J2, J3 and J5 from
     /// [`faze4::Q_SEED`] (J4 = J6 = 0); on any other arm every joint is free, from the zero pose
     /// clamped into the limits. Returns the joint command and the drawing part of the run.
-    pub fn plan(model: &Model, tool: usize, shape: Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
+    pub fn plan(model: &Model, tool: FrameId, shape: Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
         if points < 3 {
             return Err(Error::argument(
                 "--shape-points",
                 format!("{points} samples cannot make a closed path: at least 3"),
             ));
         }
-        let (free, seed): (Vec<usize>, Vec<f64>) = if faze4::is_faze4(model) {
+        let (free, seed): (Vec<JointId>, Vec<f64>) = if faze4::is_faze4(model) {
             (faze4::SHAPE_FREE_JOINTS.to_vec(), faze4::Q_SEED.to_vec())
         } else {
             let seed = model.joints.iter().map(|j| 0.0_f64.clamp(j.lower, j.upper)).collect();
-            ((0..model.dof()).collect(), seed)
+            (JointId::all(model.dof()).collect(), seed)
         };
         let task = IkTask::new(model, tool, &free)?;
         let targets = shape.targets(points, &faze4::BOARD);
@@ -177,7 +177,7 @@ pub struct ScenarioBuilder {
     payload_kg: f64,
     gravity: bool,
     feedforward: bool,
-    tool_frame: Option<usize>,
+    tool_frame: Option<FrameId>,
     effort: Option<Vec<f64>>,
     kp: Vec<Option<f64>>,
     kd: Vec<Option<f64>>,
@@ -228,8 +228,8 @@ impl ScenarioBuilder {
         self
     }
 
-    /// The frame traced as the tool (index into `model.frames`).
-    pub fn tool_frame(mut self, frame: usize) -> Self {
+    /// The frame traced as the tool.
+    pub fn tool_frame(mut self, frame: FrameId) -> Self {
         self.tool_frame = Some(frame);
         self
     }
@@ -284,10 +284,14 @@ impl ScenarioBuilder {
             ));
         }
         let tool_frame = self.tool_frame.unwrap_or_else(|| model.default_tool_frame());
-        if tool_frame >= model.frames.len() {
+        if tool_frame.0 >= model.frames.len() {
             return Err(Error::argument(
                 "--tool-link",
-                format!("frame index {tool_frame} out of range ({} frames)", model.frames.len()),
+                format!(
+                    "frame index {} out of range ({} frames)",
+                    tool_frame.0,
+                    model.frames.len()
+                ),
             ));
         }
         let steps = steps(self.duration, self.dt)?;

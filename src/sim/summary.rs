@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::Verdict;
 use crate::control::Gains;
+use crate::model::JointId;
 
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -21,15 +22,15 @@ pub struct ToolRange {
 pub struct Diverged {
     /// Simulated time of the step that went bad (s).
     pub t: f64,
-    /// The joint that went bad (0-based here; 1-based, J1..Jn, in the JSON).
+    /// The joint that went bad (1-based, J1..Jn, in the JSON).
     #[serde(serialize_with = "one_based")]
-    pub joint: usize,
+    pub joint: JointId,
     /// b = Δt²·kp/I per joint.
     pub stiffness_b: Vec<f64>,
 }
 
-fn one_based<S: serde::Serializer>(joint: &usize, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_u64(*joint as u64 + 1)
+fn one_based<S: serde::Serializer>(joint: &JointId, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_u64(joint.0 as u64 + 1)
 }
 
 /// Distance from the tool to the closed reference path over the trail samples (mm).

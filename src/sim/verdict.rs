@@ -11,6 +11,7 @@ use std::fmt;
 use serde::{Serialize, Serializer};
 
 use super::Summary;
+use crate::model::JointId;
 
 /// The limits a run must stay within to follow its command.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,20 +35,20 @@ impl Default for Thresholds {
     }
 }
 
-/// Why a run cannot follow its command. Joints are 0-based here and J1…Jn in the text.
+/// Why a run cannot follow its command.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Reason {
     /// The loop went unstable at time `t` (s) on joint `joint`.
     Diverged {
         /// Simulated time (s).
         t: f64,
-        /// The joint (0-based).
-        joint: usize,
+        /// The joint.
+        joint: JointId,
     },
     /// A joint's torque reached its limit in more than the allowed share of the steps.
     Saturates {
-        /// The joint (0-based).
-        joint: usize,
+        /// The joint.
+        joint: JointId,
         /// Its share of saturated steps (%).
         pct: f64,
         /// The allowed share (%).
@@ -55,8 +56,8 @@ pub enum Reason {
     },
     /// A joint's tracking error went beyond the allowed error.
     TrackingError {
-        /// The joint (0-based).
-        joint: usize,
+        /// The joint.
+        joint: JointId,
         /// Its largest |q_cmd − q| (rad or m).
         error: f64,
         /// The allowed error (rad or m).
@@ -76,14 +77,9 @@ pub enum Reason {
 impl fmt::Display for Reason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Reason::Diverged { t, joint } => write!(f, "the loop diverged at t = {t:.4} s on J{}", joint + 1),
+            Reason::Diverged { t, joint } => write!(f, "the loop diverged at t = {t:.4} s on {joint}"),
             Reason::Saturates { joint, pct, limit } => {
-                write!(
-                    f,
-                    "J{} saturates {} of the steps (limit {limit} %)",
-                    joint + 1,
-                    percent(pct)
-                )
+                write!(f, "{joint} saturates {} of the steps (limit {limit} %)", percent(pct))
             }
             Reason::TrackingError {
                 joint,
@@ -92,11 +88,7 @@ impl fmt::Display for Reason {
                 prismatic,
             } => {
                 let unit = if prismatic { "m" } else { "rad" };
-                write!(
-                    f,
-                    "J{} tracking error {error:.3} {unit} (limit {limit} {unit})",
-                    joint + 1
-                )
+                write!(f, "{joint} tracking error {error:.3} {unit} (limit {limit} {unit})")
             }
             Reason::PathDeviation { max_mm, limit } => {
                 write!(f, "path deviation {max_mm:.1} mm (limit {limit} mm)")
@@ -140,7 +132,7 @@ impl Verdict {
         if let Some(d) = &summary.diverged {
             reasons.push(Reason::Diverged { t: d.t, joint: d.joint });
         }
-        for (joint, &pct) in summary.saturation_pct.iter().enumerate() {
+        for (joint, &pct) in JointId::all(summary.dof).zip(&summary.saturation_pct) {
             if pct > thresholds.max_saturation_pct {
                 reasons.push(Reason::Saturates {
                     joint,
@@ -149,13 +141,13 @@ impl Verdict {
                 });
             }
         }
-        for (joint, &error) in summary.max_tracking_error_rad.iter().enumerate() {
+        for (joint, &error) in JointId::all(summary.dof).zip(&summary.max_tracking_error_rad) {
             if error > thresholds.max_error || error.is_nan() {
                 reasons.push(Reason::TrackingError {
                     joint,
                     error,
                     limit: thresholds.max_error,
-                    prismatic: prismatic.get(joint).copied().unwrap_or(false),
+                    prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
                 });
             }
         }
@@ -192,6 +184,7 @@ mod tests {
 
     fn summary(saturation: [f64; 2], error: [f64; 2], deviation: Option<f64>) -> Summary {
         Summary {
+            dof: 2,
             saturation_pct: saturation.to_vec(),
             max_tracking_error_rad: error.to_vec(),
             path_deviation_mm: deviation.map(|max| PathDeviation { max, mean: max / 2.0 }),
@@ -229,7 +222,7 @@ mod tests {
         let mut s = summary([0.0, 0.0], [0.0, 0.0], None);
         s.diverged = Some(Diverged {
             t: 0.0016,
-            joint: 1,
+            joint: JointId(1),
             stiffness_b: vec![0.4, 0.4],
         });
         let v = Verdict::judge(&s, &Thresholds::default(), &[false; 2]);

@@ -37,7 +37,7 @@ pub struct LiveHandle {
 
 impl LiveView {
     /// Starts serving on `127.0.0.1:port` (0: any free port) and prints the address on stderr.
-    /// A port already in use is an [`Error::InvalidArgument`] for `--port`.
+    /// A port already in use is an [`Error::InvalidArgument`](crate::Error::InvalidArgument) for `--port`.
     pub fn start(port: u16) -> Result<LiveView> {
         let server = Server::start(port, page::render("faze4 · live view", &json!({"mode": "live"})))?;
         let view = LiveView {

@@ -206,7 +206,7 @@ impl Scene {
             "dt": run.dt,
             "duration": run.steps as f64 * run.dt,
             "period": period,
-            "tool_frame": run.model.frames[run.tool_frame].name,
+            "tool_frame": run.model.frame(run.tool_frame).name,
         });
         scene
     }
@@ -351,7 +351,7 @@ fn fallback_boxes(model: &Model, frame: usize) -> Vec<(Pose, Vec3)> {
     let f = &model.frames[frame];
     let inv = f.placement.inverse();
     let mut ends: Vec<Vec3> = (0..model.dof())
-        .filter(|&j| model.parent[j] == f.body)
+        .filter(|&j| model.parent[j] == f.body.map(|b| b.0))
         .map(|j| inv.compose(&model.tree_pose[j]).pos)
         .collect();
     if ends.is_empty() {
