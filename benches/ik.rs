@@ -1,4 +1,4 @@
-//! Inverse kinematics of SPEC §4's shapes: `cargo bench --bench ik`.
+//! Inverse kinematics of the original's shapes: `cargo bench --bench ik`.
 
 use std::hint::black_box;
 use std::path::Path;

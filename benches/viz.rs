@@ -1,4 +1,4 @@
-//! Time to write the HTML export of SPEC §6's budget case: a 12 s circle recorded every
+//! Time to write the HTML export of the 3D view's budget case: a 12 s circle recorded every
 //! 0.02 s (601 samples) with the official meshes (reading the STL files included):
 //! `cargo bench --bench viz`. Also the plot of the same run, as SVG and PNG.
 

@@ -1,6 +1,6 @@
 //! `faze4 wave`, `replay` and `shape`, run as the real binary, against the Drake reference loop
 //! (fixtures by tools/oracle/closed_loop_fixtures.py and shape_fixtures.py): the whole trail
-//! within 1e-9 m / rad, and the summary. Plus the regression figures of SPEC §3–4.
+//! within 1e-9 m / rad, and the summary. Plus the regression figures of docs/model.md.
 
 mod common;
 
@@ -125,7 +125,7 @@ fn default_wave_matches_drake_and_tracks_within_5e_4() {
     let err = vec_f64(&s["max_tracking_error_rad"]);
     assert!(err.iter().all(|&e| e <= 5e-4), "max error {err:?}");
     assert!(vec_f64(&s["saturation_pct"]).iter().all(|&p| p == 0.0));
-    // SPEC §3: the Faze4 gains at Δt = 2e-4
+    // the Faze4 gains (docs/model.md) at Δt = 2e-4
     let kp = vec_f64(&s["kp"]);
     let kd = vec_f64(&s["kd"]);
     let spec_kp = [158.0, 170.0, 94.0, 74.0, 70.0, 64.52];
@@ -156,7 +156,7 @@ fn replay_matches_drake() {
 }
 
 /// A `shape` run against Drake playing the same joint samples: the trail (≤ 1e-9), the summary,
-/// and the path deviation (SPEC §4's formula, computed independently by the fixture script).
+/// and the path deviation (docs/model.md's formula, computed independently by the fixture script).
 /// The samples `--save-q` wrote are the fixture's (the script made it with the binary), each
 /// on its target by our FK (and by Drake's, recorded in the fixture), J4 = J6 = 0 exactly.
 /// Returns the summary.
@@ -205,21 +205,24 @@ fn shape_matches_drake(shape: &str) -> Value {
     run.summary
 }
 
-/// SPEC §4's Drake-equivalent figures (this model, exact IK, 12 s): the path deviation within
-/// 0.02 mm (our exact IK lands 0.01 mm above SPEC's sine and circle: README, Shapes) and the
+/// The Drake-equivalent reference figures of docs/model.md (this model, exact IK, 12 s): the path deviation within
+/// 0.02 mm (our exact IK lands 0.01 mm above the reference's sine and circle) and the
 /// saturated share of J2.
 fn assert_spec_figures(summary: &Value, max_mm: f64, mean_mm: f64, j2_saturated_pct: f64) {
     let d = &summary["path_deviation_mm"];
     let (max, mean) = (d["max"].as_f64().unwrap(), d["mean"].as_f64().unwrap());
-    assert!((max - max_mm).abs() <= 0.02, "max deviation {max} mm, SPEC {max_mm}");
+    assert!(
+        (max - max_mm).abs() <= 0.02,
+        "max deviation {max} mm, reference {max_mm}"
+    );
     assert!(
         (mean - mean_mm).abs() <= 0.02,
-        "mean deviation {mean} mm, SPEC {mean_mm}"
+        "mean deviation {mean} mm, reference {mean_mm}"
     );
     let j2 = vec_f64(&summary["saturation_pct"])[1];
     assert!(
         (j2 - j2_saturated_pct).abs() <= 0.005,
-        "J2 saturated {j2} %, SPEC {j2_saturated_pct}"
+        "J2 saturated {j2} %, reference {j2_saturated_pct}"
     );
 }
 

@@ -1,4 +1,4 @@
-//! Inverse kinematics: SPEC §4's shapes solved exactly, the unreachable error, the limits, and
+//! Inverse kinematics: the original's shapes solved exactly, the unreachable error, the limits, and
 //! the weighted-minimum-change property of the redundancy resolution.
 //!
 //! `cargo test --test ik_shapes -- --nocapture` prints each shape's figures.
@@ -103,7 +103,7 @@ fn shapes_are_solved_exactly_smoothly_and_within_limits() {
     }
 }
 
-/// SPEC §4: the solved triangle's tool spans x ∈ [−0.0586, 0.2186], z ∈ [0.47, 0.71]; the sine's
+/// docs/model.md: the solved triangle's tool spans x ∈ [−0.0586, 0.2186], z ∈ [0.47, 0.71]; the sine's
 /// x ∈ [−0.110, 0.270]; the circle's x ∈ [−0.080, 0.240], z ∈ [0.39, 0.71].
 #[test]
 fn solved_tool_ranges_match_the_spec() {

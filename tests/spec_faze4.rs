@@ -1,4 +1,4 @@
-//! SPEC §1: the bundled Faze4 against the check table, and the official description file.
+//! The bundled Faze4 against the check table of docs/model.md, and the official description file.
 
 mod common;
 
@@ -7,7 +7,7 @@ use faze4::algo::{Data, crba, forward_kinematics, gravity};
 use faze4::model::{JointKind, Model, PackagePaths};
 use faze4::spatial::{Inertia, Mat3, Vec3};
 
-/// SPEC §1: tool_link origin in world at three configurations, to the printed digits.
+/// docs/model.md: tool_link origin in world at three configurations, to the printed digits.
 #[test]
 fn tool_positions_match_the_spec_table() {
     let model = load("urdf/faze4_arm.urdf");
@@ -32,14 +32,14 @@ fn tool_positions_match_the_spec_table() {
         for a in 0..3 {
             assert!(
                 (p[a] - expected[a]).abs() <= tol,
-                "q = {q:?}: tool at {p:?}, SPEC {expected:?}"
+                "q = {q:?}: tool at {p:?}, published {expected:?}"
             );
         }
     }
 }
 
-/// SPEC §1: diag M(q0) at the wave start, to the printed five digits (±1 in the last; Drake
-/// gives 1.39996e-03 for the fourth, which SPEC prints as 1.3999e-03), and exactly as the
+/// docs/model.md: diag M(q0) at the wave start, to the printed five digits (±1 in the last; Drake
+/// gives 1.39996e-03 for the fourth, which is published as 1.3999e-03), and exactly as the
 /// Drake fixture records it.
 #[test]
 fn mass_matrix_diagonal_at_the_wave_start_matches_the_spec() {
@@ -52,7 +52,7 @@ fn mass_matrix_diagonal_at_the_wave_start_matches_the_spec() {
     let m = crba(&model, &mut data, &q0);
     for i in 0..6 {
         let rel = (m[(i, i)] - spec[i]).abs() / spec[i];
-        assert!(rel < 1e-4, "M[{i}][{i}] = {:e}, SPEC {:e}", m[(i, i)], spec[i]);
+        assert!(rel < 1e-4, "M[{i}][{i}] = {:e}, published {:e}", m[(i, i)], spec[i]);
     }
     let drake = vec_f64(&fixture("core_faze4_arm.json")["spec_checks"]["diag_M_q0"]);
     for i in 0..6 {

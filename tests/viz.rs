@@ -56,7 +56,7 @@ fn box_model_scene_needs_no_files() {
     assert_eq!(header["visuals"].as_array().unwrap().len(), 7);
 }
 
-/// SPEC §6 budget: a 12 s shape run recorded every 0.02 s with the real meshes is under
+/// The 3D view's budget: a 12 s shape run recorded every 0.02 s with the real meshes is under
 /// 10 MB. (Its write time is measured by `cargo bench --bench viz`, not asserted here.)
 #[test]
 fn html_export_of_a_12_s_circle_with_real_meshes_is_under_10_mb() {

@@ -1,4 +1,4 @@
-//! The discrete step of SPEC §2: Drake's discrete `MultibodyPlant` (SAP, no contact) with
+//! The discrete step (docs/model.md): Drake's discrete `MultibodyPlant` (SAP, no contact) with
 //! implicit joint damping and joint limits kept.
 
 use super::{Data, cholesky_factor, cholesky_solve, compute_all_terms};

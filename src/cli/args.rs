@@ -19,11 +19,11 @@ pub struct Cli {
 /// The experiments.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Every joint follows A·sin(ω t + i·π/3) (SPEC §4).
+    /// Every joint follows A·sin(ω t + i·π/3) (docs/model.md).
     Wave(WaveArgs),
     /// Replay an N×dof joint trajectory from a .npy file, repeating every --traj-period.
     Replay(ReplayArgs),
-    /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (SPEC §4).
+    /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
     Shape(ShapeArgs),
 }
 

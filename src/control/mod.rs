@@ -1,4 +1,4 @@
-//! The joint controller: SPEC §3's digital PD with gravity feed-forward, and its auto-tuning.
+//! The joint controller: the digital PD with gravity feed-forward, and its auto-tuning.
 
 mod pd;
 mod tuning;

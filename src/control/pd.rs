@@ -19,7 +19,7 @@ impl Pd {
     ///   τ_raw = kp∘(q_cmd − q) + kd∘(v_cmd − v) + g(q)      (g only with feed-forward)
     ///   τ     = clip(τ_raw, −E, E)
     /// ```
-    #[allow(clippy::too_many_arguments)] // the law's seven vectors, named as in SPEC §3
+    #[allow(clippy::too_many_arguments)] // the law's seven vectors, named as in docs/model.md
     #[inline]
     pub fn torque(
         &self,

@@ -1,4 +1,4 @@
-//! SPEC §3's auto-tuning rule.
+//! The auto-tuning rule (docs/model.md).
 
 use serde::Serialize;
 
@@ -27,7 +27,7 @@ impl Gains {
     }
 }
 
-/// SPEC §3: with `inertia` = diag M(q_start) and torque limits `effort`,
+/// The rule (docs/model.md): with `inertia` = diag M(q_start) and torque limits `effort`,
 ///
 /// ```text
 ///   kp_i = min( E_i / 0.05 , 0.4 · I_i / Δt² )

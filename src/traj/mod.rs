@@ -1,4 +1,4 @@
-//! Commanded trajectories: what the joints are asked to do at each instant (SPEC §4).
+//! Commanded trajectories: what the joints are asked to do at each instant (docs/model.md).
 //!
 //! A [`Trajectory`] is a closed set of kinds (an enum, so evaluating one inside the 5 kHz loop
 //! is a `match`, not a virtual call).

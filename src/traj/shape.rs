@@ -1,4 +1,4 @@
-//! SPEC §4's drawing board and the three shapes the tool draws on it.
+//! A drawing board and the three shapes the tool draws on it.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -22,7 +22,7 @@ pub const SINE_HALF_LENGTH: f64 = 0.19;
 /// Amplitude A of the sine (m).
 pub const SINE_AMPLITUDE: f64 = 0.12;
 
-/// The three closed paths of SPEC §4.
+/// The three closed paths of the original experiment (docs/model.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Shape {
     /// One sine period across the board and back.

@@ -21,9 +21,9 @@ use crate::traj::shape::Board;
 
 /// Version of the scene blob and sample record layout.
 pub const FORMAT_VERSION: u32 = 1;
-/// Radius of the reference path spheres (m), SPEC §6.
+/// Radius of the reference path spheres (m), as the original drew them.
 pub const REFERENCE_RADIUS: f64 = 0.0045;
-/// Radius of the tool trail spheres (m), SPEC §6.
+/// Radius of the tool trail spheres (m), as the original drew them.
 pub const TRAIL_RADIUS: f64 = 0.0055;
 /// Radius of the current-target sphere (m).
 pub const TARGET_RADIUS: f64 = 0.008;

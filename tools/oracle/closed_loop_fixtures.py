@@ -12,7 +12,7 @@ write the same bytes. Writes
     tests/fixtures/replay_q_traj.npy                 60 x 6 replay input (generated here)
     tests/fixtures/closed_loop_replay.json           replay of it, 8 s, traj-period 5 (wraps once)
 
-Before writing, it checks that Drake's discrete plant is SPEC section 2's step along the runs:
+Before writing, it checks that Drake's discrete plant is the discrete step of docs/model.md along the runs:
   * free-running: the first 200 steps of the default wave integrated in numpy
       v+ = (M + dt D)^-1 [M v + dt (tau - C v - g)],  q+ = q + dt v+
     from Drake's M (CalcMassMatrix), C v (CalcBiasTerm), g (-CalcGravityGeneralizedForces) and the
@@ -79,7 +79,7 @@ class Recorder:
 
 
 class SpecStep:
-    """SPEC section 2's discrete step, evaluated with Drake's M, C v and g."""
+    """The discrete step of docs/model.md, evaluated with Drake's M, C v and g."""
 
     def __init__(self, dt, gravity):
         self.dt = dt
@@ -119,7 +119,7 @@ def check_free_running(dt=2e-4):
         _, _, g = spec.terms(q, v)
         tau = np.clip(kp * (q_cmd - q) + kd * (v_cmd - v) + g, -dcl.EFFORT, dcl.EFFORT)
         q, v = spec.step(q, v, tau)
-    print(f"[check] free-running SPEC step vs Drake, {SANITY_STEPS} steps: max |diff| = {worst:.3g}")
+    print(f"[check] free-running step vs Drake, {SANITY_STEPS} steps: max |diff| = {worst:.3g}")
     assert worst <= TOL_STATE, worst
 
 
@@ -129,7 +129,7 @@ def check_one_step(rec, dt, gravity, name):
     for k in range(len(rec.q) - 1):
         q, v = spec.step(rec.q[k], rec.v[k], rec.tau[k])
         worst = max(worst, np.max(np.abs(q - rec.q[k + 1])), np.max(np.abs(v - rec.v[k + 1])))
-    print(f"[check] {name}: one-step SPEC vs Drake over {len(rec.q) - 1} steps: "
+    print(f"[check] {name}: one-step vs Drake over {len(rec.q) - 1} steps: "
           f"max |diff| = {worst:.3g}; saturation margin {rec.margin:.3g} N*m")
     assert worst <= TOL_STATE, worst
     assert rec.margin >= TOL_SAT_MARGIN, rec.margin

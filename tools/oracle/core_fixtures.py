@@ -18,11 +18,11 @@ What it asks pydrake's MultibodyPlant, per model and per random state (q, v):
 Conventions: gravity [0, 0, -9.81] (world z up); q, v in Drake's order (all joints are 1-dof, so
 the position and velocity orders agree); revolute/continuous in rad, prismatic in m.
 
-Self-check: the discrete run is re-integrated in numpy with SPEC section 2's step, using Drake's
+Self-check: the discrete run is re-integrated in numpy with the discrete step of docs/model.md, using Drake's
 M, Cv, g at every step and D = diag(joint damping) read from the plant:
     v+ = (M + dt D)^-1 [M v + dt (tau - Cv - g)],   q+ = q + dt v+
 and must agree with Drake's discrete plant to <= 1e-12. A draw whose run comes near a joint limit
-(SAP then adds limit constraints, which SPEC's step does not model) or fails the check is redrawn.
+(SAP then adds limit constraints, which the plain step does not model) or fails the check is redrawn.
 """
 
 import importlib.metadata
@@ -61,7 +61,7 @@ MODELS = [
     ("tests/urdf/tree_arm.urdf", "core_tree_arm.json", 20240603),
 ]
 
-# SPEC section 1: tool_link origin at three q (printed digits) and diag M at the wave start.
+# docs/model.md: tool_link origin at three q (printed digits) and diag M at the wave start.
 SPEC_TOOL_POSITIONS = [
     ([0, 0.378, 0.378, 0, -0.378, -0.378], [0.079, -0.521, 0.395], 3),
     ([0.435, 0.244, -0.191, -0.435, -0.244, 0.191], [0.220, -0.495, 0.600], 3),
@@ -187,7 +187,7 @@ def drake_discrete_run(model, q, v, tau):
 
 
 def spec_discrete_run(model, q, v, tau):
-    """SPEC section 2's step in numpy, with Drake's M, Cv, g at each step."""
+    """The discrete step of docs/model.md in numpy, with Drake's M, Cv, g at each step."""
     q, v = np.array(q, dtype=float), np.array(v, dtype=float)
     D = np.diag(model.damping)
     for _ in range(STEPS):
@@ -273,7 +273,7 @@ def samples(model, seed):
 
 
 # ---------------------------------------------------------------------------------------------
-# SPEC section 1 checks (faze4_arm only)
+# docs/model.md checks (faze4_arm only)
 
 
 def spec_checks(model):
@@ -291,11 +291,11 @@ def spec_checks(model):
     diag = np.diag(mass_matrix(model))
     for i, (d, printed) in enumerate(zip(diag, SPEC_DIAG_M_Q0)):
         unit = 10.0 ** (math.floor(math.log10(abs(printed))) - 4)  # last of 5 printed digits
-        # SPEC prints M44 = 1.3999e-03 where Drake gives 1.39995833e-03 (rounds to 1.4000e-03):
+        # docs/model.md publishes M44 = 1.3999e-03 where Drake gives 1.39995833e-03 (rounds to 1.4000e-03):
         # accept one unit of the last printed digit, and say so when it is more than rounding.
         assert abs(d - printed) <= unit, (i, d, printed)
         if abs(d - printed) > 0.5 * unit:
-            print(f"  note: diag M(q0)[{i}] = {d:.9e}, SPEC prints {printed:.4e} (not rounded)")
+            print(f"  note: diag M(q0)[{i}] = {d:.9e}, published {printed:.4e} (not rounded)")
     return {"tool_positions": tool_positions, "q0": q0.tolist(), "diag_M_q0": diag.tolist()}
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Drake reference of faze4's closed-loop experiment (SPEC sections 2-5).
+"""Drake reference of faze4's closed-loop experiment (docs/model.md).
 
 A plain pydrake re-implementation of the original ``arm_wave_drake_faze4.py``: a discrete
 MultibodyPlant (SAP, time step dt) of ``urdf/faze4_arm.urdf``, driven by a Python-loop PD +
@@ -55,7 +55,7 @@ from pydrake.systems.framework import DiagramBuilder
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DEFAULT_URDF = os.path.join(REPO_ROOT, "urdf", "faze4_arm.urdf")
 
-# Faze4 motor torque limits (NEMA17 + cycloidal estimate, seed / SPEC section 3), N*m.
+# Faze4 motor torque limits (0.315 N*m at each NEMA17 times its reduction ratio; docs/model.md), N*m.
 EFFORT = np.array([7.9, 8.5, 4.7, 3.7, 3.5, 6.0])
 GRAVITY = 9.81
 TOOL_BODY = "tool_link"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Drake fixtures for `faze4 shape`: the drawing runs of SPEC section 4.
+"""Drake fixtures for `faze4 shape`: the drawing runs of docs/model.md.
 
 For each shape (sine, circle, tri; 240 points):
   1. faze4's own IK writes the joint samples (`faze4 shape --shape S --save-q ...`, the release
@@ -8,7 +8,7 @@ For each shape (sine, circle, tri; 240 points):
      wrapping), 12 s at dt 2e-4, trail every 0.02 s;
   3. Drake's forward kinematics checks every saved sample against its target (the largest
      distance is written as drake_fk_max_residual_m);
-  4. the path deviation is computed here from SPEC section 4's formulas, written independently of
+  4. the path deviation is computed here from docs/model.md's formulas, written independently of
      the Rust code (distance from the tool to the closed polyline through the 240 targets).
 Writes tests/fixtures/closed_loop_shape_<S>.json in the closed-loop fixture format, with the
 extra summary keys path_deviation_mm {max, mean} and the targets.
@@ -35,7 +35,7 @@ N = 240
 PERIOD = 5.0
 ARGS = {"duration": 12.0, "dt": 2e-4, "record_period": 0.02, "shape_points": N}
 
-# SPEC section 4: the board and the shapes
+# docs/model.md: the board and the shapes
 XC, YB, ZC, R = 0.08, -0.48, 0.55, 0.16
 L, A = 0.19, 0.12
 
