@@ -114,7 +114,7 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
         let joint = scenario.model.joint(d.joint);
         let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
         eprintln!(
-            "faze4: diverged at t = {:.4} s on joint {} ({}): b = Δt²·kp/I = [{}]; above ~0.5 the discrete loop is unstable (lower --dt or --kp); the outputs keep the steps before it",
+            "faze4: diverged at t = {:.4} s on joint {} ({}): b = Δt²·kp/I = [{}] (the tuning rule keeps b ≤ 0.4: lower --dt or --kp); the outputs keep the steps before it",
             d.t,
             d.joint,
             joint.name,

@@ -17,7 +17,7 @@ pub struct Gains {
 }
 
 impl Gains {
-    /// The discrete stability figure `b_i = Δt²·kp_i / I_i` (divergence sets in near 0.5).
+    /// The discrete stability figure `b_i = Δt²·kp_i / I_i` (the rule keeps it ≤ 0.4; one joint alone diverges near 4 − 2·Δt·kd/I, docs/model.md).
     pub fn stiffness_b(&self, dt: f64) -> Vec<f64> {
         self.kp
             .iter()

@@ -139,7 +139,7 @@ impl Recorder for Terminal {
         out(&row("kp", gains.kp.iter().copied()))?;
         out(&row("kd", gains.kd.iter().copied()))?;
         out(&format!(
-            "{}   (safe ≤ 0.4, the rule's cap; one joint alone goes unstable above 0.5)",
+            "{}   (the rule keeps b ≤ 0.4; one joint alone diverges near 4 − 2·Δt·kd/I)",
             row("b = Δt²·kp/I", gains.stiffness_b(run.dt))
         ))?;
         // degrees to 0.01: a −8e-15 from sin(π) is 0
