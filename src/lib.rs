@@ -4,12 +4,14 @@
 //! Layers, bottom up: [`spatial`] (6D algebra), [`model`] (URDF → immutable model),
 //! [`algo`] (kinematics and dynamics on a preallocated workspace), [`control`] (PD + tuning),
 //! [`traj`] (commands), [`sim`] (closed-loop runs), [`output`] (the recorder interface),
-//! [`viz`] (the 3D view, live and exported, and the plot: recorders).
+//! [`viz`] (the 3D view, live and exported, and the plot: recorders); [`faze4`] (the Faze4's
+//! built-in meshes).
 
 pub mod algo;
 pub mod cli;
 pub mod control;
 pub mod error;
+pub mod faze4;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod ik;

@@ -30,10 +30,21 @@ pub const FAZE4_ARM_SOURCE: &str = "bundled urdf/faze4_arm.urdf";
 /// Robot names of the bundled Faze4 models, which get the Faze4 torque limits by default.
 pub const FAZE4_NAMES: [&str; 2] = ["faze4_arm", "faze4_real"];
 
-/// The bundled Faze4 model (SPEC §1).
+/// `urdf/faze4_real.urdf`, built into the binary: the bundled model's visuals (the official
+/// meshes, themselves built in: [`crate::faze4::meshes`]).
+pub const FAZE4_REAL_URDF: &str = include_str!("../../urdf/faze4_real.urdf");
+
+/// The bundled Faze4 model (SPEC §1): everything from `urdf/faze4_arm.urdf` but its visuals,
+/// which are those of `urdf/faze4_real.urdf` (the same links in the same order, with the same
+/// frames and dynamics: `tests/real_model.rs`), so the real arm is drawn. Its meshes are the
+/// built-in copies unless found on disk.
 pub fn faze4_arm() -> Model {
-    urdf::read_str(FAZE4_ARM_URDF, FAZE4_ARM_SOURCE, None, &PackagePaths::default())
-        .expect("the bundled URDF is valid (tested)")
+    let bundled = |text, source| {
+        urdf::read_str(text, source, None, &PackagePaths::default()).expect("the bundled URDFs are valid (tested)")
+    };
+    let mut model = bundled(FAZE4_ARM_URDF, FAZE4_ARM_SOURCE);
+    model.visuals = bundled(FAZE4_REAL_URDF, "bundled urdf/faze4_real.urdf").visuals;
+    model
 }
 
 /// Standard gravity used by faze4 (m/s²), pointing along world −z.

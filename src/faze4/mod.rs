@@ -1,0 +1,3 @@
+//! The Faze4 arm's own data, built into the library.
+
+pub mod meshes;
