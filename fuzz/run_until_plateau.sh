@@ -6,7 +6,7 @@
 #
 # One job, at nice 10 (the machine is shared). The corpus grows in fuzz/corpus/TARGET
 # (gitignored), starting from fuzz/seeds/TARGET and, read-only, the repository's own inputs
-# (and the official Faze4 description, if found). Crashes land in fuzz/artifacts/TARGET; the
+# (and the official Faze4 description, assets/faze4_description). Crashes land in fuzz/artifacts/TARGET; the
 # run then stops early and says so. The log is fuzz/logs/TARGET-DATE.log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,15 +22,8 @@ flags=(-timeout=10 -rss_limit_mb=2048 -print_final_stats=1)
 case $target in
 urdf_model)
     extra+=(urdf tests/urdf)
-    # the official description, found as the tests find it: $FAZE4_DESCRIPTION, else
-    # shared/faze4_description in the nearest folder above the repository that has one
-    description=${FAZE4_DESCRIPTION:-}
-    dir=$PWD
-    while [[ -z $description && $dir != / ]]; do
-        dir=$(dirname "$dir")
-        [[ -d $dir/shared/faze4_description ]] && description=$dir/shared/faze4_description
-    done
-    [[ -n $description && -d $description/urdf ]] && extra+=("$description/urdf")
+    # the official description, as the tests find it: the repository's copy, or $FAZE4_DESCRIPTION
+    extra+=("${FAZE4_DESCRIPTION:-assets/faze4_description}/urdf")
     flags+=(-dict=fuzz/urdf.dict)
     ;;
 npy_samples)

@@ -5,7 +5,7 @@
 //! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
 //! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
 //! workspace), [`control`] (PD + tuning), [`traj`] (commands), [`ik`] (inverse kinematics),
-//! [`faze4`] (the Faze4 arm's facts), [`sim`] (scenarios, the closed loop, the recorder
+//! [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`sim`] (scenarios, the closed loop, the recorder
 //! interface, the summary and verdict), [`output`] (terminal and trail recorders), [`viz`]
 //! (the 3D view, live and exported, and the plot), [`cli`] (the command line).
 //!

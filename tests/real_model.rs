@@ -1,5 +1,6 @@
 //! `urdf/faze4_real.urdf` (the official meshes as visuals) is the same arm as
-//! `urdf/faze4_arm.urdf`: identical joints, limits, damping, frames and dynamics.
+//! `urdf/faze4_arm.urdf`: identical joints, limits, damping, frames and dynamics. The bundled
+//! model is `faze4_arm.urdf` with `faze4_real.urdf`'s visuals, drawn from the built-in meshes.
 
 mod common;
 
@@ -78,10 +79,51 @@ fn real_model_visuals_are_the_official_meshes() {
         meshes,
         ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"]
     );
-    // without the package path the model loads all the same, meshes unresolved
+    // without the package path the model loads all the same, meshes unresolved on disk (the
+    // views draw the built-in copies)
     let bare = load_real(&PackagePaths::default());
     assert!(bare.visuals.iter().all(|(_, v)| match &v.geometry {
         Geometry::Mesh { path, .. } => path.is_none(),
         _ => true,
     }));
+}
+
+/// The default model (no `--urdf`): the dynamics of `faze4_arm.urdf` exactly, the visuals of
+/// `faze4_real.urdf`, every mesh drawn with no file and no search path.
+#[test]
+fn bundled_model_is_the_box_arm_with_the_real_visuals() {
+    let bundled = faze4::faze4::model();
+    let boxes = load("urdf/faze4_arm.urdf");
+    let real = load_real(&PackagePaths::default());
+    assert_eq!(
+        (bundled.name.as_str(), bundled.source.as_str()),
+        ("faze4_arm", "bundled urdf/faze4_arm.urdf")
+    );
+    assert_eq!(bundled.gravity, boxes.gravity);
+    assert_eq!(bundled.parent, boxes.parent);
+    assert_eq!(bundled.tree_pose, boxes.tree_pose);
+    assert_eq!(bundled.inertia, boxes.inertia);
+    assert_eq!(format!("{:?}", bundled.joints), format!("{:?}", boxes.joints));
+    assert_eq!(format!("{:?}", bundled.frames), format!("{:?}", boxes.frames));
+    assert_eq!(bundled.visuals, real.visuals);
+    assert_ne!(bundled.visuals, boxes.visuals);
+
+    let scene = faze4::viz::scene::Scene::from_model(&bundled);
+    assert!(scene.missing.is_empty() && scene.unreadable.is_empty());
+    let description = shared_description();
+    let mut drawn = Vec::new();
+    for v in scene.visuals.iter().filter(|v| v.name != "base_link") {
+        let stl = faze4::viz::mesh::read_stl(&description.join(format!("meshes/{}.STL", v.name))).unwrap();
+        assert_eq!(
+            scene.meshes[v.mesh].expand().indices,
+            stl.indices,
+            "{}: the STL's triangles",
+            v.name
+        );
+        drawn.push(v.name.clone());
+    }
+    assert_eq!(
+        drawn,
+        ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"]
+    );
 }

@@ -3,6 +3,8 @@
 //! period. Everything else in faze4 works on any URDF arm; these are what the original program
 //! knew about its one arm.
 
+pub mod meshes;
+
 use crate::error::Result;
 use crate::ik::IkTask;
 use crate::model::{JointId, Model, PackagePaths, urdf};
@@ -15,6 +17,10 @@ pub const URDF: &str = include_str!("../../urdf/faze4_arm.urdf");
 
 /// Name under which the bundled model reports its source.
 pub const SOURCE: &str = "bundled urdf/faze4_arm.urdf";
+
+/// `urdf/faze4_real.urdf`, built into the binary: the bundled model's visuals (the official
+/// meshes, themselves built in: [`meshes`]).
+pub const REAL_URDF: &str = include_str!("../../urdf/faze4_real.urdf");
 
 /// Robot names (`<robot name>`) of the Faze4 models in this repository: a 6-dof model with one
 /// of these names gets the Faze4's torque limits and shape task by default.
@@ -42,9 +48,17 @@ pub const SHAPE_FREE_JOINTS: [JointId; 4] = [JointId(0), JointId(1), JointId(2),
 /// Time for one loop of a shape (s).
 pub const SHAPE_PERIOD: f64 = 5.0;
 
-/// The bundled Faze4 model.
+/// The bundled Faze4 model: everything from `urdf/faze4_arm.urdf` but its visuals, which are
+/// those of `urdf/faze4_real.urdf` (the same links in the same order, with the same frames and
+/// dynamics: `tests/real_model.rs`), so the real arm is drawn. Its meshes are the built-in
+/// copies unless found on disk.
 pub fn model() -> Model {
-    urdf::read_str(URDF, SOURCE, None, &PackagePaths::default()).expect("the bundled URDF is valid (tested)")
+    let bundled = |text, source| {
+        urdf::read_str(text, source, None, &PackagePaths::default()).expect("the bundled URDFs are valid (tested)")
+    };
+    let mut model = bundled(URDF, SOURCE);
+    model.visuals = bundled(REAL_URDF, "bundled urdf/faze4_real.urdf").visuals;
+    model
 }
 
 /// Whether `model` is one of the Faze4 models (by robot name and degrees of freedom).

@@ -249,6 +249,16 @@ pub fn read_stl(path: &Path) -> Result<TriMesh> {
     Ok(TriMesh::from_soup(&soup))
 }
 
+/// The mesh a URDF mesh reference stands for: the file it resolved to (`path`), else the copy
+/// built into the binary when `uri` names one of the official Faze4 meshes
+/// ([`crate::faze4::meshes::for_uri`]); `None` when there is neither.
+pub fn load_mesh(uri: &str, path: Option<&Path>) -> Option<Result<TriMesh>> {
+    match path {
+        Some(path) => Some(read_stl(path)),
+        None => crate::faze4::meshes::for_uri(uri).map(|mesh| Ok(TriMesh::from_soup(&mesh.corners()))),
+    }
+}
+
 /// The triangle corners of an STL file's contents (three per triangle). Binary when the size
 /// matches the triangle count in the header (SolidWorks writes binary files that start with
 /// "solid"), ASCII when the text starts with `solid`.

@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde_json::json;
 
-use super::mesh::{CompactMesh, Indices, TriMesh, read_stl};
+use super::mesh::{CompactMesh, Indices, TriMesh, load_mesh};
 use crate::algo::{Data, forward_kinematics};
 use crate::model::{Geometry, Model};
 use crate::sim::{RunInfo, Sample};
@@ -129,37 +129,36 @@ impl Scene {
                 ),
                 Geometry::Mesh { uri, path, scale } => {
                     let scale = [scale.x as f32, scale.y as f32, scale.z as f32];
-                    let mesh = match path {
+                    let key = (
+                        path.clone().unwrap_or_else(|| PathBuf::from(uri)),
+                        scale.map(f32::to_bits),
+                    );
+                    if let Some(&m) = loaded.get(&key) {
+                        scene.visuals.push(SceneVisual {
+                            name: name.clone(),
+                            slot,
+                            placement: visual.origin,
+                            mesh: m,
+                            color,
+                        });
+                        continue;
+                    }
+                    let mesh = match load_mesh(uri, path.as_deref()) {
                         None => {
                             scene.missing.push(uri.clone());
                             None
                         }
-                        Some(p) => {
-                            let key = (p.clone(), scale.map(f32::to_bits));
-                            if let Some(&m) = loaded.get(&key) {
-                                scene.visuals.push(SceneVisual {
-                                    name: name.clone(),
-                                    slot,
-                                    placement: visual.origin,
-                                    mesh: m,
-                                    color,
-                                });
-                                continue;
-                            }
-                            match read_stl(p) {
-                                Ok(m) if m.triangles() > 0 => {
-                                    loaded.insert(key, scene.meshes.len());
-                                    Some(CompactMesh::new(&m.scaled(scale)))
-                                }
-                                Ok(_) => {
-                                    scene.unreadable.push(format!("{}: no triangles", p.display()));
-                                    None
-                                }
-                                Err(e) => {
-                                    scene.unreadable.push(e.to_string());
-                                    None
-                                }
-                            }
+                        Some(Ok(m)) if m.triangles() > 0 => {
+                            loaded.insert(key, scene.meshes.len());
+                            Some(CompactMesh::new(&m.scaled(scale)))
+                        }
+                        Some(Ok(_)) => {
+                            scene.unreadable.push(format!("{}: no triangles", key.0.display()));
+                            None
+                        }
+                        Some(Err(e)) => {
+                            scene.unreadable.push(e.to_string());
+                            None
                         }
                     };
                     match mesh {
@@ -465,7 +464,12 @@ mod tests {
 
     #[test]
     fn missing_meshes_become_boxes_towards_the_children() {
-        let model = load("urdf/faze4_real.urdf", &PackagePaths::default());
+        // the real arm with meshes of a package that exists nowhere (and is not built in)
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("urdf/faze4_real.urdf");
+        let text = std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("package://faze4_description/", "package://no_such_package/");
+        let model = crate::model::urdf::read_str(&text, "renamed", None, &PackagePaths::default()).unwrap();
         let scene = Scene::from_model(&model);
         assert_eq!(scene.missing.len(), 6);
         assert!(scene.missing[0].ends_with("rotary_base.STL"));
@@ -480,6 +484,18 @@ mod tests {
         assert!(((hi[0] - lo[0]) as f64 - 1.25 * 0.20182).abs() < 1e-6);
         let hand = scene.visuals.iter().find(|v| v.name == "hvataljka").unwrap();
         assert!((hand.placement.pos - Vec3::new(0.0, 0.0, 0.00735)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn official_meshes_not_on_disk_are_the_built_in_copies() {
+        let model = load("urdf/faze4_real.urdf", &PackagePaths::default());
+        let scene = Scene::from_model(&model);
+        assert!(scene.missing.is_empty() && scene.unreadable.is_empty());
+        for v in scene.visuals.iter().filter(|v| v.name != "base_link") {
+            let built_in = crate::faze4::meshes::mesh(&v.name).unwrap();
+            let expected = CompactMesh::new(&TriMesh::from_soup(&built_in.corners()));
+            assert_eq!(scene.meshes[v.mesh], expected, "{}", v.name);
+        }
     }
 
     #[test]

@@ -16,23 +16,13 @@ pub fn repo_path(rel: &str) -> PathBuf {
     repo().join(rel)
 }
 
-/// The official Faze4 description (URDF and meshes), data for the tests that is never copied
-/// into the repository: `$FAZE4_DESCRIPTION`, else `shared/faze4_description` beside the
-/// repository or in any directory above it.
+/// The official Faze4 description (URDF and meshes): the repository's copy,
+/// `assets/faze4_description`, or wherever `$FAZE4_DESCRIPTION` points.
 pub fn shared_description() -> PathBuf {
-    if let Some(dir) = std::env::var_os("FAZE4_DESCRIPTION") {
-        return PathBuf::from(dir);
+    match std::env::var_os("FAZE4_DESCRIPTION") {
+        Some(dir) => PathBuf::from(dir),
+        None => repo_path("assets/faze4_description"),
     }
-    repo()
-        .ancestors()
-        .map(|a| a.join("shared/faze4_description"))
-        .find(|p| p.join("meshes").is_dir())
-        .unwrap_or_else(|| {
-            panic!(
-                "test data missing: no shared/faze4_description above {}; set FAZE4_DESCRIPTION to the official Faze4 URDF folder",
-                repo().display()
-            )
-        })
 }
 
 /// Loads a URDF from a repository-relative path.
