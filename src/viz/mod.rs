@@ -43,6 +43,7 @@
 //! | `html.rs` | [`HtmlExport`]: one self-contained HTML file, written on `finish`, whole or not at all (`output::atomic`) |
 //! | `live.rs` | [`LiveView`]: std::net HTTP server, page + scene + Server-Sent Events, paced to the wall clock |
 //! | `plot.rs` | [`PlotRecorder`]: one SVG/PNG figure (plotters, embedded DejaVu Sans) |
+//! | `sweep_plot.rs` | [`SweepPlot`]: a sweep's figures against the varied option, or heatmaps over two |
 
 mod html;
 mod live;
@@ -50,11 +51,13 @@ pub mod mesh;
 mod page;
 mod plot;
 pub mod scene;
+mod sweep_plot;
 mod util;
 
 pub use html::HtmlExport;
 pub use live::{LiveHandle, LiveView};
 pub use plot::PlotRecorder;
+pub use sweep_plot::SweepPlot;
 pub use util::base64;
 
 /// The live view's port unless `--port` says otherwise (the original's).
