@@ -247,7 +247,8 @@ impl Base {
             }
             Command::Sweep(_) => return Err(Error::argument("sweep", "the command to sweep cannot be a sweep")),
         };
-        if let Some(path) = &run_args(&command).summary {
+        let run = run_args(&command);
+        if let Some(path) = &run.summary {
             return Err(Error::argument(
                 "--summary",
                 format!(
@@ -255,6 +256,20 @@ impl Base {
                     path.display()
                 ),
             ));
+        }
+        let save_q = matches!(&command, Command::Shape(a) if a.save_q.is_some());
+        for (given, option) in [
+            (run.html.is_some(), "--html"),
+            (run.plot.is_some(), "--plot"),
+            (run.view || run.hold, "--view"),
+            (save_q, "--save-q"),
+        ] {
+            if given {
+                return Err(Error::argument(
+                    option,
+                    "is for single runs: a sweep's outputs are --out, --plot and --trails before the `--`",
+                ));
+            }
         }
         Ok(Base {
             command,
@@ -294,6 +309,15 @@ impl Base {
     }
 }
 
+fn command_name(c: &Command) -> &'static str {
+    match c {
+        Command::Wave(_) => "wave",
+        Command::Replay(_) => "replay",
+        Command::Shape(_) => "shape",
+        Command::Sweep(_) => "sweep",
+    }
+}
+
 fn run_args(c: &Command) -> &RunArgs {
     match c {
         Command::Wave(a) => &a.run,
@@ -319,9 +343,9 @@ fn knobs(base: &Command, axes: &[Axis]) -> Result<Vec<Knob>> {
             })?;
             if let Knob::Option(field) = knob {
                 for &x in &axis.values {
-                    field
-                        .set(&mut base.clone(), x)
-                        .map_err(|e| Error::argument("--vary", format!("{} {e}", axis.name)))?;
+                    field.set(&mut base.clone(), x).map_err(|e| {
+                        Error::argument("--vary", format!("{} {e} (faze4 {})", axis.name, command_name(base)))
+                    })?;
                 }
             }
             Ok(knob)
