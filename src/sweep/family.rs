@@ -222,3 +222,71 @@ impl<'a> Runner<'a> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::traj::{Trajectory, Wave};
+
+    fn scenario() -> Scenario {
+        let model = crate::faze4::model();
+        let wave = Trajectory::Wave(Wave {
+            amplitude: 0.1,
+            omega: 0.5,
+            dof: model.dof(),
+        });
+        Scenario::builder(model, wave).duration(0.01).build().unwrap()
+    }
+
+    #[test]
+    fn scales_multiply_the_built_scenario_and_refuse_bad_factors() {
+        let base = scenario();
+        let mut s = base.clone();
+        Scale::Kp.apply(&mut s, 0.5).unwrap();
+        Scale::Effort.apply(&mut s, 2.0).unwrap();
+        Scale::Mass.apply(&mut s, 1.2).unwrap();
+        for i in 0..base.model.dof() {
+            assert_eq!(s.controller.gains.kp[i], base.controller.gains.kp[i] * 0.5);
+            assert_eq!(s.controller.gains.kd[i], base.controller.gains.kd[i]);
+            assert_eq!(s.controller.gains.effort[i], base.controller.gains.effort[i] * 2.0);
+            assert_eq!(s.model.inertia[i].mass, base.model.inertia[i].mass * 1.2);
+            assert_eq!(s.model.inertia[i].rot, base.model.inertia[i].rot * 1.2);
+        }
+        assert!(Scale::Kd.apply(&mut s, 0.0).is_ok());
+        for (scale, bad) in [(Scale::Mass, 0.0), (Scale::Effort, -1.0), (Scale::Kp, f64::NAN)] {
+            let e = scale.apply(&mut s, bad).unwrap_err().to_string();
+            assert!(e.starts_with(scale.name()), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_family_runs_in_order_and_a_failed_build_is_a_row() {
+        let build = |values: &[f64]| -> Result<Scenario> {
+            if values[0] < 0.0 {
+                return Err(Error::argument("--payload-kg", "negative"));
+            }
+            let mut s = scenario();
+            Scale::Kp.apply(&mut s, values[0])?;
+            Ok(s)
+        };
+        let grid = Grid::new(vec![super::super::Axis::parse("kp-scale=-1,0.5,1,2").unwrap()]).unwrap();
+        let runner = Runner::new(&build, 2).unwrap();
+        let mut rows = Vec::new();
+        let ran = runner
+            .sweep(&grid, 0..4, &StopFlag::new(), |row| {
+                rows.push(row);
+                Ok(())
+            })
+            .unwrap();
+        assert_eq!(ran, 4);
+        assert_eq!(rows.iter().map(|r| r.index).collect::<Vec<_>>(), [0, 1, 2, 3]);
+        assert_eq!(rows[0].outcome, Outcome::Failed("--payload-kg: negative".into()));
+        assert!(!rows[0].follows());
+        for (row, factor) in rows[1..].iter().zip([0.5, 1.0, 2.0]) {
+            let Outcome::Ran(s) = &row.outcome else {
+                panic!("{row:?}")
+            };
+            assert_eq!(s.gains.kp[0], scenario().controller.gains.kp[0] * factor);
+        }
+    }
+}
