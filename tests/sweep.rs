@@ -502,6 +502,18 @@ fn bad_input_is_one_line_and_exit_2() {
         ),
         (&["sweep", "--find", "payload-kg=2:1", "--", "wave"], "empty range"),
         (
+            &[
+                "sweep",
+                "--find",
+                "shape-points=10:100",
+                "--",
+                "shape",
+                "--shape",
+                "tri",
+            ],
+            "whole numbers",
+        ),
+        (
             &["sweep", "--find", "payload-kg=0:1", "--resolution", "0", "--", "wave"],
             "--resolution",
         ),

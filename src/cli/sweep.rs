@@ -548,6 +548,12 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         Error::InvalidArgument { message, .. } => Error::argument(option, message),
         other => other,
     })?;
+    if let [Knob::Option(Field::Count(_))] = knobs[..] {
+        return Err(Error::argument(
+            option,
+            format!("{name} takes whole numbers: list them with --vary {name}=v1,v2,…"),
+        ));
+    }
     let build = |values: &[f64]| base.build(&knobs, values);
     let runner = Runner::new(&build, args.jobs)?;
     let decimals = (-resolution.log10()).ceil().max(0.0) as usize;

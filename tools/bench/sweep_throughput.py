@@ -229,7 +229,7 @@ def main():
               f"{args.runs / mj['seconds']:8.1f} runs/s; faze4 sweep is {mj['seconds'] / med['sweep']:.1f}x faster "
               f"(rollout alone, models compiled before; the sweep's time is its whole process)")
         print(f"  same family? max tracking error per joint, MuJoCo vs faze4: median relative difference "
-              f"{mj['median_relative_error_difference']:.2%}, largest {mj['max_relative_error_difference']:.2%}")
+              f"{mj['median_relative_error_difference']:.1e}, largest {mj['max_relative_error_difference']:.1e}")
 
 
 if __name__ == "__main__":
