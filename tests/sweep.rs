@@ -451,6 +451,7 @@ fn bad_input_is_one_line_and_exit_2() {
         (&["sweep", "--vary", "freq=a,b", "--", "wave"], "'a' is not a number"),
         (&["sweep", "--vary", "freq=1:0:0.1", "--", "wave"], "empty range"),
         (&["sweep", "--vary", "freq=0:1:0", "--", "wave"], "must be > 0"),
+        (&["sweep", "--vary", "freq=0:1:1e-9", "--", "wave"], "at most"),
         (&["sweep", "--vary", "freq=0:1:-0.5", "--", "wave"], "must be > 0"),
         (
             &["sweep", "--vary", "freq=1", "--shard", "4/3", "--", "wave"],

@@ -106,13 +106,19 @@ impl Field {
             Field::Number(field) => *field(command).ok_or(NOT_HERE)? = x,
             Field::Count(field) => {
                 let slot = field(command).ok_or(NOT_HERE)?;
-                if x < 0.0 || x.fract() != 0.0 || x > u32::MAX as f64 {
-                    return Err("takes whole numbers ≥ 0");
-                }
+                self.accepts(x)?;
                 *slot = x as usize;
             }
         }
         Ok(())
+    }
+
+    /// Whether `x` is a value of this kind of option (a count is whole, ≥ 0).
+    fn accepts(self, x: f64) -> std::result::Result<(), &'static str> {
+        match self {
+            Field::Count(_) if x < 0.0 || x.fract() != 0.0 || x > u32::MAX as f64 => Err("takes whole numbers ≥ 0"),
+            _ => Ok(()),
+        }
     }
 }
 
@@ -342,11 +348,9 @@ fn knobs(base: &Command, axes: &[Axis]) -> Result<Vec<Knob>> {
                 )
             })?;
             if let Knob::Option(field) = knob {
-                for &x in &axis.values {
-                    field.set(&mut base.clone(), x).map_err(|e| {
-                        Error::argument("--vary", format!("{} {e} (faze4 {})", axis.name, command_name(base)))
-                    })?;
-                }
+                let bad = |e| Error::argument("--vary", format!("{} {e} (faze4 {})", axis.name, command_name(base)));
+                field.set(&mut base.clone(), axis.values[0]).map_err(bad)?;
+                axis.values.iter().try_for_each(|&x| field.accepts(x)).map_err(bad)?;
             }
             Ok(knob)
         })

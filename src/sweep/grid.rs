@@ -6,6 +6,9 @@ use std::str::FromStr;
 
 use crate::error::{Error, Result};
 
+/// Most values one option takes (80 MB of them); a bigger sweep is a product of options.
+pub const MAX_AXIS_VALUES: usize = 10_000_000;
+
 /// The option every axis error names.
 const VARY: &str = "--vary";
 
@@ -63,10 +66,10 @@ fn range_values(name: &str, text: &str) -> Result<Vec<f64>> {
         ));
     }
     let count = ((hi - lo) / step + 1e-9).floor() + 1.0;
-    if count > 1e9 {
+    if count > MAX_AXIS_VALUES as f64 {
         return Err(Error::argument(
             VARY,
-            format!("{name}={text}: {count:e} values: too many"),
+            format!("{name}={text}: {count:e} values; one option takes at most {MAX_AXIS_VALUES:e}"),
         ));
     }
     let decimals: Option<Vec<usize>> = [lo_text, hi_text, step_text].iter().map(|t| decimals(t)).collect();

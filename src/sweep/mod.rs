@@ -11,7 +11,7 @@ mod table;
 
 pub use family::{Build, Outcome, Row, Runner, Scale};
 pub use find::{Found, Seek, find};
-pub use grid::{Axis, Grid, Shard};
+pub use grid::{Axis, Grid, MAX_AXIS_VALUES, Shard};
 pub use table::{Cell, Cells, Format, TableWriter, cells, merge};
 
 /// Most runs one process takes without `--shard`.
