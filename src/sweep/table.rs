@@ -100,7 +100,8 @@ fn scalar(value: &Value) -> Cell {
 pub enum Format {
     /// Comma-separated, a header line first.
     Csv,
-    /// A JSON array of objects (one per run, keys the column names; empty cells are `null`).
+    /// A JSON array of objects (one per run, keys the column names in column order; empty
+    /// cells are `null`).
     Json,
 }
 
@@ -215,9 +216,13 @@ impl TableWriter {
         let text = match self.format {
             Format::Csv => csv_line(ordered),
             Format::Json => {
-                let object: Map<String, Value> = header.iter().cloned().zip(ordered.map(json_value)).collect();
+                // the keys in column order (a serde_json map would sort them)
+                let fields: Vec<String> = (header.iter())
+                    .zip(ordered)
+                    .map(|(name, cell)| format!("{}:{}", Value::from(name.as_str()), json_value(cell)))
+                    .collect();
                 let lead = if self.rows == 0 { "[\n" } else { ",\n" };
-                format!("{lead}{}", Value::Object(object))
+                format!("{lead}{{{}}}", fields.join(","))
             }
         };
         self.file
