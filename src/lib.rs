@@ -39,6 +39,7 @@ pub mod model;
 pub mod output;
 pub mod sim;
 pub mod spatial;
+pub mod sweep;
 pub mod traj;
 pub mod viz;
 

@@ -17,7 +17,7 @@ pub struct Cli {
 }
 
 /// The experiments.
-#[derive(Debug, Subcommand)]
+#[derive(Clone, Debug, Subcommand)]
 pub enum Command {
     /// Every joint follows A·sin(ω t + i·π/3) (docs/model.md).
     Wave(WaveArgs),
@@ -25,10 +25,13 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
     Shape(ShapeArgs),
+    /// Many runs at once: vary options over a grid (--vary), or find the largest value that
+    /// still follows (--find); after `--`, the command to run: sweep --vary payload-kg=0:2:0.5 -- shape --shape circle.
+    Sweep(super::sweep::SweepArgs),
 }
 
 /// `faze4 wave`.
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct WaveArgs {
     /// Simulated time (s).
     #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
@@ -45,7 +48,7 @@ pub struct WaveArgs {
 }
 
 /// `faze4 replay`.
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct ReplayArgs {
     /// The trajectory: an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2.
     #[arg(long = "q-traj", value_name = "F.npy")]
@@ -62,7 +65,7 @@ pub struct ReplayArgs {
 }
 
 /// `faze4 shape`.
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct ShapeArgs {
     /// The path the tool draws on the board.
     #[arg(long, value_parser = ["sine", "circle", "tri"])]
@@ -87,7 +90,7 @@ pub struct ShapeArgs {
 }
 
 /// Options every run command shares: model, controller, outputs.
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct RunArgs {
     /// The arm (default: the bundled Faze4, urdf/faze4_arm.urdf).
     #[arg(long, value_name = "F.urdf")]

@@ -2,6 +2,7 @@
 
 pub mod args;
 pub mod scenario;
+pub mod sweep;
 
 use std::io::Write;
 use std::path::Path;
@@ -83,6 +84,7 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
         Command::Wave(a) => (scenario::wave(a)?, &a.run, None),
         Command::Replay(a) => (scenario::replay(a)?, &a.run, None),
         Command::Shape(a) => (scenario::shape(a)?, &a.run, a.save_q.as_deref()),
+        Command::Sweep(a) => return sweep::execute(a),
     };
     run_and_report(&scenario, run, save_q)
 }

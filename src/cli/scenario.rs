@@ -15,10 +15,13 @@ use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
 /// `faze4 wave` → scenario.
 pub fn wave(args: &WaveArgs) -> Result<Scenario> {
-    positive("--duration", args.duration)?;
-    finite("--freq", args.freq)?;
-    non_negative("--amp-deg", args.amp_deg)?;
-    let model = load_model(&args.run)?;
+    check_wave(args)?;
+    wave_with(args, load_model(&args.run)?)
+}
+
+/// `faze4 wave` → scenario, on a model already loaded (a sweep loads it once).
+pub fn wave_with(args: &WaveArgs, model: Model) -> Result<Scenario> {
+    check_wave(args)?;
     let trajectory = Trajectory::Wave(Wave {
         amplitude: args.amp_deg.to_radians(),
         omega: args.freq,
@@ -30,14 +33,27 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
         .build()
 }
 
+fn check_wave(args: &WaveArgs) -> Result<()> {
+    positive("--duration", args.duration)?;
+    finite("--freq", args.freq)?;
+    non_negative("--amp-deg", args.amp_deg)
+}
+
 /// `faze4 replay` → scenario.
 pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     positive("--traj-period", args.traj_period)?;
     let model = load_model(&args.run)?;
     let frames = npy::read_samples(&args.q_traj)?;
-    check_samples(&model, &frames, &args.q_traj)?;
-    let trajectory = Trajectory::Interpolated(Interpolated::new(&frames, args.traj_period, Wrap::Repeat));
+    replay_with(args, model, &frames)
+}
+
+/// `faze4 replay` → scenario, on a model and frames (`--q-traj`) already read.
+pub fn replay_with(args: &ReplayArgs, model: Model, frames: &[Vec<f64>]) -> Result<Scenario> {
+    positive("--duration", args.duration)?;
+    positive("--traj-period", args.traj_period)?;
+    check_samples(&model, frames, &args.q_traj)?;
+    let trajectory = Trajectory::Interpolated(Interpolated::new(frames, args.traj_period, Wrap::Repeat));
     builder(model, trajectory, &args.run)?
         .command("replay")
         .duration(args.duration)
@@ -48,16 +64,34 @@ pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
 /// as a closed loop (see [`ShapeRun::plan`]).
 pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
     positive("--duration", args.duration)?;
-    let shape = Shape::from_name(&args.shape)
-        .ok_or_else(|| Error::argument("--shape", format!("'{}' is not one of sine, circle, tri", args.shape)))?;
+    shape_of(args)?;
     let model = load_model(&args.run)?;
-    let tool = tool_frame(&model, args.run.tool_link.as_deref())?;
-    let (trajectory, run) = ShapeRun::plan(&model, tool, shape, args.shape_points)?;
+    let plan = shape_plan(args, &model)?;
+    shape_with(args, model, plan)
+}
+
+/// The joint command and drawing part of `faze4 shape` on `model` (the IK; see
+/// [`ShapeRun::plan`]).
+pub fn shape_plan(args: &ShapeArgs, model: &Model) -> Result<(Trajectory, ShapeRun)> {
+    let tool = tool_frame(model, args.run.tool_link.as_deref())?;
+    ShapeRun::plan(model, tool, shape_of(args)?, args.shape_points)
+}
+
+/// `faze4 shape` → scenario, on a model already loaded and its [`shape_plan`] (a sweep plans
+/// once unless it varies `shape-points`).
+pub fn shape_with(args: &ShapeArgs, model: Model, (trajectory, run): (Trajectory, ShapeRun)) -> Result<Scenario> {
+    positive("--duration", args.duration)?;
+    let shape = shape_of(args)?;
     builder(model, trajectory, &args.run)?
         .command(format!("shape {} ({} points)", shape.name(), args.shape_points))
         .duration(args.duration)
         .shape(run)
         .build()
+}
+
+fn shape_of(args: &ShapeArgs) -> Result<Shape> {
+    Shape::from_name(&args.shape)
+        .ok_or_else(|| Error::argument("--shape", format!("'{}' is not one of sine, circle, tri", args.shape)))
 }
 
 /// The model a run uses: `--urdf`, or the bundled Faze4.

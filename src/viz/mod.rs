@@ -46,6 +46,7 @@
 //! | `live.rs` | [`LiveView`]: the recorder, paced to the wall clock |
 //! | `server.rs` | the live view's std::net HTTP server on 127.0.0.1: page + scene + Server-Sent Events |
 //! | `plot.rs` | [`PlotRecorder`]: one SVG/PNG figure (plotters, embedded DejaVu Sans) |
+//! | `sweep_plot.rs` | [`SweepPlot`]: a sweep's figures against the varied option, or heatmaps over two |
 
 mod html;
 mod live;
@@ -54,11 +55,13 @@ mod page;
 mod plot;
 pub mod scene;
 mod server;
+mod sweep_plot;
 mod util;
 
 pub use html::HtmlExport;
 pub use live::{LiveHandle, LiveView};
 pub use plot::PlotRecorder;
+pub use sweep_plot::SweepPlot;
 pub use util::base64;
 
 /// The live view's port unless `--port` says otherwise (the original's).

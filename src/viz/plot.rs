@@ -21,7 +21,7 @@ use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
 const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-const FAMILY: &str = "sans-serif";
+pub(super) const FAMILY: &str = "sans-serif";
 /// Recording period of the plot (s).
 const PERIOD: f64 = 0.01;
 const WIDTH: u32 = 1400;
@@ -171,7 +171,7 @@ impl Recorder for PlotRecorder {
     }
 }
 
-fn register_font() {
+pub(super) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         if plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_err() {
@@ -181,7 +181,7 @@ fn register_font() {
 }
 
 /// Joint colours (J1..J6, then repeating).
-const PALETTE: [RGBColor; 6] = [
+pub(super) const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -194,7 +194,7 @@ const MEASURED: RGBColor = RGBColor(31, 90, 180);
 const LIMIT: RGBColor = RGBColor(110, 110, 110);
 
 /// `[lo, hi]` of `values` with a margin, never empty.
-fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+pub(super) fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));

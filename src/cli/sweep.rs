@@ -1,0 +1,647 @@
+//! `faze4 sweep`: the command line of [`crate::sweep`]. A sweep point is a set of overrides
+//! applied to the parsed options of the base command (after `--`); the model (and a replay's
+//! frames, a shape's IK) are read once and shared by every run.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use clap::{Args, Parser, Subcommand};
+
+use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
+use super::{EXIT_INTERRUPTED, scenario};
+use crate::atomic::check_output_path;
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::sim::{Scenario, ShapeRun, StopFlag};
+use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
+use crate::traj::{Trajectory, npy};
+
+/// `faze4 sweep`.
+#[derive(Clone, Debug, Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct SweepArgs {
+    /// Join the CSV tables of a sweep's shards.
+    #[command(subcommand)]
+    pub merge: Option<SweepCommand>,
+    /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
+    /// the runs are the product). NAME is a numeric option of the command (payload-kg, dt,
+    /// duration, freq, amp-deg, traj-period, shape-points, record-period, max-error,
+    /// max-saturation-pct, max-deviation-mm) or a multiplier of the tuned or given values:
+    /// kp-scale, kd-scale, effort-scale, mass-scale.
+    #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true)]
+    pub vary: Vec<String>,
+    /// Find the largest value of NAME in [LO, HI] at which the arm still follows (bisection).
+    #[arg(long, value_name = "NAME=LO:HI", allow_hyphen_values = true, conflicts_with_all = ["vary", "find_min"])]
+    pub find: Option<String>,
+    /// Find the smallest value of NAME in [LO, HI] at which the arm follows.
+    #[arg(
+        long = "find-min",
+        value_name = "NAME=LO:HI",
+        allow_hyphen_values = true,
+        conflicts_with = "vary"
+    )]
+    pub find_min: Option<String>,
+    /// How close --find gets (default: 1 % of the range).
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
+    pub resolution: Option<f64>,
+    /// Threads (default: one per core).
+    #[arg(long, short, default_value_t = 0, value_name = "N")]
+    pub jobs: usize,
+    /// The table, one row per run: .csv or .json (default: one line per run on stdout).
+    #[arg(long, value_name = "F.csv|F.json")]
+    pub out: Option<PathBuf>,
+    /// Each figure against the varied option, or heatmaps for two, as .svg or .png.
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
+    /// Write each run's trail CSV into this directory (run_0000000.csv, …).
+    #[arg(long, value_name = "DIR")]
+    pub trails: Option<PathBuf>,
+    /// Run only part K of N of the sweep (deterministic; `faze4 sweep merge` joins the tables).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// No progress bar and no per-run lines.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// The base command and its options, after `--`: wave|replay|shape ….
+    #[arg(last = true, value_name = "COMMAND")]
+    pub base: Vec<String>,
+}
+
+/// `faze4 sweep merge`.
+#[derive(Clone, Debug, Subcommand)]
+pub enum SweepCommand {
+    /// Join the CSV tables of a sweep's shards (same columns) into one, ordered by run.
+    Merge(MergeArgs),
+}
+
+/// `faze4 sweep merge a.csv b.csv … --out all.csv`.
+#[derive(Clone, Debug, Args)]
+pub struct MergeArgs {
+    /// The shards' tables.
+    #[arg(required = true, value_name = "F.csv")]
+    pub tables: Vec<PathBuf>,
+    /// The joined table.
+    #[arg(long, required = true, value_name = "F.csv")]
+    pub out: PathBuf,
+}
+
+/// An option of the base command, if the command has it.
+#[derive(Clone, Copy)]
+enum Field {
+    /// A real number.
+    Number(fn(&mut Command) -> Option<&mut f64>),
+    /// A count (whole values only).
+    Count(fn(&mut Command) -> Option<&mut usize>),
+}
+
+impl Field {
+    /// Sets the option of `command` to `x`; `Err` says why it cannot.
+    fn set(self, command: &mut Command, x: f64) -> std::result::Result<(), &'static str> {
+        const NOT_HERE: &str = "is not an option of this command";
+        match self {
+            Field::Number(field) => *field(command).ok_or(NOT_HERE)? = x,
+            Field::Count(field) => {
+                let slot = field(command).ok_or(NOT_HERE)?;
+                self.accepts(x)?;
+                *slot = x as usize;
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether `x` is a value of this kind of option (a count is whole, ≥ 0).
+    fn accepts(self, x: f64) -> std::result::Result<(), &'static str> {
+        match self {
+            Field::Count(_) if x < 0.0 || x.fract() != 0.0 || x > u32::MAX as f64 => Err("takes whole numbers ≥ 0"),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// What a sweep NAME changes.
+#[derive(Clone, Copy)]
+enum Knob {
+    /// An option of the base command.
+    Option(Field),
+    /// A multiplier of the built scenario.
+    Scale(Scale),
+}
+
+/// The numeric options a sweep can vary, one line each.
+const OPTIONS: &[(&str, Field)] = &[
+    ("duration", Field::Number(|c| Some(duration(c)))),
+    ("freq", Field::Number(|c| wave(c).map(|a| &mut a.freq))),
+    ("amp-deg", Field::Number(|c| wave(c).map(|a| &mut a.amp_deg))),
+    ("traj-period", Field::Number(|c| replay(c).map(|a| &mut a.traj_period))),
+    ("shape-points", Field::Count(|c| shape(c).map(|a| &mut a.shape_points))),
+    ("payload-kg", Field::Number(|c| Some(&mut run(c).payload_kg))),
+    ("dt", Field::Number(|c| Some(&mut run(c).dt))),
+    ("record-period", Field::Number(|c| Some(&mut run(c).record_period))),
+    (
+        "max-saturation-pct",
+        Field::Number(|c| Some(&mut run(c).max_saturation_pct)),
+    ),
+    ("max-error", Field::Number(|c| Some(&mut run(c).max_error))),
+    (
+        "max-deviation-mm",
+        Field::Number(|c| Some(&mut run(c).max_deviation_mm)),
+    ),
+];
+
+fn knob(name: &str) -> Option<Knob> {
+    (OPTIONS.iter().find(|(n, _)| *n == name).map(|(_, s)| Knob::Option(*s))).or_else(|| {
+        Scale::ALL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| Knob::Scale(*s))
+    })
+}
+
+fn known_names() -> String {
+    let names: Vec<&str> = OPTIONS
+        .iter()
+        .map(|(n, _)| *n)
+        .chain(Scale::ALL.iter().map(|(n, _)| *n))
+        .collect();
+    names.join(", ")
+}
+
+fn run(c: &mut Command) -> &mut RunArgs {
+    match c {
+        Command::Wave(a) => &mut a.run,
+        Command::Replay(a) => &mut a.run,
+        Command::Shape(a) => &mut a.run,
+        Command::Sweep(_) => unreachable!("a sweep's base is a run command"),
+    }
+}
+
+fn duration(c: &mut Command) -> &mut f64 {
+    match c {
+        Command::Wave(a) => &mut a.duration,
+        Command::Replay(a) => &mut a.duration,
+        Command::Shape(a) => &mut a.duration,
+        Command::Sweep(_) => unreachable!("a sweep's base is a run command"),
+    }
+}
+
+fn wave(c: &mut Command) -> Option<&mut WaveArgs> {
+    match c {
+        Command::Wave(a) => Some(a),
+        _ => None,
+    }
+}
+
+fn replay(c: &mut Command) -> Option<&mut ReplayArgs> {
+    match c {
+        Command::Replay(a) => Some(a),
+        _ => None,
+    }
+}
+
+fn shape(c: &mut Command) -> Option<&mut ShapeArgs> {
+    match c {
+        Command::Shape(a) => Some(a),
+        _ => None,
+    }
+}
+
+/// The base command with what it reads once: the model, a replay's frames, a shape's plan.
+struct Base {
+    command: Command,
+    model: Model,
+    frames: Vec<Vec<f64>>,
+    plan: Option<(Trajectory, ShapeRun)>,
+}
+
+impl Base {
+    /// Parses the words after `--` and reads the model (and frames, and the shape's IK unless
+    /// `replan`, when `shape-points` varies).
+    fn load(words: &[String], replan: bool) -> Result<Base> {
+        if words.is_empty() {
+            return Err(Error::argument(
+                "sweep",
+                "no command to run: add -- wave|replay|shape and its options",
+            ));
+        }
+        let argv = std::iter::once("faze4".to_string()).chain(words.iter().cloned());
+        let command = Cli::try_parse_from(argv)
+            .map_err(|e| {
+                let text = e.to_string();
+                let first = text
+                    .lines()
+                    .next()
+                    .unwrap_or("")
+                    .trim_start_matches("error: ")
+                    .to_string();
+                Error::argument(format!("sweep -- {}", words[0]), first)
+            })?
+            .command;
+        let (model, frames, plan) = match &command {
+            Command::Wave(a) => (scenario::load_model(&a.run)?, Vec::new(), None),
+            Command::Replay(a) => (scenario::load_model(&a.run)?, npy::read_samples(&a.q_traj)?, None),
+            Command::Shape(a) => {
+                let model = scenario::load_model(&a.run)?;
+                let plan = match replan {
+                    true => None,
+                    false => Some(scenario::shape_plan(a, &model)?),
+                };
+                (model, Vec::new(), plan)
+            }
+            Command::Sweep(_) => return Err(Error::argument("sweep", "the command to sweep cannot be a sweep")),
+        };
+        let run = run_args(&command);
+        if let Some(path) = &run.summary {
+            return Err(Error::argument(
+                "--summary",
+                format!(
+                    "{}: a sweep writes its table with --out, not a summary per run",
+                    path.display()
+                ),
+            ));
+        }
+        let save_q = matches!(&command, Command::Shape(a) if a.save_q.is_some());
+        for (given, option) in [
+            (run.html.is_some(), "--html"),
+            (run.plot.is_some(), "--plot"),
+            (run.view || run.hold, "--view"),
+            (save_q, "--save-q"),
+        ] {
+            if given {
+                return Err(Error::argument(
+                    option,
+                    "is for single runs: a sweep's outputs are --out, --plot and --trails before the `--`",
+                ));
+            }
+        }
+        Ok(Base {
+            command,
+            model,
+            frames,
+            plan,
+        })
+    }
+
+    /// The scenario of one point: `knobs[i]` set to `values[i]`.
+    fn build(&self, knobs: &[Knob], values: &[f64]) -> Result<Scenario> {
+        let mut command = self.command.clone();
+        let mut scales = Vec::new();
+        for (knob, &x) in knobs.iter().zip(values) {
+            match knob {
+                Knob::Option(field) => field.set(&mut command, x).map_err(|e| Error::argument("--vary", e))?,
+                Knob::Scale(scale) => scales.push((*scale, x)),
+            }
+        }
+        let model = self.model.clone();
+        let mut scenario = match &command {
+            Command::Wave(a) => scenario::wave_with(a, model)?,
+            Command::Replay(a) => scenario::replay_with(a, model, &self.frames)?,
+            Command::Shape(a) => {
+                let plan = match &self.plan {
+                    Some(plan) => plan.clone(),
+                    None => scenario::shape_plan(a, &model)?,
+                };
+                scenario::shape_with(a, model, plan)?
+            }
+            Command::Sweep(_) => unreachable!("refused by Base::load"),
+        };
+        for (scale, x) in scales {
+            scale.apply(&mut scenario, x)?;
+        }
+        Ok(scenario)
+    }
+}
+
+fn command_name(c: &Command) -> &'static str {
+    match c {
+        Command::Wave(_) => "wave",
+        Command::Replay(_) => "replay",
+        Command::Shape(_) => "shape",
+        Command::Sweep(_) => "sweep",
+    }
+}
+
+fn run_args(c: &Command) -> &RunArgs {
+    match c {
+        Command::Wave(a) => &a.run,
+        Command::Replay(a) => &a.run,
+        Command::Shape(a) => &a.run,
+        Command::Sweep(_) => unreachable!("a sweep's base is a run command"),
+    }
+}
+
+/// Checks every axis against the base command: a known numeric NAME, every value settable.
+fn knobs(base: &Command, axes: &[Axis]) -> Result<Vec<Knob>> {
+    axes.iter()
+        .map(|axis| {
+            let knob = knob(&axis.name).ok_or_else(|| {
+                Error::argument(
+                    "--vary",
+                    format!(
+                        "'{}' is not a numeric option a sweep can vary ({})",
+                        axis.name,
+                        known_names()
+                    ),
+                )
+            })?;
+            if let Knob::Option(field) = knob {
+                let bad = |e| Error::argument("--vary", format!("{} {e} (faze4 {})", axis.name, command_name(base)));
+                field.set(&mut base.clone(), axis.values[0]).map_err(bad)?;
+                axis.values.iter().try_for_each(|&x| field.accepts(x)).map_err(bad)?;
+            }
+            Ok(knob)
+        })
+        .collect()
+}
+
+/// `faze4 sweep …`: exit 0 when it ran (rows may say the arm cannot follow), 130 when
+/// interrupted; bad input is an `Err` (exit 2).
+pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
+    if let Some(SweepCommand::Merge(m)) = &args.merge {
+        check_output_path(&m.out, "--out")?;
+        let parts: Vec<&Path> = m.tables.iter().map(PathBuf::as_path).collect();
+        let rows = sweep::merge(&parts, &m.out)?;
+        println!("[done] {rows} runs from {} tables -> {}", parts.len(), m.out.display());
+        return Ok(ExitCode::SUCCESS);
+    }
+    match (&args.find, &args.find_min) {
+        (Some(spec), _) => find(args, spec, Seek::Largest),
+        (None, Some(spec)) => find(args, spec, Seek::Smallest),
+        (None, None) => table(args),
+    }
+}
+
+fn table(args: &SweepArgs) -> Result<ExitCode> {
+    if args.vary.is_empty() {
+        return Err(Error::argument(
+            "--vary",
+            "nothing to vary: give --vary NAME=LO:HI:STEP (or --find NAME=LO:HI)",
+        ));
+    }
+    if args.resolution.is_some() {
+        return Err(Error::argument("--resolution", "is for --find and --find-min"));
+    }
+    let grid = Grid::new(args.vary.iter().map(|s| Axis::parse(s)).collect::<Result<_>>()?)?;
+    let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose()?;
+    let total = grid
+        .len()
+        .filter(|&n| n <= usize::MAX / 2)
+        .ok_or_else(|| Error::argument("--vary", "too many runs"))?;
+    if total > MAX_RUNS && shard.is_none() {
+        return Err(Error::argument(
+            "--vary",
+            format!(
+                "{total} runs: more than {MAX_RUNS} in one process; split them with --shard K/N (see docs/sweep.md)"
+            ),
+        ));
+    }
+    let format = match &args.out {
+        Some(path) => {
+            check_output_path(path, "--out")?;
+            Some(Format::of(path, "--out")?)
+        }
+        None => None,
+    };
+    let plot = match &args.plot {
+        Some(path) => Some(crate::viz::SweepPlot::new(path, &grid)?),
+        None => None,
+    };
+    check_trails(args.trails.as_deref())?;
+    let replan = grid.axes.iter().any(|a| a.name == "shape-points");
+    let base = Base::load(&args.base, replan)?;
+    let knobs = knobs(&base.command, &grid.axes)?;
+    let indices = shard.map_or(0..total, |s| s.range(total));
+    let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
+
+    let build = |values: &[f64]| base.build(&knobs, values);
+    let progress = Progress::new(indices.len(), args.quiet);
+    let on_done = || progress.tick();
+    let mut runner = Runner::new(&build, args.jobs)?.with_progress(&on_done);
+    if let Some(dir) = &args.trails {
+        runner = runner.with_trails(dir);
+    }
+    let mut table = match (&args.out, format) {
+        (Some(path), Some(format)) => Some(TableWriter::create(path, format)?),
+        _ => None,
+    };
+    let mut plot = plot;
+    let stop = StopFlag::ctrl_c();
+    let started = Instant::now();
+    let (mut cannot, mut failed) = (0, 0);
+    let ran = runner.sweep(&grid, indices.clone(), &stop, |row| {
+        cannot += usize::from(!row.follows());
+        failed += usize::from(matches!(row.outcome, sweep::Outcome::Failed(_)));
+        if let Some(t) = table.as_mut() {
+            t.push(&axes, &row)?;
+        }
+        if let Some(p) = plot.as_mut() {
+            p.add(&row);
+        }
+        if table.is_none() && !args.quiet {
+            progress.clear();
+            let _ = writeln!(std::io::stdout().lock(), "{}", row_line(&axes, &row));
+        }
+        Ok(())
+    })?;
+    let wall = started.elapsed().as_secs_f64();
+    progress.clear();
+    let mut written = Vec::new();
+    if let (Some(t), Some(path)) = (table, &args.out) {
+        t.finish()?;
+        written.push(format!("table -> {}", path.display()));
+    }
+    if let (Some(p), Some(path)) = (plot, &args.plot) {
+        p.finish()?;
+        written.push(format!("plot -> {}", path.display()));
+    }
+    if let Some(dir) = &args.trails {
+        written.push(format!("trails -> {}", dir.display()));
+    }
+    let part = match shard {
+        Some(s) => format!(
+            " (part {}/{} of {total}: runs {}..{})",
+            s.k, s.n, indices.start, indices.end
+        ),
+        None => String::new(),
+    };
+    written.insert(
+        0,
+        format!(
+            "{ran} runs{part}, {} follow, {cannot} cannot follow ({failed} failed to run), in {wall:.3} s on {} threads ({:.1} runs/s)",
+            ran - cannot,
+            runner.threads(),
+            ran as f64 / wall.max(1e-9)
+        ),
+    );
+    let _ = writeln!(std::io::stdout().lock(), "[done] {}", written.join(" · "));
+    if ran < indices.len() {
+        eprintln!(
+            "faze4: interrupted after {ran} of {} runs; the outputs hold those",
+            indices.len()
+        );
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A run for people: `payload-kg=0.5 dt=0.0002: follows` or `…: cannot follow — reasons`.
+fn row_line(axes: &[String], row: &Row) -> String {
+    let values: Vec<String> = axes.iter().zip(&row.values).map(|(n, v)| format!("{n}={v}")).collect();
+    let answer = match row.follows() {
+        true => "follows".to_string(),
+        false => format!("cannot follow — {}", row.reasons()),
+    };
+    format!("{}: {answer}", values.join(" "))
+}
+
+fn check_trails(dir: Option<&Path>) -> Result<()> {
+    match dir {
+        Some(dir) if !dir.is_dir() => Err(Error::argument(
+            "--trails",
+            format!("{} is not a directory", dir.display()),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// `--find NAME=LO:HI` (or `--find-min`).
+fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
+    let option = match seek {
+        Seek::Largest => "--find",
+        Seek::Smallest => "--find-min",
+    };
+    for (given, name) in [
+        (args.out.is_some(), "--out"),
+        (args.plot.is_some(), "--plot"),
+        (args.shard.is_some(), "--shard"),
+        (args.trails.is_some(), "--trails"),
+    ] {
+        if given {
+            return Err(Error::argument(name, format!("is for tables, not {option}")));
+        }
+    }
+    let (name, range) = spec
+        .split_once('=')
+        .ok_or_else(|| Error::argument(option, format!("'{spec}' is not NAME=LO:HI")))?;
+    let bounds: Vec<f64> = range
+        .split(':')
+        .map(|x| x.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| Error::argument(option, format!("'{spec}' is not NAME=LO:HI with numbers")))?;
+    let [lo, hi] = bounds[..] else {
+        return Err(Error::argument(option, format!("'{spec}' is not NAME=LO:HI")));
+    };
+    if hi <= lo {
+        return Err(Error::argument(option, format!("{spec}: empty range ({hi} ≤ {lo})")));
+    }
+    let resolution = args.resolution.unwrap_or((hi - lo) / 100.0);
+    if !resolution.is_finite() || resolution <= 0.0 {
+        return Err(Error::argument("--resolution", format!("{resolution} must be > 0")));
+    }
+    let name = name.trim().trim_start_matches("--");
+    let axis = Axis {
+        name: name.to_string(),
+        values: vec![lo, hi],
+    };
+    let replan = name == "shape-points";
+    let base = Base::load(&args.base, replan)?;
+    let knobs = knobs(&base.command, std::slice::from_ref(&axis)).map_err(|e| match e {
+        Error::InvalidArgument { message, .. } => Error::argument(option, message),
+        other => other,
+    })?;
+    if let [Knob::Option(Field::Count(_))] = knobs[..] {
+        return Err(Error::argument(
+            option,
+            format!("{name} takes whole numbers: list them with --vary {name}=v1,v2,…"),
+        ));
+    }
+    let build = |values: &[f64]| base.build(&knobs, values);
+    let runner = Runner::new(&build, args.jobs)?;
+    let decimals = (-resolution.log10()).ceil().max(0.0) as usize;
+    let value = |row: &Row| format!("{:.decimals$}", row.values[0]);
+    let line = match sweep::find(&runner, lo, hi, resolution, seek) {
+        Found::Boundary { follows, fails } => {
+            let which = match seek {
+                Seek::Largest => "largest",
+                Seek::Smallest => "smallest",
+            };
+            format!(
+                "{which} {name} that follows: {} (at {}: {})",
+                value(&follows),
+                value(&fails),
+                fails.reasons()
+            )
+        }
+        Found::NoneFollows(row) => format!(
+            "no {name} in [{lo}, {hi}] follows: already at {}: {}",
+            value(&row),
+            row.reasons()
+        ),
+        Found::AllFollow(row) => {
+            let (end, widen) = match seek {
+                Seek::Largest => ("largest", "raise HI"),
+                Seek::Smallest => ("smallest", "lower LO"),
+            };
+            format!(
+                "every {name} in [{lo}, {hi}] follows, {} too: the {end} that follows is beyond the range ({widen})",
+                value(&row)
+            )
+        }
+    };
+    let _ = writeln!(std::io::stdout().lock(), "{line}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The sweep's progress bar on stderr, when stderr is a terminal: redrawn at most every 0.1 s
+/// from whichever thread finishes a run.
+struct Progress {
+    total: usize,
+    done: AtomicUsize,
+    started: Instant,
+    drawn: Option<Mutex<Option<Instant>>>,
+}
+
+const REDRAW: Duration = Duration::from_millis(100);
+
+impl Progress {
+    fn new(total: usize, quiet: bool) -> Progress {
+        Progress {
+            total,
+            done: AtomicUsize::new(0),
+            started: Instant::now(),
+            drawn: (!quiet && std::io::stderr().is_terminal()).then(|| Mutex::new(None)),
+        }
+    }
+
+    fn tick(&self) {
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let Some(drawn) = &self.drawn else { return };
+        let Ok(mut drawn) = drawn.try_lock() else { return };
+        if drawn.is_some_and(|t| t.elapsed() < REDRAW) && done < self.total {
+            return;
+        }
+        const WIDTH: usize = 30;
+        let filled = WIDTH * done / self.total.max(1);
+        let _ = write!(
+            std::io::stderr().lock(),
+            "\r\x1b[2K[{}{}] {done}/{} runs · {:.1} s",
+            "#".repeat(filled),
+            " ".repeat(WIDTH - filled),
+            self.total,
+            self.started.elapsed().as_secs_f64()
+        );
+        *drawn = Some(Instant::now());
+    }
+
+    /// Erases the bar (before a line is printed, and at the end).
+    fn clear(&self) {
+        if let Some(Ok(mut drawn)) = self.drawn.as_ref().map(Mutex::lock)
+            && drawn.take().is_some()
+        {
+            let _ = write!(std::io::stderr().lock(), "\r\x1b[2K");
+        }
+    }
+}

@@ -1,0 +1,292 @@
+//! Running a family of scenarios on every core (rayon), each run a [`Row`] of values.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::Grid;
+use crate::error::{Error, Result};
+use crate::output::TrailCsv;
+use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
+
+/// A multiplier of a built scenario: the controller's gains and limits (as tuned, or as
+/// given), or the simulated arm's masses. Applied after the build, so the gains stay those tuned
+/// for the nominal arm and limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    /// `kp-scale`: every proportional gain × factor (≥ 0).
+    Kp,
+    /// `kd-scale`: every derivative gain × factor (≥ 0).
+    Kd,
+    /// `effort-scale`: every torque limit × factor (> 0; an unlimited joint stays unlimited).
+    Effort,
+    /// `mass-scale`: every body's mass, first moment and rotational inertia × factor (> 0),
+    /// payload included. The gravity feed-forward g(q) is the scaled arm's; the gains are not
+    /// retuned, so this is the controller's view of the arm being off by the factor.
+    Mass,
+}
+
+impl Scale {
+    /// Every scale, by its option name.
+    pub const ALL: [(&'static str, Scale); 4] = [
+        ("kp-scale", Scale::Kp),
+        ("kd-scale", Scale::Kd),
+        ("effort-scale", Scale::Effort),
+        ("mass-scale", Scale::Mass),
+    ];
+
+    /// The option name (`kp-scale`, …).
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(_, s)| *s == self).map_or("", |(n, _)| n)
+    }
+
+    /// Multiplies `scenario`'s gains, limits or masses by `factor`.
+    pub fn apply(self, scenario: &mut Scenario, factor: f64) -> Result<()> {
+        let zero_allowed = matches!(self, Scale::Kp | Scale::Kd);
+        if !factor.is_finite() || factor < 0.0 || (factor == 0.0 && !zero_allowed) {
+            let bound = if zero_allowed { "≥ 0" } else { "> 0" };
+            return Err(Error::argument(
+                self.name(),
+                format!("{factor} must be finite and {bound}"),
+            ));
+        }
+        let gains = &mut scenario.controller.gains;
+        let values = match self {
+            Scale::Kp => &mut gains.kp,
+            Scale::Kd => &mut gains.kd,
+            Scale::Effort => &mut gains.effort,
+            Scale::Mass => {
+                for inertia in &mut scenario.model.inertia {
+                    inertia.mass *= factor;
+                    inertia.h *= factor;
+                    inertia.rot *= factor;
+                }
+                return Ok(());
+            }
+        };
+        values.iter_mut().for_each(|x| *x *= factor);
+        Ok(())
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// It ran (perhaps diverging: see the summary's `diverged` and verdict).
+    Ran(Box<Summary>),
+    /// It could not be built or run: the reason, one line.
+    Failed(String),
+}
+
+/// One run of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// The run's index in the whole sweep (0-based).
+    pub index: usize,
+    /// Its values, one per varied option.
+    pub values: Vec<f64>,
+    /// What it did.
+    pub outcome: Outcome,
+}
+
+impl Row {
+    /// Whether the run's verdict is "follows" (a failed run does not follow).
+    pub fn follows(&self) -> bool {
+        matches!(&self.outcome, Outcome::Ran(s) if s.verdict.follows)
+    }
+
+    /// Why it does not follow, one line: the verdict's reasons or the failure; empty when it
+    /// follows.
+    pub fn reasons(&self) -> String {
+        match &self.outcome {
+            Outcome::Ran(s) => s
+                .verdict
+                .reasons
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("; "),
+            Outcome::Failed(reason) => format!("failed: {reason}"),
+        }
+    }
+}
+
+/// Builds the scenario of a point (one value per varied option). Called from many threads.
+pub type Build<'a> = dyn Fn(&[f64]) -> Result<Scenario> + Sync + 'a;
+
+/// Runs points of a family in parallel.
+pub struct Runner<'a> {
+    pool: rayon::ThreadPool,
+    build: &'a Build<'a>,
+    trails: Option<PathBuf>,
+    on_done: Option<&'a (dyn Fn() + Sync)>,
+}
+
+/// Runs handed to the pool at once by [`Runner::sweep`], per thread: enough to keep every core
+/// busy, few enough that memory does not grow with the sweep.
+const CHUNK_PER_THREAD: usize = 32;
+
+impl<'a> Runner<'a> {
+    /// A runner on `jobs` threads (0: one per core) building each run with `build`.
+    pub fn new(build: &'a Build<'a>, jobs: usize) -> Result<Runner<'a>> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs)
+            .build()
+            .map_err(|e| Error::argument("--jobs", e.to_string()))?;
+        Ok(Runner {
+            pool,
+            build,
+            trails: None,
+            on_done: None,
+        })
+    }
+
+    /// Also write each run's trail CSV as `dir/run_INDEX.csv` (INDEX zero-padded to 7 digits).
+    pub fn with_trails(mut self, dir: &Path) -> Self {
+        self.trails = Some(dir.to_path_buf());
+        self
+    }
+
+    /// Call `on_done` after every run, from the thread that ran it (a progress bar).
+    pub fn with_progress(mut self, on_done: &'a (dyn Fn() + Sync)) -> Self {
+        self.on_done = Some(on_done);
+        self
+    }
+
+    /// Threads the runner uses.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// Runs `points` (index, values) in parallel; the rows in the same order.
+    pub fn run_points(&self, points: Vec<(usize, Vec<f64>)>) -> Vec<Row> {
+        self.pool.install(|| {
+            points
+                .into_par_iter()
+                .map(|(index, values)| {
+                    let row = self.run_one(index, values);
+                    if let Some(done) = self.on_done {
+                        done();
+                    }
+                    row
+                })
+                .collect()
+        })
+    }
+
+    /// Runs the points `indices` of `grid` and hands the rows to `on_row` in index order, a
+    /// chunk at a time, so that memory stays flat in the number of runs. Stops early (between
+    /// chunks) when `stop` is raised; returns the number of rows handed over.
+    pub fn sweep(
+        &self,
+        grid: &Grid,
+        indices: Range<usize>,
+        stop: &StopFlag,
+        mut on_row: impl FnMut(Row) -> Result<()>,
+    ) -> Result<usize> {
+        let chunk = CHUNK_PER_THREAD * self.threads();
+        let mut handed = 0;
+        let mut start = indices.start;
+        while start < indices.end && !stop.is_raised() {
+            let end = (start + chunk).min(indices.end);
+            let points = (start..end).map(|i| (i, grid.point(i))).collect();
+            for row in self.run_points(points) {
+                on_row(row)?;
+                handed += 1;
+            }
+            start = end;
+        }
+        Ok(handed)
+    }
+
+    fn run_one(&self, index: usize, values: Vec<f64>) -> Row {
+        let outcome = match self.build_and_run(index, &values) {
+            Ok(summary) => Outcome::Ran(Box::new(summary)),
+            Err(e) => Outcome::Failed(crate::error::one_line(&e.to_string())),
+        };
+        Row { index, values, outcome }
+    }
+
+    fn build_and_run(&self, index: usize, values: &[f64]) -> Result<Summary> {
+        let scenario = (self.build)(values)?;
+        let never = StopFlag::new();
+        match &self.trails {
+            None => sim::run(&scenario, &mut [], &never),
+            Some(dir) => {
+                let period = scenario.record_every as f64 * scenario.dt;
+                let mut trail = TrailCsv::create(&dir.join(format!("run_{index:07}.csv")), period, false)?;
+                let mut recorders: [&mut dyn Recorder; 1] = [&mut trail];
+                sim::run(&scenario, &mut recorders, &never)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::traj::{Trajectory, Wave};
+
+    fn scenario() -> Scenario {
+        let model = crate::faze4::model();
+        let wave = Trajectory::Wave(Wave {
+            amplitude: 0.1,
+            omega: 0.5,
+            dof: model.dof(),
+        });
+        Scenario::builder(model, wave).duration(0.01).build().unwrap()
+    }
+
+    #[test]
+    fn scales_multiply_the_built_scenario_and_refuse_bad_factors() {
+        let base = scenario();
+        let mut s = base.clone();
+        Scale::Kp.apply(&mut s, 0.5).unwrap();
+        Scale::Effort.apply(&mut s, 2.0).unwrap();
+        Scale::Mass.apply(&mut s, 1.2).unwrap();
+        for i in 0..base.model.dof() {
+            assert_eq!(s.controller.gains.kp[i], base.controller.gains.kp[i] * 0.5);
+            assert_eq!(s.controller.gains.kd[i], base.controller.gains.kd[i]);
+            assert_eq!(s.controller.gains.effort[i], base.controller.gains.effort[i] * 2.0);
+            assert_eq!(s.model.inertia[i].mass, base.model.inertia[i].mass * 1.2);
+            assert_eq!(s.model.inertia[i].rot, base.model.inertia[i].rot * 1.2);
+        }
+        assert!(Scale::Kd.apply(&mut s, 0.0).is_ok());
+        for (scale, bad) in [(Scale::Mass, 0.0), (Scale::Effort, -1.0), (Scale::Kp, f64::NAN)] {
+            let e = scale.apply(&mut s, bad).unwrap_err().to_string();
+            assert!(e.starts_with(scale.name()), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_family_runs_in_order_and_a_failed_build_is_a_row() {
+        let build = |values: &[f64]| -> Result<Scenario> {
+            if values[0] < 0.0 {
+                return Err(Error::argument("--payload-kg", "negative"));
+            }
+            let mut s = scenario();
+            Scale::Kp.apply(&mut s, values[0])?;
+            Ok(s)
+        };
+        let grid = Grid::new(vec![super::super::Axis::parse("kp-scale=-1,0.5,1,2").unwrap()]).unwrap();
+        let runner = Runner::new(&build, 2).unwrap();
+        let mut rows = Vec::new();
+        let ran = runner
+            .sweep(&grid, 0..4, &StopFlag::new(), |row| {
+                rows.push(row);
+                Ok(())
+            })
+            .unwrap();
+        assert_eq!(ran, 4);
+        assert_eq!(rows.iter().map(|r| r.index).collect::<Vec<_>>(), [0, 1, 2, 3]);
+        assert_eq!(rows[0].outcome, Outcome::Failed("--payload-kg: negative".into()));
+        assert!(!rows[0].follows());
+        for (row, factor) in rows[1..].iter().zip([0.5, 1.0, 2.0]) {
+            let Outcome::Ran(s) = &row.outcome else {
+                panic!("{row:?}")
+            };
+            assert_eq!(s.gains.kp[0], scenario().controller.gains.kp[0] * factor);
+        }
+    }
+}

@@ -1,0 +1,252 @@
+//! The values a sweep runs: one [`Axis`] per varied option, their Cartesian product
+//! ([`Grid`]), and the deterministic parts of it that separate processes run ([`Shard`]).
+
+use std::ops::Range;
+use std::str::FromStr;
+
+use crate::error::{Error, Result};
+
+/// Most values one option takes (80 MB of them); a bigger sweep is a product of options.
+pub const MAX_AXIS_VALUES: usize = 10_000_000;
+
+/// The option every axis error names.
+const VARY: &str = "--vary";
+
+/// One varied option and its values, in the order they run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// The option's name as on the command line, without dashes (`payload-kg`).
+    pub name: String,
+    /// Its values (the option's unit), at least one.
+    pub values: Vec<f64>,
+}
+
+impl Axis {
+    /// Parses `NAME=LO:HI:STEP` (LO, LO+STEP, … up to HI included, within 1e-9 steps) or
+    /// `NAME=v1,v2,…`. Range values are rounded to the decimals LO, HI and STEP are written
+    /// with, so `0:1:0.1` gives 0.3 and not 0.30000000000000004. The name is not checked here
+    /// (the caller knows which options exist); the values must be finite.
+    pub fn parse(spec: &str) -> Result<Axis> {
+        let (name, values) = spec
+            .split_once('=')
+            .ok_or_else(|| Error::argument(VARY, format!("'{spec}' is not NAME=LO:HI:STEP or NAME=v1,v2,…")))?;
+        let name = name.trim().trim_start_matches("--").to_string();
+        if name.is_empty() {
+            return Err(Error::argument(VARY, format!("'{spec}' names no option")));
+        }
+        let values = if values.contains(':') {
+            range_values(&name, values)?
+        } else {
+            values
+                .split(',')
+                .map(|v| number(&name, v))
+                .collect::<Result<Vec<f64>>>()?
+        };
+        Ok(Axis { name, values })
+    }
+}
+
+/// `LO:HI:STEP` → its values.
+fn range_values(name: &str, text: &str) -> Result<Vec<f64>> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [lo_text, hi_text, step_text] = parts[..] else {
+        return Err(Error::argument(VARY, format!("{name}={text}: a range is LO:HI:STEP")));
+    };
+    let (lo, hi, step) = (number(name, lo_text)?, number(name, hi_text)?, number(name, step_text)?);
+    if step <= 0.0 {
+        return Err(Error::argument(
+            VARY,
+            format!("{name}={text}: the step {step} must be > 0"),
+        ));
+    }
+    if hi < lo {
+        return Err(Error::argument(
+            VARY,
+            format!("{name}={text}: empty range ({hi} < {lo})"),
+        ));
+    }
+    let count = ((hi - lo) / step + 1e-9).floor() + 1.0;
+    if count > MAX_AXIS_VALUES as f64 {
+        return Err(Error::argument(
+            VARY,
+            format!("{name}={text}: {count:e} values; one option takes at most {MAX_AXIS_VALUES:e}"),
+        ));
+    }
+    let decimals: Option<Vec<usize>> = [lo_text, hi_text, step_text].iter().map(|t| decimals(t)).collect();
+    let decimals = decimals.map(|d| d.into_iter().max().unwrap_or(0));
+    Ok((0..count as usize)
+        .map(|i| {
+            let x = lo + i as f64 * step;
+            let rounded = match decimals {
+                Some(d) => format!("{x:.d$}"),
+                None => format!("{x:.14e}"),
+            };
+            rounded.parse().unwrap_or(x)
+        })
+        .collect())
+}
+
+/// Digits after the point of a number written positionally (`0.25` → 2); `None` for
+/// scientific notation, whose range values are rounded to 15 significant digits instead.
+fn decimals(text: &str) -> Option<usize> {
+    let text = text.trim();
+    if text.contains(['e', 'E']) {
+        return None;
+    }
+    Some(text.split_once('.').map_or(0, |(_, after)| after.len()))
+}
+
+fn number(name: &str, text: &str) -> Result<f64> {
+    let x: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| Error::argument(VARY, format!("{name}: '{}' is not a number", text.trim())))?;
+    if !x.is_finite() {
+        return Err(Error::argument(VARY, format!("{name}: {x} is not a finite number")));
+    }
+    Ok(x)
+}
+
+/// The Cartesian product of the axes. Run `i` takes, for each axis, the value at the digit of
+/// `i` in the mixed radix of the axis lengths, the last axis varying fastest (as nested loops
+/// with the first axis outermost).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    /// The varied options, outermost first.
+    pub axes: Vec<Axis>,
+}
+
+impl Grid {
+    /// The product of `axes`; an option may be varied once only.
+    pub fn new(axes: Vec<Axis>) -> Result<Grid> {
+        for (i, a) in axes.iter().enumerate() {
+            if axes[..i].iter().any(|b| b.name == a.name) {
+                return Err(Error::argument(VARY, format!("'{}' is varied twice", a.name)));
+            }
+        }
+        Ok(Grid { axes })
+    }
+
+    /// Number of runs (the product of the axis lengths; 1 with no axis), or `None` past
+    /// `usize`.
+    pub fn len(&self) -> Option<usize> {
+        self.axes.iter().try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
+    }
+
+    /// Whether the grid has no run (never: an axis has at least one value).
+    pub fn is_empty(&self) -> bool {
+        self.len() == Some(0)
+    }
+
+    /// The values of run `index` (< [`Grid::len`]), one per axis.
+    pub fn point(&self, index: usize) -> Vec<f64> {
+        let mut rest = index;
+        let mut point = vec![0.0; self.axes.len()];
+        for (slot, axis) in point.iter_mut().zip(&self.axes).rev() {
+            *slot = axis.values[rest % axis.values.len()];
+            rest /= axis.values.len();
+        }
+        point
+    }
+}
+
+/// Part `k` (1-based) of `n` of a sweep: the `k`-th of `n` contiguous blocks of run indices,
+/// sizes differing by at most one. The parts of a sweep are disjoint and together are all of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// Which part, 1 ≤ k ≤ n.
+    pub k: usize,
+    /// How many parts, ≥ 1.
+    pub n: usize,
+}
+
+impl Shard {
+    /// The run indices of this part of a sweep of `total` runs: `⌊total·(k−1)/n⌋ ..
+    /// ⌊total·k/n⌋`.
+    pub fn range(&self, total: usize) -> Range<usize> {
+        let at = |k: usize| (total as u128 * k as u128 / self.n as u128) as usize;
+        at(self.k - 1)..at(self.k)
+    }
+}
+
+impl FromStr for Shard {
+    type Err = Error;
+
+    /// `K/N` with 1 ≤ K ≤ N.
+    fn from_str(text: &str) -> Result<Shard> {
+        let bad = || Error::argument("--shard", format!("'{text}' is not K/N with 1 ≤ K ≤ N (e.g. 3/8)"));
+        let (k, n) = text.split_once('/').ok_or_else(bad)?;
+        let (k, n): (usize, usize) = (
+            k.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if k == 0 || n == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_include_their_end_and_keep_the_written_decimals() {
+        let a = Axis::parse("payload-kg=0:1:0.1").unwrap();
+        assert_eq!(a.name, "payload-kg");
+        assert_eq!(a.values.len(), 11);
+        assert_eq!(a.values[3], 0.3);
+        assert_eq!(a.values[10], 1.0);
+        assert_eq!(Axis::parse("dt=1e-4:3e-4:1e-4").unwrap().values, vec![1e-4, 2e-4, 3e-4]);
+        assert_eq!(Axis::parse("freq=0.5,1,2").unwrap().values, vec![0.5, 1.0, 2.0]);
+        assert_eq!(Axis::parse("freq=2:2:1").unwrap().values, vec![2.0]);
+    }
+
+    #[test]
+    fn bad_axes_are_refused() {
+        for spec in [
+            "freq",
+            "=1,2",
+            "freq=1:0:0.1",
+            "freq=0:1:0",
+            "freq=0:1:-1",
+            "freq=a,b",
+            "freq=0:1",
+            "freq=nan",
+        ] {
+            assert!(Axis::parse(spec).is_err(), "{spec}");
+        }
+    }
+
+    #[test]
+    fn the_product_runs_the_last_axis_fastest() {
+        let grid = Grid::new(vec![Axis::parse("a=1,2").unwrap(), Axis::parse("b=10,20,30").unwrap()]).unwrap();
+        assert_eq!(grid.len(), Some(6));
+        let points: Vec<Vec<f64>> = (0..6).map(|i| grid.point(i)).collect();
+        assert_eq!(points[0], vec![1.0, 10.0]);
+        assert_eq!(points[2], vec![1.0, 30.0]);
+        assert_eq!(points[3], vec![2.0, 10.0]);
+        assert!(Grid::new(vec![Axis::parse("a=1").unwrap(), Axis::parse("a=2").unwrap()]).is_err());
+    }
+
+    #[test]
+    fn shards_cover_the_sweep_once() {
+        for total in [0, 1, 7, 200, 1001] {
+            for n in 1..=9 {
+                let mut next = 0;
+                for k in 1..=n {
+                    let r = Shard { k, n }.range(total);
+                    assert_eq!(r.start, next);
+                    assert!(r.len() <= total / n + 1);
+                    next = r.end;
+                }
+                assert_eq!(next, total);
+            }
+        }
+        assert_eq!("3/8".parse::<Shard>().unwrap(), Shard { k: 3, n: 8 });
+        for bad in ["0/3", "4/3", "3", "a/b", "1/0", "-1/2"] {
+            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,414 @@
+//! The sweep's table: one row per run, written as CSV or JSON while the sweep runs, and the
+//! merge of the tables of a sweep's shards.
+//!
+//! Columns: `run` (the index in the whole sweep), the varied options (named as the options),
+//! `follows`, `diverged`, `reasons` (the verdict's reasons, or `failed: …` for a run that could
+//! not be built or run), then every figure of the run's summary (the `--summary` JSON; `dt`
+//! only once when it is varied) flattened: a per-joint list `x` becomes `x_1` … `x_N`, a nested object `a: {b}` becomes
+//! `a_b`; an unlimited torque limit is empty. A failed run has empty figures.
+
+use std::io::Write;
+use std::path::Path;
+
+use serde_json::{Map, Value};
+
+use super::{Outcome, Row};
+use crate::atomic::AtomicFile;
+use crate::error::{Error, Result};
+use crate::output::format::push_exact;
+
+/// The summary fields that are not figures of the run, or that have their own columns.
+const NOT_FIGURES: [&str; 3] = ["verdict", "diverged", "interrupted_at_s"];
+
+/// One cell.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cell {
+    /// Nothing (a failed run's figure, an unlimited limit).
+    Empty,
+    /// A count (the run index, steps, dof).
+    Integer(u64),
+    /// A number, written exactly (the shortest decimal that reads back to the same `f64`).
+    Number(f64),
+    /// True or false.
+    Bool(bool),
+    /// Text.
+    Text(String),
+}
+
+/// A row as named cells, in column order.
+pub type Cells = Vec<(String, Cell)>;
+
+/// The cells of `row` whose varied options are `axes`.
+pub fn cells(axes: &[String], row: &Row) -> Cells {
+    let mut cells: Cells = vec![("run".into(), Cell::Integer(row.index as u64))];
+    cells.extend(axes.iter().cloned().zip(row.values.iter().map(|&x| Cell::Number(x))));
+    match &row.outcome {
+        Outcome::Ran(summary) => {
+            cells.push(("follows".into(), Cell::Bool(summary.verdict.follows)));
+            cells.push(("diverged".into(), Cell::Bool(summary.diverged.is_some())));
+            cells.push(("reasons".into(), Cell::Text(row.reasons())));
+            if let Ok(Value::Object(fields)) = serde_json::to_value(summary) {
+                let mut figures = Vec::new();
+                flatten_into(&mut figures, "", &fields);
+                // a varied option named as a figure (dt) keeps its one column
+                figures.retain(|(name, _)| !axes.contains(name));
+                cells.extend(figures);
+            }
+        }
+        Outcome::Failed(_) => {
+            cells.push(("follows".into(), Cell::Bool(false)));
+            cells.push(("diverged".into(), Cell::Empty));
+            cells.push(("reasons".into(), Cell::Text(row.reasons())));
+        }
+    }
+    cells
+}
+
+fn flatten_into(cells: &mut Cells, prefix: &str, fields: &Map<String, Value>) {
+    for (key, value) in fields {
+        if prefix.is_empty() && NOT_FIGURES.contains(&key.as_str()) {
+            continue;
+        }
+        let name = format!("{prefix}{key}");
+        match value {
+            Value::Object(inner) => flatten_into(cells, &format!("{name}_"), inner),
+            Value::Array(items) => {
+                for (i, item) in items.iter().enumerate() {
+                    cells.push((format!("{name}_{}", i + 1), scalar(item)));
+                }
+            }
+            other => cells.push((name, scalar(other))),
+        }
+    }
+}
+
+fn scalar(value: &Value) -> Cell {
+    match value {
+        Value::Number(n) => match n.as_u64() {
+            Some(count) => Cell::Integer(count),
+            None => n.as_f64().map_or(Cell::Empty, Cell::Number),
+        },
+        Value::Bool(b) => Cell::Bool(*b),
+        Value::String(s) => Cell::Text(s.clone()),
+        Value::Null => Cell::Empty,
+        other => Cell::Text(other.to_string()),
+    }
+}
+
+/// Table formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Comma-separated, a header line first.
+    Csv,
+    /// A JSON array of objects (one per run, keys the column names in column order; empty
+    /// cells are `null`).
+    Json,
+}
+
+impl Format {
+    /// The format of `path` by its extension, `.csv` or `.json`.
+    pub fn of(path: &Path, option: &str) -> Result<Format> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("csv") => Ok(Format::Csv),
+            Some("json") => Ok(Format::Json),
+            _ => Err(Error::argument(
+                option,
+                format!("{}: the table is written as .csv or .json", path.display()),
+            )),
+        }
+    }
+}
+
+/// A table being written, row by row, into a file that appears whole when [`TableWriter::finish`]
+/// is called (and not at all otherwise). The columns are those of the first row that ran (or,
+/// if none ran, the first row): later rows fill those columns, empty where they have none.
+pub struct TableWriter {
+    file: AtomicFile,
+    format: Format,
+    header: Option<Vec<String>>,
+    /// Rows waiting for a row that ran, which fixes the columns.
+    waiting: Vec<Cells>,
+    rows: usize,
+}
+
+impl TableWriter {
+    /// A table to `path` in `format`.
+    pub fn create(path: &Path, format: Format) -> Result<TableWriter> {
+        Ok(TableWriter {
+            file: AtomicFile::create(path)?,
+            format,
+            header: None,
+            waiting: Vec::new(),
+            rows: 0,
+        })
+    }
+
+    /// Adds `row`, whose varied options are `axes`.
+    pub fn push(&mut self, axes: &[String], row: &Row) -> Result<()> {
+        let cells = cells(axes, row);
+        if self.header.is_none() {
+            if matches!(row.outcome, Outcome::Failed(_)) {
+                self.waiting.push(cells);
+                return Ok(());
+            }
+            self.start(cells.iter().map(|(name, _)| name.clone()).collect())?;
+            for waiting in std::mem::take(&mut self.waiting) {
+                self.write(&waiting)?;
+            }
+        }
+        self.write(&cells)
+    }
+
+    /// Rows written.
+    pub fn rows(&self) -> usize {
+        self.rows + self.waiting.len()
+    }
+
+    /// Writes the rows still waiting, closes the table and moves it into place.
+    pub fn finish(mut self) -> Result<()> {
+        if self.header.is_none() {
+            let header = match self.waiting.first() {
+                Some(cells) => cells.iter().map(|(name, _)| name.clone()).collect(),
+                None => vec!["run".to_string()],
+            };
+            self.start(header)?;
+            for waiting in std::mem::take(&mut self.waiting) {
+                self.write(&waiting)?;
+            }
+        }
+        let end = match (self.format, self.rows) {
+            (Format::Csv, _) => "",
+            (Format::Json, 0) => "[]\n",
+            (Format::Json, _) => "\n]\n",
+        };
+        self.file
+            .writer()
+            .write_all(end.as_bytes())
+            .map_err(|e| self.file.error(e))?;
+        self.file.commit()
+    }
+
+    fn start(&mut self, header: Vec<String>) -> Result<()> {
+        if self.format == Format::Csv {
+            let line = csv_line(header.iter().map(|h| Cell::Text(h.clone())));
+            self.file
+                .writer()
+                .write_all(line.as_bytes())
+                .map_err(|e| self.file.error(e))?;
+        }
+        self.header = Some(header);
+        Ok(())
+    }
+
+    fn write(&mut self, cells: &Cells) -> Result<()> {
+        let header = self.header.as_ref().expect("started");
+        let ordered = header.iter().map(|name| {
+            cells
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or(Cell::Empty, |(_, c)| c.clone())
+        });
+        let text = match self.format {
+            Format::Csv => csv_line(ordered),
+            Format::Json => {
+                // the keys in column order (a serde_json map would sort them)
+                let fields: Vec<String> = (header.iter())
+                    .zip(ordered)
+                    .map(|(name, cell)| format!("{}:{}", Value::from(name.as_str()), json_value(cell)))
+                    .collect();
+                let lead = if self.rows == 0 { "[\n" } else { ",\n" };
+                format!("{lead}{{{}}}", fields.join(","))
+            }
+        };
+        self.file
+            .writer()
+            .write_all(text.as_bytes())
+            .map_err(|e| self.file.error(e))?;
+        self.rows += 1;
+        Ok(())
+    }
+}
+
+fn csv_line(cells: impl Iterator<Item = Cell>) -> String {
+    let mut line = String::new();
+    for (i, cell) in cells.enumerate() {
+        if i > 0 {
+            line.push(',');
+        }
+        match cell {
+            Cell::Empty => {}
+            Cell::Integer(k) => line.push_str(&k.to_string()),
+            Cell::Number(x) => push_exact(&mut line, x),
+            Cell::Bool(b) => line.push_str(if b { "true" } else { "false" }),
+            Cell::Text(t) if t.contains([',', '"', '\n', '\r']) => {
+                line.push('"');
+                line.push_str(&t.replace('"', "\"\""));
+                line.push('"');
+            }
+            Cell::Text(t) => line.push_str(&t),
+        }
+    }
+    line.push('\n');
+    line
+}
+
+fn json_value(cell: Cell) -> Value {
+    match cell {
+        Cell::Empty => Value::Null,
+        Cell::Integer(k) => Value::from(k),
+        Cell::Number(x) => serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number),
+        Cell::Bool(b) => Value::Bool(b),
+        Cell::Text(t) => Value::String(t),
+    }
+}
+
+/// Joins the CSV tables of a sweep's shards into `out`: their columns must be the same; the rows
+/// are ordered by `run`, and a run present twice is an error. Returns the number of rows.
+pub fn merge(parts: &[&Path], out: &Path) -> Result<usize> {
+    let option = "sweep merge";
+    let mut header: Option<(csv::StringRecord, &Path)> = None;
+    let mut rows: Vec<(u64, csv::StringRecord)> = Vec::new();
+    for &path in parts {
+        let io = |e: csv::Error| Error::InvalidData {
+            path: path.to_path_buf(),
+            message: crate::error::one_line(&e.to_string()),
+        };
+        let mut reader = csv::ReaderBuilder::new().flexible(false).from_path(path).map_err(io)?;
+        let this = reader.headers().map_err(io)?.clone();
+        if this.get(0) != Some("run") {
+            return Err(Error::InvalidData {
+                path: path.to_path_buf(),
+                message: "is not a sweep table (its first column is not 'run')".into(),
+            });
+        }
+        match &header {
+            None => header = Some((this, path)),
+            Some((first, first_path)) if *first != this => {
+                return Err(Error::argument(
+                    option,
+                    format!(
+                        "{} and {} have different columns: not parts of one sweep",
+                        first_path.display(),
+                        path.display()
+                    ),
+                ));
+            }
+            Some(_) => {}
+        }
+        for record in reader.records() {
+            let record = record.map_err(io)?;
+            let run = record
+                .get(0)
+                .and_then(|r| r.parse::<u64>().ok())
+                .ok_or_else(|| Error::InvalidData {
+                    path: path.to_path_buf(),
+                    message: format!("run '{}' is not a run index", record.get(0).unwrap_or("")),
+                })?;
+            rows.push((run, record));
+        }
+    }
+    let (header, _) = header.ok_or_else(|| Error::argument(option, "no table to merge"))?;
+    rows.sort_by_key(|(run, _)| *run);
+    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(Error::argument(
+            option,
+            format!("run {} is in two of the tables", w[0].0),
+        ));
+    }
+    let mut file = AtomicFile::create(out)?;
+    {
+        let mut writer = csv::Writer::from_writer(file.writer());
+        let mut put = |record: &csv::StringRecord| writer.write_record(record);
+        let result = std::iter::once(&header)
+            .chain(rows.iter().map(|(_, r)| r))
+            .try_for_each(&mut put)
+            .and_then(|_| writer.flush().map_err(csv::Error::from));
+        result.map_err(|e| Error::Io {
+            path: out.to_path_buf(),
+            source: std::io::Error::other(e.to_string()),
+        })?;
+    }
+    file.commit()?;
+    Ok(rows.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{Diverged, Summary, Verdict};
+
+    fn row(index: usize, diverged: bool) -> Row {
+        let summary = Summary {
+            dof: 2,
+            max_tracking_error_rad: vec![0.1, 0.25],
+            saturation_pct: vec![0.0, 12.5],
+            diverged: diverged.then(|| Diverged {
+                t: 0.5,
+                joint: crate::model::JointId(1),
+                stiffness_b: vec![0.4, 0.6],
+            }),
+            verdict: Verdict::default(),
+            ..Summary::default()
+        };
+        Row {
+            index,
+            values: vec![0.5 * index as f64],
+            outcome: Outcome::Ran(Box::new(summary)),
+        }
+    }
+
+    #[test]
+    fn per_joint_figures_become_numbered_columns() {
+        let cells = cells(&["payload-kg".into()], &row(3, true));
+        let get = |name: &str| cells.iter().find(|(n, _)| n == name).map(|(_, c)| c.clone());
+        assert_eq!(get("run"), Some(Cell::Integer(3)));
+        assert_eq!(get("payload-kg"), Some(Cell::Number(1.5)));
+        assert_eq!(get("max_tracking_error_rad_2"), Some(Cell::Number(0.25)));
+        assert_eq!(get("saturation_pct_2"), Some(Cell::Number(12.5)));
+        assert_eq!(get("tool_range_m_z_2"), Some(Cell::Number(0.0)));
+        assert_eq!(get("diverged"), Some(Cell::Bool(true)));
+        assert_eq!(get("verdict"), None);
+        assert_eq!(get("max_tracking_error_rad_3"), None);
+    }
+
+    #[test]
+    fn failed_rows_before_the_first_run_wait_for_its_columns() {
+        let dir = std::env::temp_dir().join(format!("faze4_table_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.csv");
+        let mut table = TableWriter::create(&path, Format::Csv).unwrap();
+        let axes = vec!["dt".to_string()];
+        let failed = Row {
+            index: 0,
+            values: vec![-1.0],
+            outcome: Outcome::Failed("--dt: -1 must be > 0, really".into()),
+        };
+        table.push(&axes, &failed).unwrap();
+        table.push(&axes, &row(1, false)).unwrap();
+        table.finish().unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 3);
+        let columns = lines[0].split(',').count();
+        assert!(
+            lines[0].starts_with("run,dt,follows,diverged,reasons,dof,"),
+            "{}",
+            lines[0]
+        );
+        assert!(
+            lines[1].starts_with("0,-1.0,false,,\"failed: --dt: -1 must be > 0, really\","),
+            "{}",
+            lines[1]
+        );
+        let mut reader = csv::Reader::from_path(&path).unwrap();
+        for record in reader.records() {
+            assert_eq!(record.unwrap().len(), columns);
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,571 @@
+//! `faze4 sweep` through the real binary: rows equal single runs bit for bit, shards merge to
+//! the whole sweep, the search's answer agrees with single runs, and bad input is one line and
+//! exit 2.
+
+mod common;
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use common::*;
+use serde_json::Value;
+
+/// A table as its header and rows of text cells (the `csv` crate: reasons may be quoted).
+fn read_table(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut reader = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header = reader.headers().unwrap().iter().map(str::to_string).collect();
+    let rows = reader
+        .records()
+        .map(|r| r.unwrap().iter().map(str::to_string).collect())
+        .collect();
+    (header, rows)
+}
+
+/// Row `row` of a table as column → cell.
+fn named<'a>(header: &'a [String], row: &'a [String]) -> HashMap<&'a str, &'a str> {
+    header
+        .iter()
+        .map(String::as_str)
+        .zip(row.iter().map(String::as_str))
+        .collect()
+}
+
+fn ok(run: &Run) {
+    assert!(
+        run.status.success(),
+        "status {:?}\nstdout: {}\nstderr: {}",
+        run.status,
+        run.stdout,
+        run.stderr
+    );
+}
+
+/// Runs `base` once per row of a sweep over it with `vary`, each as a single run with the
+/// row's values as options and `--summary`, and checks that every figure of the row is the
+/// summary's, bit for bit.
+fn rows_equal_single_runs(name: &str, vary: &[&str], base: &[&str]) {
+    let dir = temp_dir(name);
+    let mut args = vec!["sweep", "--out", "table.csv"];
+    for v in vary {
+        args.extend(["--vary", v]);
+    }
+    args.push("--");
+    args.extend(base);
+    ok(&faze4(&dir, &args));
+    let (header, rows) = read_table(&dir.join("table.csv"));
+    let axes: Vec<&str> = vary.iter().map(|v| v.split('=').next().unwrap()).collect();
+    assert!(rows.len() >= 2, "{name}: {} rows", rows.len());
+    let mut compared = 0;
+    for row in &rows {
+        let cells = named(&header, row);
+        let mut single: Vec<String> = base.iter().map(|s| s.to_string()).collect();
+        for axis in &axes {
+            single.extend([format!("--{axis}"), cells[axis].to_string()]);
+        }
+        single.extend([
+            "--summary".into(),
+            "s.json".into(),
+            "--trail".into(),
+            "none".into(),
+            "-q".into(),
+        ]);
+        let run = faze4(&dir, &single.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(
+            run.status.code() == Some(0) || run.status.code() == Some(1),
+            "{single:?}: {}",
+            run.stderr
+        );
+        let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+        assert_eq!(
+            cells["follows"],
+            summary["verdict"]["follows"].to_string(),
+            "{single:?}"
+        );
+        assert_eq!(
+            cells["diverged"],
+            (!summary["diverged"].is_null()).to_string(),
+            "{single:?}"
+        );
+        let reasons: Vec<&str> = summary["verdict"]["reasons"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r.as_str().unwrap())
+            .collect();
+        assert_eq!(cells["reasons"], reasons.join("; "));
+        let mut figures = vec!["steps".to_string()];
+        for field in [
+            "max_tracking_error_rad",
+            "saturation_pct",
+            "kp",
+            "kd",
+            "effort",
+            "effective_inertia",
+        ] {
+            let n = summary[field].as_array().unwrap().len();
+            figures.extend((1..=n).map(|j| format!("{field}_{j}")));
+        }
+        if summary.get("path_deviation_mm").is_some() {
+            figures.extend(["path_deviation_mm_max".into(), "path_deviation_mm_mean".into()]);
+        }
+        for figure in &figures {
+            let (field, index) = match figure.rsplit_once('_') {
+                Some((f, j)) if j.parse::<usize>().is_ok() && summary.get(f).is_some() => {
+                    (f, Some(j.parse::<usize>().unwrap() - 1))
+                }
+                _ => (figure.as_str(), None),
+            };
+            let expected = match (field, index) {
+                ("path_deviation_mm_max", _) => &summary["path_deviation_mm"]["max"],
+                ("path_deviation_mm_mean", _) => &summary["path_deviation_mm"]["mean"],
+                (f, Some(j)) => &summary[f][j],
+                (f, None) => &summary[f],
+            };
+            let cell = cells
+                .get(figure.as_str())
+                .unwrap_or_else(|| panic!("{name}: no column {figure}"));
+            match expected.as_f64() {
+                Some(x) => assert_eq!(
+                    cell.parse::<f64>().unwrap().to_bits(),
+                    x.to_bits(),
+                    "{single:?}: {figure} {cell} vs {x}"
+                ),
+                None => assert_eq!(*cell, "", "{single:?}: {figure} (unlimited)"),
+            }
+            compared += 1;
+        }
+    }
+    assert!(compared > 20 * rows.len(), "{name}: compared {compared} figures");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_wave_sweeps_rows_equal_its_single_runs() {
+    rows_equal_single_runs(
+        "wave",
+        &["payload-kg=0:1.5:0.75", "freq=0.5,2"],
+        &["wave", "--duration", "1"],
+    );
+}
+
+#[test]
+fn a_shape_sweeps_rows_equal_its_single_runs() {
+    rows_equal_single_runs(
+        "shape",
+        &["payload-kg=0,1.2", "dt=2e-4,5e-4"],
+        &["shape", "--shape", "circle", "--duration", "1"],
+    );
+}
+
+#[test]
+fn a_sweep_of_an_arm_of_our_own_equals_its_single_runs() {
+    let urdf = repo_path("tests/urdf/arm_prismatic.urdf");
+    rows_equal_single_runs(
+        "own_arm",
+        &["amp-deg=2:8:3", "dt=1e-3,2e-4"],
+        &["wave", "--urdf", urdf.to_str().unwrap(), "--duration", "1"],
+    );
+}
+
+#[test]
+fn merged_shards_equal_the_whole_sweep() {
+    let dir = temp_dir("shards");
+    let sweep = |extra: &[&str]| {
+        let mut args = vec!["sweep", "--vary", "payload-kg=0:2:0.25", "--vary", "freq=0.5,1.5", "-q"];
+        args.extend(extra);
+        args.extend(["--", "wave", "--duration", "0.5"]);
+        ok(&faze4(&dir, &args));
+    };
+    sweep(&["--out", "whole.csv"]);
+    for k in 1..=4 {
+        sweep(&["--shard", &format!("{k}/4"), "--out", &format!("part{k}.csv")]);
+    }
+    // the parts in any order
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "merge",
+            "part3.csv",
+            "part1.csv",
+            "part4.csv",
+            "part2.csv",
+            "--out",
+            "all.csv",
+        ],
+    ));
+    let (whole_header, whole) = read_table(&dir.join("whole.csv"));
+    let (merged_header, merged) = read_table(&dir.join("all.csv"));
+    assert_eq!(whole_header, merged_header);
+    assert_eq!(whole.len(), 18);
+    assert_eq!(merged.len(), whole.len());
+    let wall = whole_header
+        .iter()
+        .position(|h| h == "wall_time_s")
+        .expect("wall_time_s column");
+    let mut shard_sizes: Vec<usize> = (1..=4)
+        .map(|k| read_table(&dir.join(format!("part{k}.csv"))).1.len())
+        .collect();
+    shard_sizes.sort();
+    assert_eq!(shard_sizes, [4, 4, 5, 5]);
+    for (a, b) in whole.iter().zip(&merged) {
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            if i != wall {
+                assert_eq!(x, y, "column {}", whole_header[i]);
+            }
+        }
+    }
+    // a run in two parts, and parts of different sweeps, are refused
+    let twice = faze4(&dir, &["sweep", "merge", "part1.csv", "part1.csv", "--out", "bad.csv"]);
+    assert_eq!(twice.status.code(), Some(2), "{}", twice.stderr);
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "dt=2e-4",
+            "--out",
+            "other.csv",
+            "-q",
+            "--",
+            "wave",
+            "--duration",
+            "0.2",
+        ],
+    ));
+    let other = faze4(&dir, &["sweep", "merge", "part1.csv", "other.csv", "--out", "bad.csv"]);
+    assert_eq!(other.status.code(), Some(2));
+    assert!(other.stderr.contains("different columns"), "{}", other.stderr);
+    assert!(!dir.join("bad.csv").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The number in `line` after `label`.
+fn number_after(line: &str, label: &str) -> f64 {
+    let rest = &line[line.find(label).unwrap_or_else(|| panic!("'{label}' in {line}")) + label.len()..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .unwrap_or(rest.len());
+    rest[..end]
+        .parse()
+        .unwrap_or_else(|_| panic!("a number after '{label}' in {line}"))
+}
+
+#[test]
+fn find_answers_with_values_that_single_runs_confirm() {
+    let dir = temp_dir("find");
+    let base = ["wave", "--duration", "1"];
+    let mut args = vec!["sweep", "--find", "payload-kg=0:3", "--resolution", "0.01", "--"];
+    args.extend(base);
+    let run = faze4(&dir, &args);
+    ok(&run);
+    let line = run.stdout.trim();
+    assert!(line.starts_with("largest payload-kg that follows: "), "{line}");
+    let (follows, fails) = (number_after(line, "follows: "), number_after(line, "(at "));
+    assert!(fails > follows && fails - follows <= 0.01 + 1e-9, "{line}");
+    assert!(line.contains("saturates") || line.contains("tracking error"), "{line}");
+    let verdict = |value: f64| {
+        let payload = value.to_string();
+        let mut single: Vec<&str> = base.to_vec();
+        single.extend(["--payload-kg", &payload, "--trail", "none", "-q"]);
+        faze4(&dir, &single).stdout.trim().to_string()
+    };
+    assert_eq!(verdict(follows), "verdict: follows");
+    assert!(verdict(fails).starts_with("verdict: cannot follow"));
+
+    // the smallest: a stiffer loop (kp-scale) follows above some value
+    let mut args = vec!["sweep", "--find-min", "kp-scale=0.001:1", "--"];
+    args.extend(base);
+    let run = faze4(&dir, &args);
+    ok(&run);
+    assert!(
+        run.stdout.starts_with("smallest kp-scale that follows: "),
+        "{}",
+        run.stdout
+    );
+
+    // the ends, said plainly
+    let mut args = vec!["sweep", "--find", "payload-kg=5:6", "--"];
+    args.extend(base);
+    let run = faze4(&dir, &args);
+    ok(&run);
+    assert!(
+        run.stdout.starts_with("no payload-kg in [5, 6] follows: already at 5"),
+        "{}",
+        run.stdout
+    );
+    let mut args = vec!["sweep", "--find", "payload-kg=0:0.05", "--"];
+    args.extend(base);
+    let run = faze4(&dir, &args);
+    ok(&run);
+    assert!(run.stdout.contains("beyond the range (raise HI)"), "{}", run.stdout);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn failed_runs_are_rows_and_the_scales_multiply_the_tuned_values() {
+    let dir = temp_dir("rows");
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "dt=-1,2e-4",
+            "--vary",
+            "kp-scale=1,0.5",
+            "--out",
+            "t.json",
+            "--",
+            "wave",
+            "--duration",
+            "0.5",
+        ],
+    ));
+    let rows: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("t.json")).unwrap()).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    for failed in &rows[..2] {
+        assert_eq!(failed["follows"], false);
+        assert!(
+            failed["reasons"].as_str().unwrap().starts_with("failed: --dt: -1"),
+            "{failed}"
+        );
+        assert!(failed["kp_1"].is_null());
+    }
+    for j in 1..=6 {
+        let (full, half) = (
+            rows[2][format!("kp_{j}")].as_f64().unwrap(),
+            rows[3][format!("kp_{j}")].as_f64().unwrap(),
+        );
+        assert_eq!(half, full * 0.5);
+        assert_eq!(rows[2][format!("kd_{j}")], rows[3][format!("kd_{j}")]);
+    }
+
+    // mass-scale changes the arm, not the gains tuned for it; trails only when asked
+    std::fs::create_dir(dir.join("trails")).unwrap();
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "mass-scale=1,1.3",
+            "--out",
+            "m.csv",
+            "--trails",
+            "trails",
+            "--",
+            "wave",
+            "--duration",
+            "0.5",
+        ],
+    ));
+    let (header, rows) = read_table(&dir.join("m.csv"));
+    let (a, b) = (named(&header, &rows[0]), named(&header, &rows[1]));
+    assert_eq!(a["kp_2"], b["kp_2"]);
+    assert_eq!(a["effective_inertia_2"], b["effective_inertia_2"]);
+    assert_ne!(a["max_tracking_error_rad_2"], b["max_tracking_error_rad_2"]);
+    let trails: Vec<_> = std::fs::read_dir(dir.join("trails"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(trails.len(), 2, "{trails:?}");
+    assert!(dir.join("trails/run_0000001.csv").exists());
+    assert!(!dir.join("faze4_trail.csv").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_plot_draws_one_option_as_lines_and_two_as_heatmaps() {
+    let dir = temp_dir("plot");
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "payload-kg=0:1:0.5",
+            "--plot",
+            "one.svg",
+            "-q",
+            "--",
+            "shape",
+            "--shape",
+            "tri",
+            "--duration",
+            "0.5",
+        ],
+    ));
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "payload-kg=0:1:0.5",
+            "--vary",
+            "freq=0.5,1",
+            "--plot",
+            "two.png",
+            "-q",
+            "--",
+            "wave",
+            "--duration",
+            "0.5",
+        ],
+    ));
+    let svg = std::fs::read_to_string(dir.join("one.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("path deviation") && svg.contains("payload-kg"));
+    let png = std::fs::read(dir.join("two.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_input_is_one_line_and_exit_2() {
+    let dir = temp_dir("bad");
+    std::fs::write(dir.join("a.csv"), "run,x\n0,1\n").unwrap();
+    std::fs::write(dir.join("b.csv"), "run,y\n1,1\n").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["sweep", "--vary", "bogus=1,2", "--", "wave"],
+            "'bogus' is not a numeric option",
+        ),
+        (
+            &["sweep", "--vary", "urdf=1", "--", "wave"],
+            "'urdf' is not a numeric option",
+        ),
+        (
+            &["sweep", "--vary", "freq=1,2", "--", "shape", "--shape", "circle"],
+            "freq is not an option of this command",
+        ),
+        (
+            &[
+                "sweep",
+                "--vary",
+                "shape-points=10.5",
+                "--",
+                "shape",
+                "--shape",
+                "circle",
+            ],
+            "whole numbers",
+        ),
+        (&["sweep", "--vary", "freq=a,b", "--", "wave"], "'a' is not a number"),
+        (&["sweep", "--vary", "freq=1:0:0.1", "--", "wave"], "empty range"),
+        (&["sweep", "--vary", "freq=0:1:0", "--", "wave"], "must be > 0"),
+        (&["sweep", "--vary", "freq=0:1:1e-9", "--", "wave"], "at most"),
+        (&["sweep", "--vary", "freq=0:1:-0.5", "--", "wave"], "must be > 0"),
+        (
+            &["sweep", "--vary", "freq=1", "--shard", "4/3", "--", "wave"],
+            "--shard",
+        ),
+        (&["sweep", "--vary", "freq=1", "--shard", "x", "--", "wave"], "--shard"),
+        (
+            &[
+                "sweep",
+                "--vary",
+                "payload-kg=0:1000:0.001",
+                "--vary",
+                "freq=1,2",
+                "--",
+                "wave",
+            ],
+            "--shard",
+        ),
+        (
+            &["sweep", "--vary", "freq=1", "--out", "t.txt", "--", "wave"],
+            ".csv or .json",
+        ),
+        (
+            &[
+                "sweep",
+                "--vary",
+                "freq=1",
+                "--plot",
+                "p.svg",
+                "--vary",
+                "dt=1e-4",
+                "--vary",
+                "duration=1",
+                "--",
+                "wave",
+            ],
+            "one or two",
+        ),
+        (&["sweep", "--vary", "freq=1", "--", "wave", "--bogus"], "--bogus"),
+        (&["sweep", "--vary", "freq=1"], "no command to run"),
+        (&["sweep", "--", "wave"], "nothing to vary"),
+        (
+            &["sweep", "--vary", "freq=1", "--", "wave", "--summary", "s.json"],
+            "--summary",
+        ),
+        (
+            &["sweep", "--vary", "freq=1", "--", "wave", "--html", "x.html"],
+            "--html: is for single runs",
+        ),
+        (&["sweep", "--find", "payload-kg=2:1", "--", "wave"], "empty range"),
+        (
+            &[
+                "sweep",
+                "--find",
+                "shape-points=10:100",
+                "--",
+                "shape",
+                "--shape",
+                "tri",
+            ],
+            "whole numbers",
+        ),
+        (
+            &["sweep", "--find", "payload-kg=0:1", "--resolution", "0", "--", "wave"],
+            "--resolution",
+        ),
+        (
+            &["sweep", "merge", "a.csv", "b.csv", "--out", "m.csv"],
+            "different columns",
+        ),
+    ];
+    for (args, expected) in cases {
+        let run = faze4(&dir, args);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {}", run.stderr);
+        assert_eq!(run.stderr.lines().count(), 1, "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains(expected), "{args:?}: {}", run.stderr);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
+    let dir = temp_dir("ctrl-c");
+    // 100 000 runs of 1 s: hours, so the signal always comes first
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args([
+            "sweep",
+            "--vary",
+            "payload-kg=0:9.9999:0.0001",
+            "--out",
+            "t.csv",
+            "-q",
+            "--",
+            "wave",
+            "--duration",
+            "1",
+        ])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    interrupt(child.id());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted after"), "{stderr}");
+    let (header, rows) = read_table(&dir.join("t.csv"));
+    assert!(rows.len() < 100_000);
+    // whole rows, in order from the first run
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), header.len());
+        assert_eq!(row[0], i.to_string());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
