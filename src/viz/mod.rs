@@ -48,6 +48,7 @@
 //! | `plot.rs` | [`PlotRecorder`]: one SVG/PNG figure (plotters, embedded DejaVu Sans) |
 //! | `sweep_plot.rs` | [`SweepPlot`]: a sweep's figures against the varied option, or heatmaps over two |
 
+mod figure;
 mod html;
 mod live;
 pub mod mesh;

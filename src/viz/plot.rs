@@ -12,8 +12,8 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::figure::{Figure, write_figure};
 use crate::atomic::check_output_path;
-use crate::atomic::{AtomicFile, write_atomically};
 use crate::error::{Error, Result};
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample};
@@ -131,43 +131,9 @@ impl Recorder for PlotRecorder {
     }
 
     fn finish(&mut self, _summary: &Summary) -> Result<()> {
-        register_font();
         let rows = self.joints.len() as u32 + 1;
         let size = (WIDTH, TITLE_HEIGHT + rows * ROW_HEIGHT);
-        let failed = |e: String| Error::Io {
-            path: self.path.clone(),
-            source: std::io::Error::other(format!("drawing the plot: {e}")),
-        };
-        match self.format {
-            Format::Svg => {
-                let mut svg = String::new();
-                {
-                    let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                    self.draw(&root).map_err(failed)?;
-                    root.present().map_err(|e| failed(e.to_string()))?;
-                }
-                write_atomically(&self.path, svg.as_bytes())
-            }
-            Format::Png => {
-                let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
-                {
-                    let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-                    self.draw(&root).map_err(failed)?;
-                    root.present().map_err(|e| failed(e.to_string()))?;
-                }
-                let mut file = AtomicFile::create(&self.path)?;
-                let encoded = (|| {
-                    let mut encoder = png::Encoder::new(file.writer(), size.0, size.1);
-                    encoder.set_color(png::ColorType::Rgb);
-                    encoder.set_depth(png::BitDepth::Eight);
-                    let mut writer = encoder.write_header()?;
-                    writer.write_image_data(&rgb)?;
-                    writer.finish()
-                })();
-                encoded.map_err(|e| file.error(std::io::Error::other(e)))?;
-                file.commit()
-            }
-        }
+        write_figure(self, &self.path, size, self.format == Format::Svg)
     }
 }
 
@@ -210,6 +176,12 @@ type Area<'a, DB> = DrawingArea<DB, Shift>;
 /// A drawing error as text.
 fn err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
     e.to_string()
+}
+
+impl Figure for PlotRecorder {
+    fn draw_on<DB: DrawingBackend>(&self, root: &Area<DB>) -> std::result::Result<(), String> {
+        self.draw(root)
+    }
 }
 
 impl PlotRecorder {

@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{FAMILY, PALETTE, range, register_font};
-use crate::atomic::{AtomicFile, check_output_path, write_atomically};
+use super::figure::{Figure, write_figure};
+use super::plot::{FAMILY, PALETTE, range};
+use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::sweep::{Grid, Outcome, Row};
 
@@ -43,6 +44,12 @@ pub struct SweepPlot {
     svg: bool,
     grid: Grid,
     points: Vec<Point>,
+}
+
+impl Figure for SweepPlot {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String> {
+        self.draw(root)
+    }
 }
 
 impl SweepPlot {
@@ -94,39 +101,9 @@ impl SweepPlot {
 
     /// Draws and writes the figure.
     pub fn finish(self) -> Result<()> {
-        register_font();
         let panels = self.panels();
         let size = (WIDTH, TITLE_HEIGHT + PANEL_HEIGHT * panels.div_ceil(2) as u32);
-        let failed = |e: String| Error::Io {
-            path: self.path.clone(),
-            source: std::io::Error::other(format!("drawing the plot: {e}")),
-        };
-        if self.svg {
-            let mut svg = String::new();
-            {
-                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                self.draw(&root).map_err(failed)?;
-                root.present().map_err(|e| failed(e.to_string()))?;
-            }
-            return write_atomically(&self.path, svg.as_bytes());
-        }
-        let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
-        {
-            let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-            self.draw(&root).map_err(failed)?;
-            root.present().map_err(|e| failed(e.to_string()))?;
-        }
-        let mut file = AtomicFile::create(&self.path)?;
-        let encoded = (|| {
-            let mut encoder = png::Encoder::new(file.writer(), size.0, size.1);
-            encoder.set_color(png::ColorType::Rgb);
-            encoder.set_depth(png::BitDepth::Eight);
-            let mut writer = encoder.write_header()?;
-            writer.write_image_data(&rgb)?;
-            writer.finish()
-        })();
-        encoded.map_err(|e| file.error(std::io::Error::other(e)))?;
-        file.commit()
+        write_figure(&self, &self.path, size, self.svg)
     }
 
     fn has_deviation(&self) -> bool {
