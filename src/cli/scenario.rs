@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::algo::{Data, crba};
-use crate::control::{FAZE4_EFFORT, Gains, Pd, auto_tune};
+use crate::control::{FAZE4_EFFORT, Gains, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result};
 use crate::ik::{IkTask, SHAPE_FREE_JOINTS, solve_path};
 use crate::model::{self, Model, PackagePaths};
@@ -158,10 +158,26 @@ pub fn assemble(
     let (mut q0, mut v0) = (vec![0.0; n], vec![0.0; n]);
     trajectory.eval(0.0, &mut q0, &mut v0);
     let mut data = Data::new(&model);
-    let inertia: Vec<f64> = crba(&model, &mut data, &q0).diagonal().iter().copied().collect();
+    let m = crba(&model, &mut data, &q0).clone();
+    let inertia: Vec<f64> = m.diagonal().iter().copied().collect();
+    let damping: Vec<f64> = model.damping().collect();
     let mut gains = auto_tune(&inertia, &effort, dt);
+    let tuned = stabilize(&mut gains, &m, &damping, dt);
     override_gains("--kp", &mut gains.kp, run.kp.as_ref(), n)?;
     override_gains("--kd", &mut gains.kd, run.kd.as_ref(), n)?;
+    if run.kp.is_some() || run.kd.is_some() {
+        let given = Stability {
+            scaled: tuned.scaled,
+            ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, dt)
+        };
+        gains.stability = Some(given);
+        if !given.is_stable() {
+            eprintln!(
+                "faze4: warning: with the given --kp/--kd the linearised loop's spectral radius is {:.3} (≥ 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
+                given.spectral_radius, given.b_max, given.b_kd
+            );
+        }
+    }
     let pd = pd(&gains, !run.no_ff);
     Ok(Scenario {
         command: command.to_string(),

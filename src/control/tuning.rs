@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use super::Stability;
+
 /// Torque limits of the Faze4's NEMA17 + cycloidal joints (N·m), J1..J6 (SPEC §3). Not the
 /// URDF effort values.
 pub const FAZE4_EFFORT: [f64; 6] = [7.9, 8.5, 4.7, 3.7, 3.5, 6.0];
@@ -18,6 +20,9 @@ pub struct Gains {
     pub kd: Vec<f64>,
     /// Torque limits E (N·m or N); +∞ where a joint is not limited.
     pub effort: Vec<f64>,
+    /// The coupled loop's figures at the start pose (see [`super::stabilize`]); `None` until
+    /// they are assessed (the rule itself sees only M's diagonal).
+    pub stability: Option<Stability>,
 }
 
 impl Gains {
@@ -40,7 +45,8 @@ impl Gains {
 ///
 /// The first kp term keeps a 0.05 rad error inside the torque limit; the second keeps the
 /// discrete loop's stiffness b = Δt²·kp/I at 0.4. The kd cap keeps the derivative time
-/// constant I/kd at least 2Δt.
+/// constant I/kd at least 2Δt. These bound each joint alone; [`super::stabilize`] then checks
+/// the coupled arm.
 pub fn auto_tune(inertia: &[f64], effort: &[f64], dt: f64) -> Gains {
     let kp: Vec<f64> = inertia
         .iter()
@@ -57,5 +63,6 @@ pub fn auto_tune(inertia: &[f64], effort: &[f64], dt: f64) -> Gains {
         kp,
         kd,
         effort: effort.to_vec(),
+        stability: None,
     }
 }

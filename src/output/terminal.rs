@@ -145,6 +145,19 @@ impl Recorder for Terminal {
         out(&row("kp", gains.kp.iter().copied()))?;
         out(&row("kd", gains.kd.iter().copied()))?;
         out(&row("b = Δt²·kp/I", gains.stiffness_b(run.dt)))?;
+        if let Some(s) = &gains.stability {
+            out(&format!(
+                "coupled loop          b_max = Δt²·λmax(M⁻¹Kp) {:.3} · b_kd = Δt·λmax(M⁻¹Kd) {:.3} · spectral radius {:.3}{}",
+                s.b_max,
+                s.b_kd,
+                s.spectral_radius,
+                if s.scaled {
+                    " · gains scaled down for the coupled arm"
+                } else {
+                    ""
+                }
+            ))?;
+        }
         // degrees to 0.01: a −8e-15 from sin(π) is 0
         out(&row(
             "start pose (deg)",

@@ -153,6 +153,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         kp: sc.gains.kp.clone(),
         kd: sc.gains.kd.clone(),
         effort: sc.gains.effort.clone(),
+        stability: sc.gains.stability,
         max_tracking_error_rad: max_error,
         saturation_pct: saturated.iter().map(|&s| 100.0 * s as f64 / steps_done).collect(),
         tool_range_m: metrics.range,

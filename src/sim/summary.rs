@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::control::Stability;
+
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct ToolRange {
@@ -50,6 +52,9 @@ pub struct Summary {
     pub kd: Vec<f64>,
     /// Torque limits (null in JSON where unlimited).
     pub effort: Vec<f64>,
+    /// The coupled loop's figures at the start pose (b_max, b_kd, spectral radius, whether the
+    /// tuning scaled the gains); null if the gains were never assessed.
+    pub stability: Option<Stability>,
     /// max over steps of |q_cmd − q| per joint (rad or m).
     pub max_tracking_error_rad: Vec<f64>,
     /// Share of steps with |τ_raw| ≥ E per joint (%).
