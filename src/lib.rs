@@ -10,6 +10,7 @@ pub mod algo;
 pub mod cli;
 pub mod control;
 pub mod error;
+pub mod faze4;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod ik;

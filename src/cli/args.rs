@@ -104,6 +104,15 @@ pub struct RunArgs {
     /// Derivative gains per joint ('auto' keeps the tuned value).
     #[arg(long, value_name = "KD1,KD2,…", allow_hyphen_values = true)]
     pub kd: Option<JointValues>,
+    /// Motors behind the joints: 'faze4' (NEMA17 steppers and the Faze4's reducers; torque limits become 0.315 N·m × ratio).
+    #[arg(long, value_name = "SET", value_parser = crate::faze4::motors::MOTOR_SETS)]
+    pub motors: Option<String>,
+    /// Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or --motors'); overrides the URDF.
+    #[arg(long = "rotor-inertia", value_name = "I1,I2,…", allow_hyphen_values = true)]
+    pub rotor_inertia: Option<JointValues>,
+    /// Gear ratio per joint, motor turns per joint turn ('auto' keeps the URDF's or --motors'); overrides the URDF.
+    #[arg(long = "gear-ratio", value_name = "R1,R2,…", allow_hyphen_values = true)]
+    pub gear_ratio: Option<JointValues>,
     /// No gravity feed-forward (PD alone holds the arm up).
     #[arg(long = "no-ff")]
     pub no_ff: bool,

@@ -7,8 +7,9 @@ use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::algo::{Data, crba};
 use crate::control::{FAZE4_EFFORT, Gains, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result};
+use crate::faze4::motors::{motor_effort, with_faze4_motors};
 use crate::ik::{IkTask, SHAPE_FREE_JOINTS, solve_path};
-use crate::model::{self, Model, PackagePaths};
+use crate::model::{self, Joint, Model, PackagePaths};
 use crate::output::steps_per_record;
 use crate::sim::{Scenario, ShapeRun};
 use crate::traj::shape::{BOARD, Q_SEED, SHAPE_PERIOD, Shape};
@@ -92,6 +93,15 @@ pub fn load_model(run: &RunArgs) -> Result<Model> {
     if run.no_gravity {
         model.gravity = Default::default();
     }
+    if run.motors.is_some() {
+        model = with_faze4_motors(&model)?;
+    }
+    set_rotors("--rotor-inertia", &mut model, run.rotor_inertia.as_ref(), |j, x| {
+        j.rotor_inertia = x
+    })?;
+    set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j, x| {
+        j.gear_ratio = x
+    })?;
     let tool = tool_frame(&model, run.tool_link.as_deref())?;
     if run.payload_kg > 0.0 {
         model = model.with_point_mass(tool, run.payload_kg);
@@ -134,6 +144,7 @@ pub fn assemble(
             }
             e
         }
+        None if run.motors.is_some() => motor_effort(&model),
         None if model.is_faze4() => FAZE4_EFFORT.to_vec(),
         None => {
             let unlimited: Vec<&str> = model
@@ -191,6 +202,26 @@ pub fn assemble(
         record_every: steps_per_record(run.record_period, dt),
         shape,
     })
+}
+
+/// Sets each joint's motor value that `values` gives (> 0; 'auto' keeps the model's).
+fn set_rotors(
+    option: &str,
+    model: &mut Model,
+    values: Option<&JointValues>,
+    set: impl Fn(&mut Joint, f64),
+) -> Result<()> {
+    let Some(values) = values else { return Ok(()) };
+    count(option, values, model.dof())?;
+    for (i, v) in values.0.iter().enumerate() {
+        if let Some(v) = *v {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::argument(option, format!("J{} value {v} must be > 0", i + 1)));
+            }
+            set(&mut model.joints[i], v);
+        }
+    }
+    Ok(())
 }
 
 fn pd(gains: &Gains, feedforward: bool) -> Pd {
