@@ -59,7 +59,7 @@ fn wave(model: &Model, amplitude: f64) -> Trajectory {
     Trajectory::Wave(Wave {
         amplitude,
         omega: 2.0,
-        dof: model.dof(),
+        center: vec![0.0; model.dof()],
     })
 }
 

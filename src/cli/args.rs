@@ -39,6 +39,9 @@ pub struct WaveArgs {
     /// Amplitude A (degrees).
     #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
     pub amp_deg: f64,
+    /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
+    #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
+    pub center: Option<String>,
     #[command(flatten)]
     pub run: RunArgs,
 }

@@ -24,7 +24,7 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
     let trajectory = Trajectory::Wave(Wave {
         amplitude: args.amp_deg.to_radians(),
         omega: args.freq,
-        dof: model.dof(),
+        center: wave_center(&model, args.center.as_deref())?,
     });
     let steps = steps("--duration", args.duration, args.run.dt)?;
     check_wave_limits(&model, &trajectory, args.run.dt, steps)?;
@@ -320,6 +320,58 @@ pub fn check_samples(model: &Model, frames: &[Vec<f64>], path: &Path) -> Result<
     Ok(())
 }
 
+/// The pose `--center` names: zero when not given; `mid`, the middle of each limited joint's
+/// range (0 for an unlimited one); else one value per joint, each inside its joint's limits.
+pub fn wave_center(model: &Model, center: Option<&str>) -> Result<Vec<f64>> {
+    let n = model.dof();
+    let center: Vec<f64> = match center.map(str::trim) {
+        None => return Ok(vec![0.0; n]),
+        Some("mid") => model
+            .joints
+            .iter()
+            .map(|j| match (j.lower.is_finite(), j.upper.is_finite()) {
+                (true, true) => 0.5 * (j.lower + j.upper),
+                (true, false) => j.lower,
+                (false, true) => j.upper,
+                (false, false) => 0.0,
+            })
+            .collect(),
+        Some(list) => list
+            .split(',')
+            .enumerate()
+            .map(|(i, x)| {
+                x.trim().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
+                    Error::argument(
+                        "--center",
+                        format!("J{} value '{}' is not a finite number (or use 'mid')", i + 1, x.trim()),
+                    )
+                })
+            })
+            .collect::<Result<_>>()?,
+    };
+    if center.len() != n {
+        return Err(Error::argument(
+            "--center",
+            format!("{} values given; the model has {n} joints", center.len()),
+        ));
+    }
+    for (i, (j, &c)) in model.joints.iter().zip(&center).enumerate() {
+        if !j.within_limits(c) {
+            return Err(Error::argument(
+                "--center",
+                format!(
+                    "J{} ({}) {c} is outside its limits [{}, {}]",
+                    i + 1,
+                    j.name,
+                    j.lower,
+                    j.upper
+                ),
+            ));
+        }
+    }
+    Ok(center)
+}
+
 /// The wave's command must stay inside the joint limits: where the amplitude could cross a
 /// limit, the command is scanned at every step to report the first crossing.
 fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usize) -> Result<()> {
@@ -329,7 +381,8 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
     if model
         .joints
         .iter()
-        .all(|j| j.within_limits(wave.amplitude) && j.within_limits(-wave.amplitude))
+        .zip(&wave.center)
+        .all(|(j, &c)| j.within_limits(c + wave.amplitude) && j.within_limits(c - wave.amplitude))
     {
         return Ok(());
     }
