@@ -71,11 +71,14 @@ fn wave_writes_the_trail_and_summary_contracts() {
             "effort",
             "kd",
             "kp",
+            "max_speed",
             "max_tracking_error_rad",
             "saturation_pct",
             "stability",
             "steps",
             "tool_range_m",
+            "velocity_limit",
+            "velocity_limit_pct",
             "wall_time_s"
         ]
     );

@@ -48,6 +48,7 @@ fn wave_run(model: &Model, amplitude: f64, dt: f64, duration: f64, gains: Gains)
             effort: gains.effort.clone(),
             feedforward: true,
         },
+        speed_limit: vec![f64::INFINITY; model.dof()],
         gains,
         record_every: steps,
         shape: None,

@@ -305,6 +305,7 @@ fn the_real_closed_loop_feeds_every_visual_recorder() {
             effort: gains.effort.clone(),
             feedforward: true,
         },
+        speed_limit: vec![f64::INFINITY; 6],
         gains,
         record_every: 100,
         shape: Some(ShapeRun {

@@ -116,6 +116,9 @@ pub struct RunArgs {
     /// Gear ratio per joint, motor turns per joint turn ('auto' keeps the URDF's or --motors'); overrides the URDF.
     #[arg(long = "gear-ratio", value_name = "R1,R2,…", allow_hyphen_values = true)]
     pub gear_ratio: Option<JointValues>,
+    /// Speed limits per joint, rad/s or m/s ('auto' keeps the URDF's velocity; none for the bundled Faze4): counted, not enforced.
+    #[arg(long = "max-speed", value_name = "W1,W2,…", allow_hyphen_values = true)]
+    pub max_speed: Option<JointValues>,
     /// No gravity feed-forward (PD alone holds the arm up).
     #[arg(long = "no-ff")]
     pub no_ff: bool,

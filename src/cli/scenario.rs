@@ -190,6 +190,7 @@ pub fn assemble(
         }
     }
     let pd = pd(&gains, !run.no_ff);
+    let speed_limit = speed_limits(&model, run.max_speed.as_ref())?;
     Ok(Scenario {
         command: command.to_string(),
         model,
@@ -199,6 +200,7 @@ pub fn assemble(
         steps,
         gains,
         pd,
+        speed_limit,
         record_every: steps_per_record(run.record_period, dt),
         shape,
     })
@@ -222,6 +224,34 @@ fn set_rotors(
         }
     }
     Ok(())
+}
+
+/// Speed limits: `--max-speed` where given (> 0); elsewhere the URDF's `velocity`, except on
+/// the Faze4, whose URDF gives every joint the same `velocity="3.0"`, a placeholder rather
+/// than a motor's figure: it has none unless `--max-speed` gives one.
+fn speed_limits(model: &Model, values: Option<&JointValues>) -> Result<Vec<f64>> {
+    let mut limits: Vec<f64> = match model.is_faze4() {
+        true => vec![f64::INFINITY; model.dof()],
+        false => model
+            .joints
+            .iter()
+            .map(|j| j.velocity.unwrap_or(f64::INFINITY))
+            .collect(),
+    };
+    let Some(values) = values else { return Ok(limits) };
+    count("--max-speed", values, model.dof())?;
+    for (i, v) in values.0.iter().enumerate() {
+        if let Some(v) = *v {
+            if v.is_nan() || v <= 0.0 {
+                return Err(Error::argument(
+                    "--max-speed",
+                    format!("J{} value {v} must be > 0", i + 1),
+                ));
+            }
+            limits[i] = v;
+        }
+    }
+    Ok(limits)
 }
 
 fn pd(gains: &Gains, feedforward: bool) -> Pd {

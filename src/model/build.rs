@@ -301,6 +301,7 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
         lower,
         upper,
         effort: joint.effort.filter(|&e| e > 0.0),
+        velocity: joint.velocity.filter(|&v| v > 0.0),
         damping: joint.damping,
         child_link: joint.child.clone(),
         rotor_inertia: 0.0,
@@ -388,7 +389,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
         bad(e(), "axis", &j.axis)?;
         bad(e(), "damping", &[j.damping])?;
         let (lo, hi) = j.limits.unwrap_or((0.0, 0.0));
-        if lo.is_nan() || hi.is_nan() || j.effort.is_some_and(f64::is_nan) {
+        if lo.is_nan() || hi.is_nan() || j.effort.is_some_and(f64::is_nan) || j.velocity.is_some_and(f64::is_nan) {
             return Err(Error::model(
                 file,
                 format!("joint '{}' <limit>", j.name),

@@ -95,6 +95,8 @@ pub struct JointDesc {
     pub limits: Option<(f64, f64)>,
     /// Effort limit, if given (> 0).
     pub effort: Option<f64>,
+    /// Velocity limit (rad/s or m/s), if given (> 0).
+    pub velocity: Option<f64>,
     /// Viscous damping (0 if not given).
     pub damping: f64,
 }

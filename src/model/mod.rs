@@ -67,6 +67,9 @@ pub struct Joint {
     pub upper: f64,
     /// The URDF `effort` limit (N·m or N), if the URDF gives one (> 0).
     pub effort: Option<f64>,
+    /// The URDF `velocity` limit (rad/s or m/s), if the URDF gives one (> 0). faze4 does not
+    /// enforce it: a run reports how often a joint exceeds it.
+    pub velocity: Option<f64>,
     /// Viscous damping coefficient d in τ_damping = −d·v (N·m·s/rad or N·s/m).
     pub damping: f64,
     /// Name of the URDF link this joint moves (the body's frame).

@@ -4,7 +4,7 @@
 use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
-use super::format::{joint_header, row};
+use super::format::{joint_header, number, row};
 use super::{Recorder, RunInfo, Sample};
 use crate::sim::Summary;
 
@@ -195,6 +195,16 @@ impl Recorder for Terminal {
         out(&format!("[summary]{}", &joint_header(self.dof)[9..]))?;
         out(&row("max track. err (rad)", s.max_tracking_error_rad.iter().copied()))?;
         out(&row("saturation (%)", s.saturation_pct.iter().copied()))?;
+        out(&row("max speed (rad/s)", s.max_speed.iter().copied()))?;
+        if s.velocity_limit_pct.iter().any(Option::is_some) {
+            out(&row("speed limit (rad/s)", s.velocity_limit.iter().copied()))?;
+            // a joint without a limit shows "-"
+            let mut line = format!("{:<22}", "over speed limit (%)");
+            for p in &s.velocity_limit_pct {
+                line.push_str(&p.map_or(format!("{:>10}", "-"), |p| number(p, 10)));
+            }
+            out(&line)?;
+        }
         let r = &s.tool_range_m;
         out(&format!(
             "tool range (m)        x [{:.3}, {:.3}]  y [{:.3}, {:.3}]  z [{:.3}, {:.3}]",

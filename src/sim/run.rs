@@ -21,7 +21,7 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 ///
 /// Each step k = 0..steps−1, at t_k = k·Δt: g(q_k), C v + g and M(q_k) from one kinematics
 /// pass; the command at t_k; the PD torque, held over the step; the discrete step. The summary's
-/// tracking error and saturation are over those steps; tool range and path deviation over the
+/// tracking error, saturation, speed and time over the speed limit are over those steps; tool range and path deviation over the
 /// samples every `record_every` steps and after the last. A diverged run stops at once; its
 /// summary says where (`diverged`), and covers the steps that completed. A raised `stop` flag
 /// ends the run at the next poll the same way, as if that step were the last
@@ -37,6 +37,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let (mut q_cmd, mut v_cmd) = (vec![0.0; n], vec![0.0; n]);
     let (mut tau_raw, mut tau) = (vec![0.0; n], vec![0.0; n]);
     let mut saturated = vec![0u64; n];
+    let mut over_speed = vec![0u64; n];
+    let mut max_speed = vec![0.0f64; n];
     let mut max_error = vec![0.0f64; n];
     let mut metrics = SampleMetrics::new();
 
@@ -84,6 +86,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             for i in 0..n {
                 max_error[i] = max_error[i].max((q_cmd[i] - q[i]).abs());
                 saturated[i] += u64::from(sc.pd.saturated(i, tau_raw[i]));
+                max_speed[i] = max_speed[i].max(v[i].abs());
+                over_speed[i] += u64::from(v[i].abs() > sc.speed_limit[i]);
             }
         }
 
@@ -156,6 +160,13 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         stability: sc.gains.stability,
         max_tracking_error_rad: max_error,
         saturation_pct: saturated.iter().map(|&s| 100.0 * s as f64 / steps_done).collect(),
+        max_speed,
+        velocity_limit: sc.speed_limit.clone(),
+        velocity_limit_pct: over_speed
+            .iter()
+            .zip(&sc.speed_limit)
+            .map(|(&s, l)| l.is_finite().then(|| 100.0 * s as f64 / steps_done))
+            .collect(),
         tool_range_m: metrics.range,
         diverged,
         wall_time_s,

@@ -26,6 +26,9 @@ pub struct Scenario {
     pub gains: Gains,
     /// The controller built from `gains`.
     pub pd: Pd,
+    /// Speed limit per joint (rad/s or m/s; +∞ where none): not enforced, only counted
+    /// (`velocity_limit_pct` in the summary).
+    pub speed_limit: Vec<f64>,
     /// Metric sampling period in steps: tool range and path deviation are taken every
     /// `record_every` steps and after the last (the trail's rows).
     pub record_every: usize,

@@ -59,6 +59,13 @@ pub struct Summary {
     pub max_tracking_error_rad: Vec<f64>,
     /// Share of steps with |τ_raw| ≥ E per joint (%).
     pub saturation_pct: Vec<f64>,
+    /// max over steps of |v| per joint (rad/s or m/s).
+    pub max_speed: Vec<f64>,
+    /// Speed limit per joint (rad/s or m/s; null in JSON where none).
+    pub velocity_limit: Vec<f64>,
+    /// Share of steps with |v| above the joint's speed limit (%); null where it has none. A
+    /// joint whose share is above 0 exceeded its limit.
+    pub velocity_limit_pct: Vec<Option<f64>>,
     /// Tool range over the trail samples.
     pub tool_range_m: ToolRange,
     /// `null`, or where the run went unstable.
