@@ -54,7 +54,7 @@ fn closed_loop_step(c: &mut Criterion) {
     let wave = Wave {
         amplitude: 25f64.to_radians(),
         omega: 0.5,
-        dof: 6,
+        center: vec![0.0; 6],
     };
     let (mut q0, mut v0) = ([0.0; 6], [0.0; 6]);
     wave.eval(0.0, &mut q0, &mut v0);

@@ -17,7 +17,7 @@ fn main() -> faze4::Result<()> {
     let wave = Wave {
         amplitude: 25f64.to_radians(),
         omega: 0.5,
-        dof: n,
+        center: vec![0.0; n],
     };
     let (dt, steps) = (2e-4, 40_000);
     let (kp, kd) = (400.0, 40.0); // per unit inertia: a critically damped 20 rad/s loop

@@ -71,10 +71,14 @@ fn wave_writes_the_trail_and_summary_contracts() {
             "effort",
             "kd",
             "kp",
+            "max_speed",
             "max_tracking_error_rad",
             "saturation_pct",
+            "stability",
             "steps",
             "tool_range_m",
+            "velocity_limit",
+            "velocity_limit_pct",
             "verdict",
             "wall_time_s"
         ]
@@ -330,13 +334,23 @@ fn a_diverging_run_stops_at_once_and_says_so() {
         .lines()
         .find(|l| l.contains("diverged"))
         .expect("a 'diverged' line");
-    for part in ["J6 (hvataljka)", "t = ", "b = Δt²·kp/I", "248"] {
+    for part in ["J6 (hvataljka)", "t = ", "b = Δt²·kp/I", "248", "spectral radius"] {
         assert!(line.contains(part), "{line:?} lacks {part:?}");
     }
+    // the given gains were flagged before the run
+    let warning = run
+        .stderr
+        .lines()
+        .position(|l| l.contains("warning") && l.contains("spectral radius"));
+    let diverged = run.stderr.lines().position(|l| l.contains("diverged"));
+    assert!(warning.is_some_and(|w| Some(w) < diverged), "{}", run.stderr);
+
     let s = summary(&dir, "s.json");
     assert_eq!(s["diverged"]["joint"], 6);
     assert!(s["diverged"]["t"].as_f64().unwrap() < 0.01, "stopped at once");
     assert!((vec_f64(&s["diverged"]["stiffness_b"])[5] - 248.0).abs() < 1.0);
+    assert!(s["stability"]["spectral_radius"].as_f64().unwrap() >= 1.0);
+    assert_eq!(s["stability"]["scaled"], false);
     // the trail is kept, complete up to the divergence
     let (_, rows) = read_csv(&dir.join("faze4_trail.csv"));
     assert!(!rows.is_empty() && rows.iter().flatten().all(|x| x.is_finite()));

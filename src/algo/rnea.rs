@@ -7,7 +7,8 @@ use super::{Data, update_joint_transforms};
 use crate::model::Model;
 use crate::spatial::Motion;
 
-/// Inverse dynamics: `data.tau = M(q) qdd + C(q, qd) qd + g(q)` (joint damping excluded).
+/// Inverse dynamics: `data.tau = M(q) qdd + C(q, qd) qd + g(q)` (joint damping excluded; the
+/// motors' reflected inertia included, as in M).
 pub fn rnea<'d>(model: &Model, data: &'d mut Data, q: &[f64], qd: &[f64], qdd: &[f64]) -> &'d DVector<f64> {
     update_joint_transforms(model, data, q);
     rnea_passes(model, data, Some(qd), Some(qdd), true);
@@ -78,9 +79,12 @@ fn rnea_passes(model: &Model, data: &mut Data, qd: Option<&[f64]>, qdd: Option<&
         data.a[i] = a;
     }
     // Backward pass, tip to root:
-    //   tau_i = s_i · f_i,   f_λ += X_iᵀ f_i
+    //   tau_i = s_i · f_i (+ r_i²·I_rotor,i · qdd_i, the motor's own inertia),   f_λ += X_iᵀ f_i
     for i in (0..n).rev() {
         data.tau[i] = model.s[i].dot(&data.f[i]);
+        if let Some(qdd) = qdd {
+            data.tau[i] += model.joints[i].reflected_inertia() * qdd[i];
+        }
         if let Some(p) = model.parent[i] {
             let fp = data.xup[i].transpose_apply_force(&data.f[i]);
             data.f[p] += fp;

@@ -42,6 +42,9 @@ pub struct WaveArgs {
     /// Amplitude A (degrees).
     #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
     pub amp_deg: f64,
+    /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
+    #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
+    pub center: Option<String>,
     /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
@@ -110,6 +113,18 @@ pub struct RunArgs {
     /// Derivative gains per joint ('auto' keeps the tuned value).
     #[arg(long, value_name = "KD1,KD2,…", allow_hyphen_values = true)]
     pub kd: Option<JointValues>,
+    /// Motors behind the joints: 'faze4' (NEMA17 steppers and the Faze4's reducers; torque limits become 0.315 N·m × ratio).
+    #[arg(long, value_name = "SET", value_parser = crate::faze4::motors::MOTOR_SETS)]
+    pub motors: Option<String>,
+    /// Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or --motors'); overrides the URDF.
+    #[arg(long = "rotor-inertia", value_name = "I1,I2,…", allow_hyphen_values = true)]
+    pub rotor_inertia: Option<JointValues>,
+    /// Gear ratio per joint, motor turns per joint turn ('auto' keeps the URDF's or --motors'); overrides the URDF.
+    #[arg(long = "gear-ratio", value_name = "R1,R2,…", allow_hyphen_values = true)]
+    pub gear_ratio: Option<JointValues>,
+    /// Speed limits per joint, rad/s or m/s ('auto' keeps the URDF's velocity; none for the bundled Faze4): counted, not enforced.
+    #[arg(long = "max-speed", value_name = "W1,W2,…", allow_hyphen_values = true)]
+    pub max_speed: Option<JointValues>,
     /// No gravity feed-forward (PD alone holds the arm up).
     #[arg(long = "no-ff")]
     pub no_ff: bool,

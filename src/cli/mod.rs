@@ -114,13 +114,12 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
     }
     if let Some(d) = &summary.diverged {
         let joint = scenario.model.joint(d.joint);
-        let b: Vec<String> = d.stiffness_b.iter().map(|&b| number(b, 0)).collect();
         eprintln!(
-            "faze4: diverged at t = {:.4} s on joint {} ({}): b = Δt²·kp/I = [{}] (the tuning rule keeps b ≤ 0.4: lower --dt or --kp); the outputs keep the steps before it",
+            "faze4: diverged at t = {:.4} s on joint {} ({}): {} (the tuning rule keeps b ≤ 0.4: lower --dt or --kp); the outputs keep the steps before it",
             d.t,
             d.joint,
             joint.name,
-            b.join(", ")
+            stiffest_joints(scenario, &d.stiffness_b)
         );
     }
     if let Some(t) = summary.interrupted_at_s {
@@ -279,4 +278,33 @@ pub fn write_summary(path: &Path, summary: &Summary) -> Result<()> {
 /// Whether an output path means "do not write it".
 fn is_none(path: &Path) -> bool {
     path.as_os_str() == "none"
+}
+
+/// How many of the stiffest joints a divergence message names.
+const STIFFEST_NAMED: usize = 3;
+
+/// The divergence message's account of the gains, one line on any arm: the coupled figures,
+/// then b = Δt²·kp/I of the [`STIFFEST_NAMED`] largest joints (all of them on a small arm).
+fn stiffest_joints(scenario: &Scenario, b: &[f64]) -> String {
+    let mut order: Vec<usize> = (0..b.len()).collect();
+    order.sort_by(|&x, &y| b[y].total_cmp(&b[x]));
+    let named: Vec<String> = order
+        .iter()
+        .take(STIFFEST_NAMED)
+        .map(|&i| format!("J{} ({}) {}", i + 1, scenario.model.joints[i].name, number(b[i], 0)))
+        .collect();
+    let more = if b.len() > STIFFEST_NAMED {
+        format!(" and {} more", b.len() - STIFFEST_NAMED)
+    } else {
+        String::new()
+    };
+    let coupled = match &scenario.controller.gains.stability {
+        Some(s) => format!(
+            "b_max = {}, spectral radius {}; ",
+            number(s.b_max, 0),
+            number(s.spectral_radius, 0)
+        ),
+        None => String::new(),
+    };
+    format!("{coupled}b = Δt²·kp/I largest at {}{more}", named.join(", "))
 }

@@ -7,7 +7,8 @@ use std::path::Path;
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::error::{Error, Result};
 use crate::faze4;
-use crate::model::{FrameId, Model, PackagePaths};
+use crate::faze4::motors::{motor_effort, with_faze4_motors};
+use crate::model::{FrameId, Joint, Model, PackagePaths};
 use crate::sim::scenario::{finite, non_negative, positive};
 use crate::sim::{Scenario, ScenarioBuilder, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
@@ -25,7 +26,7 @@ pub fn wave_with(args: &WaveArgs, model: Model) -> Result<Scenario> {
     let trajectory = Trajectory::Wave(Wave {
         amplitude: args.amp_deg.to_radians(),
         omega: args.freq,
-        dof: model.dof(),
+        center: wave_center(&model, args.center.as_deref())?,
     });
     builder(model, trajectory, &args.run)?
         .command("wave")
@@ -94,16 +95,95 @@ fn shape_of(args: &ShapeArgs) -> Result<Shape> {
         .ok_or_else(|| Error::argument("--shape", format!("'{}' is not one of sine, circle, tri", args.shape)))
 }
 
-/// The model a run uses: `--urdf`, or the bundled Faze4.
+/// The model a run uses: `--urdf`, or the bundled Faze4; with `--motors`, `--rotor-inertia` and
+/// `--gear-ratio` applied.
 pub fn load_model(run: &RunArgs) -> Result<Model> {
     // the run's own numbers first: a bad one is reported before a URDF is read
     positive("--dt", run.dt)?;
     positive("--record-period", run.record_period)?;
     non_negative("--payload-kg", run.payload_kg)?;
-    match &run.urdf {
-        Some(path) => Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone())),
-        None => Ok(faze4::model()),
+    let mut model = match &run.urdf {
+        Some(path) => Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
+        None => faze4::model(),
+    };
+    if run.motors.is_some() {
+        model = with_faze4_motors(&model)?;
     }
+    set_rotors("--rotor-inertia", &mut model, run.rotor_inertia.as_ref(), |j, x| {
+        j.rotor_inertia = x
+    })?;
+    set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j, x| {
+        j.gear_ratio = x
+    })?;
+    Ok(model)
+}
+
+/// Sets each joint's motor value that `values` gives (> 0; 'auto' keeps the model's).
+fn set_rotors(
+    option: &str,
+    model: &mut Model,
+    values: Option<&JointValues>,
+    set: impl Fn(&mut Joint, f64),
+) -> Result<()> {
+    let Some(values) = values else { return Ok(()) };
+    count(option, values, model.dof())?;
+    for (i, v) in values.0.iter().enumerate() {
+        if let Some(v) = *v {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::argument(option, format!("J{} value {v} must be > 0", i + 1)));
+            }
+            set(&mut model.joints[i], v);
+        }
+    }
+    Ok(())
+}
+
+/// The pose `--center` names: zero when not given; `mid`, the middle of each limited joint's
+/// range (0 for an unlimited one); else one value per joint, each inside its joint's limits.
+pub fn wave_center(model: &Model, center: Option<&str>) -> Result<Vec<f64>> {
+    let n = model.dof();
+    let center: Vec<f64> = match center.map(str::trim) {
+        None => return Ok(vec![0.0; n]),
+        Some("mid") => (model.joints.iter())
+            .map(|j| match (j.lower.is_finite(), j.upper.is_finite()) {
+                (true, true) => 0.5 * (j.lower + j.upper),
+                (true, false) => j.lower,
+                (false, true) => j.upper,
+                (false, false) => 0.0,
+            })
+            .collect(),
+        Some(list) => (list.split(',').enumerate())
+            .map(|(i, x)| {
+                x.trim().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
+                    Error::argument(
+                        "--center",
+                        format!("J{} value '{}' is not a finite number (or use 'mid')", i + 1, x.trim()),
+                    )
+                })
+            })
+            .collect::<Result<_>>()?,
+    };
+    if center.len() != n {
+        return Err(Error::argument(
+            "--center",
+            format!("{} values given; the model has {n} joints", center.len()),
+        ));
+    }
+    for (i, (j, &c)) in model.joints.iter().zip(&center).enumerate() {
+        if !j.within_limits(c) {
+            return Err(Error::argument(
+                "--center",
+                format!(
+                    "J{} ({}) {c} is outside its limits [{}, {}]",
+                    i + 1,
+                    j.name,
+                    j.lower,
+                    j.upper
+                ),
+            ));
+        }
+    }
+    Ok(center)
 }
 
 /// The tool frame: `--tool-link`, or the model's default.
@@ -123,6 +203,8 @@ pub fn tool_frame(model: &Model, name: Option<&str>) -> Result<FrameId> {
 /// The options every command shares, on the builder.
 fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<ScenarioBuilder> {
     let n = model.dof();
+    // under --motors the limits are the motors' torque times the (possibly given) ratios
+    let motor_limits = run.motors.is_some().then(|| motor_effort(&model));
     let tool = tool_frame(&model, run.tool_link.as_deref())?;
     let mut builder = Scenario::builder(model, trajectory)
         .tool_frame(tool)
@@ -138,6 +220,11 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
         });
     if let Some(effort) = &run.effort {
         builder = builder.effort(all_given("--effort", effort, n)?);
+    } else if let Some(limits) = motor_limits {
+        builder = builder.effort(limits);
+    }
+    if let Some(limits) = &run.max_speed {
+        builder = builder.max_speed(limits.0.clone());
     }
     if let Some(kp) = &run.kp {
         builder = builder.kp(kp.0.clone());
@@ -148,14 +235,19 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
     Ok(builder)
 }
 
-/// Every joint's value, `auto` refused (it is for gains).
-fn all_given(option: &str, values: &JointValues, n: usize) -> Result<Vec<f64>> {
+fn count(option: &str, values: &JointValues, n: usize) -> Result<()> {
     if values.0.len() != n {
         return Err(Error::argument(
             option,
             format!("{} values given; the model has {n} joints", values.0.len()),
         ));
     }
+    Ok(())
+}
+
+/// Every joint's value, `auto` refused (it is for gains).
+fn all_given(option: &str, values: &JointValues, n: usize) -> Result<Vec<f64>> {
+    count(option, values, n)?;
     values
         .0
         .iter()

@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use super::Stability;
+
 /// Per-joint controller gains and the figures they came from. All vectors have one entry per
 /// joint.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -14,6 +16,9 @@ pub struct Gains {
     pub kd: Vec<f64>,
     /// Torque limits E (N·m or N); +∞ where a joint is not limited.
     pub effort: Vec<f64>,
+    /// The coupled loop's figures at the start pose (see [`super::stabilize`]); `None` until
+    /// they are assessed (the rule itself sees only M's diagonal).
+    pub stability: Option<Stability>,
 }
 
 impl Gains {
@@ -36,7 +41,8 @@ impl Gains {
 ///
 /// The first kp term keeps a 0.05 rad error inside the torque limit; the second keeps the
 /// discrete loop's stiffness b = Δt²·kp/I at 0.4. The kd cap keeps the derivative time
-/// constant I/kd at least 2Δt.
+/// constant I/kd at least 2Δt. These bound each joint alone; [`super::stabilize`] then checks
+/// the coupled arm.
 pub fn auto_tune(inertia: &[f64], effort: &[f64], dt: f64) -> Gains {
     let kp: Vec<f64> = inertia
         .iter()
@@ -53,5 +59,6 @@ pub fn auto_tune(inertia: &[f64], effort: &[f64], dt: f64) -> Gains {
         kp,
         kd,
         effort: effort.to_vec(),
+        stability: None,
     }
 }

@@ -4,6 +4,7 @@
 //! knew about its one arm.
 
 pub mod meshes;
+pub mod motors;
 
 use crate::error::Result;
 use crate::ik::IkTask;

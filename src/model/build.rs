@@ -204,6 +204,34 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
         ));
     }
 
+    for t in &desc.transmissions {
+        let element = || format!("transmission '{}'", t.name);
+        let Some(i) = model.joint_index(&t.joint) else {
+            return Err(Error::model(
+                file,
+                element(),
+                format!("names joint '{}', which is not a moving joint of the robot", t.joint),
+            ));
+        };
+        let (rotor_inertia, gear_ratio) = (t.rotor_inertia.unwrap_or(0.0), t.gear_ratio.unwrap_or(1.0));
+        if !(gear_ratio.is_finite() && gear_ratio > 0.0) {
+            return Err(Error::model(
+                file,
+                element(),
+                format!("gear ratio {gear_ratio} must be > 0"),
+            ));
+        }
+        if t.rotor_inertia.is_some() && !(rotor_inertia.is_finite() && rotor_inertia > 0.0) {
+            return Err(Error::model(
+                file,
+                element(),
+                format!("rotor inertia {rotor_inertia} kg·m² must be > 0"),
+            ));
+        }
+        model.joints[i.0].rotor_inertia = rotor_inertia;
+        model.joints[i.0].gear_ratio = gear_ratio;
+    }
+
     // Every moving body needs mass (else M is singular).
     for (i, joint) in model.joints.iter().enumerate() {
         if model.inertia[i].mass <= 0.0 {
@@ -272,8 +300,11 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
         lower,
         upper,
         effort: joint.effort.filter(|&e| e > 0.0),
+        velocity: joint.velocity.filter(|&v| v > 0.0),
         damping: joint.damping,
         child_link: joint.child.clone(),
+        rotor_inertia: 0.0,
+        gear_ratio: 1.0,
     }))
 }
 
@@ -357,7 +388,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
         bad(e(), "axis", &j.axis)?;
         bad(e(), "damping", &[j.damping])?;
         let (lo, hi) = j.limits.unwrap_or((0.0, 0.0));
-        if lo.is_nan() || hi.is_nan() || j.effort.is_some_and(f64::is_nan) {
+        if lo.is_nan() || hi.is_nan() || j.effort.is_some_and(f64::is_nan) || j.velocity.is_some_and(f64::is_nan) {
             return Err(Error::model(
                 file,
                 format!("joint '{}' <limit>", j.name),

@@ -16,6 +16,22 @@ pub struct RobotDescription {
     pub links: Vec<LinkDesc>,
     /// Joints in document order.
     pub joints: Vec<JointDesc>,
+    /// Motors behind joints, in document order.
+    pub transmissions: Vec<TransmissionDesc>,
+}
+
+/// A motor driving one joint through a reducer (a URDF `<transmission>` with Drake's
+/// `drake:rotor_inertia` and `drake:gear_ratio`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransmissionDesc {
+    /// The transmission's name.
+    pub name: String,
+    /// The joint it drives.
+    pub joint: String,
+    /// Rotor inertia at the motor shaft (kg·m²), if given (Drake's default is 0).
+    pub rotor_inertia: Option<f64>,
+    /// Gear ratio (motor turns per joint turn), if given (Drake's default is 1).
+    pub gear_ratio: Option<f64>,
 }
 
 /// One link.
@@ -79,6 +95,8 @@ pub struct JointDesc {
     pub limits: Option<(f64, f64)>,
     /// Effort limit, if given (> 0).
     pub effort: Option<f64>,
+    /// Velocity limit (rad/s or m/s), if given (> 0).
+    pub velocity: Option<f64>,
     /// Viscous damping (0 if not given).
     pub damping: f64,
 }

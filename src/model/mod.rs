@@ -15,7 +15,9 @@ mod description;
 mod package;
 pub mod urdf;
 
-pub use description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
+pub use description::{
+    Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+};
 pub use package::PackagePaths;
 
 pub use crate::id::{FrameId, JointId};
@@ -51,10 +53,19 @@ pub struct Joint {
     pub upper: f64,
     /// The URDF `effort` limit (N·m or N), if the URDF gives one (> 0).
     pub effort: Option<f64>,
+    /// The URDF `velocity` limit (rad/s or m/s), if the URDF gives one (> 0). faze4 does not
+    /// enforce it: a run reports how often a joint exceeds it.
+    pub velocity: Option<f64>,
     /// Viscous damping coefficient d in τ_damping = −d·v (N·m·s/rad or N·s/m).
     pub damping: f64,
     /// Name of the URDF link this joint moves (the body's frame).
     pub child_link: String,
+    /// Inertia of the motor's rotor about its own axis, at the motor shaft (kg·m²); 0 when
+    /// the joint has no motor modelled.
+    pub rotor_inertia: f64,
+    /// Gear ratio r of the motor's reducer: the motor turns r times for one turn of the joint
+    /// (1 when the motor drives the joint directly).
+    pub gear_ratio: f64,
 }
 
 impl Joint {
@@ -78,6 +89,15 @@ impl Joint {
             JointKind::Revolute | JointKind::Continuous => Motion::new(self.axis, Vec3::zeros()),
             JointKind::Prismatic => Motion::new(Vec3::zeros(), self.axis),
         }
+    }
+
+    /// The rotor's inertia reflected through the reducer, `r²·I_rotor` (kg·m², or kg for a
+    /// prismatic joint): a rotor spinning r times faster stores r² times the energy, so the
+    /// joint sees it as this much more inertia on its own diagonal entry of M, coupled to no
+    /// other joint (Drake's reflected inertia, MuJoCo's and Pinocchio's armature).
+    #[inline]
+    pub fn reflected_inertia(&self) -> f64 {
+        self.gear_ratio * self.gear_ratio * self.rotor_inertia
     }
 
     /// Whether `q` lies within the joint's limits.

@@ -4,13 +4,15 @@
 //! builder (missing links, loops, non-finite numbers, zero axes, bad inertias). Known urdf-rs
 //! behaviours this module works around: `package://` paths are resolved here (urdf-rs's own
 //! expansion needs ROS), a missing `<limit>` reads as all zeros (taken as "no limits"), and
-//! `<transmission>` is dropped (faze4 drives joints directly).
+//! `<transmission>` is dropped, so [`transmissions`] reads it beside urdf-rs.
 
 use std::cell::Cell;
 use std::path::Path;
 use std::sync::Once;
 
-use super::description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
+use super::description::{
+    Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+};
 use super::{Model, PackagePaths};
 use crate::error::{Error, Result, one_line};
 use crate::spatial::{Pose, Vec3};
@@ -106,6 +108,7 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 axis: j.axis.xyz.0,
                 limits: (!no_limit_element).then_some((lim.lower, lim.upper)),
                 effort: (lim.effort.is_nan() || lim.effort > 0.0).then_some(lim.effort),
+                velocity: (lim.velocity.is_nan() || lim.velocity > 0.0).then_some(lim.velocity),
                 damping: j.dynamics.as_ref().map_or(0.0, |d| d.damping),
             }
         })
@@ -116,7 +119,92 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
         file: file.to_string(),
         links,
         joints,
+        transmissions: transmissions(text).map_err(syntax)?,
     })
+}
+
+/// The `<transmission>` elements of URDF `text`, as Drake reads a motor from them:
+///
+/// ```xml
+/// <transmission name="t1">
+///   <type>transmission_interface/SimpleTransmission</type>
+///   <joint name="j1"/>
+///   <actuator name="m1">
+///     <drake:rotor_inertia value="5.4e-6"/>  <!-- kg·m², at the motor shaft -->
+///     <drake:gear_ratio value="25"/>         <!-- motor turns per joint turn -->
+///   </actuator>
+/// </transmission>
+/// ```
+///
+/// A transmission without a `<joint name>` is skipped; the values are checked by the model
+/// builder. Fails on malformed XML or a value that is not a number.
+pub fn transmissions(text: &str) -> std::result::Result<Vec<TransmissionDesc>, String> {
+    use quick_xml::events::{BytesStart, Event};
+    if !text.contains("<transmission") {
+        return Ok(Vec::new());
+    }
+    let attribute = |e: &BytesStart, key: &str| -> std::result::Result<Option<String>, String> {
+        let attr = e.try_get_attribute(key).map_err(|err| err.to_string())?;
+        attr.map(|a| {
+            a.unescape_value()
+                .map(|v| v.trim().to_string())
+                .map_err(|err| err.to_string())
+        })
+        .transpose()
+    };
+    let mut reader = quick_xml::Reader::from_str(text);
+    let mut found = Vec::new();
+    let mut current: Option<(TransmissionDesc, bool)> = None;
+    loop {
+        let event = reader
+            .read_event()
+            .map_err(|e| format!("<transmission>: {e} (at byte {})", reader.error_position()))?;
+        let (element, closes) = match &event {
+            Event::Start(e) => (e, false),
+            Event::Empty(e) => (e, true),
+            Event::End(e) if e.name().as_ref() == b"transmission" => {
+                if let Some((t, true)) = current.take() {
+                    found.push(t);
+                }
+                continue;
+            }
+            Event::Eof => return Ok(found),
+            _ => continue,
+        };
+        match element.name().as_ref() {
+            b"transmission" if !closes => {
+                let name = attribute(element, "name")?.unwrap_or_default();
+                let t = TransmissionDesc {
+                    name,
+                    joint: String::new(),
+                    rotor_inertia: None,
+                    gear_ratio: None,
+                };
+                current = Some((t, false));
+            }
+            b"joint" => {
+                if let (Some((t, has_joint)), Some(name)) = (current.as_mut(), attribute(element, "name")?) {
+                    t.joint = name;
+                    *has_joint = true;
+                }
+            }
+            tag @ (b"drake:rotor_inertia" | b"drake:gear_ratio") => {
+                let Some((t, _)) = current.as_mut() else { continue };
+                let tag = String::from_utf8_lossy(tag).into_owned();
+                let value = attribute(element, "value")?
+                    .ok_or_else(|| format!("transmission '{}' <{tag}> has no value", t.name))?;
+                let value: f64 = value
+                    .parse()
+                    .map_err(|_| format!("transmission '{}' <{tag}> value '{value}' is not a number", t.name))?;
+                if tag == "drake:rotor_inertia" {
+                    t.rotor_inertia = Some(value);
+                } else {
+                    t.gear_ratio = Some(value);
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 thread_local! {

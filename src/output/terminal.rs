@@ -142,6 +142,19 @@ impl Recorder for Terminal {
             "{}   (the rule keeps b ≤ 0.4; one joint alone diverges near 4 − 2·Δt·kd/I)",
             row("b = Δt²·kp/I", gains.stiffness_b(run.dt))
         ))?;
+        if let Some(s) = &gains.stability {
+            out(&format!(
+                "coupled loop          b_max = Δt²·λmax(M⁻¹Kp) {:.3} · b_kd = Δt·λmax(M⁻¹Kd) {:.3} · spectral radius {:.3}{}",
+                s.b_max,
+                s.b_kd,
+                s.spectral_radius,
+                if s.scaled {
+                    " · gains scaled down for the coupled arm"
+                } else {
+                    ""
+                }
+            ))?;
+        }
         // degrees to 0.01: a −8e-15 from sin(π) is 0
         out(&row(
             "start pose (deg)",
@@ -178,6 +191,15 @@ impl Recorder for Terminal {
             "saturation (% steps)",
             s.saturation_pct.iter().map(|&p| percent(p)),
         ))?;
+        out(&row("max speed (rad/s)", s.max_speed.iter().copied()))?;
+        if s.velocity_limit_pct.iter().any(Option::is_some) {
+            out(&row("speed limit (rad/s)", s.velocity_limit.iter().copied()))?;
+            // a joint without a limit shows "-"
+            out(&text_row(
+                "over speed limit",
+                (s.velocity_limit_pct.iter()).map(|p| p.map_or("-".to_string(), percent)),
+            ))?;
+        }
         let r = &s.tool_range_m;
         out(&format!(
             "tool range (m)        x [{:.3}, {:.3}]  y [{:.3}, {:.3}]  z [{:.3}, {:.3}]",

@@ -24,7 +24,8 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 ///
 /// Each step k = 0..steps−1, at t_k = k·Δt: g(q_k), C v + g and M(q_k) from one kinematics
 /// pass; the command at t_k; the PD torque, held over the step; the discrete step. The summary's
-/// tracking error and saturation are over those steps; tool range and path deviation over the
+/// tracking error, saturation, speed and time over the speed limit are over those steps; tool
+/// range and path deviation over the
 /// samples every `record_every` steps and after the last. A diverged run stops at once; its
 /// summary says where (`diverged`), and covers the steps that completed. A raised `stop` flag
 /// ends the run at the next poll the same way, as if that step were the last
@@ -79,7 +80,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 .torque(&q, &v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw, &mut tau);
         }
         if !last {
-            steps.add(sc, &q, &q_cmd, &tau_raw);
+            steps.add(sc, &q, &v, &q_cmd, &tau_raw);
         }
 
         let (record_metrics, recorders_due) = schedule.due(k, last);
@@ -130,6 +131,11 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         max_tracking_error_rad: steps.max_error,
         saturation_pct: (steps.saturated.iter())
             .map(|&s| 100.0 * s as f64 / done.max(1) as f64)
+            .collect(),
+        max_speed: steps.max_speed,
+        velocity_limit: sc.speed_limit.clone(),
+        velocity_limit_pct: (steps.over_speed.iter().zip(&sc.speed_limit))
+            .map(|(&s, l)| l.is_finite().then(|| 100.0 * s as f64 / done.max(1) as f64))
             .collect(),
         tool_range_m: samples.range,
         diverged,
@@ -214,12 +220,16 @@ impl Schedule {
     }
 }
 
-/// Tracking error and saturation over the steps.
+/// Tracking error, saturation and speed over the steps.
 struct StepMetrics {
     /// max over steps of |q_cmd − q| per joint (rad or m).
     max_error: Vec<f64>,
     /// Steps with |τ_raw| ≥ E per joint.
     saturated: Vec<u64>,
+    /// max over steps of |v| per joint (rad/s or m/s).
+    max_speed: Vec<f64>,
+    /// Steps with |v| above the joint's speed limit.
+    over_speed: Vec<u64>,
 }
 
 impl StepMetrics {
@@ -227,14 +237,18 @@ impl StepMetrics {
         StepMetrics {
             max_error: vec![0.0; n],
             saturated: vec![0; n],
+            max_speed: vec![0.0; n],
+            over_speed: vec![0; n],
         }
     }
 
     #[inline]
-    fn add(&mut self, sc: &Scenario, q: &[f64], q_cmd: &[f64], tau_raw: &[f64]) {
+    fn add(&mut self, sc: &Scenario, q: &[f64], v: &[f64], q_cmd: &[f64], tau_raw: &[f64]) {
         for i in 0..q.len() {
             self.max_error[i] = self.max_error[i].max((q_cmd[i] - q[i]).abs());
             self.saturated[i] += u64::from(sc.controller.saturated(i, tau_raw[i]));
+            self.max_speed[i] = self.max_speed[i].max(v[i].abs());
+            self.over_speed[i] += u64::from(v[i].abs() > sc.speed_limit[i]);
         }
     }
 }

@@ -6,7 +6,7 @@
 //! use faze4::traj::{Trajectory, Wave};
 //! # fn main() -> faze4::Result<()> {
 //! let model = faze4::faze4::model();
-//! let wave = Trajectory::Wave(Wave { amplitude: 0.3, omega: 0.5, dof: model.dof() });
+//! let wave = Trajectory::Wave(Wave { amplitude: 0.3, omega: 0.5, center: vec![0.0; model.dof()] });
 //! let scenario = Scenario::builder(model, wave).duration(4.0).payload_kg(0.5).build()?;
 //! let summary = run(&scenario, &mut [], &StopFlag::new())?;
 //! println!("J2 saturated {} % of the steps", summary.saturation_pct[1]);
@@ -15,8 +15,10 @@
 
 use std::fmt;
 
+use nalgebra::DMatrix;
+
 use crate::algo::{Data, crba};
-use crate::control::{Gains, Pd, auto_tune};
+use crate::control::{Gains, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result};
 use crate::faze4;
 use crate::ik::{IkTask, solve_path};
@@ -52,6 +54,9 @@ pub struct Scenario {
     pub steps: usize,
     /// The controller: its gains, the inertias they were tuned from, the torque limits.
     pub controller: Pd,
+    /// Speed limit per joint (rad/s or m/s; +∞ where none): not enforced, only counted
+    /// (`velocity_limit_pct` in the summary).
+    pub speed_limit: Vec<f64>,
     /// Metric sampling period in steps: tool range and path deviation are taken every
     /// `record_every` steps and after the last (the trail's rows).
     pub record_every: usize,
@@ -74,6 +79,9 @@ pub enum Warning {
         /// The joints without a limit.
         joints: Vec<String>,
     },
+    /// Given gains make the linearised loop unstable about the start pose (ρ ≥ 1); the run
+    /// goes ahead.
+    UnstableGains(Stability),
 }
 
 impl fmt::Display for Warning {
@@ -83,6 +91,11 @@ impl fmt::Display for Warning {
                 f,
                 "{source} gives no effort limit for {}: their torque is not clipped (set --effort)",
                 joints.join(", ")
+            ),
+            Warning::UnstableGains(s) => write!(
+                f,
+                "warning: with the given --kp/--kd the linearised loop's spectral radius is {:.3} (≥ 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
+                s.spectral_radius, s.b_max, s.b_kd
             ),
         }
     }
@@ -157,6 +170,7 @@ impl Scenario {
             effort: None,
             kp: Vec::new(),
             kd: Vec::new(),
+            max_speed: Vec::new(),
             shape: None,
             thresholds: Thresholds::default(),
         }
@@ -181,6 +195,7 @@ pub struct ScenarioBuilder {
     effort: Option<Vec<f64>>,
     kp: Vec<Option<f64>>,
     kd: Vec<Option<f64>>,
+    max_speed: Vec<Option<f64>>,
     shape: Option<ShapeRun>,
     thresholds: Thresholds,
 }
@@ -250,6 +265,15 @@ impl ScenarioBuilder {
     /// Derivative gains that replace the tuned ones, as [`ScenarioBuilder::kp`].
     pub fn kd(mut self, kd: Vec<Option<f64>>) -> Self {
         self.kd = kd;
+        self
+    }
+
+    /// Speed limits (rad/s or m/s, > 0) that replace the model's, one entry per joint (`None`
+    /// keeps the model's). An empty vector keeps them all. The model's are the URDF's
+    /// `velocity`, except on the bundled Faze4, whose URDF gives every joint a placeholder 3.0:
+    /// it has none unless given. Limits are counted (`velocity_limit_pct`), not enforced.
+    pub fn max_speed(mut self, limits: Vec<Option<f64>>) -> Self {
+        self.max_speed = limits;
         self
     }
 
@@ -328,9 +352,22 @@ impl ScenarioBuilder {
             }
         };
 
-        let mut gains = tune(&model, &self.trajectory, &effort, self.dt);
+        let (mut gains, m) = tune(&model, &self.trajectory, &effort, self.dt);
         override_gains("--kp", &mut gains.kp, &self.kp, n)?;
         override_gains("--kd", &mut gains.kd, &self.kd, n)?;
+        if self.kp.iter().chain(&self.kd).any(Option::is_some) {
+            // the given gains' own figures; `scaled` still says whether the rule's were scaled
+            let damping: Vec<f64> = model.damping().collect();
+            let given = Stability {
+                scaled: gains.stability.is_some_and(|s| s.scaled),
+                ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, self.dt)
+            };
+            gains.stability = Some(given);
+            if !given.is_stable() {
+                warnings.push(Warning::UnstableGains(given));
+            }
+        }
+        let speed_limit = speed_limits(&model, &self.max_speed)?;
         Ok(Scenario {
             command: self.command,
             model,
@@ -343,6 +380,7 @@ impl ScenarioBuilder {
                 feedforward: self.feedforward,
             },
             record_every: steps_per_record(self.record_period, self.dt),
+            speed_limit,
             shape: self.shape,
             thresholds: self.thresholds,
             warnings,
@@ -351,14 +389,47 @@ impl ScenarioBuilder {
 }
 
 /// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then
-/// [`auto_tune`] with the torque limits `effort` at step `dt`.
-pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> Gains {
+/// [`auto_tune`] with the torque limits `effort` at step `dt`, then [`stabilize`] for the
+/// coupled arm (the gains then carry their `stability`). Returns the gains and M(q_start).
+pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> (Gains, DMatrix<f64>) {
     let n = model.dof();
     let (mut q0, mut v0) = (vec![0.0; n], vec![0.0; n]);
     trajectory.eval(0.0, &mut q0, &mut v0);
     let mut data = Data::new(model);
-    let inertia: Vec<f64> = crba(model, &mut data, &q0).diagonal().iter().copied().collect();
-    auto_tune(&inertia, effort, dt)
+    let m = crba(model, &mut data, &q0).clone();
+    let inertia: Vec<f64> = m.diagonal().iter().copied().collect();
+    let damping: Vec<f64> = model.damping().collect();
+    let mut gains = auto_tune(&inertia, effort, dt);
+    stabilize(&mut gains, &m, &damping, dt);
+    (gains, m)
+}
+
+/// Speed limits: `given` where it has a value (> 0); elsewhere the URDF's `velocity`, except on
+/// the Faze4, whose URDF gives every joint the same `velocity="3.0"`, a placeholder rather than
+/// a motor's figure: it has none unless given.
+fn speed_limits(model: &Model, given: &[Option<f64>]) -> Result<Vec<f64>> {
+    let mut limits: Vec<f64> = match faze4::is_faze4(model) {
+        true => vec![f64::INFINITY; model.dof()],
+        false => (model.joints.iter())
+            .map(|j| j.velocity.unwrap_or(f64::INFINITY))
+            .collect(),
+    };
+    if given.is_empty() {
+        return Ok(limits);
+    }
+    count("--max-speed", given.len(), model.dof())?;
+    for (i, v) in given.iter().enumerate() {
+        if let Some(v) = *v {
+            if v.is_nan() || v <= 0.0 {
+                return Err(Error::argument(
+                    "--max-speed",
+                    format!("J{} value {v} must be > 0", i + 1),
+                ));
+            }
+            limits[i] = v;
+        }
+    }
+    Ok(limits)
 }
 
 fn override_gains(option: &str, gains: &mut [f64], values: &[Option<f64>], n: usize) -> Result<()> {
@@ -414,10 +485,8 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
     let Trajectory::Wave(wave) = trajectory else {
         return Ok(());
     };
-    if model
-        .joints
-        .iter()
-        .all(|j| j.within_limits(wave.amplitude) && j.within_limits(-wave.amplitude))
+    if (model.joints.iter().zip(&wave.center))
+        .all(|(j, &c)| j.within_limits(c + wave.amplitude) && j.within_limits(c - wave.amplitude))
     {
         return Ok(());
     }

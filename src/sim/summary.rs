@@ -52,13 +52,21 @@ pub struct Summary {
     /// Steps taken: the run's steps, or those before it diverged or was interrupted.
     pub steps: usize,
     /// The gains and limits the run used, and the effective inertias they were tuned from
-    /// (`effective_inertia`, `kp`, `kd`, `effort` in the JSON; an unlimited effort is `null`).
+    /// (`effective_inertia`, `kp`, `kd`, `effort` in the JSON, an unlimited effort `null`; and
+    /// `stability`, the coupled loop's figures at the start pose).
     #[serde(flatten)]
     pub gains: Gains,
     /// max over steps of |q_cmd − q| per joint (rad or m).
     pub max_tracking_error_rad: Vec<f64>,
     /// Share of steps with |τ_raw| ≥ E per joint (%).
     pub saturation_pct: Vec<f64>,
+    /// max over steps of |v| per joint (rad/s or m/s).
+    pub max_speed: Vec<f64>,
+    /// Speed limit per joint (rad/s or m/s; null in JSON where none).
+    pub velocity_limit: Vec<f64>,
+    /// Share of steps with |v| above the joint's speed limit (%); null where it has none. A
+    /// joint whose share is above 0 exceeded its limit.
+    pub velocity_limit_pct: Vec<Option<f64>>,
     /// Tool range over the trail samples.
     pub tool_range_m: ToolRange,
     /// `null`, or where the run went unstable.

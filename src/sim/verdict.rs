@@ -3,8 +3,9 @@
 //! A run follows when it did not diverge, no joint saturates more than
 //! [`Thresholds::max_saturation_pct`] of the steps, every joint's tracking error stays within
 //! [`Thresholds::max_error`] (rad, or m for a prismatic joint) and, for shapes, the tool's path
-//! deviation stays within [`Thresholds::max_deviation_mm`]. Each figure beyond its threshold is a
-//! [`Reason`], naming the joint and the figure.
+//! deviation stays within [`Thresholds::max_deviation_mm`], and no joint exceeds its speed limit
+//! (where it has one). Each figure beyond its threshold is a [`Reason`], naming the joint and the
+//! figure.
 
 use std::fmt;
 
@@ -65,6 +66,17 @@ pub enum Reason {
         /// Whether the joint is prismatic (the figures are metres).
         prismatic: bool,
     },
+    /// A joint moved faster than its speed limit in some of the steps.
+    OverSpeed {
+        /// The joint.
+        joint: JointId,
+        /// Its fastest speed (rad/s or m/s).
+        max_speed: f64,
+        /// Its speed limit (rad/s or m/s).
+        limit: f64,
+        /// Its share of steps above the limit (%).
+        pct: f64,
+    },
     /// The tool left the shape's path by more than allowed.
     PathDeviation {
         /// The largest distance (mm).
@@ -90,6 +102,16 @@ impl fmt::Display for Reason {
                 let unit = if prismatic { "m" } else { "rad" };
                 write!(f, "{joint} tracking error {error:.3} {unit} (limit {limit} {unit})")
             }
+            Reason::OverSpeed {
+                joint,
+                max_speed,
+                limit,
+                pct,
+            } => write!(
+                f,
+                "{joint} exceeds its speed limit {limit} in {} of the steps (up to {max_speed:.3})",
+                percent(pct)
+            ),
             Reason::PathDeviation { max_mm, limit } => {
                 write!(f, "path deviation {max_mm:.1} mm (limit {limit} mm)")
             }
@@ -150,6 +172,15 @@ impl Verdict {
                     prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
                 });
             }
+        }
+        let over_speed = JointId::all(summary.dof).zip(&summary.velocity_limit_pct);
+        for (joint, pct) in over_speed.filter_map(|(j, p)| p.filter(|&p| p > 0.0).map(|p| (j, p))) {
+            reasons.push(Reason::OverSpeed {
+                joint,
+                max_speed: summary.max_speed[joint.0],
+                limit: summary.velocity_limit[joint.0],
+                pct,
+            });
         }
         if let Some(d) = &summary.path_deviation_mm
             && (d.max > thresholds.max_deviation_mm || d.max.is_nan())
@@ -234,6 +265,21 @@ mod tests {
             serde_json::to_value(&v).unwrap(),
             serde_json::json!({"follows": false, "reasons": ["the loop diverged at t = 0.0016 s on J2"]})
         );
+    }
+
+    #[test]
+    fn a_joint_over_its_speed_limit_cannot_follow() {
+        let mut s = summary([0.0, 0.0], [0.0, 0.0], None);
+        s.max_speed = vec![1.0, 3.5];
+        s.velocity_limit = vec![f64::INFINITY, 3.0];
+        s.velocity_limit_pct = vec![None, Some(2.5)];
+        let v = Verdict::judge(&s, &Thresholds::default(), &[false; 2]);
+        assert_eq!(
+            v.to_string(),
+            "verdict: cannot follow — J2 exceeds its speed limit 3 in 2.50 % of the steps (up to 3.500)"
+        );
+        s.velocity_limit_pct = vec![None, Some(0.0)];
+        assert!(Verdict::judge(&s, &Thresholds::default(), &[false; 2]).follows);
     }
 
     #[test]

@@ -233,7 +233,7 @@ mod tests {
         let wave = Trajectory::Wave(Wave {
             amplitude: 0.1,
             omega: 0.5,
-            dof: model.dof(),
+            center: vec![0.0; model.dof()],
         });
         Scenario::builder(model, wave).duration(0.01).build().unwrap()
     }

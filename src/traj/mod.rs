@@ -33,7 +33,7 @@ impl Trajectory {
     /// Number of joints commanded.
     pub fn dof(&self) -> usize {
         match self {
-            Trajectory::Wave(w) => w.dof,
+            Trajectory::Wave(w) => w.center.len(),
             Trajectory::Interpolated(p) => p.columns(),
         }
     }

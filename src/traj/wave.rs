@@ -1,14 +1,16 @@
-//! `faze4 wave`: q_cmd,i(t) = A·sin(ω t + i·π/3).
+//! `faze4 wave`: q_cmd,i(t) = c_i + A·sin(ω t + i·π/3).
 
-/// Phase-shifted sines: joint i follows `A sin(ω t + i π/3)`, `v = A ω cos(ω t + i π/3)`.
+/// Phase-shifted sines about a centre pose: joint i follows `c_i + A sin(ω t + i π/3)`,
+/// `v = A ω cos(ω t + i π/3)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Wave {
     /// Amplitude A (rad).
     pub amplitude: f64,
     /// Angular frequency ω (rad/s; the original's `--freq` is in rad/s).
     pub omega: f64,
-    /// Number of joints.
-    pub dof: usize,
+    /// The pose the joints wave about, c (rad or m), one entry per joint: zero for the
+    /// original's wave.
+    pub center: Vec<f64>,
 }
 
 impl Wave {
@@ -23,8 +25,8 @@ impl Wave {
         let sin_step = 0.75f64.sqrt();
         let aw = self.amplitude * self.omega;
         let (mut s, mut c) = (self.omega * t).sin_cos();
-        for i in 0..self.dof {
-            q[i] = self.amplitude * s;
+        for (i, &c_i) in self.center.iter().enumerate() {
+            q[i] = c_i + self.amplitude * s;
             v[i] = aw * c;
             (s, c) = (s * COS_STEP + c * sin_step, c * COS_STEP - s * sin_step);
         }
@@ -42,7 +44,7 @@ mod tests {
         let wave = Wave {
             amplitude: 25f64.to_radians(),
             omega: 0.5,
-            dof: 6,
+            center: vec![0.0; 6],
         };
         let (mut q, mut v) = ([0.0; 6], [0.0; 6]);
         for k in 0..2000 {
@@ -54,6 +56,29 @@ mod tests {
                 let (s, c) = (wave.omega * t + i as f64 * FRAC_PI_3).sin_cos();
                 assert!((q[i] - wave.amplitude * s).abs() <= tol, "q{i} at t = {t}");
                 assert!((v[i] - wave.amplitude * wave.omega * c).abs() <= tol, "v{i} at t = {t}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_centre_shifts_q_and_leaves_v() {
+        let about_zero = Wave {
+            amplitude: 0.3,
+            omega: 2.0,
+            center: vec![0.0; 3],
+        };
+        let centred = Wave {
+            center: vec![0.5, -1.0, 2.0],
+            ..about_zero.clone()
+        };
+        let (mut q0, mut v0, mut q, mut v) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        for k in 0..100 {
+            let t = k as f64 * 0.05;
+            about_zero.eval(t, &mut q0, &mut v0);
+            centred.eval(t, &mut q, &mut v);
+            assert_eq!(v, v0);
+            for i in 0..3 {
+                assert_eq!(q[i], centred.center[i] + q0[i]);
             }
         }
     }

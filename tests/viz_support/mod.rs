@@ -40,7 +40,7 @@ impl SyntheticRun {
         let wave = Trajectory::Wave(Wave {
             amplitude: amp_deg.to_radians(),
             omega,
-            dof: model.dof(),
+            center: vec![0.0; model.dof()],
         });
         let scenario = Scenario::builder(model, wave).duration(duration).build().unwrap();
         SyntheticRun { scenario }

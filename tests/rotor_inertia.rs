@@ -1,0 +1,206 @@
+//! The motors' reflected inertia against Drake reading the same URDF (fixture by
+//! tools/oracle/rotor_fixtures.py): M within 1e-12 relative, the closed-loop trail within 1e-9;
+//! the command-line overrides give the same; bad motors are refused in one line.
+
+mod common;
+
+use common::*;
+use faze4::algo::{Data, crba, rnea};
+use serde_json::Value;
+
+const URDF: &str = "tests/urdf/rotor_arm.urdf";
+
+fn rotor_arm() -> faze4::model::Model {
+    load(URDF)
+}
+
+#[test]
+fn reflected_inertia_and_mass_matrix_match_drake() {
+    let fx = fixture("rotor_arm.json");
+    let model = rotor_arm();
+    let reflected: Vec<f64> = model.joints.iter().map(|j| j.reflected_inertia()).collect();
+    let expected = vec_f64(&fx["reflected_inertia"]);
+    assert!(
+        max_abs_diff(&reflected, &expected) <= 1e-15,
+        "{reflected:?} vs {expected:?}"
+    );
+    assert!(expected.iter().filter(|&&r| r > 0.0).count() == 3);
+
+    let mut data = Data::new(&model);
+    for sample in fx["mass_matrix"].as_array().unwrap() {
+        let q = vec_f64(&sample["q"]);
+        let drake = mat_f64(&sample["m"]);
+        let m = crba(&model, &mut data, &q).clone();
+        let scale = drake.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
+        for (i, row) in drake.iter().enumerate() {
+            for (j, &x) in row.iter().enumerate() {
+                assert!(
+                    (m[(i, j)] - x).abs() <= 1e-12 * scale,
+                    "M[{i},{j}] at {q:?}: {} vs {x}",
+                    m[(i, j)]
+                );
+            }
+        }
+        // inverse dynamics sees the same inertia: τ(q, 0, qdd) − g(q) = M qdd
+        let qdd: Vec<f64> = (0..model.dof()).map(|i| 1.0 + i as f64).collect();
+        let zero = vec![0.0; model.dof()];
+        let tau = rnea(&model, &mut data, &q, &zero, &qdd).clone();
+        let g = rnea(&model, &mut data, &q, &zero, &zero).clone();
+        let m_qdd = &m * nalgebra::DVector::from_vec(qdd);
+        for i in 0..model.dof() {
+            assert!((tau[i] - g[i] - m_qdd[i]).abs() <= 1e-12 * scale * 4.0, "joint {i}");
+        }
+    }
+}
+
+/// Runs the fixture's wave through the binary with `extra` options on `urdf`; the trail.
+fn wave_trail(dir: &std::path::Path, urdf: &str, extra: &[&str]) -> (Value, Vec<Vec<f64>>) {
+    let fx = fixture("rotor_arm.json");
+    let a = &fx["closed_loop"]["args"];
+    let num = |k: &str| a[k].as_f64().unwrap().to_string();
+    let mut args: Vec<String> = ["wave", "--urdf", urdf].iter().map(|s| s.to_string()).collect();
+    for (option, key) in [
+        ("--amp-deg", "amp_deg"),
+        ("--freq", "freq"),
+        ("--duration", "duration"),
+        ("--dt", "dt"),
+        ("--record-period", "record_period"),
+    ] {
+        args.extend([option.to_string(), num(key)]);
+    }
+    args.extend(["--trail", "trail.csv", "--summary", "s.json"].map(String::from));
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let run = faze4(dir, &argv);
+    assert!(run.status.success(), "{argv:?}: {}", run.stderr);
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+    (summary, read_csv(&dir.join("trail.csv")).1)
+}
+
+fn assert_trail_matches(trail: &[Vec<f64>], fx: &Value) {
+    let drake = mat_f64(&fx["closed_loop"]["trail"]["rows"]);
+    assert_eq!(trail.len(), drake.len());
+    let worst = trail
+        .iter()
+        .zip(&drake)
+        .map(|(a, b)| max_abs_diff(a, b))
+        .fold(0.0, f64::max);
+    println!("rotor_arm closed loop: max |faze4 − Drake| over the trail = {worst:.2e}");
+    assert!(worst <= 1e-9, "trail differs from Drake by {worst}");
+}
+
+#[test]
+fn the_closed_loop_matches_drake_with_rotors_from_the_urdf() {
+    let fx = fixture("rotor_arm.json");
+    let dir = temp_dir("rotor-urdf");
+    let (summary, trail) = wave_trail(&dir, &repo_path(URDF).display().to_string(), &[]);
+    assert_trail_matches(&trail, &fx);
+    let drake = &fx["closed_loop"]["summary"];
+    for key in ["effective_inertia", "kp", "kd"] {
+        let (ours, theirs) = (vec_f64(&summary[key]), vec_f64(&drake[key]));
+        assert!(
+            max_abs_diff(&ours, &theirs) <= 1e-12 * max_abs(&theirs),
+            "{key}: {ours:?} vs {theirs:?}"
+        );
+    }
+    assert_eq!(summary["stability"]["scaled"], false);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The same motors given on the command line to the arm without its transmissions.
+#[test]
+fn rotor_options_override_the_urdf() {
+    let fx = fixture("rotor_arm.json");
+    let dir = temp_dir("rotor-options");
+    let text = std::fs::read_to_string(repo_path(URDF)).unwrap();
+    let bare = text[..text.find("  <transmission").unwrap()].to_string() + "</robot>\n";
+    std::fs::write(dir.join("bare.urdf"), &bare).unwrap();
+    let motors = [
+        "--rotor-inertia",
+        "6.8e-6,5.4e-6,auto,3.4e-6",
+        "--gear-ratio",
+        "50,30,auto,20",
+    ];
+    let (_, trail) = wave_trail(&dir, "bare.urdf", &motors);
+    assert_trail_matches(&trail, &fx);
+    // and they override the URDF's own: doubling a ratio moves the run away from Drake's
+    let (_, doubled) = wave_trail(
+        &dir,
+        &repo_path(URDF).display().to_string(),
+        &["--gear-ratio", "100,auto,auto,auto"],
+    );
+    let rows = mat_f64(&fx["closed_loop"]["trail"]["rows"]);
+    let moved = doubled
+        .iter()
+        .zip(&rows)
+        .map(|(a, b)| max_abs_diff(a, b))
+        .fold(0.0, f64::max);
+    assert!(moved > 1e-6, "a doubled J1 ratio changed nothing ({moved})");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn refuses(dir: &std::path::Path, args: &[&str], parts: &[&str]) {
+    let run = faze4(dir, args);
+    assert_eq!(run.status.code(), Some(2), "{args:?}: {}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: one line on stderr, got:\n{}", run.stderr);
+    for p in parts {
+        assert!(lines[0].contains(p), "{args:?}: {:?} should mention {p:?}", lines[0]);
+    }
+}
+
+#[test]
+fn bad_motors_are_refused_in_one_line() {
+    let dir = temp_dir("rotor-bad");
+    let text = std::fs::read_to_string(repo_path(URDF)).unwrap();
+    let cases = [
+        (
+            text.replace("<joint name=\"roll\"><hardware", "<joint name=\"nope\"><hardware"),
+            vec!["transmission 'roll_drive'", "'nope'", "not a moving joint"],
+        ),
+        (
+            text.replace("<drake:gear_ratio value=\"30\"/>", "<drake:gear_ratio value=\"0\"/>"),
+            vec!["transmission 'pitch_drive'", "gear ratio 0"],
+        ),
+        (
+            text.replace(
+                "<drake:rotor_inertia value=\"6.8e-6\"/>",
+                "<drake:rotor_inertia value=\"-1e-6\"/>",
+            ),
+            vec!["transmission 'yaw_drive'", "rotor inertia -0.000001"],
+        ),
+        (
+            text.replace("<drake:gear_ratio value=\"20\"/>", "<drake:gear_ratio value=\"fast\"/>"),
+            vec!["roll_drive", "'fast' is not a number"],
+        ),
+    ];
+    for (k, (urdf, parts)) in cases.iter().enumerate() {
+        let name = format!("bad{k}.urdf");
+        std::fs::write(dir.join(&name), urdf).unwrap();
+        refuses(&dir, &["wave", "--urdf", &name, "--duration", "0.01"], parts);
+    }
+    let arm = repo_path(URDF).display().to_string();
+    let wave = ["wave", "--urdf", arm.as_str(), "--duration", "0.01"];
+    let with = |extra: &[&'static str]| -> Vec<&str> { wave.iter().copied().chain(extra.iter().copied()).collect() };
+    refuses(
+        &dir,
+        &with(&["--gear-ratio", "1,2,3"]),
+        &["--gear-ratio", "3 values", "4 joints"],
+    );
+    refuses(
+        &dir,
+        &with(&["--gear-ratio", "1,0,3,4"]),
+        &["--gear-ratio", "J2", "> 0"],
+    );
+    refuses(
+        &dir,
+        &with(&["--rotor-inertia", "1e-6,1e-6,-1e-6,auto"]),
+        &["--rotor-inertia", "J3", "> 0"],
+    );
+    refuses(
+        &dir,
+        &with(&["--motors", "faze4"]),
+        &["--motors", "6-joint", "4 joints"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
