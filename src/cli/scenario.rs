@@ -176,18 +176,23 @@ pub fn assemble(
     let tuned = stabilize(&mut gains, &m, &damping, dt);
     override_gains("--kp", &mut gains.kp, run.kp.as_ref(), n)?;
     override_gains("--kd", &mut gains.kd, run.kd.as_ref(), n)?;
-    if run.kp.is_some() || run.kd.is_some() {
-        let given = Stability {
+    let given_gains = run.kp.is_some() || run.kd.is_some();
+    let stability = match given_gains {
+        true => Stability {
             scaled: tuned.scaled,
             ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, dt)
-        };
-        gains.stability = Some(given);
-        if !given.is_stable() {
-            eprintln!(
-                "faze4: warning: with the given --kp/--kd the linearised loop's spectral radius is {:.3} (≥ 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
-                given.spectral_radius, given.b_max, given.b_kd
-            );
-        }
+        },
+        false => tuned,
+    };
+    gains.stability = Some(stability);
+    if !stability.is_stable() {
+        eprintln!(
+            "faze4: warning: with the {} gains the linearised loop's spectral radius is {:.3} (not below 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
+            if given_gains { "given --kp/--kd" } else { "tuned" },
+            stability.spectral_radius,
+            stability.b_max,
+            stability.b_kd
+        );
     }
     let pd = pd(&gains, !run.no_ff);
     let speed_limit = speed_limits(&model, run.max_speed.as_ref())?;
