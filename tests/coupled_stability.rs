@@ -274,3 +274,29 @@ fn the_binary_keeps_a_200_joint_divergence_to_one_line() {
     assert!(run.stderr.contains("warning"), "{}", run.stderr);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The Faze4 within its torque limits: the coupled figures sit at the rule's own caps
+/// (b_max 0.401, b_kd 0.502 at 5 kHz, 0.525 at 1 kHz), so its gains are never scaled.
+#[test]
+fn the_faze4_gains_do_not_move() {
+    use faze4::faze4::EFFORT as FAZE4_EFFORT;
+    let model = faze4::faze4::model();
+    for (dt, b_kd) in [(2e-4, 0.502), (1e-3, 0.525)] {
+        let trajectory = Trajectory::Wave(Wave {
+            amplitude: 25f64.to_radians(),
+            omega: 0.5,
+            center: vec![0.0; 6],
+        });
+        let (m, damping) = start(&model, &trajectory);
+        let diagonal: Vec<f64> = m.diagonal().iter().copied().collect();
+        let rule = auto_tune(&diagonal, &FAZE4_EFFORT, dt);
+        let mut gains = rule.clone();
+        let s = stabilize(&mut gains, &m, &damping, dt);
+        assert!(!s.scaled && s.is_stable(), "{s:?}");
+        assert_eq!((gains.kp, gains.kd), (rule.kp, rule.kd));
+        assert!(
+            (s.b_max - 0.401).abs() < 1.5e-3 && (s.b_kd - b_kd).abs() < 1.5e-3,
+            "Δt {dt}: {s:?}"
+        );
+    }
+}

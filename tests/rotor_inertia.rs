@@ -204,3 +204,42 @@ fn bad_motors_are_refused_in_one_line() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--motors faze4`: limits 0.315 N·m × ratio and the rotors on M's diagonal; `--gear-ratio`
+/// moves a joint's limit and its reflected inertia together.
+#[test]
+fn faze4_motors_set_limits_and_inertia_from_the_ratios() {
+    let dir = temp_dir("rotor-faze4");
+    let summary = |extra: &[&str]| -> Value {
+        let mut args = vec!["wave", "--duration", "0.01", "--trail", "none", "--summary", "s.json"];
+        args.extend_from_slice(extra);
+        let run = faze4(&dir, &args);
+        assert!(run.status.success(), "{args:?}: {}", run.stderr);
+        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap()
+    };
+    let bare = summary(&[]);
+    let motors = summary(&["--motors", "faze4"]);
+    let geared = summary(&["--motors", "faze4", "--gear-ratio", "50,auto,auto,auto,auto,auto"]);
+    let ratios = [25.0, 27.0, 15.0, 11.846, 11.0, 19.19];
+    let rotor = 5.4e-6;
+    let (e0, e1, e2) = (
+        vec_f64(&bare["effort"]),
+        vec_f64(&motors["effort"]),
+        vec_f64(&geared["effort"]),
+    );
+    let (i0, i1, i2) = (
+        vec_f64(&bare["effective_inertia"]),
+        vec_f64(&motors["effective_inertia"]),
+        vec_f64(&geared["effective_inertia"]),
+    );
+    assert_eq!(e0, [7.9, 8.5, 4.7, 3.7, 3.5, 6.0]);
+    for j in 0..6 {
+        assert!((e1[j] - 0.315 * ratios[j]).abs() < 1e-12, "J{} limit {}", j + 1, e1[j]);
+        let reflected = ratios[j] * ratios[j] * rotor;
+        assert!((i1[j] - i0[j] - reflected).abs() < 1e-12, "J{} inertia", j + 1);
+    }
+    assert!((e2[0] - 0.315 * 50.0).abs() < 1e-12);
+    assert!((i2[0] - i0[0] - 2500.0 * rotor).abs() < 1e-12);
+    assert_eq!(e2[1..], e1[1..]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

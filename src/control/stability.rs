@@ -99,8 +99,11 @@ pub fn stabilize(gains: &mut Gains, m: &DMatrix<f64>, damping: &[f64], dt: f64) 
 }
 
 /// `λmax(M⁻¹K)` for `K = diag(k)`, `k ≥ 0`: the largest eigenvalue of `K^½ M⁻¹ K^½`. NaN if
-/// M is not positive definite.
+/// M is not positive definite; 0 for a model without joints.
 pub fn lambda_max(m: &DMatrix<f64>, k: &[f64]) -> f64 {
+    if m.is_empty() {
+        return 0.0;
+    }
     let Some(inverse) = m.clone().cholesky().map(|c| c.inverse()) else {
         return f64::NAN;
     };
@@ -123,9 +126,13 @@ pub fn lambda_max(m: &DMatrix<f64>, k: &[f64]) -> f64 {
 /// ```
 ///
 /// ρ is the largest modulus of that 2n×2n matrix's eigenvalues (from its real Schur form).
-/// NaN if `A` is not positive definite or the Schur iteration does not converge.
+/// NaN if `A` is not positive definite or the Schur iteration does not converge; 0 for a model
+/// without joints (nothing moves).
 pub fn spectral_radius(m: &DMatrix<f64>, damping: &[f64], kp: &[f64], kd: &[f64], dt: f64) -> f64 {
     let n = m.nrows();
+    if n == 0 {
+        return 0.0;
+    }
     let mut a = m.clone();
     for i in 0..n {
         a[(i, i)] += dt * damping[i];
@@ -201,6 +208,13 @@ mod tests {
         assert!(after.b_kd <= TARGET_B_KD + 1e-12);
         let again = Stability::assess(&m, &[0.0, 0.0], &gains.kp, &gains.kd, dt);
         assert!((again.b_max - after.b_max).abs() < 1e-12 && (again.b_kd - after.b_kd).abs() < 1e-12);
+    }
+
+    /// A model without joints has nothing to assess, and no eigenvalue problem to fail on.
+    #[test]
+    fn no_joints_no_figures() {
+        let s = Stability::assess(&DMatrix::zeros(0, 0), &[], &[], &[], 2e-4);
+        assert_eq!((s.b_max, s.b_kd, s.spectral_radius), (0.0, 0.0, 0.0));
     }
 
     /// Gains within the single-joint caps on a decoupled (diagonal) M are never scaled.

@@ -79,9 +79,14 @@ pub enum Warning {
         /// The joints without a limit.
         joints: Vec<String>,
     },
-    /// Given gains make the linearised loop unstable about the start pose (ρ ≥ 1); the run
-    /// goes ahead.
-    UnstableGains(Stability),
+    /// The gains make the linearised loop unstable about the start pose (ρ not below 1); the
+    /// run goes ahead.
+    UnstableGains {
+        /// The loop's figures with these gains.
+        stability: Stability,
+        /// Whether the gains were given (`--kp`/`--kd`) rather than tuned.
+        given: bool,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -92,10 +97,13 @@ impl fmt::Display for Warning {
                 "{source} gives no effort limit for {}: their torque is not clipped (set --effort)",
                 joints.join(", ")
             ),
-            Warning::UnstableGains(s) => write!(
+            Warning::UnstableGains { stability: s, given } => write!(
                 f,
-                "warning: with the given --kp/--kd the linearised loop's spectral radius is {:.3} (≥ 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
-                s.spectral_radius, s.b_max, s.b_kd
+                "warning: with the {} gains the linearised loop's spectral radius is {:.3} (not below 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
+                if *given { "given --kp/--kd" } else { "tuned" },
+                s.spectral_radius,
+                s.b_max,
+                s.b_kd
             ),
         }
     }
@@ -355,17 +363,17 @@ impl ScenarioBuilder {
         let (mut gains, m) = tune(&model, &self.trajectory, &effort, self.dt);
         override_gains("--kp", &mut gains.kp, &self.kp, n)?;
         override_gains("--kd", &mut gains.kd, &self.kd, n)?;
-        if self.kp.iter().chain(&self.kd).any(Option::is_some) {
+        let given = self.kp.iter().chain(&self.kd).any(Option::is_some);
+        if given {
             // the given gains' own figures; `scaled` still says whether the rule's were scaled
             let damping: Vec<f64> = model.damping().collect();
-            let given = Stability {
+            gains.stability = Some(Stability {
                 scaled: gains.stability.is_some_and(|s| s.scaled),
                 ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, self.dt)
-            };
-            gains.stability = Some(given);
-            if !given.is_stable() {
-                warnings.push(Warning::UnstableGains(given));
-            }
+            });
+        }
+        if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
+            warnings.push(Warning::UnstableGains { stability, given });
         }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
         Ok(Scenario {
