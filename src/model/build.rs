@@ -13,100 +13,135 @@ use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 /// CAD inertias; a real violation is orders of magnitude larger).
 const TRIANGLE_TOLERANCE: f64 = 1e-9;
 
+/// Validates `desc` and builds its model: the links as one tree, walked depth-first into
+/// bodies and frames; the motors of its transmissions; every moving body checked for mass.
 pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
-    let file = desc.file.as_str();
     check_finite(desc)?;
+    let tree = Tree::of(desc)?;
+    let mut model = walk(desc, &tree)?;
+    apply_transmissions(desc, &mut model)?;
+    check_masses(desc, &model)?;
+    Ok(model)
+}
 
-    // Link and joint names are unique.
-    let mut link_index = HashMap::with_capacity(desc.links.len());
-    for (i, link) in desc.links.iter().enumerate() {
-        if link_index.insert(link.name.as_str(), i).is_some() {
-            return Err(Error::model(file, format!("link '{}'", link.name), "is defined twice"));
-        }
-    }
-    if desc.links.is_empty() {
-        return Err(Error::model(file, "<robot>", "has no links"));
-    }
-    let mut joint_names = HashMap::with_capacity(desc.joints.len());
-    for joint in &desc.joints {
-        if joint_names.insert(joint.name.as_str(), ()).is_some() {
-            return Err(Error::model(file, joint_element(joint), "is defined twice"));
-        }
-    }
+/// The links as one tree: each link's index by name, each link's child joints (document
+/// order), and the root link.
+struct Tree<'a> {
+    link_index: HashMap<&'a str, usize>,
+    children: Vec<Vec<usize>>,
+    root: usize,
+}
 
-    // Every joint joins two existing links; a link has at most one parent joint.
-    let mut parent_joint: Vec<Option<usize>> = vec![None; desc.links.len()];
-    let mut children: Vec<Vec<usize>> = vec![Vec::new(); desc.links.len()];
-    for (j, joint) in desc.joints.iter().enumerate() {
-        if let JointType::Unsupported(kind) = &joint.kind {
-            return Err(Error::model(
-                file,
-                joint_element(joint),
-                format!("joint type '{kind}' is not supported (revolute, continuous, prismatic and fixed are)"),
-            ));
+impl<'a> Tree<'a> {
+    /// Names are unique, every joint joins two existing links, a link has at most one parent
+    /// joint, and exactly one link has none.
+    fn of(desc: &'a RobotDescription) -> Result<Tree<'a>> {
+        let file = desc.file.as_str();
+        // Link and joint names are unique.
+        let mut link_index = HashMap::with_capacity(desc.links.len());
+        for (i, link) in desc.links.iter().enumerate() {
+            if link_index.insert(link.name.as_str(), i).is_some() {
+                return Err(Error::model(file, format!("link '{}'", link.name), "is defined twice"));
+            }
         }
-        let parent = *link_index.get(joint.parent.as_str()).ok_or_else(|| {
-            Error::model(
-                file,
-                joint_element(joint),
-                format!("parent link '{}' does not exist", joint.parent),
-            )
-        })?;
-        let child = *link_index.get(joint.child.as_str()).ok_or_else(|| {
-            Error::model(
-                file,
-                joint_element(joint),
-                format!("child link '{}' does not exist", joint.child),
-            )
-        })?;
-        if parent == child {
-            return Err(Error::model(
-                file,
-                joint_element(joint),
-                format!("joins link '{}' to itself (a kinematic loop)", joint.child),
-            ));
+        if desc.links.is_empty() {
+            return Err(Error::model(file, "<robot>", "has no links"));
         }
-        if let Some(other) = parent_joint[child] {
-            return Err(Error::model(
-                file,
-                joint_element(joint),
-                format!(
-                    "link '{}' already has parent joint '{}': a link with two parents closes a kinematic loop",
-                    joint.child, desc.joints[other].name
-                ),
-            ));
+        let mut joint_names = HashMap::with_capacity(desc.joints.len());
+        for joint in &desc.joints {
+            if joint_names.insert(joint.name.as_str(), ()).is_some() {
+                return Err(Error::model(file, joint_element(joint), "is defined twice"));
+            }
         }
-        parent_joint[child] = Some(j);
-        children[parent].push(j);
+
+        // Every joint joins two existing links; a link has at most one parent joint.
+        let mut parent_joint: Vec<Option<usize>> = vec![None; desc.links.len()];
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); desc.links.len()];
+        for (j, joint) in desc.joints.iter().enumerate() {
+            if let JointType::Unsupported(kind) = &joint.kind {
+                return Err(Error::model(
+                    file,
+                    joint_element(joint),
+                    format!("joint type '{kind}' is not supported (revolute, continuous, prismatic and fixed are)"),
+                ));
+            }
+            let parent = *link_index.get(joint.parent.as_str()).ok_or_else(|| {
+                Error::model(
+                    file,
+                    joint_element(joint),
+                    format!("parent link '{}' does not exist", joint.parent),
+                )
+            })?;
+            let child = *link_index.get(joint.child.as_str()).ok_or_else(|| {
+                Error::model(
+                    file,
+                    joint_element(joint),
+                    format!("child link '{}' does not exist", joint.child),
+                )
+            })?;
+            if parent == child {
+                return Err(Error::model(
+                    file,
+                    joint_element(joint),
+                    format!("joins link '{}' to itself (a kinematic loop)", joint.child),
+                ));
+            }
+            if let Some(other) = parent_joint[child] {
+                return Err(Error::model(
+                    file,
+                    joint_element(joint),
+                    format!(
+                        "link '{}' already has parent joint '{}': a link with two parents closes a kinematic loop",
+                        joint.child, desc.joints[other].name
+                    ),
+                ));
+            }
+            parent_joint[child] = Some(j);
+            children[parent].push(j);
+        }
+
+        // Exactly one root, from which every link is reached.
+        let roots: Vec<usize> = (0..desc.links.len()).filter(|&l| parent_joint[l].is_none()).collect();
+        let root = match roots.as_slice() {
+            [root] => *root,
+            [] => {
+                return Err(Error::model(
+                    file,
+                    "<robot>",
+                    "every link has a parent: the joints form a kinematic loop",
+                ));
+            }
+            many => {
+                let names: Vec<&str> = many.iter().map(|&l| desc.links[l].name.as_str()).collect();
+                return Err(Error::model(
+                    file,
+                    "<robot>",
+                    format!(
+                        "{} root links ({}): the links must form one tree",
+                        names.len(),
+                        names.join(", ")
+                    ),
+                ));
+            }
+        };
+        Ok(Tree {
+            link_index,
+            children,
+            root,
+        })
     }
+}
 
-    // Exactly one root, from which every link is reached.
-    let roots: Vec<usize> = (0..desc.links.len()).filter(|&l| parent_joint[l].is_none()).collect();
-    let root = match roots.as_slice() {
-        [root] => *root,
-        [] => {
-            return Err(Error::model(
-                file,
-                "<robot>",
-                "every link has a parent: the joints form a kinematic loop",
-            ));
-        }
-        many => {
-            let names: Vec<&str> = many.iter().map(|&l| desc.links[l].name.as_str()).collect();
-            return Err(Error::model(
-                file,
-                "<robot>",
-                format!(
-                    "{} root links ({}): the links must form one tree",
-                    names.len(),
-                    names.join(", ")
-                ),
-            ));
-        }
-    };
-
-    // Depth-first from the root, children in document order. Each link gets the body it is
-    // fixed to and its placement in that body; each moving joint opens a new body.
+/// Depth-first from the root, children in document order. Each link gets the body it is fixed
+/// to and its placement in that body; each moving joint opens a new body.
+fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
+    let file = desc.file.as_str();
+    let Tree {
+        link_index,
+        children,
+        root,
+    } = tree;
+    let root = *root;
     let mut model = Model {
         name: desc.name.clone(),
         source: desc.file.clone(),
@@ -131,42 +166,8 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
             },
             Some(j) => {
                 let joint = &desc.joints[j];
-                let parent = &model.frames[frame_of_link[link_index[joint.parent.as_str()]]];
-                let parent_body = parent.body;
-                let origin = parent.placement.compose(&Pose::from_xyz_rpy(joint.xyz, joint.rpy));
-                if !origin.is_finite() {
-                    return Err(Error::model(
-                        file,
-                        format!("{} <origin>", joint_element(joint)),
-                        format!(
-                            "places link '{}' beyond the range of floating-point numbers (the offsets on its path from the root add up to infinity)",
-                            joint.child
-                        ),
-                    ));
-                }
-                match moving_joint(file, joint)? {
-                    None => Frame {
-                        name: joint.child.clone(),
-                        body: parent_body,
-                        placement: origin,
-                    },
-                    Some(moving) => {
-                        let body = model.joints.len();
-                        model.parent.push(parent_body.map(|b| b.0));
-                        model
-                            .axis_split
-                            .push(AxisSplit::new(&moving.axis, &origin.to_xform().e));
-                        model.tree_pose.push(origin);
-                        model.s.push(moving.motion_subspace());
-                        model.inertia.push(Inertia::ZERO);
-                        model.joints.push(moving);
-                        Frame {
-                            name: joint.child.clone(),
-                            body: Some(JointId(body)),
-                            placement: Pose::IDENTITY,
-                        }
-                    }
-                }
+                let parent = model.frames[frame_of_link[link_index[joint.parent.as_str()]]].clone();
+                joint_frame(file, joint, &parent, &mut model)?
             }
         };
         frame_of_link[link] = model.frames.len();
@@ -204,6 +205,52 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
         ));
     }
 
+    Ok(model)
+}
+
+/// The frame of the link that `joint` attaches to `parent`'s link: welded into the parent's
+/// body by a fixed joint, or, for a moving joint, the origin of a new body added to `model`.
+fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model) -> Result<Frame> {
+    let parent_body = parent.body;
+    let origin = parent.placement.compose(&Pose::from_xyz_rpy(joint.xyz, joint.rpy));
+    if !origin.is_finite() {
+        return Err(Error::model(
+            file,
+            format!("{} <origin>", joint_element(joint)),
+            format!(
+                "places link '{}' beyond the range of floating-point numbers (the offsets on its path from the root add up to infinity)",
+                joint.child
+            ),
+        ));
+    }
+    Ok(match moving_joint(file, joint)? {
+        None => Frame {
+            name: joint.child.clone(),
+            body: parent_body,
+            placement: origin,
+        },
+        Some(moving) => {
+            let body = model.joints.len();
+            model.parent.push(parent_body.map(|b| b.0));
+            model
+                .axis_split
+                .push(AxisSplit::new(&moving.axis, &origin.to_xform().e));
+            model.tree_pose.push(origin);
+            model.s.push(moving.motion_subspace());
+            model.inertia.push(Inertia::ZERO);
+            model.joints.push(moving);
+            Frame {
+                name: joint.child.clone(),
+                body: Some(JointId(body)),
+                placement: Pose::IDENTITY,
+            }
+        }
+    })
+}
+
+/// Each `<transmission>`'s motor (rotor inertia, gear ratio) on the joint it names.
+fn apply_transmissions(desc: &RobotDescription, model: &mut Model) -> Result<()> {
+    let file = desc.file.as_str();
     for t in &desc.transmissions {
         let element = || format!("transmission '{}'", t.name);
         let Some(i) = model.joint_index(&t.joint) else {
@@ -232,7 +279,12 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
         model.joints[i.0].gear_ratio = gear_ratio;
     }
 
-    // Every moving body needs mass (else M is singular).
+    Ok(())
+}
+
+/// Every moving body needs mass (else M is singular).
+fn check_masses(desc: &RobotDescription, model: &Model) -> Result<()> {
+    let file = desc.file.as_str();
     for (i, joint) in model.joints.iter().enumerate() {
         if model.inertia[i].mass <= 0.0 {
             return Err(Error::model(
@@ -245,7 +297,7 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
             ));
         }
     }
-    Ok(model)
+    Ok(())
 }
 
 fn joint_element(joint: &JointDesc) -> String {
