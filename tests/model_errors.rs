@@ -28,7 +28,9 @@ const GOOD: &str = r#"<robot name="two">
 </robot>"#;
 
 fn load(text: &str) -> Result<Model, String> {
-    urdf::read_str(text, "arm.urdf", None, &PackagePaths::default()).map_err(|e| e.to_string())
+    urdf::read_str(text, "arm.urdf", None, &PackagePaths::default())
+        .map(|robot| robot.model)
+        .map_err(|e| e.to_string())
 }
 
 /// Loads `GOOD` with `from` replaced by `to` and returns the error message.

@@ -1,21 +1,21 @@
-//! `urdf/faze4_real.urdf` (the official meshes as visuals) is the same arm as
+//! `urdf/faze4_real.urdf` (the official meshes as visuals and collision geometry) is the same arm as
 //! `urdf/faze4_arm.urdf`: identical joints, limits, damping, frames and dynamics.
 
 mod common;
 
 use common::*;
 use faze4::algo::{Data, bias, crba, forward_kinematics, gravity};
-use faze4::model::{Geometry, Model, PackagePaths};
+use faze4::model::{Geometry, Model, PackagePaths, Robot, urdf};
 
-fn load_real(packages: &PackagePaths) -> Model {
+fn load_real(packages: &PackagePaths) -> Robot {
     let path = repo_path("urdf/faze4_real.urdf");
-    Model::from_urdf_file(&path, packages).unwrap_or_else(|e| panic!("{e}"))
+    urdf::read_file(&path, packages).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn real_model_has_the_same_kinematics_and_dynamics_exactly() {
     let boxes = load("urdf/faze4_arm.urdf");
-    let real = load_real(&PackagePaths::default());
+    let real = load_real(&PackagePaths::default()).model;
     assert_eq!(boxes.dof(), real.dof());
     for (a, b) in boxes.joints.iter().zip(&real.joints) {
         assert_eq!(
@@ -52,12 +52,13 @@ fn real_model_has_the_same_kinematics_and_dynamics_exactly() {
 }
 
 #[test]
-fn real_model_visuals_are_the_official_meshes() {
+fn real_model_visuals_and_collisions_are_the_official_meshes() {
     let description = shared_description();
     let real = load_real(&PackagePaths::new(vec![description.clone()]));
     let mut meshes = Vec::new();
-    for (frame, visual) in &real.visuals {
-        let link = &real.frames[*frame].name;
+    for visual in &real.geometry.visuals {
+        let link = &visual.link;
+        assert_eq!(&real.model.frames[visual.frame].name, link);
         assert!(visual.rgba.is_some(), "{link} has a colour");
         match &visual.geometry {
             Geometry::Mesh { uri, path, scale } => {
@@ -67,7 +68,11 @@ fn real_model_visuals_are_the_official_meshes() {
                     Some(description.join(format!("meshes/{link}.STL")).as_path())
                 );
                 assert_eq!(scale.as_slice(), [1.0, 1.0, 1.0]);
-                assert_eq!(visual.origin, faze4::spatial::Pose::IDENTITY, "{link}: identity origin");
+                assert_eq!(
+                    visual.placement,
+                    faze4::spatial::Pose::IDENTITY,
+                    "{link}: identity origin"
+                );
                 meshes.push(link.clone());
             }
             Geometry::Cylinder { .. } => assert_eq!(link, "base_link"),
@@ -78,9 +83,17 @@ fn real_model_visuals_are_the_official_meshes() {
         meshes,
         ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"]
     );
+    // the collision geometry is the visual geometry, as in the official URDF
+    let shape = |g: &faze4::geometry::GeometryObject| (g.link.clone(), g.frame, g.placement, g.geometry.clone());
+    assert_eq!(
+        real.geometry.collisions.iter().map(shape).collect::<Vec<_>>(),
+        real.geometry.visuals.iter().map(shape).collect::<Vec<_>>()
+    );
     // without the package path the model loads all the same, meshes unresolved
     let bare = load_real(&PackagePaths::default());
-    assert!(bare.visuals.iter().all(|(_, v)| match &v.geometry {
+    let shapes = || bare.geometry.visuals.iter().chain(&bare.geometry.collisions);
+    assert_eq!(shapes().count(), 14);
+    assert!(shapes().all(|v| match &v.geometry {
         Geometry::Mesh { path, .. } => path.is_none(),
         _ => true,
     }));

@@ -22,8 +22,8 @@ fn temp_dir(name: &str) -> PathBuf {
 
 #[test]
 fn real_model_scene_uses_the_official_meshes() {
-    let model = real_model();
-    let scene = Scene::from_model(&model);
+    let robot = real_model();
+    let scene = Scene::from_model(&robot.model, &robot.geometry);
     assert!(scene.missing.is_empty() && scene.unreadable.is_empty());
     // base cylinder + six meshes, each visual on its link's frame
     assert_eq!(scene.visuals.len(), 7);
@@ -45,7 +45,8 @@ fn real_model_scene_uses_the_official_meshes() {
 
 #[test]
 fn box_model_scene_needs_no_files() {
-    let scene = Scene::from_model(&box_model());
+    let robot = box_model();
+    let scene = Scene::from_model(&robot.model, &robot.geometry);
     assert!(scene.missing.is_empty());
     assert_eq!(scene.visuals.len(), 7);
     let blob = scene.encode();
@@ -277,7 +278,7 @@ fn the_real_closed_loop_feeds_every_visual_recorder() {
     use faze4::traj::shape::{BOARD, SHAPE_PERIOD, Shape};
     use faze4::traj::{Interpolated, Trajectory, Wrap};
 
-    let model = real_model();
+    let faze4::model::Robot { model, geometry } = real_model();
     let reference = Shape::Circle.targets(240, &BOARD);
     let samples = ik_path(&model, &reference);
     let trajectory = Trajectory::Interpolated(Interpolated::new(&samples, SHAPE_PERIOD, Wrap::Closed));
@@ -296,6 +297,7 @@ fn the_real_closed_loop_feeds_every_visual_recorder() {
         command: "shape".into(),
         tool_frame: model.default_tool_frame(),
         model,
+        geometry,
         trajectory,
         dt,
         steps: 10_000,

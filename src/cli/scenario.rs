@@ -7,8 +7,9 @@ use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::algo::{Data, crba};
 use crate::control::{FAZE4_EFFORT, Gains, Pd, auto_tune};
 use crate::error::{Error, Result};
+use crate::geometry::GeometryModel;
 use crate::ik::{IkTask, SHAPE_FREE_JOINTS, solve_path};
-use crate::model::{self, Model, PackagePaths};
+use crate::model::{self, Model, PackagePaths, Robot};
 use crate::output::steps_per_record;
 use crate::sim::{Scenario, ShapeRun};
 use crate::traj::shape::{BOARD, Q_SEED, SHAPE_PERIOD, Shape};
@@ -19,7 +20,7 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     finite("--freq", args.freq)?;
     non_negative("--amp-deg", args.amp_deg)?;
-    let model = load_model(&args.run)?;
+    let Robot { model, geometry } = load_model(&args.run)?;
     let trajectory = Trajectory::Wave(Wave {
         amplitude: args.amp_deg.to_radians(),
         omega: args.freq,
@@ -27,19 +28,19 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
     });
     let steps = steps("--duration", args.duration, args.run.dt)?;
     check_wave_limits(&model, &trajectory, args.run.dt, steps)?;
-    assemble("wave", model, trajectory, steps, &args.run, None)
+    assemble("wave", model, geometry, trajectory, steps, &args.run, None)
 }
 
 /// `faze4 replay` → scenario.
 pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     positive("--traj-period", args.traj_period)?;
-    let model = load_model(&args.run)?;
+    let Robot { model, geometry } = load_model(&args.run)?;
     let frames = npy::read_samples(&args.q_traj)?;
     check_samples(&model, &frames, &args.q_traj)?;
     let trajectory = Trajectory::Interpolated(Interpolated::new(&frames, args.traj_period, Wrap::Repeat));
     let steps = steps("--duration", args.duration, args.run.dt)?;
-    assemble("replay", model, trajectory, steps, &args.run, None)
+    assemble("replay", model, geometry, trajectory, steps, &args.run, None)
 }
 
 /// `faze4 shape` → scenario: the board targets, their exact IK, and the joint samples played as a closed loop every [`SHAPE_PERIOD`].
@@ -56,7 +57,7 @@ pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
             format!("{} samples cannot make a closed path: at least 3", args.shape_points),
         ));
     }
-    let model = load_model(&args.run)?;
+    let Robot { model, geometry } = load_model(&args.run)?;
     let tool = tool_frame(&model, args.run.tool_link.as_deref())?;
     let (free, seed): (Vec<usize>, Vec<f64>) = if model.is_faze4() {
         (SHAPE_FREE_JOINTS.to_vec(), Q_SEED.to_vec())
@@ -77,17 +78,18 @@ pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
     let trajectory = Trajectory::Interpolated(Interpolated::new(&ik.q, SHAPE_PERIOD, Wrap::Closed));
     let steps = steps("--duration", args.duration, args.run.dt)?;
     let command = format!("shape {} ({} points)", shape.name(), args.shape_points);
-    assemble(&command, model, trajectory, steps, &args.run, Some(run))
+    assemble(&command, model, geometry, trajectory, steps, &args.run, Some(run))
 }
 
-/// The model a run uses: the URDF (or the bundled arm), gravity, tool frame, payload.
-pub fn load_model(run: &RunArgs) -> Result<Model> {
+/// The model a run uses: the URDF (or the bundled arm), gravity, tool frame, payload; and its
+/// geometry.
+pub fn load_model(run: &RunArgs) -> Result<Robot> {
     positive("--dt", run.dt)?;
     positive("--record-period", run.record_period)?;
     non_negative("--payload-kg", run.payload_kg)?;
-    let mut model = match &run.urdf {
-        Some(path) => Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
-        None => model::faze4_arm(),
+    let Robot { mut model, geometry } = match &run.urdf {
+        Some(path) => model::urdf::read_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
+        None => model::faze4_robot(),
     };
     if run.no_gravity {
         model.gravity = Default::default();
@@ -96,7 +98,7 @@ pub fn load_model(run: &RunArgs) -> Result<Model> {
     if run.payload_kg > 0.0 {
         model = model.with_point_mass(tool, run.payload_kg);
     }
-    Ok(model)
+    Ok(Robot { model, geometry })
 }
 
 /// The tool frame: `--tool-link`, or the model's default.
@@ -117,6 +119,7 @@ pub fn tool_frame(model: &Model, name: Option<&str>) -> Result<usize> {
 pub fn assemble(
     command: &str,
     model: Model,
+    geometry: GeometryModel,
     trajectory: Trajectory,
     steps: usize,
     run: &RunArgs,
@@ -166,6 +169,7 @@ pub fn assemble(
     Ok(Scenario {
         command: command.to_string(),
         model,
+        geometry,
         tool_frame,
         trajectory,
         dt,

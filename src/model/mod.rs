@@ -15,7 +15,7 @@ mod description;
 mod package;
 pub mod urdf;
 
-pub use description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
+pub use description::{Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
 pub use package::PackagePaths;
 
 use crate::spatial::{Inertia, Mat3, Motion, Pose, Vec3, Xform, rotation_about_axis, skew};
@@ -32,6 +32,11 @@ pub const FAZE4_NAMES: [&str; 2] = ["faze4_arm", "faze4_real"];
 
 /// The bundled Faze4 model (SPEC §1).
 pub fn faze4_arm() -> Model {
+    faze4_robot().model
+}
+
+/// The bundled Faze4 model with its geometry.
+pub fn faze4_robot() -> Robot {
     urdf::read_str(FAZE4_ARM_URDF, FAZE4_ARM_SOURCE, None, &PackagePaths::default())
         .expect("the bundled URDF is valid (tested)")
 }
@@ -149,7 +154,8 @@ pub struct Frame {
     pub placement: Pose,
 }
 
-/// The immutable model: kinematic tree, inertias, limits, frames and visuals.
+/// The immutable model: kinematic tree, inertias, limits and frames. The shapes attached to
+/// the frames (visuals, collision geometry) are in [`crate::geometry::GeometryModel`].
 #[derive(Clone, Debug)]
 pub struct Model {
     /// The robot's name (URDF `<robot name>`).
@@ -177,8 +183,16 @@ pub struct Model {
     pub gravity: Vec3,
     /// Every URDF link as a frame, root first, in depth-first order.
     pub frames: Vec<Frame>,
-    /// Visual geometry, each attached to a frame (index into `frames`).
-    pub visuals: Vec<(usize, Visual)>,
+}
+
+/// A robot as read from a file: the dynamics [`Model`] and, beside it, the shapes attached to
+/// its frames.
+#[derive(Clone, Debug)]
+pub struct Robot {
+    /// Kinematics and dynamics.
+    pub model: Model,
+    /// Visuals and collision geometry, by frame.
+    pub geometry: crate::geometry::GeometryModel,
 }
 
 impl Model {
@@ -240,8 +254,9 @@ impl Model {
         build::build(desc)
     }
 
-    /// Reads a URDF file; `packages` resolves `package://` mesh references.
+    /// Reads a URDF file's dynamics alone (see [`urdf::read_file`] for the geometry too);
+    /// `packages` resolves `package://` mesh references.
     pub fn from_urdf_file(path: &std::path::Path, packages: &PackagePaths) -> crate::Result<Model> {
-        urdf::read_file(path, packages)
+        urdf::read_file(path, packages).map(|robot| robot.model)
     }
 }

@@ -1,4 +1,5 @@
-//! URDF files → [`RobotDescription`] → [`Model`]. The only place that knows urdf-rs.
+//! URDF files → [`RobotDescription`] → [`Robot`]: the [`Model`] and its
+//! [`GeometryModel`] (visuals and collision elements). The only place that knows urdf-rs.
 //!
 //! urdf-rs parses the XML; everything it lets through unchecked is checked by the model
 //! builder (missing links, loops, non-finite numbers, zero axes, bad inertias). Known urdf-rs
@@ -10,13 +11,15 @@ use std::cell::Cell;
 use std::path::Path;
 use std::sync::Once;
 
-use super::description::{Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
-use super::{Model, PackagePaths};
+use super::description::{Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, Visual};
+use super::{Model, PackagePaths, Robot};
 use crate::error::{Error, Result, one_line};
+use crate::geometry::GeometryModel;
 use crate::spatial::{Pose, Vec3};
 
-/// Reads and validates the URDF file at `path`.
-pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Model> {
+/// Reads and validates the URDF file at `path`: the model and its geometry. Mesh files are
+/// only located here (`packages` resolves `package://`), not read.
+pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Robot> {
     let text = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -30,8 +33,11 @@ pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Model> {
 
 /// Reads and validates URDF `text`; `file` names it in errors, `base_dir` anchors relative
 /// mesh paths.
-pub fn read_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<Model> {
-    Model::from_description(&describe(text, file, base_dir, packages)?)
+pub fn read_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<Robot> {
+    let desc = describe(text, file, base_dir, packages)?;
+    let model = Model::from_description(&desc)?;
+    let geometry = GeometryModel::new(&model, &desc);
+    Ok(Robot { model, geometry })
 }
 
 /// Parses URDF `text` into a description, resolving mesh references. No validation beyond
@@ -79,6 +85,12 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 .visual
                 .iter()
                 .map(|v| visual(v, &parsed.materials, base_dir, packages))
+                .collect(),
+            collisions: (link.collision.iter())
+                .map(|c| Collision {
+                    origin: Pose::from_xyz_rpy(c.origin.xyz.0, c.origin.rpy.0),
+                    geometry: geometry(&c.geometry, base_dir, packages),
+                })
                 .collect(),
         })
         .collect();
@@ -206,23 +218,7 @@ fn visual(
     base_dir: Option<&Path>,
     packages: &PackagePaths,
 ) -> Visual {
-    let geometry = match &v.geometry {
-        urdf_rs::Geometry::Box { size } => Geometry::Box {
-            size: Vec3::from(size.0),
-        },
-        urdf_rs::Geometry::Cylinder { radius, length } | urdf_rs::Geometry::Capsule { radius, length } => {
-            Geometry::Cylinder {
-                radius: *radius,
-                length: *length,
-            }
-        }
-        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
-        urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
-            uri: filename.clone(),
-            path: packages.resolve(filename, base_dir),
-            scale: scale.map_or(Vec3::new(1.0, 1.0, 1.0), |s| Vec3::from(s.0)),
-        },
-    };
+    let geometry = geometry(&v.geometry, base_dir, packages);
     // A colour inline, or by name from the robot's top-level <material> list.
     let rgba = v.material.as_ref().and_then(|m| {
         m.color
@@ -239,6 +235,27 @@ fn visual(
         origin: Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
         geometry,
         rgba,
+    }
+}
+
+/// A `<geometry>` element; mesh references are resolved (the file is not read).
+fn geometry(g: &urdf_rs::Geometry, base_dir: Option<&Path>, packages: &PackagePaths) -> Geometry {
+    match g {
+        urdf_rs::Geometry::Box { size } => Geometry::Box {
+            size: Vec3::from(size.0),
+        },
+        urdf_rs::Geometry::Cylinder { radius, length } | urdf_rs::Geometry::Capsule { radius, length } => {
+            Geometry::Cylinder {
+                radius: *radius,
+                length: *length,
+            }
+        }
+        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
+        urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
+            uri: filename.clone(),
+            path: packages.resolve(filename, base_dir),
+            scale: scale.map_or(Vec3::new(1.0, 1.0, 1.0), |s| Vec3::from(s.0)),
+        },
     }
 }
 

@@ -22,6 +22,8 @@ pub struct RunInfo<'a> {
     pub command: &'a str,
     /// The simulated model (payload included).
     pub model: &'a Model,
+    /// Its visuals and collision geometry.
+    pub geometry: &'a crate::geometry::GeometryModel,
     /// The frame whose origin is the tool (trail x, y, z).
     pub tool_frame: usize,
     /// Control and integration period Δt (s).

@@ -1,6 +1,7 @@
 //! A validated, ready-to-run experiment.
 
 use crate::control::{Gains, Pd};
+use crate::geometry::GeometryModel;
 use crate::model::Model;
 use crate::spatial::Vec3;
 use crate::traj::shape::Board;
@@ -14,6 +15,8 @@ pub struct Scenario {
     pub command: String,
     /// The simulated model (payload included; gravity as the run wants it).
     pub model: Model,
+    /// Its visuals and collision geometry.
+    pub geometry: GeometryModel,
     /// The frame traced as the tool.
     pub tool_frame: usize,
     /// The joint command.

@@ -14,6 +14,7 @@ use serde_json::json;
 
 use super::mesh::{CompactMesh, Indices, TriMesh, read_stl};
 use crate::algo::{Data, forward_kinematics};
+use crate::geometry::GeometryModel;
 use crate::model::{Geometry, Model};
 use crate::output::{RunInfo, Sample};
 use crate::spatial::{Mat3, Pose, Vec3};
@@ -81,10 +82,10 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The scene of `model` alone (no board, no run). Meshes whose file is missing or
-    /// unreadable become boxes spanning the link to its children (listed in `missing` and
-    /// `unreadable`).
-    pub fn from_model(model: &Model) -> Scene {
+    /// The scene of `model` with the visuals of `geometry` alone (no board, no run). Meshes
+    /// whose file is missing or unreadable become boxes spanning the link to its children
+    /// (listed in `missing` and `unreadable`).
+    pub fn from_model(model: &Model, geometry: &GeometryModel) -> Scene {
         let mut scene = Scene {
             name: model.name.clone(),
             joints: model.joints.iter().map(|j| j.name.clone()).collect(),
@@ -101,10 +102,11 @@ impl Scene {
         };
         scene.meshes.push(CompactMesh::new(&TriMesh::sphere(1.0, 10, 16)));
         let mut loaded: HashMap<(PathBuf, [u32; 3]), usize> = HashMap::new();
-        for (frame, visual) in &model.visuals {
+        for visual in &geometry.visuals {
+            let frame = &visual.frame;
             let slot = scene.slot(model, *frame);
             let color = visual.rgba.map_or(DEFAULT_COLOR, |c| c.map(|x| x as f32));
-            let name = model.frames[*frame].name.clone();
+            let name = visual.link.clone();
             let add = |scene: &mut Scene, mesh: CompactMesh, placement: Pose| {
                 scene.meshes.push(mesh);
                 scene.visuals.push(SceneVisual {
@@ -116,16 +118,16 @@ impl Scene {
                 });
             };
             match &visual.geometry {
-                Geometry::Box { size } => add(&mut scene, box_mesh(size), visual.origin),
+                Geometry::Box { size } => add(&mut scene, box_mesh(size), visual.placement),
                 Geometry::Cylinder { radius, length } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::cylinder(*radius as f32, *length as f32, 40)),
-                    visual.origin,
+                    visual.placement,
                 ),
                 Geometry::Sphere { radius } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::sphere(*radius as f32, 16, 24)),
-                    visual.origin,
+                    visual.placement,
                 ),
                 Geometry::Mesh { uri, path, scale } => {
                     let scale = [scale.x as f32, scale.y as f32, scale.z as f32];
@@ -140,7 +142,7 @@ impl Scene {
                                 scene.visuals.push(SceneVisual {
                                     name: name.clone(),
                                     slot,
-                                    placement: visual.origin,
+                                    placement: visual.placement,
                                     mesh: m,
                                     color,
                                 });
@@ -163,7 +165,7 @@ impl Scene {
                         }
                     };
                     match mesh {
-                        Some(m) => add(&mut scene, m, visual.origin),
+                        Some(m) => add(&mut scene, m, visual.placement),
                         None => {
                             for (placement, size) in fallback_boxes(model, *frame) {
                                 add(&mut scene, box_mesh(&size), placement);
@@ -179,7 +181,7 @@ impl Scene {
     /// The scene of a run: the model's, plus the board and reference path of a shape, and
     /// the run's facts (`period`: the recording period in s).
     pub fn for_run(run: &RunInfo, period: f64) -> Scene {
-        let mut scene = Scene::from_model(run.model);
+        let mut scene = Scene::from_model(run.model, run.geometry);
         if let Some(board) = run.board {
             let c = board.center;
             scene
@@ -442,17 +444,17 @@ impl SampleEncoder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::PackagePaths;
+    use crate::model::{PackagePaths, Robot, urdf};
     use std::path::Path;
 
-    fn load(rel: &str, packages: &PackagePaths) -> Model {
-        Model::from_urdf_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join(rel), packages).unwrap()
+    fn load(rel: &str, packages: &PackagePaths) -> Robot {
+        urdf::read_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join(rel), packages).unwrap()
     }
 
     #[test]
     fn box_model_scene_has_one_box_per_link() {
-        let model = load("urdf/faze4_arm.urdf", &PackagePaths::default());
-        let scene = Scene::from_model(&model);
+        let robot = load("urdf/faze4_arm.urdf", &PackagePaths::default());
+        let scene = Scene::from_model(&robot.model, &robot.geometry);
         assert!(scene.missing.is_empty());
         assert_eq!(scene.visuals.len(), 7);
         assert_eq!(scene.visuals[0].slot, None, "base_link is welded to the world");
@@ -465,8 +467,8 @@ mod tests {
 
     #[test]
     fn missing_meshes_become_boxes_towards_the_children() {
-        let model = load("urdf/faze4_real.urdf", &PackagePaths::default());
-        let scene = Scene::from_model(&model);
+        let robot = load("urdf/faze4_real.urdf", &PackagePaths::default());
+        let scene = Scene::from_model(&robot.model, &robot.geometry);
         assert_eq!(scene.missing.len(), 6);
         assert!(scene.missing[0].ends_with("rotary_base.STL"));
         // one box per link: each link has one child (hvataljka: the tool point)

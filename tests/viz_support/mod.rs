@@ -6,8 +6,9 @@
 
 use faze4::algo::{Data, forward_kinematics, gravity};
 use faze4::control::{FAZE4_EFFORT, Gains, auto_tune};
+use faze4::geometry::GeometryModel;
 use faze4::ik::{IkTask, solve_path};
-use faze4::model::{Model, PackagePaths};
+use faze4::model::{Model, PackagePaths, Robot, urdf};
 use faze4::output::{Recorder, RunInfo, Sample};
 use faze4::sim::{PathDeviation, Summary};
 use faze4::spatial::Vec3;
@@ -19,8 +20,8 @@ mod common;
 pub use common::{repo, shared_description as description};
 
 /// `urdf/faze4_real.urdf` with the official meshes resolved.
-pub fn real_model() -> Model {
-    Model::from_urdf_file(
+pub fn real_model() -> Robot {
+    urdf::read_file(
         &repo().join("urdf/faze4_real.urdf"),
         &PackagePaths::new(vec![description()]),
     )
@@ -28,8 +29,8 @@ pub fn real_model() -> Model {
 }
 
 /// `urdf/faze4_arm.urdf` (boxes).
-pub fn box_model() -> Model {
-    Model::from_urdf_file(&repo().join("urdf/faze4_arm.urdf"), &PackagePaths::default()).unwrap()
+pub fn box_model() -> Robot {
+    urdf::read_file(&repo().join("urdf/faze4_arm.urdf"), &PackagePaths::default()).unwrap()
 }
 
 pub enum Motion {
@@ -41,6 +42,7 @@ pub enum Motion {
 
 pub struct SyntheticRun {
     pub model: Model,
+    pub geometry: GeometryModel,
     pub motion: Motion,
     pub dt: f64,
     pub duration: f64,
@@ -50,9 +52,9 @@ pub struct SyntheticRun {
 }
 
 impl SyntheticRun {
-    pub fn wave(model: Model, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
+    pub fn wave(robot: Robot, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
         Self::new(
-            model,
+            robot,
             Motion::Wave {
                 amp: amp_deg.to_radians(),
                 omega,
@@ -62,13 +64,14 @@ impl SyntheticRun {
         )
     }
 
-    pub fn circle(model: Model, duration: f64) -> SyntheticRun {
+    pub fn circle(robot: Robot, duration: f64) -> SyntheticRun {
         let reference = Shape::Circle.targets(240, &BOARD);
-        let samples = Interpolated::new(&ik_path(&model, &reference), SHAPE_PERIOD, Wrap::Closed);
-        Self::new(model, Motion::Circle { samples }, duration, Some(reference))
+        let samples = Interpolated::new(&ik_path(&robot.model, &reference), SHAPE_PERIOD, Wrap::Closed);
+        Self::new(robot, Motion::Circle { samples }, duration, Some(reference))
     }
 
-    fn new(model: Model, motion: Motion, duration: f64, reference: Option<Vec<Vec3>>) -> SyntheticRun {
+    fn new(robot: Robot, motion: Motion, duration: f64, reference: Option<Vec<Vec3>>) -> SyntheticRun {
+        let Robot { model, geometry } = robot;
         let dt = 2e-4;
         let mut data = Data::new(&model);
         let m = faze4::algo::crba(&model, &mut data, &[0.0; 6]).clone();
@@ -77,6 +80,7 @@ impl SyntheticRun {
         let tool = model.default_tool_frame();
         SyntheticRun {
             model,
+            geometry,
             motion,
             dt,
             duration,
@@ -111,6 +115,7 @@ impl SyntheticRun {
         let info = RunInfo {
             command: if self.reference.is_some() { "shape" } else { "wave" },
             model: &self.model,
+            geometry: &self.geometry,
             tool_frame: self.tool,
             dt: self.dt,
             steps,
