@@ -80,6 +80,8 @@ impl std::fmt::Display for Warning {
 
 /// One collision object, loaded.
 struct Object {
+    /// Its index in [`GeometryModel::collisions`].
+    source: usize,
     /// Its link.
     link: String,
     /// The frame it is fixed to.
@@ -166,7 +168,7 @@ impl CollisionSet {
         let mut unchecked = Vec::new();
         let mut kept: Vec<GeometryObject> = Vec::new();
         let mut objects = Vec::new();
-        for g in &geometry.collisions {
+        for (source, g) in geometry.collisions.iter().enumerate() {
             let axis_fix = Pose::new(
                 Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
                 Vec3::zeros(),
@@ -215,6 +217,7 @@ impl CollisionSet {
             };
             let sphere = convex.compute_local_bounding_sphere();
             objects.push(Object {
+                source,
                 link: g.link.clone(),
                 frame: g.frame,
                 placement: to_parry(&placement),
@@ -225,7 +228,7 @@ impl CollisionSet {
             });
             kept.push(g.clone());
         }
-        let pairs = checked_pairs(model, &kept, filter);
+        let pairs = checked_pairs(model, &kept, &geometry.joined, filter);
         let set = CollisionSet {
             geometry: kind,
             objects,
@@ -243,6 +246,12 @@ impl CollisionSet {
     /// The checked pairs as link names, in the order of [`GeometryData::distances`].
     pub fn pair_links(&self) -> impl Iterator<Item = [&str; 2]> + '_ {
         (self.pairs.iter()).map(|&(a, b)| [self.objects[a].link.as_str(), self.objects[b].link.as_str()])
+    }
+
+    /// The checked pairs as indices into [`GeometryModel::collisions`], in the order of
+    /// [`GeometryData::distances`].
+    pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.pairs.iter()).map(|&(a, b)| (self.objects[a].source, self.objects[b].source))
     }
 
     /// Links whose collision mesh was not found (not checked).

@@ -47,6 +47,9 @@ pub struct GeometryModel {
     pub visuals: Vec<GeometryObject>,
     /// `<collision>` elements, in the same order.
     pub collisions: Vec<GeometryObject>,
+    /// `[parent, child]` link frames (indices into [`Model::frames`]) of every moving joint:
+    /// the links a joint connects directly, whose pairs [`PairFilter::NonAdjacent`] skips.
+    pub joined: Vec<[usize; 2]>,
 }
 
 impl GeometryModel {
@@ -67,14 +70,21 @@ impl GeometryModel {
             (geometry.visuals).extend(link.visuals.iter().map(|v| object(v.origin, &v.geometry, v.rgba)));
             (geometry.collisions).extend(link.collisions.iter().map(|c| object(c.origin, &c.geometry, None)));
         }
+        for joint in &desc.joints {
+            if let (Some(parent), Some(child)) = (model.frame_index(&joint.parent), model.frame_index(&joint.child))
+                && model.frames[parent].body != model.frames[child].body
+            {
+                geometry.joined.push([parent, child]);
+            }
+        }
         geometry
     }
 
     /// This geometry without its collision elements (collision checking off).
     pub fn without_collisions(&self) -> GeometryModel {
         GeometryModel {
-            visuals: self.visuals.clone(),
             collisions: Vec::new(),
+            ..self.clone()
         }
     }
 }

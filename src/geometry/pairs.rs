@@ -8,27 +8,33 @@ use crate::model::Model;
 /// other and are never checked.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum PairFilter {
-    /// Drake's MultibodyPlant default: every pair on different bodies except bodies joined
-    /// by a joint (parent and child; the world counts as the parent of the first bodies).
+    /// Drake's MultibodyPlant default: every pair on different bodies except the two links a
+    /// moving joint connects (its parent and child link). Adjacency is by link, as Drake has
+    /// it: a link welded to the parent link is still checked against the child.
     #[default]
     NonAdjacent,
     /// Every pair on different bodies, adjacent ones included.
     All,
 }
 
-/// The pairs `(a, b)`, `a < b`, of `collisions` (indices) that `filter` checks on `model`.
-pub fn checked_pairs(model: &Model, collisions: &[GeometryObject], filter: PairFilter) -> Vec<(usize, usize)> {
+/// The pairs `(a, b)`, `a < b`, of `collisions` (indices) that `filter` checks on `model`;
+/// `joined` lists the `[parent, child]` link frames of the moving joints
+/// ([`super::GeometryModel::joined`]).
+pub fn checked_pairs(
+    model: &Model,
+    collisions: &[GeometryObject],
+    joined: &[[usize; 2]],
+    filter: PairFilter,
+) -> Vec<(usize, usize)> {
     let body = |k: usize| model.frames[collisions[k].frame].body;
-    // the body carrying body b (None: the world); the world has no parent
-    let parent = |b: Option<usize>| b.map(|b| model.parent[b]);
     let mut pairs = Vec::new();
     for a in 0..collisions.len() {
         for b in a + 1..collisions.len() {
-            let (ba, bb) = (body(a), body(b));
-            if ba == bb {
+            if body(a) == body(b) {
                 continue;
             }
-            let adjacent = parent(ba) == Some(bb) || parent(bb) == Some(ba);
+            let (fa, fb) = (collisions[a].frame, collisions[b].frame);
+            let adjacent = joined.contains(&[fa, fb]) || joined.contains(&[fb, fa]);
             if filter == PairFilter::All || !adjacent {
                 pairs.push((a, b));
             }
