@@ -359,3 +359,40 @@ fn zero_size_primitives_are_refused() {
         );
     }
 }
+
+/// Over consecutive circle samples, the pruned accumulation (lower bounds carried from sample
+/// to sample, hull pre-checks, bounded exact searches) gives each pair exactly the smallest of
+/// its per-sample distances, and when.
+#[test]
+fn pruned_accumulation_equals_the_minimum_of_every_sample() {
+    let robot = real();
+    let fixture = fixture("clearance_faze4_real.json");
+    let poses = &fixture["poses"].as_array().unwrap()[100..112];
+    let mut data = Data::new(&robot.model);
+    for kind in [ClearanceGeometry::Hull, ClearanceGeometry::Mesh] {
+        let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, kind, PairFilter::NonAdjacent).unwrap();
+        let (mut every, mut pruned) = (GeometryData::new(&set), GeometryData::new(&set));
+        let mut report = ClearanceReport::new(&set);
+        let mut minimum = vec![(f64::INFINITY, 0.0); set.pairs().count()];
+        for (k, pose) in poses.iter().enumerate() {
+            let t = k as f64 * 0.02;
+            forward_kinematics(&robot.model, &mut data, &vec_f64(&pose["q"]));
+            set.distances(&data.frame_pose, &mut every);
+            for (m, d) in minimum.iter_mut().zip(&every.distances) {
+                if d.distance < m.0 {
+                    *m = (d.distance, t);
+                }
+            }
+            set.accumulate(&data.frame_pose, t, &mut pruned, &mut report);
+        }
+        for (pair, (d, t)) in report.pairs.iter().zip(&minimum) {
+            assert!(
+                (pair.min_m - d).abs() <= 1e-12,
+                "{kind:?} {:?}: {} vs {d}",
+                pair.links,
+                pair.min_m
+            );
+            assert_eq!(pair.t, *t, "{kind:?} {:?}", pair.links);
+        }
+    }
+}

@@ -21,10 +21,11 @@
 //! triangles that were closest at the previous query of that pair (a good bound at once when
 //! the poses change little from sample to sample).
 //!
-//! Pruning in [`CollisionSet::accumulate`] uses two lower bounds of a pair's distance: the
-//! bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, and (for meshes) the hulls' signed distance,
-//! since a mesh lies inside its hull. A pair whose bound is not below its smallest distance so
-//! far cannot lower it and needs no exact query.
+//! Pruning in [`CollisionSet::accumulate`] uses lower bounds of a pair's distance: the last
+//! lower bound found for the pair less how far its shapes can have moved relative to each other
+//! since (see [`moved`]), the bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, and (for meshes) the
+//! hulls' signed distance, since a mesh lies inside its hull. A pair whose bound is not below
+//! its smallest distance so far cannot lower it and needs no exact query.
 
 use std::cell::Cell;
 
@@ -96,6 +97,9 @@ struct Object {
     centre: PVector,
     /// Bounding sphere radius (m).
     radius: f64,
+    /// Largest distance of a point of the shape from the shape frame's origin, bounded above
+    /// by `|centre| + radius` (m).
+    reach: f64,
 }
 
 /// The collision objects of a robot loaded as parry shapes, and the pairs that are checked.
@@ -125,6 +129,8 @@ pub struct GeometryData {
     pub distances: Vec<PairDistance>,
     /// Per pair, the two triangles found closest at its last exact mesh query.
     closest: Vec<(u32, u32)>,
+    /// Per pair, a lower bound of its distance and the relative pose `a_T_b` it holds at.
+    reference: Vec<(f64, PPose)>,
 }
 
 impl GeometryData {
@@ -140,6 +146,7 @@ impl GeometryData {
                 set.pairs.len()
             ],
             closest: vec![(0, 0); set.pairs.len()],
+            reference: vec![(f64::NEG_INFINITY, PPose::IDENTITY); set.pairs.len()],
         }
     }
 }
@@ -225,6 +232,7 @@ impl CollisionSet {
                 triangles,
                 centre: sphere.center,
                 radius: sphere.radius,
+                reach: sphere.center.length() + sphere.radius,
             });
             kept.push(g.clone());
         }
@@ -287,22 +295,36 @@ impl CollisionSet {
             let best = report.pairs[k].min_m;
             let (oa, ob) = (&self.objects[a], &self.objects[b]);
             let (pa, pb) = (&data.poses[a], &data.poses[b]);
+            let pose_ab = pa.inv_mul(pb);
+            // the lower bound found at an earlier sample, less how far any point of b can have
+            // moved relative to a since
+            let (lower, then) = &data.reference[k];
+            if *lower - moved(then, &pose_ab, ob.reach) >= best {
+                continue;
+            }
             let gap = (*pa * oa.centre - *pb * ob.centre).length() - oa.radius - ob.radius;
             if gap >= best {
+                data.reference[k] = (gap, pose_ab);
                 continue;
             }
             let d = match (&oa.triangles, &ob.triangles) {
                 (None, None) => self.convex_distance(a, b, &data.poses),
                 _ => {
-                    if self.convex_distance(a, b, &data.poses).distance >= best {
+                    let hull = self.convex_distance(a, b, &data.poses).distance;
+                    if hull >= best {
+                        data.reference[k] = (hull, pose_ab);
                         continue;
                     }
                     match self.pair_distance(k, &data.poses, &mut data.closest[k], best) {
                         Some(d) => d,
-                        None => continue,
+                        None => {
+                            data.reference[k] = (best, pose_ab);
+                            continue;
+                        }
                     }
                 }
             };
+            data.reference[k] = (d.distance, pose_ab);
             report.record(k, d, t);
         }
     }
@@ -385,4 +407,16 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     let pair = found.get()?;
     *closest = pair;
     Some(best.get())
+}
+
+/// An upper bound of how far a point within `reach` of b's origin has moved relative to a
+/// between the relative poses `then` and `now` (`a_T_b`): `|Δp| + 2 sin(θ/2) · reach`, with `θ`
+/// the angle of the rotation between them (`2 sin(θ/2)` is the spectral norm of `R_now −
+/// R_then`, and `sin(θ/2)` the length of the vector part of the unit quaternion
+/// `q_then⁻¹ q_now`). Distances are 1-Lipschitz in such a displacement, so a lower bound `L` at
+/// `then` gives `L − moved` at `now`.
+fn moved(then: &PPose, now: &PPose, reach: f64) -> f64 {
+    let turn = then.rotation.inverse() * now.rotation;
+    let half_sine = PVector::new(turn.x, turn.y, turn.z).length();
+    (now.translation - then.translation).length() + 2.0 * half_sine * reach
 }
