@@ -17,7 +17,9 @@
 //! (parry's `Bvh::leaf_pairs`): a pair of nodes is opened only while the distance between their
 //! boxes (the second box re-boxed in the first mesh's frame, a lower bound of the distance of
 //! any triangles inside) is below the best triangle distance found so far, and each pair of
-//! leaves is one triangle–triangle distance (parry's GJK). The search starts from the two
+//! leaves is one triangle–triangle distance (parry's GJK), unless a cheaper lower bound (exact
+//! boxes of the two triangles, their projections on the line through their centroids) already
+//! reaches the best distance. The search starts from the two
 //! triangles that were closest at the previous query of that pair (a good bound at once when
 //! the poses change little from sample to sample).
 //!
@@ -33,7 +35,7 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{self, DefaultQueryDispatcher, QueryDispatcher};
-use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh};
+use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, Triangle};
 
 use super::mesh::read_mesh;
 use super::pairs::{PairFilter, checked_pairs};
@@ -395,6 +397,9 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
         best.get() > 0.0 && gap.length() < best.get()
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), pos12) >= best.get() {
+            continue;
+        }
         let d = triangles(pair);
         if d < best.get() {
             best.set(d);
@@ -419,4 +424,19 @@ fn moved(then: &PPose, now: &PPose, reach: f64) -> f64 {
     let turn = then.rotation.inverse() * now.rotation;
     let half_sine = PVector::new(turn.x, turn.y, turn.z).length();
     (now.translation - then.translation).length() + 2.0 * half_sine * reach
+}
+
+/// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `pos12`,
+/// cheaper than the distance itself: the larger of the gap between their exact bounding boxes
+/// (in `t1`'s frame) and the gap between their projections on the line through their
+/// centroids (any direction separates by the gap of the projections).
+fn triangle_gap(t1: &Triangle, t2: &Triangle, pos12: &PPose) -> f64 {
+    let (a, b, c) = (pos12 * t2.a, pos12 * t2.b, pos12 * t2.c);
+    let (lo1, hi1) = (t1.a.min(t1.b).min(t1.c), t1.a.max(t1.b).max(t1.c));
+    let (lo2, hi2) = (a.min(b).min(c), a.max(b).max(c));
+    let boxes = (lo1 - hi2).max(lo2 - hi1).max(PVector::ZERO).length();
+    let axis = (a + b + c - t1.a - t1.b - t1.c).normalize_or_zero();
+    let top1 = axis.dot(t1.a).max(axis.dot(t1.b)).max(axis.dot(t1.c));
+    let bottom2 = axis.dot(a).min(axis.dot(b)).min(axis.dot(c));
+    boxes.max(bottom2 - top1)
 }
