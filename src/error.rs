@@ -68,6 +68,33 @@ pub enum Error {
         pivot: f64,
     },
 
+    /// A mesh file holds a NaN or infinite coordinate.
+    #[error("{}: triangle {triangle} has a non-finite coordinate", path.display())]
+    MeshNotFinite {
+        /// The mesh file.
+        path: PathBuf,
+        /// Index of the first triangle with a non-finite coordinate (0-based, file order).
+        triangle: usize,
+    },
+
+    /// A mesh file holds no triangle of non-zero extent.
+    #[error("{}: the mesh has no triangles", path.display())]
+    MeshEmpty {
+        /// The mesh file.
+        path: PathBuf,
+    },
+
+    /// A collision shape of zero (or negative) size: it could touch nothing.
+    #[error("{file}: {element}: {message}")]
+    DegenerateShape {
+        /// The URDF file.
+        file: String,
+        /// The element, e.g. `link 'saka' <collision>`.
+        element: String,
+        /// Which size is not positive.
+        message: String,
+    },
+
     /// Inverse kinematics could not reach a target.
     #[error(
         "IK{}: target ({:.6}, {:.6}, {:.6}) m of frame '{frame}' is out of reach: closest distance reached {} m",

@@ -11,7 +11,9 @@ use crate::algo::{
     frame_position, gravity, rnea,
 };
 use crate::error::{Error, Result};
-use crate::model::{FrameId, Model, PackagePaths, urdf};
+use crate::geometry::mesh::{Mesh, parse_mesh};
+use crate::geometry::{GeometryModel, Robot};
+use crate::model::{FrameId, Model, PackagePaths};
 use crate::traj::npy;
 
 /// The name the fuzzed URDF goes by in error messages.
@@ -26,17 +28,48 @@ pub const NPY_LABEL: &str = "fuzz.npy";
 ///
 /// Checks: a refused model gets a one-line error naming the file; an accepted one is
 /// consistent (bodies root to tip, every number finite).
-pub fn urdf_model(data: &[u8]) -> Option<Result<Model>> {
+pub fn urdf_model(data: &[u8]) -> Option<Result<Robot>> {
     let text = std::str::from_utf8(data).ok()?;
-    let result = urdf::read_str(text, URDF_LABEL, None, &PackagePaths::default());
+    let result = Robot::from_urdf_str(text, URDF_LABEL, None, &PackagePaths::default());
     match &result {
-        Ok(model) => {
-            check_model(model);
-            exercise(model, data);
+        Ok(robot) => {
+            check_model(&robot.model);
+            check_geometry(&robot.model, &robot.geometry);
+            exercise(&robot.model, data);
         }
         Err(e) => check_error(e, URDF_LABEL),
     }
     Some(result)
+}
+
+/// The name the fuzzed STL goes by in error messages.
+pub const STL_LABEL: &str = "fuzz.stl";
+
+/// `stl_mesh`: bytes → [`parse_mesh`]. Checks: an error is one line naming the file; an
+/// accepted mesh has at least one triangle, finite vertices, distinct in-range indices in every
+/// triangle, and no two bit-identical vertices.
+pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
+    let result = parse_mesh(data, Path::new(STL_LABEL));
+    match &result {
+        Ok(mesh) => {
+            assert!(!mesh.triangles.is_empty(), "a mesh without triangles accepted");
+            assert!(
+                mesh.vertices.iter().flatten().all(|c| c.is_finite()),
+                "non-finite vertex accepted"
+            );
+            let n = mesh.vertices.len() as u32;
+            for t in &mesh.triangles {
+                assert!(t.iter().all(|&i| i < n), "index out of range: {t:?}");
+                assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2], "collapsed triangle {t:?}");
+            }
+            let mut keys: Vec<[u32; 3]> = (mesh.vertices.iter()).map(|p| p.map(|c| (c + 0.0).to_bits())).collect();
+            keys.sort_unstable();
+            keys.dedup();
+            assert_eq!(keys.len(), mesh.vertices.len(), "vertices not welded");
+        }
+        Err(e) => check_error(e, STL_LABEL),
+    }
+    result
 }
 
 /// `npy_samples`: bytes → [`npy::parse_samples`]. Checks: an error is one line naming the
@@ -111,8 +144,13 @@ fn check_model(model: &Model) {
             frame.placement
         );
     }
-    for (frame, _) in &model.visuals {
-        assert!(*frame < model.frames.len());
+}
+
+/// Every shape sits on a frame of its own link, at a finite placement.
+fn check_geometry(model: &Model, geometry: &GeometryModel) {
+    for g in geometry.visuals.iter().chain(&geometry.collisions) {
+        assert_eq!(model.frame(g.frame).name, g.link);
+        assert!(g.placement.is_finite(), "{}: {:?}", g.link, g.placement);
     }
 }
 

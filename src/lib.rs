@@ -4,7 +4,7 @@
 //! Layers, bottom up (each uses only those below it; `ARCHITECTURE.md` has the table):
 //! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
 //! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
-//! workspace), [`control`] (PD + tuning), [`traj`] (commands), [`ik`] (inverse kinematics),
+//! workspace), [`geometry`] (visuals and collision shapes beside the model, self-clearance), [`control`] (PD + tuning), [`traj`] (commands), [`ik`] (inverse kinematics),
 //! [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`sim`] (scenarios, the closed loop, the recorder
 //! interface, the summary and verdict), [`output`] (terminal and trail recorders), [`viz`]
 //! (the 3D view, live and exported, and the plot), [`cli`] (the command line).
@@ -33,6 +33,7 @@ pub mod error;
 pub mod faze4;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod geometry;
 pub mod id;
 pub mod ik;
 pub mod model;

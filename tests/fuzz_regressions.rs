@@ -116,6 +116,13 @@ fn npy_samples_inputs() {
     });
 }
 
+#[test]
+fn stl_mesh_inputs() {
+    check_all("stl_mesh", |bytes| {
+        Some(fuzzing::stl_mesh(bytes).map(|_| ()).map_err(|e| e.to_string()))
+    });
+}
+
 /// Deep nesting overflowed the stack inside urdf-rs (an abort, not a panic): 4,000 levels
 /// under the fuzzer (AddressSanitizer), 20,000 in the CLI. Generated rather than stored.
 #[test]

@@ -1,22 +1,24 @@
-//! `urdf/faze4_real.urdf` (the official meshes as visuals) is the same arm as
-//! `urdf/faze4_arm.urdf`: identical joints, limits, damping, frames and dynamics. The bundled
-//! model is `faze4_arm.urdf` with `faze4_real.urdf`'s visuals, drawn from the built-in meshes.
+//! `urdf/faze4_real.urdf` (the official meshes as visuals and collision geometry) is the same
+//! arm as `urdf/faze4_arm.urdf`: identical joints, limits, damping, frames and dynamics. The
+//! bundled Faze4 is `faze4_arm.urdf` with `faze4_real.urdf`'s geometry, drawn from the built-in
+//! meshes.
 
 mod common;
 
 use common::*;
 use faze4::algo::{Data, bias, crba, forward_kinematics, gravity};
+use faze4::geometry::Robot;
 use faze4::model::{Geometry, Model, PackagePaths};
 
-fn load_real(packages: &PackagePaths) -> Model {
+fn load_real(packages: &PackagePaths) -> Robot {
     let path = repo_path("urdf/faze4_real.urdf");
-    Model::from_urdf_file(&path, packages).unwrap_or_else(|e| panic!("{e}"))
+    Robot::from_urdf_file(&path, packages).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn real_model_has_the_same_kinematics_and_dynamics_exactly() {
     let boxes = load("urdf/faze4_arm.urdf");
-    let real = load_real(&PackagePaths::default());
+    let real = load_real(&PackagePaths::default()).model;
     assert_eq!(boxes.dof(), real.dof());
     for (a, b) in boxes.joints.iter().zip(&real.joints) {
         assert_eq!(
@@ -53,12 +55,13 @@ fn real_model_has_the_same_kinematics_and_dynamics_exactly() {
 }
 
 #[test]
-fn real_model_visuals_are_the_official_meshes() {
+fn real_model_visuals_and_collisions_are_the_official_meshes() {
     let description = shared_description();
     let real = load_real(&PackagePaths::new(vec![description.clone()]));
     let mut meshes = Vec::new();
-    for (frame, visual) in &real.visuals {
-        let link = &real.frames[*frame].name;
+    for visual in &real.geometry.visuals {
+        let link = &visual.link;
+        assert_eq!(&real.model.frame(visual.frame).name, link);
         assert!(visual.rgba.is_some(), "{link} has a colour");
         match &visual.geometry {
             Geometry::Mesh { uri, path, scale } => {
@@ -68,7 +71,11 @@ fn real_model_visuals_are_the_official_meshes() {
                     Some(description.join(format!("meshes/{link}.STL")).as_path())
                 );
                 assert_eq!(scale.as_slice(), [1.0, 1.0, 1.0]);
-                assert_eq!(visual.origin, faze4::spatial::Pose::IDENTITY, "{link}: identity origin");
+                assert_eq!(
+                    visual.placement,
+                    faze4::spatial::Pose::IDENTITY,
+                    "{link}: identity origin"
+                );
                 meshes.push(link.clone());
             }
             Geometry::Cylinder { .. } => assert_eq!(link, "base_link"),
@@ -79,10 +86,18 @@ fn real_model_visuals_are_the_official_meshes() {
         meshes,
         ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"]
     );
-    // without the package path the model loads all the same, meshes unresolved on disk (the
-    // views draw the built-in copies)
+    // the collision geometry is the visual geometry, as in the official URDF
+    let shape = |g: &faze4::geometry::GeometryObject| (g.link.clone(), g.frame, g.placement, g.geometry.clone());
+    assert_eq!(
+        real.geometry.collisions.iter().map(shape).collect::<Vec<_>>(),
+        real.geometry.visuals.iter().map(shape).collect::<Vec<_>>()
+    );
+    // without the package path the model loads all the same, meshes unresolved on disk (the built-in copies
+    // stand in for them)
     let bare = load_real(&PackagePaths::default());
-    assert!(bare.visuals.iter().all(|(_, v)| match &v.geometry {
+    let shapes = || bare.geometry.visuals.iter().chain(&bare.geometry.collisions);
+    assert_eq!(shapes().count(), 14);
+    assert!(shapes().all(|v| match &v.geometry {
         Geometry::Mesh { path, .. } => path.is_none(),
         _ => true,
     }));
@@ -91,8 +106,11 @@ fn real_model_visuals_are_the_official_meshes() {
 /// The default model (no `--urdf`): the dynamics of `faze4_arm.urdf` exactly, the visuals of
 /// `faze4_real.urdf`, every mesh drawn with no file and no search path.
 #[test]
-fn bundled_model_is_the_box_arm_with_the_real_visuals() {
-    let bundled = faze4::faze4::model();
+fn bundled_model_is_the_box_arm_with_the_real_geometry() {
+    let Robot {
+        model: bundled,
+        geometry,
+    } = Robot::faze4();
     let boxes = load("urdf/faze4_arm.urdf");
     let real = load_real(&PackagePaths::default());
     assert_eq!(
@@ -105,10 +123,13 @@ fn bundled_model_is_the_box_arm_with_the_real_visuals() {
     assert_eq!(bundled.inertia, boxes.inertia);
     assert_eq!(format!("{:?}", bundled.joints), format!("{:?}", boxes.joints));
     assert_eq!(format!("{:?}", bundled.frames), format!("{:?}", boxes.frames));
-    assert_eq!(bundled.visuals, real.visuals);
-    assert_ne!(bundled.visuals, boxes.visuals);
+    assert_eq!(geometry, real.geometry);
+    let box_geometry = Robot::from_urdf_file(&repo_path("urdf/faze4_arm.urdf"), &PackagePaths::default())
+        .unwrap()
+        .geometry;
+    assert_ne!(geometry.visuals, box_geometry.visuals);
 
-    let scene = faze4::viz::scene::Scene::from_model(&bundled);
+    let scene = faze4::viz::scene::Scene::from_model(&bundled, &geometry);
     assert!(scene.missing.is_empty() && scene.unreadable.is_empty());
     let description = shared_description();
     let mut drawn = Vec::new();

@@ -4,7 +4,7 @@ mod common;
 
 use common::*;
 use faze4::algo::{Data, crba, forward_kinematics, gravity};
-use faze4::model::{JointKind, Model, PackagePaths};
+use faze4::model::{JointKind, PackagePaths};
 use faze4::spatial::{Inertia, Mat3, Vec3};
 
 /// docs/model.md: tool_link origin in world at three configurations, to the printed digits.
@@ -66,7 +66,10 @@ fn mass_matrix_diagonal_at_the_wave_start_matches_the_spec() {
 #[test]
 fn official_description_loads_and_matches_the_bundled_arm() {
     let dir = shared_description();
-    let official = Model::from_urdf_file(
+    let faze4::geometry::Robot {
+        model: official,
+        geometry,
+    } = faze4::geometry::Robot::from_urdf_file(
         &dir.join("urdf/Final_light_assembly_URDF.urdf"),
         &PackagePaths::new(vec![dir.clone()]),
     )
@@ -81,12 +84,12 @@ fn official_description_loads_and_matches_the_bundled_arm() {
     assert_eq!(official.frames[0].name, "base_link");
     assert_eq!(official.frames[0].body, None, "root fixed to the world");
     // the meshes resolved through the search path (base_link.STL is missing upstream)
-    let resolved = official
-        .visuals
-        .iter()
-        .filter(|(_, v)| matches!(&v.geometry, faze4::model::Geometry::Mesh { path: Some(_), .. }))
-        .count();
-    assert_eq!(resolved, 6);
+    for shapes in [&geometry.visuals, &geometry.collisions] {
+        let resolved = (shapes.iter())
+            .filter(|v| matches!(&v.geometry, faze4::model::Geometry::Mesh { path: Some(_), .. }))
+            .count();
+        assert_eq!((shapes.len(), resolved), (7, 6));
+    }
 
     let bundled = load("urdf/faze4_arm.urdf");
     let hand = official.frame_index("hvataljka").unwrap();
@@ -125,16 +128,14 @@ fn official_description_loads_and_matches_the_bundled_arm() {
 #[test]
 fn missing_meshes_do_not_stop_dynamics() {
     let dir = shared_description();
-    let model = Model::from_urdf_file(
+    let faze4::geometry::Robot { model, geometry } = faze4::geometry::Robot::from_urdf_file(
         &dir.join("urdf/Final_light_assembly_URDF.urdf"),
         &PackagePaths::default(),
     )
     .unwrap();
     assert!(
-        model
-            .visuals
-            .iter()
-            .all(|(_, v)| matches!(&v.geometry, faze4::model::Geometry::Mesh { path: None, .. }))
+        (geometry.visuals.iter().chain(&geometry.collisions))
+            .all(|v| matches!(&v.geometry, faze4::model::Geometry::Mesh { path: None, .. }))
     );
     assert_eq!(model.dof(), 6);
 }

@@ -22,8 +22,8 @@ fn temp_dir(name: &str) -> PathBuf {
 
 #[test]
 fn real_model_scene_uses_the_official_meshes() {
-    let model = real_model();
-    let scene = Scene::from_model(&model);
+    let robot = real_model();
+    let scene = Scene::from_model(&robot.model, &robot.geometry);
     assert!(scene.missing.is_empty() && scene.unreadable.is_empty());
     // base cylinder + six meshes, each visual on its link's frame
     assert_eq!(scene.visuals.len(), 7);
@@ -45,7 +45,8 @@ fn real_model_scene_uses_the_official_meshes() {
 
 #[test]
 fn box_model_scene_needs_no_files() {
-    let scene = Scene::from_model(&box_model());
+    let robot = box_model();
+    let scene = Scene::from_model(&robot.model, &robot.geometry);
     assert!(scene.missing.is_empty());
     assert_eq!(scene.visuals.len(), 7);
     let blob = scene.encode();

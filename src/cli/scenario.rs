@@ -6,8 +6,8 @@ use std::path::Path;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::error::{Error, Result};
-use crate::faze4;
 use crate::faze4::motors::{motor_effort, with_faze4_motors};
+use crate::geometry::Robot;
 use crate::model::{FrameId, Joint, Model, PackagePaths};
 use crate::sim::scenario::{finite, non_negative, positive};
 use crate::sim::{Scenario, ScenarioBuilder, ShapeRun, Thresholds};
@@ -21,7 +21,7 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
 }
 
 /// `faze4 wave` → scenario, on a model already loaded (a sweep loads it once).
-pub fn wave_with(args: &WaveArgs, model: Model) -> Result<Scenario> {
+pub fn wave_with(args: &WaveArgs, Robot { model, geometry }: Robot) -> Result<Scenario> {
     check_wave(args)?;
     let trajectory = Trajectory::Wave(Wave {
         amplitude: args.amp_deg.to_radians(),
@@ -29,6 +29,7 @@ pub fn wave_with(args: &WaveArgs, model: Model) -> Result<Scenario> {
         center: wave_center(&model, args.center.as_deref())?,
     });
     builder(model, trajectory, &args.run)?
+        .geometry(geometry)
         .command("wave")
         .duration(args.duration)
         .build()
@@ -50,12 +51,13 @@ pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
 }
 
 /// `faze4 replay` → scenario, on a model and frames (`--q-traj`) already read.
-pub fn replay_with(args: &ReplayArgs, model: Model, frames: &[Vec<f64>]) -> Result<Scenario> {
+pub fn replay_with(args: &ReplayArgs, Robot { model, geometry }: Robot, frames: &[Vec<f64>]) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     positive("--traj-period", args.traj_period)?;
     check_samples(&model, frames, &args.q_traj)?;
     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, args.traj_period, Wrap::Repeat));
     builder(model, trajectory, &args.run)?
+        .geometry(geometry)
         .command("replay")
         .duration(args.duration)
         .build()
@@ -66,9 +68,9 @@ pub fn replay_with(args: &ReplayArgs, model: Model, frames: &[Vec<f64>]) -> Resu
 pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     shape_of(args)?;
-    let model = load_model(&args.run)?;
-    let plan = shape_plan(args, &model)?;
-    shape_with(args, model, plan)
+    let robot = load_model(&args.run)?;
+    let plan = shape_plan(args, &robot.model)?;
+    shape_with(args, robot, plan)
 }
 
 /// The joint command and drawing part of `faze4 shape` on `model` (the IK; see
@@ -80,10 +82,15 @@ pub fn shape_plan(args: &ShapeArgs, model: &Model) -> Result<(Trajectory, ShapeR
 
 /// `faze4 shape` → scenario, on a model already loaded and its [`shape_plan`] (a sweep plans
 /// once unless it varies `shape-points`).
-pub fn shape_with(args: &ShapeArgs, model: Model, (trajectory, run): (Trajectory, ShapeRun)) -> Result<Scenario> {
+pub fn shape_with(
+    args: &ShapeArgs,
+    Robot { model, geometry }: Robot,
+    (trajectory, run): (Trajectory, ShapeRun),
+) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     let shape = shape_of(args)?;
     builder(model, trajectory, &args.run)?
+        .geometry(geometry)
         .command(format!("shape {} ({} points)", shape.name(), args.shape_points))
         .duration(args.duration)
         .shape(run)
@@ -95,16 +102,16 @@ fn shape_of(args: &ShapeArgs) -> Result<Shape> {
         .ok_or_else(|| Error::argument("--shape", format!("'{}' is not one of sine, circle, tri", args.shape)))
 }
 
-/// The model a run uses: `--urdf`, or the bundled Faze4; with `--motors`, `--rotor-inertia` and
-/// `--gear-ratio` applied.
-pub fn load_model(run: &RunArgs) -> Result<Model> {
+/// The arm a run uses, its model and geometry: `--urdf`, or the bundled Faze4; with
+/// `--motors`, `--rotor-inertia` and `--gear-ratio` applied.
+pub fn load_model(run: &RunArgs) -> Result<Robot> {
     // the run's own numbers first: a bad one is reported before a URDF is read
     positive("--dt", run.dt)?;
     positive("--record-period", run.record_period)?;
     non_negative("--payload-kg", run.payload_kg)?;
-    let mut model = match &run.urdf {
-        Some(path) => Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
-        None => faze4::model(),
+    let Robot { mut model, geometry } = match &run.urdf {
+        Some(path) => Robot::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
+        None => Robot::faze4(),
     };
     if run.motors.is_some() {
         model = with_faze4_motors(&model)?;
@@ -115,7 +122,7 @@ pub fn load_model(run: &RunArgs) -> Result<Model> {
     set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j, x| {
         j.gear_ratio = x
     })?;
-    Ok(model)
+    Ok(Robot { model, geometry })
 }
 
 /// Sets each joint's motor value that `values` gives (> 0; 'auto' keeps the model's).

@@ -15,7 +15,7 @@ use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use super::{EXIT_INTERRUPTED, scenario};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::geometry::Robot;
 use crate::sim::{Scenario, ShapeRun, StopFlag};
 use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
 use crate::traj::{Trajectory, npy};
@@ -212,7 +212,7 @@ fn shape(c: &mut Command) -> Option<&mut ShapeArgs> {
 /// The base command with what it reads once: the model, a replay's frames, a shape's plan.
 struct Base {
     command: Command,
-    model: Model,
+    robot: Robot,
     frames: Vec<Vec<f64>>,
     plan: Option<(Trajectory, ShapeRun)>,
 }
@@ -240,16 +240,16 @@ impl Base {
                 Error::argument(format!("sweep -- {}", words[0]), first)
             })?
             .command;
-        let (model, frames, plan) = match &command {
+        let (robot, frames, plan) = match &command {
             Command::Wave(a) => (scenario::load_model(&a.run)?, Vec::new(), None),
             Command::Replay(a) => (scenario::load_model(&a.run)?, npy::read_samples(&a.q_traj)?, None),
             Command::Shape(a) => {
-                let model = scenario::load_model(&a.run)?;
+                let robot = scenario::load_model(&a.run)?;
                 let plan = match replan {
                     true => None,
-                    false => Some(scenario::shape_plan(a, &model)?),
+                    false => Some(scenario::shape_plan(a, &robot.model)?),
                 };
-                (model, Vec::new(), plan)
+                (robot, Vec::new(), plan)
             }
             Command::Sweep(_) => return Err(Error::argument("sweep", "the command to sweep cannot be a sweep")),
         };
@@ -279,7 +279,7 @@ impl Base {
         }
         Ok(Base {
             command,
-            model,
+            robot,
             frames,
             plan,
         })
@@ -295,16 +295,16 @@ impl Base {
                 Knob::Scale(scale) => scales.push((*scale, x)),
             }
         }
-        let model = self.model.clone();
+        let robot = self.robot.clone();
         let mut scenario = match &command {
-            Command::Wave(a) => scenario::wave_with(a, model)?,
-            Command::Replay(a) => scenario::replay_with(a, model, &self.frames)?,
+            Command::Wave(a) => scenario::wave_with(a, robot)?,
+            Command::Replay(a) => scenario::replay_with(a, robot, &self.frames)?,
             Command::Shape(a) => {
                 let plan = match &self.plan {
                     Some(plan) => plan.clone(),
-                    None => scenario::shape_plan(a, &model)?,
+                    None => scenario::shape_plan(a, &robot.model)?,
                 };
-                scenario::shape_with(a, model, plan)?
+                scenario::shape_with(a, robot, plan)?
             }
             Command::Sweep(_) => unreachable!("refused by Base::load"),
         };

@@ -99,7 +99,7 @@ pub fn for_uri(uri: &str) -> Option<IndexedMesh> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::viz::mesh::parse_stl;
+    use crate::geometry::mesh::parse_stl;
     use std::collections::HashSet;
 
     const LINKS: [&str; 6] = ["hvataljka", "lakat", "nadlaktica", "podlaktica", "rotary_base", "saka"];

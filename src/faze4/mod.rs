@@ -49,17 +49,9 @@ pub const SHAPE_FREE_JOINTS: [JointId; 4] = [JointId(0), JointId(1), JointId(2),
 /// Time for one loop of a shape (s).
 pub const SHAPE_PERIOD: f64 = 5.0;
 
-/// The bundled Faze4 model: everything from `urdf/faze4_arm.urdf` but its visuals, which are
-/// those of `urdf/faze4_real.urdf` (the same links in the same order, with the same frames and
-/// dynamics: `tests/real_model.rs`), so the real arm is drawn. Its meshes are the built-in
-/// copies unless found on disk.
+/// The bundled Faze4 model (`urdf/faze4_arm.urdf`).
 pub fn model() -> Model {
-    let bundled = |text, source| {
-        urdf::read_str(text, source, None, &PackagePaths::default()).expect("the bundled URDFs are valid (tested)")
-    };
-    let mut model = bundled(URDF, SOURCE);
-    model.visuals = bundled(REAL_URDF, "bundled urdf/faze4_real.urdf").visuals;
-    model
+    urdf::read_str(URDF, SOURCE, None, &PackagePaths::default()).expect("the bundled URDF is valid (tested)")
 }
 
 /// Whether `model` is one of the Faze4 models (by robot name and degrees of freedom).

@@ -6,7 +6,7 @@ use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
 use super::{AxisSplit, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, one_line};
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
 /// Relative tolerance on the triangle inequality of principal moments (rounding in exported
@@ -153,7 +153,6 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
         inertia: Vec::new(),
         gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
         frames: Vec::with_capacity(desc.links.len()),
-        visuals: Vec::new(),
     };
     let mut frame_of_link = vec![usize::MAX; desc.links.len()];
     let mut stack = vec![(root, None::<usize>)];
@@ -185,9 +184,6 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
                     ));
                 }
             }
-        }
-        for visual in &link_desc.visuals {
-            model.visuals.push((model.frames.len(), visual.clone()));
         }
         model.frames.push(frame);
         for &j in children[link].iter().rev() {
@@ -430,6 +426,31 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
                 Geometry::Cylinder { radius, length } => bad(e(), "cylinder", &[*radius, *length])?,
                 Geometry::Sphere { radius } => bad(e(), "sphere radius", &[*radius])?,
                 Geometry::Mesh { scale, .. } => bad(e(), "mesh scale", scale.as_slice())?,
+            }
+        }
+        for c in &link.collisions {
+            let element = format!("link '{}' <collision>", link.name);
+            if !c.origin.is_finite() {
+                return Err(Error::model(file, element, "origin has a non-finite value"));
+            }
+            let (field, sizes): (&str, &[f64]) = match &c.geometry {
+                Geometry::Box { size } => ("box size", size.as_slice()),
+                Geometry::Cylinder { radius, length } => ("cylinder radius and length", &[*radius, *length]),
+                Geometry::Sphere { radius } => ("sphere radius", &[*radius]),
+                Geometry::Mesh { scale, .. } => ("mesh scale", scale.as_slice()),
+            };
+            bad(element.clone(), field, sizes)?;
+            // a mirroring mesh scale (negative) is a shape; a zero extent is none
+            let positive = match &c.geometry {
+                Geometry::Mesh { .. } => sizes.iter().all(|&v| v != 0.0),
+                _ => sizes.iter().all(|&v| v > 0.0),
+            };
+            if !positive {
+                return Err(Error::DegenerateShape {
+                    file: file.to_string(),
+                    element: one_line(&element),
+                    message: format!("{field} {sizes:?} is not positive: the shape has no extent"),
+                });
             }
         }
     }

@@ -1,5 +1,5 @@
-//! A robot as a file describes it, before validation: links, joints, inertials and visuals in
-//! plain Rust types. [`crate::model::urdf`] fills it from a URDF; the model builder validates it.
+//! A robot as a file describes it, before validation: links, joints, inertials, visuals and
+//! collision elements in plain Rust types. [`crate::model::urdf`] fills it from a URDF; the model builder validates it.
 
 use std::path::PathBuf;
 
@@ -43,6 +43,8 @@ pub struct LinkDesc {
     pub inertial: Option<InertialDesc>,
     /// Visual geometry in the link frame.
     pub visuals: Vec<Visual>,
+    /// Collision geometry in the link frame.
+    pub collisions: Vec<Collision>,
 }
 
 /// A link's `<inertial>`.
@@ -101,7 +103,7 @@ pub struct JointDesc {
     pub damping: f64,
 }
 
-/// Shape of a visual.
+/// Shape of a visual or a collision element.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Geometry {
     /// Axis-aligned box with the given side lengths (m), centred on the visual origin.
@@ -141,4 +143,13 @@ pub struct Visual {
     pub geometry: Geometry,
     /// RGBA colour in 0..1, if given.
     pub rgba: Option<[f64; 4]>,
+}
+
+/// A collision element: geometry placed in a link frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Collision {
+    /// Placement of the geometry in the link frame.
+    pub origin: Pose,
+    /// The shape.
+    pub geometry: Geometry,
 }

@@ -16,7 +16,7 @@ mod package;
 pub mod urdf;
 
 pub use description::{
-    Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
 };
 pub use package::PackagePaths;
 
@@ -156,7 +156,8 @@ pub struct Frame {
     pub placement: Pose,
 }
 
-/// The immutable model: kinematic tree, inertias, limits, frames and visuals.
+/// The immutable model: kinematic tree, inertias, limits and frames. The shapes attached to
+/// the frames (visuals, collision geometry) are in [`crate::geometry::GeometryModel`].
 #[derive(Clone, Debug)]
 pub struct Model {
     /// The robot's name (URDF `<robot name>`).
@@ -184,8 +185,6 @@ pub struct Model {
     pub gravity: Vec3,
     /// Every URDF link as a frame, root first, in depth-first order.
     pub frames: Vec<Frame>,
-    /// Visual geometry, each attached to a frame (index into `frames`).
-    pub visuals: Vec<(usize, Visual)>,
 }
 
 impl Model {
@@ -247,7 +246,8 @@ impl Model {
         build::build(desc)
     }
 
-    /// Reads a URDF file; `packages` resolves `package://` mesh references.
+    /// Reads a URDF file's dynamics (`crate::geometry::Robot::from_urdf_file` reads its
+    /// geometry too); `packages` resolves `package://` mesh references.
     pub fn from_urdf_file(path: &std::path::Path, packages: &PackagePaths) -> crate::Result<Model> {
         urdf::read_file(path, packages)
     }

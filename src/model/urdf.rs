@@ -1,4 +1,5 @@
-//! URDF files → [`RobotDescription`] → [`Model`]. The only place that knows urdf-rs.
+//! URDF files → [`RobotDescription`] (links, joints, visuals, collision elements, transmissions)
+//! → [`Model`]. The only place that knows urdf-rs.
 //!
 //! urdf-rs parses the XML; everything it lets through unchecked is checked by the model
 //! builder (missing links, loops, non-finite numbers, zero axes, bad inertias). Known urdf-rs
@@ -11,14 +12,20 @@ use std::path::Path;
 use std::sync::Once;
 
 use super::description::{
-    Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
 };
 use super::{Model, PackagePaths};
 use crate::error::{Error, Result, one_line};
 use crate::spatial::{Pose, Vec3};
 
-/// Reads and validates the URDF file at `path`.
+/// Reads and validates the URDF file at `path`: its dynamics model. Mesh files are only
+/// located (`packages` resolves `package://`), not read.
 pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Model> {
+    read_str(&read_text(path)?, &path.display().to_string(), path.parent(), packages)
+}
+
+/// The text of the URDF file at `path` (UTF-8).
+pub fn read_text(path: &Path) -> Result<String> {
     let text = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -27,7 +34,7 @@ pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Model> {
         file: path.display().to_string(),
         message: "the file is not UTF-8 text".into(),
     })?;
-    read_str(&text, &path.display().to_string(), path.parent(), packages)
+    Ok(text)
 }
 
 /// Reads and validates URDF `text`; `file` names it in errors, `base_dir` anchors relative
@@ -81,6 +88,12 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 .visual
                 .iter()
                 .map(|v| visual(v, &parsed.materials, base_dir, packages))
+                .collect(),
+            collisions: (link.collision.iter())
+                .map(|c| Collision {
+                    origin: Pose::from_xyz_rpy(c.origin.xyz.0, c.origin.rpy.0),
+                    geometry: geometry(&c.geometry, base_dir, packages),
+                })
                 .collect(),
         })
         .collect();
@@ -294,23 +307,7 @@ fn visual(
     base_dir: Option<&Path>,
     packages: &PackagePaths,
 ) -> Visual {
-    let geometry = match &v.geometry {
-        urdf_rs::Geometry::Box { size } => Geometry::Box {
-            size: Vec3::from(size.0),
-        },
-        urdf_rs::Geometry::Cylinder { radius, length } | urdf_rs::Geometry::Capsule { radius, length } => {
-            Geometry::Cylinder {
-                radius: *radius,
-                length: *length,
-            }
-        }
-        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
-        urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
-            uri: filename.clone(),
-            path: packages.resolve(filename, base_dir),
-            scale: scale.map_or(Vec3::new(1.0, 1.0, 1.0), |s| Vec3::from(s.0)),
-        },
-    };
+    let geometry = geometry(&v.geometry, base_dir, packages);
     // A colour inline, or by name from the robot's top-level <material> list.
     let rgba = v.material.as_ref().and_then(|m| {
         m.color
@@ -327,6 +324,27 @@ fn visual(
         origin: Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
         geometry,
         rgba,
+    }
+}
+
+/// A `<geometry>` element; mesh references are resolved (the file is not read).
+fn geometry(g: &urdf_rs::Geometry, base_dir: Option<&Path>, packages: &PackagePaths) -> Geometry {
+    match g {
+        urdf_rs::Geometry::Box { size } => Geometry::Box {
+            size: Vec3::from(size.0),
+        },
+        urdf_rs::Geometry::Cylinder { radius, length } | urdf_rs::Geometry::Capsule { radius, length } => {
+            Geometry::Cylinder {
+                radius: *radius,
+                length: *length,
+            }
+        }
+        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
+        urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
+            uri: filename.clone(),
+            path: packages.resolve(filename, base_dir),
+            scale: scale.map_or(Vec3::new(1.0, 1.0, 1.0), |s| Vec3::from(s.0)),
+        },
     }
 }
 

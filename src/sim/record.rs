@@ -5,6 +5,7 @@
 
 use super::Summary;
 use crate::control::Gains;
+use crate::geometry::GeometryModel;
 use crate::model::{FrameId, Model};
 use crate::spatial::Vec3;
 use crate::traj::shape::Board;
@@ -16,6 +17,8 @@ pub struct RunInfo<'a> {
     pub command: &'a str,
     /// The simulated model (payload included).
     pub model: &'a Model,
+    /// Its visuals and collision geometry.
+    pub geometry: &'a GeometryModel,
     /// The frame whose origin is the tool (trail x, y, z).
     pub tool_frame: FrameId,
     /// Control and integration period Δt (s).

@@ -46,6 +46,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let info = RunInfo {
         command: &sc.command,
         model,
+        geometry: &sc.geometry,
         tool_frame: sc.tool_frame,
         dt,
         steps: sc.steps,

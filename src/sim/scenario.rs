@@ -21,6 +21,7 @@ use crate::algo::{Data, crba};
 use crate::control::{Gains, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result};
 use crate::faze4;
+use crate::geometry::GeometryModel;
 use crate::ik::{IkTask, solve_path};
 use crate::model::{FrameId, JointId, Model};
 use crate::spatial::Vec3;
@@ -44,6 +45,8 @@ pub struct Scenario {
     pub command: String,
     /// The simulated model (payload included; gravity as the run wants it).
     pub model: Model,
+    /// Its visuals and collision geometry (empty unless given).
+    pub geometry: GeometryModel,
     /// The frame traced as the tool.
     pub tool_frame: FrameId,
     /// The joint command.
@@ -162,6 +165,7 @@ impl Scenario {
     /// limits (the Faze4's motor limits for a Faze4 model), the model's default tool frame.
     pub fn builder(model: Model, trajectory: Trajectory) -> ScenarioBuilder {
         ScenarioBuilder {
+            geometry: GeometryModel::default(),
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
                 Trajectory::Interpolated(_) => "replay",
@@ -192,6 +196,7 @@ impl Scenario {
 pub struct ScenarioBuilder {
     command: String,
     model: Model,
+    geometry: GeometryModel,
     trajectory: Trajectory,
     dt: f64,
     duration: f64,
@@ -212,6 +217,13 @@ impl ScenarioBuilder {
     /// What runs, for people (the banner's first word): `wave`, `replay`, `shape circle …`.
     pub fn command(mut self, command: impl Into<String>) -> Self {
         self.command = command.into();
+        self
+    }
+
+    /// The model's visuals and collision geometry (see [`crate::geometry::Robot`]), for the
+    /// views; none by default.
+    pub fn geometry(mut self, geometry: GeometryModel) -> Self {
+        self.geometry = geometry;
         self
     }
 
@@ -379,6 +391,7 @@ impl ScenarioBuilder {
         Ok(Scenario {
             command: self.command,
             model,
+            geometry: self.geometry,
             tool_frame,
             trajectory: self.trajectory,
             dt: self.dt,

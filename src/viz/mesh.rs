@@ -1,11 +1,12 @@
-//! Triangle meshes: STL files (binary and ASCII) → indexed meshes with crease-aware normals,
-//! primitive shapes, and the compact form the viewer receives (quantised positions, packed
-//! normals, 16-bit indices where they fit).
+//! Triangle meshes for drawing: mesh files (read by [`crate::geometry::mesh`]) → indexed meshes
+//! with crease-aware normals, primitive shapes, and the compact form the viewer receives
+//! (quantised positions, packed normals, 16-bit indices where they fit).
 
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
+use crate::geometry::mesh::read_mesh;
 
 /// Normals of faces meeting at a vertex are averaged when they differ by less than this angle;
 /// sharper edges keep one vertex per side (CAD parts: flat faces, sharp edges).
@@ -236,79 +237,16 @@ impl TriMesh {
     }
 }
 
-/// Reads an STL file, binary or ASCII, into an indexed mesh (see [`TriMesh::from_soup`]).
+/// Reads a mesh file (through [`read_mesh`], the one mesh reader) into an indexed mesh with
+/// normals (see [`TriMesh::from_soup`]).
 pub fn read_stl(path: &Path) -> Result<TriMesh> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let soup = parse_stl(&bytes).map_err(|message| Error::InvalidData {
-        path: path.to_path_buf(),
-        message,
-    })?;
-    Ok(TriMesh::from_soup(&soup))
+    Ok(TriMesh::from_soup(&read_mesh(path)?.soup()))
 }
 
-/// The mesh a URDF mesh reference stands for: the file it resolved to (`path`), else the copy
-/// built into the binary when `uri` names one of the official Faze4 meshes
-/// ([`crate::faze4::meshes::for_uri`]); `None` when there is neither.
+/// The mesh a URDF mesh reference stands for, with normals: [`crate::geometry::mesh::load`]
+/// (the file, else the built-in Faze4 copy); `None` when there is neither.
 pub fn load_mesh(uri: &str, path: Option<&Path>) -> Option<Result<TriMesh>> {
-    match path {
-        Some(path) => Some(read_stl(path)),
-        None => crate::faze4::meshes::for_uri(uri).map(|mesh| Ok(TriMesh::from_soup(&mesh.corners()))),
-    }
-}
-
-/// The triangle corners of an STL file's contents (three per triangle). Binary when the size
-/// matches the triangle count in the header (SolidWorks writes binary files that start with
-/// "solid"), ASCII when the text starts with `solid`.
-pub fn parse_stl(bytes: &[u8]) -> std::result::Result<Vec<[f32; 3]>, String> {
-    if bytes.len() >= 84 {
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        if n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len()) {
-            let mut soup = Vec::with_capacity(3 * n);
-            for t in bytes[84..].chunks_exact(50) {
-                for k in 0..3 {
-                    let o = 12 + 12 * k;
-                    let f = |i: usize| f32::from_le_bytes([t[o + i], t[o + i + 1], t[o + i + 2], t[o + i + 3]]);
-                    soup.push([f(0), f(4), f(8)]);
-                }
-            }
-            return check_finite(soup);
-        }
-    }
-    let text = std::str::from_utf8(bytes)
-        .map_err(|_| "neither a binary STL (size does not match its triangle count) nor ASCII text".to_string())?;
-    if !text.trim_start().starts_with("solid") {
-        return Err(
-            "neither a binary STL (size does not match its triangle count) nor an ASCII STL (no 'solid')".into(),
-        );
-    }
-    let mut soup = Vec::new();
-    let mut words = text.split_ascii_whitespace();
-    while let Some(w) = words.next() {
-        if w == "vertex" {
-            let mut p = [0.0f32; 3];
-            for c in &mut p {
-                let word = words.next().ok_or("a 'vertex' with fewer than 3 numbers")?;
-                *c = word
-                    .parse()
-                    .map_err(|_| format!("'vertex' coordinate '{word}' is not a number"))?;
-            }
-            soup.push(p);
-        }
-    }
-    if soup.is_empty() || soup.len() % 3 != 0 {
-        return Err(format!("{} vertices: not a whole number of triangles", soup.len()));
-    }
-    check_finite(soup)
-}
-
-fn check_finite(soup: Vec<[f32; 3]>) -> std::result::Result<Vec<[f32; 3]>, String> {
-    match soup.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
-        Some(i) => Err(format!("triangle {} has a non-finite coordinate", i / 3)),
-        None => Ok(soup),
-    }
+    crate::geometry::mesh::load(uri, path).map(|mesh| mesh.map(|m| TriMesh::from_soup(&m.soup())))
 }
 
 /// Vertex indices in the narrowest type that holds them.
@@ -473,43 +411,9 @@ mod tests {
         m.indices.iter().map(|&i| m.positions[i as usize]).collect()
     }
 
-    fn binary_stl(soup: &[[f32; 3]], header: &[u8]) -> Vec<u8> {
-        let mut b = vec![0u8; 80];
-        b[..header.len()].copy_from_slice(header);
-        b.extend((soup.len() as u32 / 3).to_le_bytes());
-        for t in soup.chunks(3) {
-            b.extend([0u8; 12]); // facet normal, ignored
-            for p in t {
-                for c in p {
-                    b.extend(c.to_le_bytes());
-                }
-            }
-            b.extend([0u8; 2]);
-        }
-        b
-    }
-
-    fn ascii_stl(soup: &[[f32; 3]]) -> String {
-        let mut s = String::from("solid cube\n");
-        for t in soup.chunks(3) {
-            s += "  facet normal 0 0 0\n    outer loop\n";
-            for p in t {
-                s += &format!("      vertex {:e} {} {}\n", p[0], p[1], p[2]);
-            }
-            s += "    endloop\n  endfacet\n";
-        }
-        s + "endsolid cube\n"
-    }
-
     #[test]
-    fn binary_and_ascii_stl_give_the_same_cube_with_sharp_edges() {
-        let soup = cube_soup();
-        // a binary file whose header starts with "solid", as SolidWorks writes them
-        let bin = parse_stl(&binary_stl(&soup, b"solid SolidWorks export")).unwrap();
-        let txt = parse_stl(ascii_stl(&soup).as_bytes()).unwrap();
-        assert_eq!(bin, soup);
-        assert_eq!(txt, soup);
-        let mesh = TriMesh::from_soup(&bin);
+    fn a_cube_keeps_sharp_edges() {
+        let mesh = TriMesh::from_soup(&cube_soup());
         assert_eq!(mesh.triangles(), 12);
         // 8 corners × 3 faces each: every edge of a cube is a crease
         assert_eq!(mesh.positions.len(), 24);
@@ -530,18 +434,6 @@ mod tests {
         for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
             assert!(dot(*p, *n) > 0.97, "normal {n:?} at {p:?} points outwards");
         }
-    }
-
-    #[test]
-    fn malformed_stl_is_refused_with_a_reason() {
-        assert!(parse_stl(b"hello").unwrap_err().contains("neither"));
-        let e = parse_stl(b"solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 zero\n").unwrap_err();
-        assert!(e.contains("'zero'"), "{e}");
-        let e = parse_stl(b"solid x\n vertex 0 0 0\n vertex 1 0 0\n endsolid").unwrap_err();
-        assert!(e.contains("whole number"), "{e}");
-        let mut bin = binary_stl(&cube_soup(), b"");
-        bin[84 + 12..84 + 16].copy_from_slice(&f32::NAN.to_le_bytes());
-        assert!(parse_stl(&bin).unwrap_err().contains("non-finite"));
     }
 
     #[test]

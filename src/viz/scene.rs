@@ -14,7 +14,8 @@ use serde_json::json;
 
 use super::mesh::{CompactMesh, Indices, TriMesh, load_mesh};
 use crate::algo::{Data, forward_kinematics};
-use crate::model::{Geometry, Model};
+use crate::geometry::GeometryModel;
+use crate::model::{FrameId, Geometry, Model};
 use crate::sim::{RunInfo, Sample};
 use crate::spatial::{Mat3, Pose, Vec3};
 use crate::traj::shape::Board;
@@ -84,7 +85,7 @@ impl Scene {
     /// The scene of `model` alone (no board, no run). Meshes whose file is missing or
     /// unreadable become boxes spanning the link to its children (listed in `missing` and
     /// `unreadable`).
-    pub fn from_model(model: &Model) -> Scene {
+    pub fn from_model(model: &Model, geometry: &GeometryModel) -> Scene {
         let mut scene = Scene {
             name: model.name.clone(),
             joints: model.joints.iter().map(|j| j.name.clone()).collect(),
@@ -101,10 +102,11 @@ impl Scene {
         };
         scene.meshes.push(CompactMesh::new(&TriMesh::sphere(1.0, 10, 16)));
         let mut loaded: HashMap<(PathBuf, [u32; 3]), usize> = HashMap::new();
-        for (frame, visual) in &model.visuals {
-            let slot = scene.slot(model, *frame);
+        for visual in &geometry.visuals {
+            let frame = visual.frame;
+            let slot = scene.slot(model, frame);
             let color = visual.rgba.map_or(DEFAULT_COLOR, |c| c.map(|x| x as f32));
-            let name = model.frames[*frame].name.clone();
+            let name = visual.link.clone();
             let add = |scene: &mut Scene, mesh: CompactMesh, placement: Pose| {
                 scene.meshes.push(mesh);
                 scene.visuals.push(SceneVisual {
@@ -116,16 +118,16 @@ impl Scene {
                 });
             };
             match &visual.geometry {
-                Geometry::Box { size } => add(&mut scene, box_mesh(size), visual.origin),
+                Geometry::Box { size } => add(&mut scene, box_mesh(size), visual.placement),
                 Geometry::Cylinder { radius, length } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::cylinder(*radius as f32, *length as f32, 40)),
-                    visual.origin,
+                    visual.placement,
                 ),
                 Geometry::Sphere { radius } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::sphere(*radius as f32, 16, 24)),
-                    visual.origin,
+                    visual.placement,
                 ),
                 Geometry::Mesh { uri, path, scale } => {
                     let scale = [scale.x as f32, scale.y as f32, scale.z as f32];
@@ -137,7 +139,7 @@ impl Scene {
                         scene.visuals.push(SceneVisual {
                             name: name.clone(),
                             slot,
-                            placement: visual.origin,
+                            placement: visual.placement,
                             mesh: m,
                             color,
                         });
@@ -162,9 +164,9 @@ impl Scene {
                         }
                     };
                     match mesh {
-                        Some(m) => add(&mut scene, m, visual.origin),
+                        Some(m) => add(&mut scene, m, visual.placement),
                         None => {
-                            for (placement, size) in fallback_boxes(model, *frame) {
+                            for (placement, size) in fallback_boxes(model, frame) {
                                 add(&mut scene, box_mesh(&size), placement);
                             }
                         }
@@ -178,7 +180,7 @@ impl Scene {
     /// The scene of a run: the model's, plus the board and reference path of a shape, and
     /// the run's facts (`period`: the recording period in s).
     pub fn for_run(run: &RunInfo, period: f64) -> Scene {
-        let mut scene = Scene::from_model(run.model);
+        let mut scene = Scene::from_model(run.model, run.geometry);
         if let Some(board) = run.board {
             let c = board.center;
             scene
@@ -212,7 +214,7 @@ impl Scene {
 
     /// Index into `slots` of model frame `frame`, adding it; `None` for frames welded to the
     /// world (their pose never changes).
-    fn slot(&mut self, model: &Model, frame: usize) -> Option<usize> {
+    fn slot(&mut self, model: &Model, FrameId(frame): FrameId) -> Option<usize> {
         model.frames[frame].body?;
         Some(match self.slots.iter().position(|&f| f == frame) {
             Some(k) => k,
@@ -346,7 +348,7 @@ fn box_mesh(size: &Vec3) -> CompactMesh {
 /// Stand-ins for a link whose mesh is missing: one box from the link's origin to each of its
 /// children's joint origins (each a bit longer than the span, as thick as a quarter of it
 /// within 2–6 cm), or a 4 cm cube for a link without children.
-fn fallback_boxes(model: &Model, frame: usize) -> Vec<(Pose, Vec3)> {
+fn fallback_boxes(model: &Model, FrameId(frame): FrameId) -> Vec<(Pose, Vec3)> {
     let f = &model.frames[frame];
     let inv = f.placement.inverse();
     let mut ends: Vec<Vec3> = (0..model.dof())
@@ -441,17 +443,18 @@ impl SampleEncoder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Robot;
     use crate::model::PackagePaths;
     use std::path::Path;
 
-    fn load(rel: &str, packages: &PackagePaths) -> Model {
-        Model::from_urdf_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join(rel), packages).unwrap()
+    fn load(rel: &str, packages: &PackagePaths) -> Robot {
+        Robot::from_urdf_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join(rel), packages).unwrap()
     }
 
     #[test]
     fn box_model_scene_has_one_box_per_link() {
-        let model = load("urdf/faze4_arm.urdf", &PackagePaths::default());
-        let scene = Scene::from_model(&model);
+        let robot = load("urdf/faze4_arm.urdf", &PackagePaths::default());
+        let scene = Scene::from_model(&robot.model, &robot.geometry);
         assert!(scene.missing.is_empty());
         assert_eq!(scene.visuals.len(), 7);
         assert_eq!(scene.visuals[0].slot, None, "base_link is welded to the world");
@@ -469,8 +472,8 @@ mod tests {
         let text = std::fs::read_to_string(&path)
             .unwrap()
             .replace("package://faze4_description/", "package://no_such_package/");
-        let model = crate::model::urdf::read_str(&text, "renamed", None, &PackagePaths::default()).unwrap();
-        let scene = Scene::from_model(&model);
+        let robot = Robot::from_urdf_str(&text, "renamed", None, &PackagePaths::default()).unwrap();
+        let scene = Scene::from_model(&robot.model, &robot.geometry);
         assert_eq!(scene.missing.len(), 6);
         assert!(scene.missing[0].ends_with("rotary_base.STL"));
         // one box per link: each link has one child (hvataljka: the tool point)
@@ -488,8 +491,8 @@ mod tests {
 
     #[test]
     fn official_meshes_not_on_disk_are_the_built_in_copies() {
-        let model = load("urdf/faze4_real.urdf", &PackagePaths::default());
-        let scene = Scene::from_model(&model);
+        let robot = load("urdf/faze4_real.urdf", &PackagePaths::default());
+        let scene = Scene::from_model(&robot.model, &robot.geometry);
         assert!(scene.missing.is_empty() && scene.unreadable.is_empty());
         for v in scene.visuals.iter().filter(|v| v.name != "base_link") {
             let built_in = crate::faze4::meshes::mesh(&v.name).unwrap();

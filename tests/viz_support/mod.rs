@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use faze4::faze4::{Q_SEED, shape_ik_task};
+use faze4::geometry::Robot;
 use faze4::ik::solve_path;
 use faze4::model::{Model, PackagePaths};
 use faze4::sim::{Recorder, Scenario, ShapeRun, StopFlag, Summary};
@@ -16,8 +17,8 @@ mod common;
 pub use common::{repo, shared_description as description};
 
 /// `urdf/faze4_real.urdf` with the official meshes resolved.
-pub fn real_model() -> Model {
-    Model::from_urdf_file(
+pub fn real_model() -> Robot {
+    Robot::from_urdf_file(
         &repo().join("urdf/faze4_real.urdf"),
         &PackagePaths::new(vec![description()]),
     )
@@ -25,8 +26,8 @@ pub fn real_model() -> Model {
 }
 
 /// `urdf/faze4_arm.urdf` (boxes).
-pub fn box_model() -> Model {
-    Model::from_urdf_file(&repo().join("urdf/faze4_arm.urdf"), &PackagePaths::default()).unwrap()
+pub fn box_model() -> Robot {
+    Robot::from_urdf_file(&repo().join("urdf/faze4_arm.urdf"), &PackagePaths::default()).unwrap()
 }
 
 /// A closed-loop run, ready to drive recorders.
@@ -36,21 +37,26 @@ pub struct SyntheticRun {
 
 impl SyntheticRun {
     /// Every joint follows `amp_deg`·sin(ω t + i·π/3) for `duration` s.
-    pub fn wave(model: Model, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
+    pub fn wave(Robot { model, geometry }: Robot, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
         let wave = Trajectory::Wave(Wave {
             amplitude: amp_deg.to_radians(),
             omega,
             center: vec![0.0; model.dof()],
         });
-        let scenario = Scenario::builder(model, wave).duration(duration).build().unwrap();
+        let scenario = Scenario::builder(model, wave)
+            .geometry(geometry)
+            .duration(duration)
+            .build()
+            .unwrap();
         SyntheticRun { scenario }
     }
 
     /// The tool draws the circle on the board (240 points, exact IK) for `duration` s.
-    pub fn circle(model: Model, duration: f64) -> SyntheticRun {
+    pub fn circle(Robot { model, geometry }: Robot, duration: f64) -> SyntheticRun {
         let tool = model.default_tool_frame();
         let (trajectory, shape) = ShapeRun::plan(&model, tool, Shape::Circle, 240).unwrap();
         let scenario = Scenario::builder(model, trajectory)
+            .geometry(geometry)
             .command("shape circle (240 points)")
             .duration(duration)
             .shape(shape)

@@ -1,0 +1,442 @@
+//! Distances between the collision objects of a robot at a pose, with parry3d (f64).
+//!
+//! Two readings of a mesh, as [`ClearanceGeometry`] says:
+//!
+//! * `Hull`: each mesh is replaced by its convex hull (as Drake's SceneGraph does for
+//!   proximity queries). The value is the signed distance: the gap between the two convex
+//!   shapes when they are apart, minus the penetration depth (the shortest translation that
+//!   separates them) when they overlap.
+//! * `Mesh`: the exact triangles. The value is the smallest distance between any two
+//!   triangles, 0 with `intersecting` when two triangles cross (one mesh wholly inside another
+//!   without a crossing reads as the gap between the surfaces).
+//!
+//! Boxes, cylinders and spheres are exact in both readings (they are convex), and their signed
+//! distance is used in both.
+//!
+//! Two meshes are compared by a simultaneous traversal of their bounding-volume hierarchies
+//! (parry's `Bvh::leaf_pairs`): a pair of nodes is opened only while the distance between their
+//! boxes (the second box re-boxed in the first mesh's frame, a lower bound of the distance of
+//! any triangles inside) is below the best triangle distance found so far, and each pair of
+//! leaves is one triangle–triangle distance (parry's GJK), unless a cheaper lower bound (exact
+//! boxes of the two triangles, their projections on the line through their centroids) already
+//! reaches the best distance. The search starts from the two
+//! triangles that were closest at the previous query of that pair (a good bound at once when
+//! the poses change little from sample to sample).
+//!
+//! Pruning in [`CollisionSet::accumulate`] uses lower bounds of a pair's distance: the last
+//! lower bound found for the pair less how far its shapes can have moved relative to each other
+//! since (see [`moved`]), the bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, and (for meshes) the
+//! hulls' signed distance, since a mesh lies inside its hull. A pair whose bound is not below
+//! its smallest distance so far cannot lower it and needs no exact query.
+
+use std::cell::Cell;
+
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
+use parry3d_f64::partitioning::BvhNode;
+use parry3d_f64::query::{self, DefaultQueryDispatcher, QueryDispatcher};
+use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, Triangle};
+
+use super::mesh::read_mesh;
+use super::pairs::{PairFilter, checked_pairs};
+use super::report::ClearanceReport;
+use super::{GeometryModel, GeometryObject};
+use crate::error::{Error, Result};
+use crate::model::{Geometry, Model};
+use crate::spatial::{Mat3, Pose, Vec3};
+
+/// How meshes are read for distances (primitives are exact either way).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ClearanceGeometry {
+    /// Each mesh replaced by its convex hull; signed distances (negative: penetration depth).
+    Hull,
+    /// The exact triangles; distances ≥ 0, 0 when they intersect.
+    #[default]
+    Mesh,
+}
+
+/// Something left out of the clearance, reported as a value for the caller to print.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Warning {
+    /// A collision mesh whose file was not found: that object is not checked.
+    MeshNotFound {
+        /// The URDF file.
+        file: String,
+        /// The link it belongs to.
+        link: String,
+        /// The reference as the URDF writes it.
+        uri: String,
+    },
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Warning::MeshNotFound { file, link, uri } => write!(
+                f,
+                "{file}: link '{link}' <collision>: mesh '{uri}' not found, its clearance is not checked (give the folder holding it with --package-path)"
+            ),
+        }
+    }
+}
+
+/// One collision object, loaded.
+struct Object {
+    /// Its index in [`GeometryModel::collisions`].
+    source: usize,
+    /// Its link.
+    link: String,
+    /// The frame it is fixed to.
+    frame: usize,
+    /// `frame_T_shape` in parry's form (for cylinders, parry's y axis turned onto URDF's z).
+    placement: PPose,
+    /// The convex shape: a primitive, or a mesh's convex hull.
+    convex: Box<dyn Shape>,
+    /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]).
+    triangles: Option<TriMesh>,
+    /// Bounding sphere centre in the shape frame (m).
+    centre: PVector,
+    /// Bounding sphere radius (m).
+    radius: f64,
+    /// Largest distance of a point of the shape from the shape frame's origin, bounded above
+    /// by `|centre| + radius` (m).
+    reach: f64,
+}
+
+/// The collision objects of a robot loaded as parry shapes, and the pairs that are checked.
+/// Immutable; built once per run. Queries go through a [`GeometryData`].
+pub struct CollisionSet {
+    geometry: ClearanceGeometry,
+    objects: Vec<Object>,
+    pairs: Vec<(usize, usize)>,
+    unchecked: Vec<String>,
+}
+
+/// The distance of one checked pair at one pose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairDistance {
+    /// Distance (m): signed for hulls (negative: penetration depth), ≥ 0 for meshes.
+    pub distance: f64,
+    /// Whether the two shapes overlap (hulls: `distance < 0`; meshes: triangles cross).
+    pub intersecting: bool,
+}
+
+/// The workspace of clearance queries: world poses of the objects and the last distances.
+/// Sized once by [`GeometryData::new`]; queries allocate nothing.
+pub struct GeometryData {
+    /// World pose of each object's shape (parry's form).
+    poses: Vec<PPose>,
+    /// The last [`CollisionSet::distances`], one per pair in [`CollisionSet::pair_links`] order.
+    pub distances: Vec<PairDistance>,
+    /// Per pair, the two triangles found closest at its last exact mesh query.
+    closest: Vec<(u32, u32)>,
+    /// Per pair, a lower bound of its distance and the relative pose `a_T_b` it holds at.
+    reference: Vec<(f64, PPose)>,
+}
+
+impl GeometryData {
+    /// A workspace for `set`.
+    pub fn new(set: &CollisionSet) -> GeometryData {
+        GeometryData {
+            poses: vec![PPose::IDENTITY; set.objects.len()],
+            distances: vec![
+                PairDistance {
+                    distance: f64::INFINITY,
+                    intersecting: false
+                };
+                set.pairs.len()
+            ],
+            closest: vec![(0, 0); set.pairs.len()],
+            reference: vec![(f64::NEG_INFINITY, PPose::IDENTITY); set.pairs.len()],
+        }
+    }
+}
+
+/// Our pose in parry's form (rotation as a unit quaternion).
+fn to_parry(p: &Pose) -> PPose {
+    let r = p.rot.as_slice(); // column-major
+    let m = PMat3::from_cols_array(&[r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]]);
+    PPose::from_parts(PVector::new(p.pos.x, p.pos.y, p.pos.z), PRot3::from_mat3(&m))
+}
+
+impl CollisionSet {
+    /// Loads the collision objects of `geometry` (on `model`'s frames) and lists the pairs
+    /// `filter` checks. Meshes are read through [`read_mesh`]; a mesh whose file was not found
+    /// is left out and reported as a [`Warning`] (and in the report's `unchecked`).
+    ///
+    /// Errors: a mesh found but unreadable, non-finite or empty (see [`read_mesh`]); a mesh
+    /// whose points span no volume (no convex hull).
+    pub fn new(
+        model: &Model,
+        geometry: &GeometryModel,
+        kind: ClearanceGeometry,
+        filter: PairFilter,
+    ) -> Result<(CollisionSet, Vec<Warning>)> {
+        let mut warnings = Vec::new();
+        let mut unchecked = Vec::new();
+        let mut kept: Vec<GeometryObject> = Vec::new();
+        let mut objects = Vec::new();
+        for (source, g) in geometry.collisions.iter().enumerate() {
+            let axis_fix = Pose::new(
+                Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
+                Vec3::zeros(),
+            );
+            let (convex, triangles, placement): (Box<dyn Shape>, Option<TriMesh>, Pose) = match &g.geometry {
+                Geometry::Box { size } => (
+                    Box::new(Cuboid::new(PVector::new(size.x, size.y, size.z) / 2.0)),
+                    None,
+                    g.placement,
+                ),
+                Geometry::Sphere { radius } => (Box::new(Ball::new(*radius)), None, g.placement),
+                Geometry::Cylinder { radius, length } => (
+                    Box::new(Cylinder::new(length / 2.0, *radius)),
+                    None,
+                    g.placement.compose(&axis_fix),
+                ),
+                Geometry::Mesh { uri, path, scale } => {
+                    let Some(path) = path else {
+                        warnings.push(Warning::MeshNotFound {
+                            file: model.source.clone(),
+                            link: g.link.clone(),
+                            uri: uri.clone(),
+                        });
+                        unchecked.push(g.link.clone());
+                        continue;
+                    };
+                    let mesh = read_mesh(path)?;
+                    let points: Vec<PVector> = (mesh.vertices.iter())
+                        .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))
+                        .collect();
+                    let hull = ConvexPolyhedron::from_convex_hull(&points).ok_or_else(|| Error::InvalidData {
+                        path: path.clone(),
+                        message: "the mesh spans no volume (no convex hull)".into(),
+                    })?;
+                    let triangles = match kind {
+                        ClearanceGeometry::Hull => None,
+                        ClearanceGeometry::Mesh => {
+                            Some(TriMesh::new(points, mesh.triangles).map_err(|e| Error::InvalidData {
+                                path: path.clone(),
+                                message: format!("not a triangle mesh: {e}"),
+                            })?)
+                        }
+                    };
+                    (Box::new(hull), triangles, g.placement)
+                }
+            };
+            let sphere = convex.compute_local_bounding_sphere();
+            objects.push(Object {
+                source,
+                link: g.link.clone(),
+                frame: g.frame.0,
+                placement: to_parry(&placement),
+                convex,
+                triangles,
+                centre: sphere.center,
+                radius: sphere.radius,
+                reach: sphere.center.length() + sphere.radius,
+            });
+            kept.push(g.clone());
+        }
+        let pairs = checked_pairs(model, &kept, &geometry.joined, filter);
+        let set = CollisionSet {
+            geometry: kind,
+            objects,
+            pairs,
+            unchecked,
+        };
+        Ok((set, warnings))
+    }
+
+    /// How meshes are read.
+    pub fn geometry(&self) -> ClearanceGeometry {
+        self.geometry
+    }
+
+    /// The checked pairs as link names, in the order of [`GeometryData::distances`].
+    pub fn pair_links(&self) -> impl Iterator<Item = [&str; 2]> + '_ {
+        (self.pairs.iter()).map(|&(a, b)| [self.objects[a].link.as_str(), self.objects[b].link.as_str()])
+    }
+
+    /// The checked pairs as indices into [`GeometryModel::collisions`], in the order of
+    /// [`GeometryData::distances`].
+    pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.pairs.iter()).map(|&(a, b)| (self.objects[a].source, self.objects[b].source))
+    }
+
+    /// Links whose collision mesh was not found (not checked).
+    pub fn unchecked(&self) -> &[String] {
+        &self.unchecked
+    }
+
+    /// World poses of the objects from the world poses of the model frames (`frame_pose`,
+    /// e.g. `algo::Data::frame_pose` after `forward_kinematics`).
+    fn place(&self, frame_pose: &[Pose], data: &mut GeometryData) {
+        for (o, pose) in self.objects.iter().zip(&mut data.poses) {
+            *pose = to_parry(&frame_pose[o.frame]) * o.placement;
+        }
+    }
+
+    /// The distance of every checked pair at the pose whose frames are at `frame_pose`, into
+    /// `data.distances`.
+    pub fn distances(&self, frame_pose: &[Pose], data: &mut GeometryData) {
+        self.place(frame_pose, data);
+        for k in 0..self.pairs.len() {
+            data.distances[k] = self
+                .pair_distance(k, &data.poses, &mut data.closest[k], f64::INFINITY)
+                .expect("an unbounded search finds the distance");
+        }
+    }
+
+    /// Folds the pose at time `t` (s) into `report`: each pair's distance is computed only when
+    /// a lower bound (bounding spheres, then hulls) says it could be below the pair's smallest
+    /// so far. `report` must come from [`ClearanceReport::new`] on this set.
+    pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
+        self.place(frame_pose, data);
+        for (k, &(a, b)) in self.pairs.iter().enumerate() {
+            let best = report.pairs[k].min_m;
+            let (oa, ob) = (&self.objects[a], &self.objects[b]);
+            let (pa, pb) = (&data.poses[a], &data.poses[b]);
+            let pose_ab = pa.inv_mul(pb);
+            // the lower bound found at an earlier sample, less how far any point of b can have
+            // moved relative to a since
+            let (lower, then) = &data.reference[k];
+            if *lower - moved(then, &pose_ab, ob.reach) >= best {
+                continue;
+            }
+            let gap = (*pa * oa.centre - *pb * ob.centre).length() - oa.radius - ob.radius;
+            if gap >= best {
+                data.reference[k] = (gap, pose_ab);
+                continue;
+            }
+            let d = match (&oa.triangles, &ob.triangles) {
+                (None, None) => self.convex_distance(a, b, &data.poses),
+                _ => {
+                    let hull = self.convex_distance(a, b, &data.poses).distance;
+                    if hull >= best {
+                        data.reference[k] = (hull, pose_ab);
+                        continue;
+                    }
+                    match self.pair_distance(k, &data.poses, &mut data.closest[k], best) {
+                        Some(d) => d,
+                        None => {
+                            data.reference[k] = (best, pose_ab);
+                            continue;
+                        }
+                    }
+                }
+            };
+            data.reference[k] = (d.distance, pose_ab);
+            report.record(k, d, t);
+        }
+    }
+
+    /// The distance of pair `k` at `poses`, as [`ClearanceGeometry`] reads its objects, if it
+    /// is below `bound` (`None`: not below; convex pairs are always answered). `closest` is
+    /// the pair's closest triangles, read as a seed and updated.
+    fn pair_distance(&self, k: usize, poses: &[PPose], closest: &mut (u32, u32), bound: f64) -> Option<PairDistance> {
+        let (a, b) = self.pairs[k];
+        let (oa, ob) = (&self.objects[a], &self.objects[b]);
+        let distance = match (&oa.triangles, &ob.triangles) {
+            (None, None) => return Some(self.convex_distance(a, b, poses)),
+            (Some(ma), Some(mb)) => mesh_distance(ma, mb, &poses[a].inv_mul(&poses[b]), closest, bound)?,
+            (Some(ma), None) => {
+                query::distance(&poses[a], ma, &poses[b], &*ob.convex)
+                    .expect("parry supports meshes against convex shapes")
+                    .distance
+            }
+            (None, Some(mb)) => {
+                query::distance(&poses[a], &*oa.convex, &poses[b], mb)
+                    .expect("parry supports meshes against convex shapes")
+                    .distance
+            }
+        };
+        (distance < bound).then_some(PairDistance {
+            distance,
+            intersecting: distance <= 0.0,
+        })
+    }
+
+    /// The signed distance of the convex shapes of `a` and `b` (negative: penetration depth).
+    fn convex_distance(&self, a: usize, b: usize, poses: &[PPose]) -> PairDistance {
+        let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
+        let gap = query::distance(&poses[a], sa, &poses[b], sb).expect("parry supports convex pairs");
+        if gap.distance > 0.0 {
+            return PairDistance {
+                distance: gap.distance,
+                intersecting: false,
+            };
+        }
+        let depth = query::contact(&poses[a], sa, &poses[b], sb, 0.0)
+            .expect("parry supports convex pairs")
+            .map_or(0.0, |c| c.dist.min(0.0));
+        PairDistance {
+            distance: depth,
+            intersecting: true,
+        }
+    }
+}
+
+/// The smallest distance between a triangle of `m1` and a triangle of `m2` (`pos12`: `m2`'s
+/// frame in `m1`'s), if below `bound`; `closest` seeds the search with a pair of triangles and
+/// receives the closest pair found. 0 as soon as two triangles touch.
+fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32), bound: f64) -> Option<f64> {
+    let triangles = |(i, j): (u32, u32)| {
+        DefaultQueryDispatcher
+            .distance(pos12, &m1.triangle(i), &m2.triangle(j))
+            .expect("parry supports triangle pairs")
+            .distance
+    };
+    let seeded = triangles(*closest);
+    let best = Cell::new(if seeded < bound { seeded } else { bound });
+    let found = Cell::new((seeded < bound).then_some(*closest));
+    let boxes_closer = |n1: &BvhNode, n2: &BvhNode| {
+        let b1 = Aabb::new(n1.mins(), n1.maxs());
+        let b2 = Aabb::new(n2.mins(), n2.maxs()).transform_by(pos12);
+        let gap = (b1.mins - b2.maxs).max(b2.mins - b1.maxs).max(PVector::ZERO);
+        best.get() > 0.0 && gap.length() < best.get()
+    };
+    for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), pos12) >= best.get() {
+            continue;
+        }
+        let d = triangles(pair);
+        if d < best.get() {
+            best.set(d);
+            found.set(Some(pair));
+        }
+        if d <= 0.0 {
+            break;
+        }
+    }
+    let pair = found.get()?;
+    *closest = pair;
+    Some(best.get())
+}
+
+/// An upper bound of how far a point within `reach` of b's origin has moved relative to a
+/// between the relative poses `then` and `now` (`a_T_b`): `|Δp| + 2 sin(θ/2) · reach`, with `θ`
+/// the angle of the rotation between them (`2 sin(θ/2)` is the spectral norm of `R_now −
+/// R_then`, and `sin(θ/2)` the length of the vector part of the unit quaternion
+/// `q_then⁻¹ q_now`). Distances are 1-Lipschitz in such a displacement, so a lower bound `L` at
+/// `then` gives `L − moved` at `now`.
+fn moved(then: &PPose, now: &PPose, reach: f64) -> f64 {
+    let turn = then.rotation.inverse() * now.rotation;
+    let half_sine = PVector::new(turn.x, turn.y, turn.z).length();
+    (now.translation - then.translation).length() + 2.0 * half_sine * reach
+}
+
+/// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `pos12`,
+/// cheaper than the distance itself: the larger of the gap between their exact bounding boxes
+/// (in `t1`'s frame) and the gap between their projections on the line through their
+/// centroids (any direction separates by the gap of the projections).
+fn triangle_gap(t1: &Triangle, t2: &Triangle, pos12: &PPose) -> f64 {
+    let (a, b, c) = (pos12 * t2.a, pos12 * t2.b, pos12 * t2.c);
+    let (lo1, hi1) = (t1.a.min(t1.b).min(t1.c), t1.a.max(t1.b).max(t1.c));
+    let (lo2, hi2) = (a.min(b).min(c), a.max(b).max(c));
+    let boxes = (lo1 - hi2).max(lo2 - hi1).max(PVector::ZERO).length();
+    let axis = (a + b + c - t1.a - t1.b - t1.c).normalize_or_zero();
+    let top1 = axis.dot(t1.a).max(axis.dot(t1.b)).max(axis.dot(t1.c));
+    let bottom2 = axis.dot(a).min(axis.dot(b)).min(axis.dot(c));
+    boxes.max(bottom2 - top1)
+}

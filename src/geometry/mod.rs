@@ -1,0 +1,141 @@
+//! The shapes attached to a robot's frames, beside the dynamics [`Model`] (as Pinocchio keeps
+//! a `GeometryModel` beside its `Model`): the URDF's visuals and collision elements, each on
+//! the frame of its link, and the self-clearance of the collision geometry along a motion.
+//!
+//! | file | holds |
+//! |---|---|
+//! | `mod.rs` | [`GeometryModel`], [`GeometryObject`] |
+//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII) → exact f32 vertices, welded indices |
+//! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
+//! | `clearance.rs` | [`CollisionSet`] (parry shapes), [`GeometryData`] (workspace), distances at a pose |
+//! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
+
+mod clearance;
+pub mod mesh;
+mod pairs;
+mod report;
+
+pub use clearance::{ClearanceGeometry, CollisionSet, GeometryData, PairDistance, Warning};
+pub use pairs::{PairFilter, checked_pairs};
+pub use report::{ClearanceReport, PairReport};
+
+use std::path::Path;
+
+use crate::error::Result;
+use crate::faze4;
+use crate::model::{FrameId, Geometry, Model, PackagePaths, RobotDescription, urdf};
+use crate::spatial::Pose;
+
+/// A robot as read from a file: the dynamics [`Model`] and, beside it, the shapes attached to
+/// its frames.
+#[derive(Clone, Debug)]
+pub struct Robot {
+    /// Kinematics and dynamics.
+    pub model: Model,
+    /// Visuals and collision geometry, by frame.
+    pub geometry: GeometryModel,
+}
+
+impl Robot {
+    /// Reads and validates the URDF file at `path`: its model and its geometry. Mesh files are
+    /// only located (`packages` resolves `package://`), not read.
+    pub fn from_urdf_file(path: &Path, packages: &PackagePaths) -> Result<Robot> {
+        let text = urdf::read_text(path)?;
+        Robot::from_urdf_str(&text, &path.display().to_string(), path.parent(), packages)
+    }
+
+    /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
+    /// ([`faze4::model`]), and the visuals and collision geometry of `urdf/faze4_real.urdf` (the
+    /// same links in the same order, with the same frames and dynamics: `tests/real_model.rs`),
+    /// so the real arm is drawn and its real meshes are checked for clearance. The meshes are
+    /// the built-in copies unless found on disk.
+    pub fn faze4() -> Robot {
+        let real = Robot::from_urdf_str(
+            faze4::REAL_URDF,
+            "bundled urdf/faze4_real.urdf",
+            None,
+            &PackagePaths::default(),
+        )
+        .expect("the bundled URDF is valid (tested)");
+        Robot {
+            model: faze4::model(),
+            geometry: real.geometry,
+        }
+    }
+
+    /// Reads and validates URDF `text`; `file` names it in errors, `base_dir` anchors relative
+    /// mesh paths.
+    pub fn from_urdf_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<Robot> {
+        let desc = urdf::describe(text, file, base_dir, packages)?;
+        let model = Model::from_description(&desc)?;
+        let geometry = GeometryModel::new(&model, &desc);
+        Ok(Robot { model, geometry })
+    }
+}
+
+/// One shape fixed to a model frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeometryObject {
+    /// The URDF link it belongs to.
+    pub link: String,
+    /// That link's frame.
+    pub frame: FrameId,
+    /// Its placement `frame_T_geometry` in that frame (the URDF `<origin>`). The frame's own
+    /// placement in its body is [`crate::model::Frame::placement`]: this is the only place the
+    /// geometry's offset is stored.
+    pub placement: Pose,
+    /// The shape (sizes in m; a mesh as its file reference).
+    pub geometry: Geometry,
+    /// RGBA colour in 0..1 (visuals that give one).
+    pub rgba: Option<[f64; 4]>,
+}
+
+/// A robot's visuals and collision geometry, each on a model frame. Immutable, like the model;
+/// mesh files are located, not read (see [`CollisionSet`] for the loaded collision shapes).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GeometryModel {
+    /// `<visual>` elements, in frame order (root first, depth-first) then document order.
+    pub visuals: Vec<GeometryObject>,
+    /// `<collision>` elements, in the same order.
+    pub collisions: Vec<GeometryObject>,
+    /// `[parent, child]` link frames of every moving joint: the links a joint connects
+    /// directly, whose pairs [`PairFilter::NonAdjacent`] skips.
+    pub joined: Vec<[FrameId; 2]>,
+}
+
+impl GeometryModel {
+    /// The geometry of `desc`, placed on the frames of `model` (built from that description).
+    pub fn new(model: &Model, desc: &RobotDescription) -> GeometryModel {
+        let mut geometry = GeometryModel::default();
+        for (frame, f) in model.frames.iter().enumerate() {
+            let Some(link) = desc.links.iter().find(|l| l.name == f.name) else {
+                continue;
+            };
+            let object = |placement: Pose, geometry: &Geometry, rgba| GeometryObject {
+                link: link.name.clone(),
+                frame: FrameId(frame),
+                placement,
+                geometry: geometry.clone(),
+                rgba,
+            };
+            (geometry.visuals).extend(link.visuals.iter().map(|v| object(v.origin, &v.geometry, v.rgba)));
+            (geometry.collisions).extend(link.collisions.iter().map(|c| object(c.origin, &c.geometry, None)));
+        }
+        for joint in &desc.joints {
+            if let (Some(parent), Some(child)) = (model.frame_index(&joint.parent), model.frame_index(&joint.child))
+                && model.frame(parent).body != model.frame(child).body
+            {
+                geometry.joined.push([parent, child]);
+            }
+        }
+        geometry
+    }
+
+    /// This geometry without its collision elements (collision checking off).
+    pub fn without_collisions(&self) -> GeometryModel {
+        GeometryModel {
+            collisions: Vec::new(),
+            ..self.clone()
+        }
+    }
+}

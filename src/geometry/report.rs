@@ -1,0 +1,105 @@
+//! The clearance of a whole run: per checked pair, its smallest distance and when.
+
+use serde::Serialize;
+
+use super::clearance::{ClearanceGeometry, CollisionSet, PairDistance};
+
+/// One checked pair over a run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PairReport {
+    /// The two URDF link names.
+    pub links: [String; 2],
+    /// Smallest distance seen (m; see [`ClearanceGeometry`]); `+∞` (serialised as `null`)
+    /// before the first sample.
+    pub min_m: f64,
+    /// Simulated time of that smallest distance (s).
+    pub t: f64,
+    /// Whether the pair intersected at any sample (only written when true).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub intersecting: bool,
+}
+
+/// The clearance of a run, the summary's `"clearance"` object:
+/// `{"geometry", "min_m", "links", "t", "pairs": [{"links", "min_m", "t", "intersecting"?}],
+/// "unchecked"}`; the top-level `min_m`, `links` and `t` are those of the closest pair
+/// (absent when no pair is checked).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ClearanceReport {
+    /// How meshes were read.
+    pub geometry: ClearanceGeometry,
+    /// Smallest distance over all pairs (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_m: Option<f64>,
+    /// The closest pair's links.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub links: Option<[String; 2]>,
+    /// When the closest pair was closest (s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t: Option<f64>,
+    /// Every checked pair, in [`CollisionSet::pair_links`] order.
+    pub pairs: Vec<PairReport>,
+    /// Links whose collision mesh was not found, so not checked.
+    pub unchecked: Vec<String>,
+}
+
+impl ClearanceReport {
+    /// An empty report for the pairs of `set`.
+    pub fn new(set: &CollisionSet) -> ClearanceReport {
+        ClearanceReport {
+            geometry: set.geometry(),
+            min_m: None,
+            links: None,
+            t: None,
+            pairs: (set.pair_links())
+                .map(|[a, b]| PairReport {
+                    links: [a.to_string(), b.to_string()],
+                    min_m: f64::INFINITY,
+                    t: 0.0,
+                    intersecting: false,
+                })
+                .collect(),
+            unchecked: set.unchecked().to_vec(),
+        }
+    }
+
+    /// Folds pair `k`'s distance `d` at time `t` in.
+    pub(crate) fn record(&mut self, k: usize, d: PairDistance, t: f64) {
+        let pair = &mut self.pairs[k];
+        pair.intersecting |= d.intersecting;
+        if d.distance < pair.min_m {
+            pair.min_m = d.distance;
+            pair.t = t;
+            if self.min_m.is_none_or(|m| d.distance < m) {
+                self.min_m = Some(d.distance);
+                self.links = Some(pair.links.clone());
+                self.t = Some(t);
+            }
+        }
+    }
+
+    /// Whether any pair intersected.
+    pub fn any_intersecting(&self) -> bool {
+        self.pairs.iter().any(|p| p.intersecting)
+    }
+
+    /// One line for people: the closest pair, its distance in mm and when.
+    pub fn line(&self) -> String {
+        let what = match self.geometry {
+            ClearanceGeometry::Hull => "convex hulls",
+            ClearanceGeometry::Mesh => "meshes",
+        };
+        let unchecked = if self.unchecked.is_empty() {
+            String::new()
+        } else {
+            format!("; not checked: {}", self.unchecked.join(", "))
+        };
+        match (&self.links, self.min_m, self.t) {
+            (Some([a, b]), Some(m), Some(t)) => format!(
+                "self-clearance ({what}): {a}–{b} {:.2} mm at t = {t:.2} s{}{unchecked}",
+                m * 1e3,
+                if self.any_intersecting() { ", intersecting" } else { "" },
+            ),
+            _ => format!("self-clearance ({what}): no pair checked{unchecked}"),
+        }
+    }
+}
