@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use faze4::algo::{Data, forward_kinematics};
-use faze4::geometry::{ClearanceGeometry, ClearanceReport, CollisionSet, GeometryData, PairFilter, Robot};
+use faze4::geometry::{ClearanceGeometry, CollisionSet, GeometryData, PairFilter, Robot};
 use faze4::model::PackagePaths;
 use faze4::traj::npy;
 
@@ -42,7 +42,7 @@ fn run_samples() -> Vec<Vec<f64>> {
 fn clearance_pass(robot: &Robot, set: &CollisionSet, samples: &[(f64, &Vec<f64>)]) -> f64 {
     let mut data = Data::new(&robot.model);
     let mut geometry_data = GeometryData::new(set);
-    let mut report = ClearanceReport::new(set);
+    let mut report = set.new_report();
     for (t, q) in samples {
         forward_kinematics(&robot.model, &mut data, q);
         set.accumulate(&data.frame_pose, *t, &mut geometry_data, &mut report);

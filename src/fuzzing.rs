@@ -21,7 +21,7 @@ pub const URDF_LABEL: &str = "fuzz.urdf";
 /// The name the fuzzed `.npy` goes by in error messages.
 pub const NPY_LABEL: &str = "fuzz.npy";
 
-/// `urdf_model`: bytes → (if UTF-8) [`urdf::read_str`] → on success, every algorithm at q = 0
+/// `urdf_model`: bytes → (if UTF-8) [`Robot::from_urdf_str`] → on success, every algorithm at q = 0
 /// and at joint values taken from the bytes, one discrete step from a limit, forward
 /// kinematics and Jacobians. `None` if the bytes are not UTF-8 (the CLI refuses those before
 /// parsing).

@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use faze4::Error;
 use faze4::algo::{Data, forward_kinematics};
-use faze4::geometry::{ClearanceGeometry, ClearanceReport, CollisionSet, GeometryData, PairFilter, Robot, Warning};
+use faze4::geometry::{ClearanceGeometry, CollisionSet, GeometryData, PairFilter, Robot, Warning};
 use faze4::model::{Geometry, PackagePaths};
 use serde_json::Value;
 
@@ -190,7 +190,7 @@ fn circle_clearance_report_names_the_closest_pair() {
     )
     .unwrap();
     let mut geometry_data = GeometryData::new(&set);
-    let mut report = ClearanceReport::new(&set);
+    let mut report = set.new_report();
     for (k, pose) in circle.iter().enumerate() {
         forward_kinematics(&robot.model, &mut data, &vec_f64(&pose["q"]));
         set.accumulate(&data.frame_pose, k as f64 * 0.02, &mut geometry_data, &mut report);
@@ -230,7 +230,7 @@ fn circle_clearance_report_names_the_closest_pair() {
     )
     .unwrap();
     let mut geometry_data = GeometryData::new(&set);
-    let mut report = ClearanceReport::new(&set);
+    let mut report = set.new_report();
     let k_mesh =
         (mesh.iter().copied().enumerate()).fold((0, f64::INFINITY), |b, (k, d)| if d < b.1 { (k, d) } else { b });
     for k in [k_mesh.0.saturating_sub(1), k_mesh.0, (k_mesh.0 + 1) % circle.len()] {
@@ -298,7 +298,7 @@ fn a_missing_mesh_is_one_warning_and_unchecked() {
     );
     assert!(!line.contains('\n'));
     assert_eq!(set.pairs().count(), 0);
-    let report = ClearanceReport::new(&set);
+    let report = set.new_report();
     assert_eq!(report.unchecked, ["a"]);
     assert_eq!(
         serde_json::to_value(&report).unwrap()["unchecked"],
@@ -372,7 +372,7 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample() {
     for kind in [ClearanceGeometry::Hull, ClearanceGeometry::Mesh] {
         let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, kind, PairFilter::NonAdjacent).unwrap();
         let (mut every, mut pruned) = (GeometryData::new(&set), GeometryData::new(&set));
-        let mut report = ClearanceReport::new(&set);
+        let mut report = set.new_report();
         let mut minimum = vec![(f64::INFINITY, 0.0); set.pairs().count()];
         for (k, pose) in poses.iter().enumerate() {
             let t = k as f64 * 0.02;

@@ -9,9 +9,9 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use clap::{Args, Parser, Subcommand};
+use clap::Parser;
 
-use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
+use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, SweepArgs, SweepCommand, WaveArgs};
 use super::{EXIT_INTERRUPTED, scenario};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
@@ -19,75 +19,6 @@ use crate::geometry::Robot;
 use crate::sim::{Scenario, ShapeRun, StopFlag};
 use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
 use crate::traj::{Trajectory, npy};
-
-/// `faze4 sweep`.
-#[derive(Clone, Debug, Args)]
-#[command(args_conflicts_with_subcommands = true)]
-pub struct SweepArgs {
-    /// Join the CSV tables of a sweep's shards.
-    #[command(subcommand)]
-    pub merge: Option<SweepCommand>,
-    /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
-    /// the runs are the product). NAME is a numeric option of the command (payload-kg, dt,
-    /// duration, freq, amp-deg, traj-period, shape-points, record-period, max-error,
-    /// max-saturation-pct, max-deviation-mm) or a multiplier of the tuned or given values:
-    /// kp-scale, kd-scale, effort-scale, mass-scale.
-    #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true)]
-    pub vary: Vec<String>,
-    /// Find the largest value of NAME in [LO, HI] at which the arm still follows (bisection).
-    #[arg(long, value_name = "NAME=LO:HI", allow_hyphen_values = true, conflicts_with_all = ["vary", "find_min"])]
-    pub find: Option<String>,
-    /// Find the smallest value of NAME in [LO, HI] at which the arm follows.
-    #[arg(
-        long = "find-min",
-        value_name = "NAME=LO:HI",
-        allow_hyphen_values = true,
-        conflicts_with = "vary"
-    )]
-    pub find_min: Option<String>,
-    /// How close --find gets (default: 1 % of the range).
-    #[arg(long, value_name = "X", allow_hyphen_values = true)]
-    pub resolution: Option<f64>,
-    /// Threads (default: one per core).
-    #[arg(long, short, default_value_t = 0, value_name = "N")]
-    pub jobs: usize,
-    /// The table, one row per run: .csv or .json (default: one line per run on stdout).
-    #[arg(long, value_name = "F.csv|F.json")]
-    pub out: Option<PathBuf>,
-    /// Each figure against the varied option, or heatmaps for two, as .svg or .png.
-    #[arg(long, value_name = "F.svg|F.png")]
-    pub plot: Option<PathBuf>,
-    /// Write each run's trail CSV into this directory (run_0000000.csv, …).
-    #[arg(long, value_name = "DIR")]
-    pub trails: Option<PathBuf>,
-    /// Run only part K of N of the sweep (deterministic; `faze4 sweep merge` joins the tables).
-    #[arg(long, value_name = "K/N")]
-    pub shard: Option<String>,
-    /// No progress bar and no per-run lines.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// The base command and its options, after `--`: wave|replay|shape ….
-    #[arg(last = true, value_name = "COMMAND")]
-    pub base: Vec<String>,
-}
-
-/// `faze4 sweep merge`.
-#[derive(Clone, Debug, Subcommand)]
-pub enum SweepCommand {
-    /// Join the CSV tables of a sweep's shards (same columns) into one, ordered by run.
-    Merge(MergeArgs),
-}
-
-/// `faze4 sweep merge a.csv b.csv … --out all.csv`.
-#[derive(Clone, Debug, Args)]
-pub struct MergeArgs {
-    /// The shards' tables.
-    #[arg(required = true, value_name = "F.csv")]
-    pub tables: Vec<PathBuf>,
-    /// The joined table.
-    #[arg(long, required = true, value_name = "F.csv")]
-    pub out: PathBuf,
-}
 
 /// An option of the base command, if the command has it.
 #[derive(Clone, Copy)]

@@ -39,22 +39,11 @@ use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMes
 
 use super::mesh::read_mesh;
 use super::pairs::{PairFilter, checked_pairs};
-use super::report::ClearanceReport;
+use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
 use super::{GeometryModel, GeometryObject};
 use crate::error::{Error, Result};
 use crate::model::{Geometry, Model};
 use crate::spatial::{Mat3, Pose, Vec3};
-
-/// How meshes are read for distances (primitives are exact either way).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ClearanceGeometry {
-    /// Each mesh replaced by its convex hull; signed distances (negative: penetration depth).
-    Hull,
-    /// The exact triangles; distances ≥ 0, 0 when they intersect.
-    #[default]
-    Mesh,
-}
 
 /// Something left out of the clearance, reported as a value for the caller to print.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -111,15 +100,6 @@ pub struct CollisionSet {
     objects: Vec<Object>,
     pairs: Vec<(usize, usize)>,
     unchecked: Vec<String>,
-}
-
-/// The distance of one checked pair at one pose.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairDistance {
-    /// Distance (m): signed for hulls (negative: penetration depth), ≥ 0 for meshes.
-    pub distance: f64,
-    /// Whether the two shapes overlap (hulls: `distance < 0`; meshes: triangles cross).
-    pub intersecting: bool,
 }
 
 /// The workspace of clearance queries: world poses of the objects and the last distances.
@@ -288,9 +268,14 @@ impl CollisionSet {
         }
     }
 
+    /// An empty report for this set's pairs, to [`CollisionSet::accumulate`] a run into.
+    pub fn new_report(&self) -> ClearanceReport {
+        ClearanceReport::new(self.geometry(), self.pair_links(), self.unchecked().to_vec())
+    }
+
     /// Folds the pose at time `t` (s) into `report`: each pair's distance is computed only when
     /// a lower bound (bounding spheres, then hulls) says it could be below the pair's smallest
-    /// so far. `report` must come from [`ClearanceReport::new`] on this set.
+    /// so far. `report` must come from [`CollisionSet::new_report`] on this set.
     pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
         self.place(frame_pose, data);
         for (k, &(a, b)) in self.pairs.iter().enumerate() {

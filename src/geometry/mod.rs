@@ -15,9 +15,9 @@ pub mod mesh;
 mod pairs;
 mod report;
 
-pub use clearance::{ClearanceGeometry, CollisionSet, GeometryData, PairDistance, Warning};
+pub use clearance::{CollisionSet, GeometryData, Warning};
 pub use pairs::{PairFilter, checked_pairs};
-pub use report::{ClearanceReport, PairReport};
+pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
 
 use std::path::Path;
 

@@ -2,7 +2,25 @@
 
 use serde::Serialize;
 
-use super::clearance::{ClearanceGeometry, CollisionSet, PairDistance};
+/// How meshes are read for distances (primitives are exact either way).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ClearanceGeometry {
+    /// Each mesh replaced by its convex hull; signed distances (negative: penetration depth).
+    Hull,
+    /// The exact triangles; distances ≥ 0, 0 when they intersect.
+    #[default]
+    Mesh,
+}
+
+/// The distance of one checked pair at one pose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairDistance {
+    /// Distance (m): signed for hulls (negative: penetration depth), ≥ 0 for meshes.
+    pub distance: f64,
+    /// Whether the two shapes overlap (hulls: `distance < 0`; meshes: triangles cross).
+    pub intersecting: bool,
+}
 
 /// One checked pair over a run.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -36,21 +54,26 @@ pub struct ClearanceReport {
     /// When the closest pair was closest (s).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub t: Option<f64>,
-    /// Every checked pair, in [`CollisionSet::pair_links`] order.
+    /// Every checked pair, in [`super::CollisionSet::pair_links`] order.
     pub pairs: Vec<PairReport>,
     /// Links whose collision mesh was not found, so not checked.
     pub unchecked: Vec<String>,
 }
 
 impl ClearanceReport {
-    /// An empty report for the pairs of `set`.
-    pub fn new(set: &CollisionSet) -> ClearanceReport {
+    /// An empty report for pairs of links `pair_links` measured with `geometry`; `unchecked`
+    /// lists the links left out (see [`super::CollisionSet::new_report`]).
+    pub fn new<'a>(
+        geometry: ClearanceGeometry,
+        pair_links: impl Iterator<Item = [&'a str; 2]>,
+        unchecked: Vec<String>,
+    ) -> ClearanceReport {
         ClearanceReport {
-            geometry: set.geometry(),
+            geometry,
             min_m: None,
             links: None,
             t: None,
-            pairs: (set.pair_links())
+            pairs: pair_links
                 .map(|[a, b]| PairReport {
                     links: [a.to_string(), b.to_string()],
                     min_m: f64::INFINITY,
@@ -58,7 +81,7 @@ impl ClearanceReport {
                     intersecting: false,
                 })
                 .collect(),
-            unchecked: set.unchecked().to_vec(),
+            unchecked,
         }
     }
 

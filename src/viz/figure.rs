@@ -1,12 +1,12 @@
-//! Writing a plotters figure as `.svg` or `.png`, whole or not at all: shared by the run's plot
-//! and the sweep's.
+//! What the run's plot and the sweep's share: writing a plotters figure as `.svg` or `.png`,
+//! whole or not at all; the embedded font, the joint colours, axis ranges.
 
 use std::path::Path;
+use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::register_font;
 use crate::atomic::{AtomicFile, write_atomically};
 use crate::error::{Error, Result};
 
@@ -49,4 +49,41 @@ pub(super) fn write_figure(figure: &impl Figure, path: &Path, size: (u32, u32), 
     })();
     encoded.map_err(|e| file.error(std::io::Error::other(e)))?;
     file.commit()
+}
+
+/// The embedded font every figure is drawn with (DejaVu Sans).
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+/// The family name it is registered under.
+pub(super) const FAMILY: &str = "sans-serif";
+
+/// Registers the embedded font under [`FAMILY`], once per process.
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        if plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_err() {
+            panic!("the embedded DejaVu Sans font does not load");
+        }
+    });
+}
+
+/// Joint colours (J1..J6, then repeating).
+pub(super) const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// `[lo, hi]` of `values` with a margin, never empty.
+pub(super) fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    if !lo.is_finite() {
+        return -1.0..1.0;
+    }
+    let pad = ((hi - lo) * 0.08).max(0.005);
+    (lo - pad)..(hi + pad)
 }

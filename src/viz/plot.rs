@@ -7,12 +7,11 @@
 //! for the viewer, PNG is rasterised here and encoded with the `png` crate.
 
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{Figure, write_figure};
+use super::figure::{FAMILY, Figure, PALETTE, range, write_figure};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::sim::Summary;
@@ -20,8 +19,6 @@ use crate::sim::{Recorder, RunInfo, Sample};
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-pub(super) const FAMILY: &str = "sans-serif";
 /// Recording period of the plot (s).
 const PERIOD: f64 = 0.01;
 const WIDTH: u32 = 1400;
@@ -137,39 +134,9 @@ impl Recorder for PlotRecorder {
     }
 }
 
-pub(super) fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        if plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_err() {
-            panic!("the embedded DejaVu Sans font does not load");
-        }
-    });
-}
-
-/// Joint colours (J1..J6, then repeating).
-pub(super) const PALETTE: [RGBColor; 6] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-];
 const COMMAND: RGBColor = RGBColor(255, 175, 95);
 const MEASURED: RGBColor = RGBColor(31, 90, 180);
 const LIMIT: RGBColor = RGBColor(110, 110, 110);
-
-/// `[lo, hi]` of `values` with a margin, never empty.
-pub(super) fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    if !lo.is_finite() {
-        return -1.0..1.0;
-    }
-    let pad = ((hi - lo) * 0.08).max(0.005);
-    (lo - pad)..(hi + pad)
-}
 
 type Area<'a, DB> = DrawingArea<DB, Shift>;
 

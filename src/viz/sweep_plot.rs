@@ -9,8 +9,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{Figure, write_figure};
-use super::plot::{FAMILY, PALETTE, range};
+use super::figure::{FAMILY, Figure, PALETTE, range, write_figure};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::sweep::{Grid, Outcome, Row};
