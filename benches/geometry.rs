@@ -1,8 +1,8 @@
 //! Self-clearance of the Faze4's official meshes over a 12 s circle run's recorded samples
 //! (600, one every 0.02 s; the joint samples are the circle's IK samples of
 //! `tests/fixtures/shape_circle_q.npy`, 5 s per loop): `cargo bench --bench geometry`.
-//! Needs the official description (`FAZE4_DESCRIPTION`, else `shared/faze4_description` above
-//! the repository).
+//! Reads the official description from the repository (`assets/faze4_description`), or from
+//! `FAZE4_DESCRIPTION`.
 //!
 //! * `clearance_hull_600_samples`: forward kinematics and [`CollisionSet::accumulate`] with
 //!   each mesh as its convex hull, for the 600 samples of a run.
@@ -24,10 +24,7 @@ fn description() -> PathBuf {
     if let Some(dir) = std::env::var_os("FAZE4_DESCRIPTION") {
         return PathBuf::from(dir);
     }
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
-    (repo.ancestors().map(|a| a.join("shared/faze4_description")))
-        .find(|p| p.join("meshes").is_dir())
-        .expect("the official Faze4 description: set FAZE4_DESCRIPTION")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/faze4_description")
 }
 
 /// The joint samples of a 12 s circle run's 600 records (t = k·0.02 s, 240 samples per 5 s).

@@ -2,8 +2,8 @@
 the exact meshes.
 
 Run from the repo root:  tools/oracle/.venv/bin/python tools/oracle/clearance_fixtures.py
-Needs the official Faze4 description (meshes): $FAZE4_DESCRIPTION, else shared/faze4_description
-in a directory above the repository (as the tests find it).
+Reads the official Faze4 description (meshes) from the repository, assets/faze4_description
+(or $FAZE4_DESCRIPTION), as the tests do.
 Writes tests/fixtures/clearance_faze4_real.json and tests/fixtures/clearance_collision_arm.json
 (deterministic: fixed seeds).
 
@@ -43,7 +43,6 @@ import importlib.metadata
 import json
 import os
 import re
-import sys
 import tempfile
 from pathlib import Path
 
@@ -59,10 +58,7 @@ N_RANDOM_ARM = 40
 def description() -> Path:
     if os.environ.get("FAZE4_DESCRIPTION"):
         return Path(os.environ["FAZE4_DESCRIPTION"])
-    for a in REPO.parents:
-        if (a / "shared/faze4_description/meshes").is_dir():
-            return a / "shared/faze4_description"
-    sys.exit("no shared/faze4_description above the repository; set FAZE4_DESCRIPTION")
+    return REPO / "assets/faze4_description"
 
 
 def read_stl(path: Path) -> np.ndarray:
