@@ -55,7 +55,7 @@ impl TriMesh {
         let mut welded: HashMap<[u32; 3], u32> = HashMap::with_capacity(corners.len() / 3);
         let mut points: Vec<[f32; 3]> = Vec::with_capacity(corners.len() / 3);
         let mut tri: Vec<[u32; 3]> = Vec::with_capacity(corners.len() / 3);
-        let mut face_n: Vec<[f32; 3]> = Vec::with_capacity(corners.len() / 3);
+        let mut face_n: Vec<V3> = Vec::with_capacity(corners.len() / 3);
         for c in corners.chunks_exact(3) {
             let mut t = [0u32; 3];
             for (k, p) in c.iter().enumerate() {
@@ -67,8 +67,9 @@ impl TriMesh {
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
                 continue;
             }
-            let n = cross(sub(c[1], c[0]), sub(c[2], c[0])); // length = 2·area
-            if dot(n, n).is_nan() || dot(n, n) <= 0.0 {
+            let (a, b, d) = (V3::from(c[0]), V3::from(c[1]), V3::from(c[2]));
+            let n = (b - a).cross(&(d - a)); // length = 2·area
+            if n.norm_squared().is_nan() || n.norm_squared() <= 0.0 {
                 continue;
             }
             tri.push(t);
@@ -92,20 +93,20 @@ impl TriMesh {
                 fill[v as usize] += 1;
             }
         }
-        let unit: Vec<[f32; 3]> = face_n.iter().map(|n| normalize(*n)).collect();
+        let unit: Vec<V3> = face_n.iter().map(|&n| unit_or_z(n)).collect();
         let cos_crease = CREASE_ANGLE_DEG.to_radians().cos();
         // 3. crease-aware corner normals, and vertices = distinct (point, normal)
         let mut mesh = TriMesh::default();
         let mut vertex: HashMap<(u32, [u32; 3]), u32> = HashMap::with_capacity(points.len() * 2);
         for (f, t) in tri.iter().enumerate() {
             for &v in t {
-                let mut n = [0.0f32; 3];
+                let mut n = V3::zeros();
                 for &g in &around[start[v as usize] as usize..start[v as usize + 1] as usize] {
-                    if dot(unit[f], unit[g as usize]) >= cos_crease {
-                        n = add(n, face_n[g as usize]);
+                    if unit[f].dot(&unit[g as usize]) >= cos_crease {
+                        n += face_n[g as usize];
                     }
                 }
-                let n = normalize(n);
+                let n: [f32; 3] = unit_or_z(n).into();
                 let k = (v, [n[0].to_bits(), n[1].to_bits(), n[2].to_bits()]);
                 let index = *vertex.entry(k).or_insert_with(|| {
                     mesh.positions.push(points[v as usize]);
@@ -365,40 +366,19 @@ pub fn oct_decode(e: [i8; 2]) -> [f32; 3] {
     let t = (-z).max(0.0);
     x += if x >= 0.0 { -t } else { t };
     y += if y >= 0.0 { -t } else { t };
-    normalize([x, y, z])
+    unit_or_z(V3::new(x, y, z)).into()
 }
 
 fn sign(v: f32) -> f32 {
     if v >= 0.0 { 1.0 } else { -1.0 }
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
+/// 3-vector of `f32`: the meshes' own precision.
+type V3 = nalgebra::Vector3<f32>;
 
-fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn normalize(a: [f32; 3]) -> [f32; 3] {
-    let l = dot(a, a).sqrt();
-    if l > 0.0 {
-        [a[0] / l, a[1] / l, a[2] / l]
-    } else {
-        [0.0, 0.0, 1.0]
-    }
+/// `a` scaled to unit length; +z for a zero vector (a degenerate corner still gets a normal).
+fn unit_or_z(a: V3) -> V3 {
+    a.try_normalize(0.0).unwrap_or_else(V3::z)
 }
 
 #[cfg(test)]
@@ -432,7 +412,10 @@ mod tests {
         // the seam and pole duplicates of the UV sphere are welded: 2 poles + 11 rings of 16
         assert_eq!(mesh.positions.len(), 2 + 11 * 16);
         for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
-            assert!(dot(*p, *n) > 0.97, "normal {n:?} at {p:?} points outwards");
+            assert!(
+                V3::from(*p).dot(&V3::from(*n)) > 0.97,
+                "normal {n:?} at {p:?} points outwards"
+            );
         }
     }
 
@@ -462,13 +445,14 @@ mod tests {
             .normals
             .iter()
             .zip(&back.normals)
-            .map(|(a, b)| dot(*a, *b).min(1.0).acos().to_degrees())
+            .map(|(a, b)| V3::from(*a).dot(&V3::from(*b)).min(1.0).acos().to_degrees())
             .fold(0.0f32, f32::max);
         assert!(worst < 1.0, "normal error {worst}°");
         // every direction, including the octants below the equator and the poles
         for n in [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.3, -0.4, -0.866]] {
-            let d = oct_decode(oct_encode(normalize(n)));
-            assert!(dot(d, normalize(n)) > 0.9998, "{n:?} → {d:?}");
+            let u: [f32; 3] = unit_or_z(V3::from(n)).into();
+            let d = oct_decode(oct_encode(u));
+            assert!(V3::from(d).dot(&V3::from(u)) > 0.9998, "{n:?} → {d:?}");
         }
     }
 
@@ -481,14 +465,14 @@ mod tests {
         ] {
             for tri in mesh.indices.chunks(3) {
                 let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[tri[k] as usize]);
-                let face = cross(sub(b, a), sub(c, a));
+                let face = (V3::from(b) - V3::from(a)).cross(&(V3::from(c) - V3::from(a)));
                 let centre = [
                     (a[0] + b[0] + c[0]) / 3.0,
                     (a[1] + b[1] + c[1]) / 3.0,
                     (a[2] + b[2] + c[2]) / 3.0,
                 ];
-                assert!(dot(face, centre) > 0.0, "counter-clockwise seen from outside");
-                assert!(dot(mesh.normals[tri[0] as usize], centre) > 0.0);
+                assert!(face.dot(&V3::from(centre)) > 0.0, "counter-clockwise seen from outside");
+                assert!(V3::from(mesh.normals[tri[0] as usize]).dot(&V3::from(centre)) > 0.0);
             }
         }
         let (lo, hi) = TriMesh::cuboid([0.1, 0.2, 0.3]).bounds();
