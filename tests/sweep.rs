@@ -371,6 +371,28 @@ fn failed_runs_are_rows_and_the_scales_multiply_the_tuned_values() {
     assert_eq!(trails.len(), 2, "{trails:?}");
     assert!(dir.join("trails/run_0000001.csv").exists());
     assert!(!dir.join("faze4_trail.csv").exists());
+
+    // rotor-inertia-scale changes the motors' reflected inertia, not the gains tuned for it
+    ok(&faze4(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "rotor-inertia-scale=1,4",
+            "--out",
+            "r.csv",
+            "--",
+            "wave",
+            "--motors",
+            "faze4",
+            "--duration",
+            "0.5",
+        ],
+    ));
+    let (header, rows) = read_table(&dir.join("r.csv"));
+    let (a, b) = (named(&header, &rows[0]), named(&header, &rows[1]));
+    assert_eq!(a["kp_6"], b["kp_6"]);
+    assert_ne!(a["max_tracking_error_rad_6"], b["max_tracking_error_rad_6"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

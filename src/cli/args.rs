@@ -243,7 +243,7 @@ pub struct SweepArgs {
     /// the runs are the product). NAME is a numeric option of the command (payload-kg, dt,
     /// duration, freq, amp-deg, traj-period, shape-points, record-period, max-error,
     /// max-saturation-pct, max-deviation-mm) or a multiplier of the tuned or given values:
-    /// kp-scale, kd-scale, effort-scale, mass-scale.
+    /// kp-scale, kd-scale, effort-scale, mass-scale, rotor-inertia-scale.
     #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true)]
     pub vary: Vec<String>,
     /// Find the largest value of NAME in [LO, HI] at which the arm still follows (bisection).

@@ -25,15 +25,20 @@ pub enum Scale {
     /// payload included. The gravity feed-forward g(q) is the scaled arm's; the gains are not
     /// retuned, so this is the controller's view of the arm being off by the factor.
     Mass,
+    /// `rotor-inertia-scale`: every joint's rotor inertia × factor (> 0), so its reflected
+    /// inertia r²·I_rotor too (a joint without a motor has none to scale). Like `mass-scale`,
+    /// after tuning: the gains are those of the nominal motors.
+    RotorInertia,
 }
 
 impl Scale {
     /// Every scale, by its option name.
-    pub const ALL: [(&'static str, Scale); 4] = [
+    pub const ALL: [(&'static str, Scale); 5] = [
         ("kp-scale", Scale::Kp),
         ("kd-scale", Scale::Kd),
         ("effort-scale", Scale::Effort),
         ("mass-scale", Scale::Mass),
+        ("rotor-inertia-scale", Scale::RotorInertia),
     ];
 
     /// The option name (`kp-scale`, …).
@@ -62,6 +67,10 @@ impl Scale {
                     inertia.h *= factor;
                     inertia.rot *= factor;
                 }
+                return Ok(());
+            }
+            Scale::RotorInertia => {
+                scenario.model.joints.iter_mut().for_each(|j| j.rotor_inertia *= factor);
                 return Ok(());
             }
         };
