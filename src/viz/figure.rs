@@ -87,3 +87,34 @@ pub(super) fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let pad = ((hi - lo) * 0.08).max(0.005);
     (lo - pad)..(hi + pad)
 }
+
+/// A chart with f64 axes.
+pub(super) type Chart<'a, DB> =
+    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
+
+/// A captioned chart on `area` over `x` × `y`, its x axis named `x_name`, with the figures'
+/// font and light grid.
+pub(super) fn chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    x_name: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+) -> std::result::Result<Chart<'a, DB>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FAMILY, 15))
+        .margin(8)
+        .margin_right(20)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x, y)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(x_name)
+        .label_style((FAMILY, 12))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
+}

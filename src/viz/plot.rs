@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{FAMILY, Figure, PALETTE, range, write_figure};
+use super::figure::{Chart, FAMILY, Figure, PALETTE, chart, range, write_figure};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::sim::Summary;
@@ -302,31 +302,14 @@ impl PlotRecorder {
     }
 }
 
-type Chart<'a, DB> =
-    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
-
+/// A chart over the run's time, 0 to `t_end` (s).
 fn new_chart<'a, DB: DrawingBackend>(
     area: &'a Area<DB>,
     caption: &str,
     t_end: f64,
     y: std::ops::Range<f64>,
 ) -> std::result::Result<Chart<'a, DB>, String> {
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, (FAMILY, 15))
-        .margin(8)
-        .margin_right(20)
-        .x_label_area_size(40)
-        .y_label_area_size(64)
-        .build_cartesian_2d(0.0..t_end, y)
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc("t (s)")
-        .label_style((FAMILY, 12))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(chart)
+    chart(area, caption, "t (s)", 0.0..t_end, y)
 }
 
 fn legend<'a, DB: DrawingBackend + 'a>(

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{FAMILY, Figure, PALETTE, range, write_figure};
+use super::figure::{FAMILY, Figure, PALETTE, chart, range, write_figure};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::sweep::{Grid, Outcome, Row};
@@ -282,32 +282,4 @@ fn heat(s: f64) -> RGBColor {
     let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
     let (a, b) = (STOPS[k], STOPS[k + 1]);
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
-}
-
-type Chart<'a, DB> =
-    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
-
-fn chart<'a, DB: DrawingBackend>(
-    area: &'a DrawingArea<DB, Shift>,
-    caption: &str,
-    x_name: &str,
-    x: std::ops::Range<f64>,
-    y: std::ops::Range<f64>,
-) -> std::result::Result<Chart<'a, DB>, String> {
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, (FAMILY, 15))
-        .margin(8)
-        .margin_right(20)
-        .x_label_area_size(40)
-        .y_label_area_size(64)
-        .build_cartesian_2d(x, y)
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc(x_name)
-        .label_style((FAMILY, 12))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(chart)
 }
