@@ -7,8 +7,8 @@
 //! Its own harness (`harness = false` in Cargo.toml), so that a missing Chromium is ONE line in
 //! `cargo test`'s output (libtest would hide it): the browser tests did not run, and how to
 //! install Chromium. With `FAZE4_REQUIRE_CHROMIUM=1` (`.ci/run` sets it) a missing Chromium is a
-//! failure. `FAZE4_CHROMIUM` names the browser to use (default `chromium`). Arguments: a
-//! substring of the test names to run only those; `--list` lists them.
+//! failure. `FAZE4_CHROMIUM` names the browser to use (default `chromium`). Arguments as
+//! libtest's: name filters, `--exact`, `--skip`, `--list`.
 //!
 //! `FAZE4_INSTALLED_HTML=F`: the default-arm test checks F (`.ci/run` writes it with an installed
 //! binary, its source removed) instead of a file from the binary under test.
@@ -65,14 +65,57 @@ const TESTS: [(&str, fn()); 3] = [
     ),
 ];
 
+/// What `cargo test … -- ARGS` asks of these tests, with libtest's meaning: names to run
+/// (substrings, or whole names with `--exact`), `--skip NAME`, `--ignored` (none is), `--list`.
+struct Selection {
+    filters: Vec<String>,
+    skip: Vec<String>,
+    exact: bool,
+    ignored_only: bool,
+    list: bool,
+}
+
+impl Selection {
+    fn from_args(mut args: impl Iterator<Item = String>) -> Selection {
+        let mut selection = Selection {
+            filters: Vec::new(),
+            skip: Vec::new(),
+            exact: false,
+            ignored_only: false,
+            list: false,
+        };
+        while let Some(arg) = args.next() {
+            match arg.as_str() {
+                "--skip" => selection.skip.extend(args.next()),
+                "--exact" => selection.exact = true,
+                "--ignored" => selection.ignored_only = true,
+                "--list" => selection.list = true,
+                // libtest options with a value, which is no test name
+                "--test-threads" | "--color" | "--format" | "--logfile" | "--shuffle-seed" | "-Z" => {
+                    args.next();
+                }
+                flag if flag.starts_with('-') => {}
+                _ => selection.filters.push(arg),
+            }
+        }
+        selection
+    }
+
+    fn wants(&self, name: &str) -> bool {
+        let matches = |pattern: &String| match self.exact {
+            true => name == pattern,
+            false => name.contains(pattern.as_str()),
+        };
+        !self.ignored_only
+            && (self.filters.is_empty() || self.filters.iter().any(matches))
+            && !self.skip.iter().any(matches)
+    }
+}
+
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let filter = args.iter().find(|a| !a.starts_with('-'));
-    let selected: Vec<_> = TESTS
-        .iter()
-        .filter(|(name, _)| filter.is_none_or(|f| name.contains(f.as_str())))
-        .collect();
-    if args.iter().any(|a| a == "--list") {
+    let selection = Selection::from_args(std::env::args().skip(1));
+    let selected: Vec<_> = TESTS.iter().filter(|(name, _)| selection.wants(name)).collect();
+    if selection.list {
         for (name, _) in &selected {
             println!("{name}: test");
         }
