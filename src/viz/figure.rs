@@ -101,14 +101,7 @@ pub(super) fn chart<'a, DB: DrawingBackend>(
     x: std::ops::Range<f64>,
     y: std::ops::Range<f64>,
 ) -> std::result::Result<Chart<'a, DB>, String> {
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, (FAMILY, 15))
-        .margin(8)
-        .margin_right(20)
-        .x_label_area_size(40)
-        .y_label_area_size(64)
-        .build_cartesian_2d(x, y)
-        .map_err(|e| e.to_string())?;
+    let mut chart = chart_area(area, caption, x, y)?;
     chart
         .configure_mesh()
         .x_desc(x_name)
@@ -117,4 +110,22 @@ pub(super) fn chart<'a, DB: DrawingBackend>(
         .draw()
         .map_err(|e| e.to_string())?;
     Ok(chart)
+}
+
+/// The figures' captioned chart area on `area` over `x` × `y`, margins and label room included,
+/// before its grid is drawn.
+pub(super) fn chart_area<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+) -> std::result::Result<Chart<'a, DB>, String> {
+    ChartBuilder::on(area)
+        .caption(caption, (FAMILY, 15))
+        .margin(8)
+        .margin_right(20)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x, y)
+        .map_err(|e| e.to_string())
 }

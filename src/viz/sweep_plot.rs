@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{FAMILY, Figure, PALETTE, chart, range, write_figure};
+use super::figure::{FAMILY, Figure, PALETTE, chart, chart_area, range, write_figure};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::sweep::{Grid, Outcome, Row};
@@ -229,14 +229,8 @@ impl SweepPlot {
                 true => caption.to_string(),
                 false => format!("{caption}: {lo:.3} (dark) … {hi:.3} (bright)"),
             };
-            let mut chart = ChartBuilder::on(area)
-                .caption(caption, (FAMILY, 15))
-                .margin(8)
-                .margin_right(20)
-                .x_label_area_size(40)
-                .y_label_area_size(64)
-                .build_cartesian_2d(-0.5..a.values.len() as f64 - 0.5, -0.5..b.values.len() as f64 - 0.5)
-                .map_err(|e| e.to_string())?;
+            let x = -0.5..a.values.len() as f64 - 0.5;
+            let mut chart = chart_area(area, &caption, x, -0.5..b.values.len() as f64 - 0.5)?;
             let label = |values: &[f64], x: f64| {
                 let i = x.round();
                 match i >= 0.0 && (i as usize) < values.len() && (x - i).abs() < 1e-9 {
