@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::faze4::motors::{motor_effort, with_faze4_motors};
 use crate::geometry::Robot;
 use crate::model::{FrameId, Joint, Model, PackagePaths};
-use crate::sim::scenario::{finite, non_negative, positive};
+use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Scenario, ScenarioBuilder, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
@@ -116,11 +116,11 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     if run.motors.is_some() {
         model = with_faze4_motors(&model)?;
     }
-    set_rotors("--rotor-inertia", &mut model, run.rotor_inertia.as_ref(), |j, x| {
-        j.rotor_inertia = x
+    set_rotors("--rotor-inertia", &mut model, run.rotor_inertia.as_ref(), |j| {
+        &mut j.rotor_inertia
     })?;
-    set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j, x| {
-        j.gear_ratio = x
+    set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j| {
+        &mut j.gear_ratio
     })?;
     Ok(Robot { model, geometry })
 }
@@ -130,17 +130,13 @@ fn set_rotors(
     option: &str,
     model: &mut Model,
     values: Option<&JointValues>,
-    set: impl Fn(&mut Joint, f64),
+    field: fn(&mut Joint) -> &mut f64,
 ) -> Result<()> {
     let Some(values) = values else { return Ok(()) };
-    count(option, values, model.dof())?;
-    for (i, v) in values.0.iter().enumerate() {
-        if let Some(v) = *v {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::argument(option, format!("J{} value {v} must be > 0", i + 1)));
-            }
-            set(&mut model.joints[i], v);
-        }
+    let mut current: Vec<f64> = model.joints.iter_mut().map(|j| *field(j)).collect();
+    override_per_joint(option, &mut current, &values.0, |v| v.is_finite() && v > 0.0, "> 0")?;
+    for (joint, x) in model.joints.iter_mut().zip(current) {
+        *field(joint) = x;
     }
     Ok(())
 }
@@ -242,19 +238,9 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
     Ok(builder)
 }
 
-fn count(option: &str, values: &JointValues, n: usize) -> Result<()> {
-    if values.0.len() != n {
-        return Err(Error::argument(
-            option,
-            format!("{} values given; the model has {n} joints", values.0.len()),
-        ));
-    }
-    Ok(())
-}
-
 /// Every joint's value, `auto` refused (it is for gains).
 fn all_given(option: &str, values: &JointValues, n: usize) -> Result<Vec<f64>> {
-    count(option, values, n)?;
+    count(option, values.0.len(), n)?;
     values
         .0
         .iter()

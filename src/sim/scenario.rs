@@ -373,8 +373,8 @@ impl ScenarioBuilder {
         };
 
         let (mut gains, m) = tune(&model, &self.trajectory, &effort, self.dt);
-        override_gains("--kp", &mut gains.kp, &self.kp, n)?;
-        override_gains("--kd", &mut gains.kd, &self.kd, n)?;
+        override_gains("--kp", &mut gains.kp, &self.kp)?;
+        override_gains("--kd", &mut gains.kd, &self.kd)?;
         let given = self.kp.iter().chain(&self.kd).any(Option::is_some);
         if given {
             // the given gains' own figures; `scaled` still says whether the rule's were scaled
@@ -435,44 +435,42 @@ fn speed_limits(model: &Model, given: &[Option<f64>]) -> Result<Vec<f64>> {
             .map(|j| j.velocity.unwrap_or(f64::INFINITY))
             .collect(),
     };
-    if given.is_empty() {
-        return Ok(limits);
-    }
-    count("--max-speed", given.len(), model.dof())?;
-    for (i, v) in given.iter().enumerate() {
-        if let Some(v) = *v {
-            if v.is_nan() || v <= 0.0 {
-                return Err(Error::argument(
-                    "--max-speed",
-                    format!("J{} value {v} must be > 0", i + 1),
-                ));
-            }
-            limits[i] = v;
-        }
-    }
+    override_per_joint("--max-speed", &mut limits, given, |v| v > 0.0, "> 0")?;
     Ok(limits)
 }
 
-fn override_gains(option: &str, gains: &mut [f64], values: &[Option<f64>], n: usize) -> Result<()> {
+/// Gains given per joint (finite and ≥ 0) over the tuned ones.
+fn override_gains(option: &str, gains: &mut [f64], values: &[Option<f64>]) -> Result<()> {
+    override_per_joint(option, gains, values, |v| v.is_finite() && v >= 0.0, "finite and ≥ 0")
+}
+
+/// Each joint's value that `values` gives replaces its entry of `target` (`None` keeps it; an
+/// empty `values` keeps them all), if `valid`; otherwise an error for `option` saying the value
+/// must be `rule`. `values` must have one entry per entry of `target`.
+pub(crate) fn override_per_joint(
+    option: &str,
+    target: &mut [f64],
+    values: &[Option<f64>],
+    valid: impl Fn(f64) -> bool,
+    rule: &str,
+) -> Result<()> {
     if values.is_empty() {
         return Ok(());
     }
-    count(option, values.len(), n)?;
+    count(option, values.len(), target.len())?;
     for (i, v) in values.iter().enumerate() {
         if let Some(v) = *v {
-            if !v.is_finite() || v < 0.0 {
-                return Err(Error::argument(
-                    option,
-                    format!("J{} value {v} must be finite and ≥ 0", i + 1),
-                ));
+            if !valid(v) {
+                return Err(Error::argument(option, format!("J{} value {v} must be {rule}", i + 1)));
             }
-            gains[i] = v;
+            target[i] = v;
         }
     }
     Ok(())
 }
 
-fn count(option: &str, given: usize, n: usize) -> Result<()> {
+/// `given` values for a model of `n` joints, else an error for `option`.
+pub(crate) fn count(option: &str, given: usize, n: usize) -> Result<()> {
     if given != n {
         return Err(Error::argument(
             option,
