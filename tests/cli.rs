@@ -388,16 +388,11 @@ fn progress_bar_shows_on_a_terminal_only() {
 #[test]
 fn ctrl_c_ends_the_run_with_complete_files() {
     let dir = temp_dir("ctrl-c");
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(["wave", "--duration", "36000", "--trail", "t.csv", "--summary", "s.json"])
-        .current_dir(&dir)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    interrupt(child.id());
-    let out = child.wait_with_output().unwrap();
+    let out = interrupted(
+        &dir,
+        &["wave", "--duration", "36000", "--trail", "t.csv", "--summary", "s.json"],
+        std::time::Duration::from_millis(1500),
+    );
     assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains("interrupted at t = "));
     // both files complete: every trail row whole, the summary valid JSON that says where it stopped

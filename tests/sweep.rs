@@ -558,8 +558,9 @@ fn bad_input_is_one_line_and_exit_2() {
 fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
     let dir = temp_dir("ctrl-c");
     // 100 000 runs of 1 s: hours, so the signal always comes first
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args([
+    let out = interrupted(
+        &dir,
+        &[
             "sweep",
             "--vary",
             "payload-kg=0:9.9999:0.0001",
@@ -570,15 +571,9 @@ fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
             "wave",
             "--duration",
             "1",
-        ])
-        .current_dir(&dir)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    interrupt(child.id());
-    let out = child.wait_with_output().unwrap();
+        ],
+        std::time::Duration::from_millis(1500),
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted after"), "{stderr}");

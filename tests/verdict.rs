@@ -223,16 +223,11 @@ fn output_paths_are_checked_before_the_run() {
 #[test]
 fn an_interrupted_run_counts_the_steps_it_ran() {
     let dir = temp_dir("verdict-interrupted");
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(["wave", "--duration", "3600", "--trail", "none", "--summary", "s.json"])
-        .current_dir(&dir)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1000));
-    interrupt(child.id());
-    let out = child.wait_with_output().unwrap();
+    let out = interrupted(
+        &dir,
+        &["wave", "--duration", "3600", "--trail", "none", "--summary", "s.json"],
+        std::time::Duration::from_millis(1000),
+    );
     assert_eq!(out.status.code(), Some(130));
     let s = summary(&dir, "s.json");
     let t = s["interrupted_at_s"].as_f64().unwrap();

@@ -151,3 +151,18 @@ pub fn interrupt(pid: u32) {
     let sent = unsafe { libc::kill(pid as libc::pid_t, libc::SIGINT) };
     assert_eq!(sent, 0, "kill(SIGINT) failed: {}", std::io::Error::last_os_error());
 }
+
+/// Runs the `faze4` binary with `args` in `dir`, sends it SIGINT (Ctrl-C) after `after`, and
+/// waits for it: its exit status and both outputs.
+pub fn interrupted(dir: &Path, args: &[&str], after: std::time::Duration) -> std::process::Output {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run faze4");
+    std::thread::sleep(after);
+    interrupt(child.id());
+    child.wait_with_output().expect("faze4 ends")
+}
