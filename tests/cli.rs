@@ -182,32 +182,6 @@ fn replay_reads_float32_and_fortran_order() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Runs `args`, expects bad-input failure (status 2), one line on stderr containing `parts`,
-/// and no output file left behind.
-fn refuses(dir: &Path, args: &[&str], parts: &[&str]) {
-    let run = faze4(dir, args);
-    assert_eq!(
-        run.status.code(),
-        Some(2),
-        "{args:?} should fail with status 2: {}",
-        run.stderr
-    );
-    let lines: Vec<&str> = run.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: one line on stderr, got:\n{}", run.stderr);
-    assert!(lines[0].starts_with("faze4: error: "), "{}", lines[0]);
-    for p in parts {
-        assert!(lines[0].contains(p), "{args:?}: {:?} should mention {p:?}", lines[0]);
-    }
-    assert!(!run.stderr.contains("panicked"));
-    let left: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| !n.ends_with(".npy") && !n.ends_with(".urdf"))
-        .collect();
-    assert!(left.is_empty(), "{args:?} left files behind: {left:?}");
-}
-
 #[test]
 fn bad_trajectories_are_refused_with_what_was_found() {
     let dir = temp_dir("bad-npy");

@@ -139,16 +139,6 @@ fn rotor_options_override_the_urdf() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-fn refuses(dir: &std::path::Path, args: &[&str], parts: &[&str]) {
-    let run = faze4(dir, args);
-    assert_eq!(run.status.code(), Some(2), "{args:?}: {}", run.stderr);
-    let lines: Vec<&str> = run.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: one line on stderr, got:\n{}", run.stderr);
-    for p in parts {
-        assert!(lines[0].contains(p), "{args:?}: {:?} should mention {p:?}", lines[0]);
-    }
-}
-
 #[test]
 fn bad_motors_are_refused_in_one_line() {
     let dir = temp_dir("rotor-bad");

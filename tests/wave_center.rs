@@ -16,16 +16,6 @@ fn offset_arm(dir: &std::path::Path) -> &'static str {
     "offset.urdf"
 }
 
-fn refuses(dir: &std::path::Path, args: &[&str], parts: &[&str]) {
-    let run = faze4(dir, args);
-    assert_eq!(run.status.code(), Some(2), "{args:?}: {}", run.stderr);
-    let lines: Vec<&str> = run.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: one line on stderr, got:\n{}", run.stderr);
-    for p in parts {
-        assert!(lines[0].contains(p), "{args:?}: {:?} should mention {p:?}", lines[0]);
-    }
-}
-
 #[test]
 fn an_arm_whose_zero_is_outside_its_limits_waves_about_mid() {
     let dir = temp_dir("center-mid");
