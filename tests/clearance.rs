@@ -396,3 +396,34 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample() {
         }
     }
 }
+
+#[test]
+fn the_bundled_arm_checks_its_built_in_meshes_as_the_files_do() {
+    // Robot::faze4() resolves no mesh file: the official meshes come from the binary, and
+    // give the same distances as the files (identical vertices).
+    let (bundled, files) = (Robot::faze4(), real());
+    let (set, warnings) = CollisionSet::new(
+        &bundled.model,
+        &bundled.geometry,
+        ClearanceGeometry::Mesh,
+        PairFilter::NonAdjacent,
+    )
+    .unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert!(set.unchecked().is_empty());
+    assert_eq!(set.pairs().count(), 15);
+    let (file_set, _) = CollisionSet::new(
+        &files.model,
+        &files.geometry,
+        ClearanceGeometry::Mesh,
+        PairFilter::NonAdjacent,
+    )
+    .unwrap();
+    let q = faze4::faze4::Q_SEED;
+    let mut data = Data::new(&bundled.model);
+    forward_kinematics(&bundled.model, &mut data, &q);
+    let (mut a, mut b) = (GeometryData::new(&set), GeometryData::new(&file_set));
+    set.distances(&data.frame_pose, &mut a);
+    file_set.distances(&data.frame_pose, &mut b);
+    assert_eq!(a.distances, b.distances);
+}

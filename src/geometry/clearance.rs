@@ -37,7 +37,7 @@ use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{self, DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, Triangle};
 
-use super::mesh::read_mesh;
+use super::mesh::load;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
 use super::{GeometryModel, GeometryObject};
@@ -142,10 +142,10 @@ fn to_parry(p: &Pose) -> PPose {
 
 impl CollisionSet {
     /// Loads the collision objects of `geometry` (on `model`'s frames) and lists the pairs
-    /// `filter` checks. Meshes are read through [`read_mesh`]; a mesh whose file was not found
+    /// `filter` checks. Meshes are loaded through [`load`] (the file, else the built-in Faze4 copy); a mesh found nowhere
     /// is left out and reported as a [`Warning`] (and in the report's `unchecked`).
     ///
-    /// Errors: a mesh found but unreadable, non-finite or empty (see [`read_mesh`]); a mesh
+    /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]); a mesh
     /// whose points span no volume (no convex hull).
     pub fn new(
         model: &Model,
@@ -175,7 +175,7 @@ impl CollisionSet {
                     g.placement.compose(&axis_fix),
                 ),
                 Geometry::Mesh { uri, path, scale } => {
-                    let Some(path) = path else {
+                    let Some(mesh) = load(uri, path.as_deref()) else {
                         warnings.push(Warning::MeshNotFound {
                             file: model.source.clone(),
                             link: g.link.clone(),
@@ -184,7 +184,8 @@ impl CollisionSet {
                         unchecked.push(g.link.clone());
                         continue;
                     };
-                    let mesh = read_mesh(path)?;
+                    let mesh = mesh?;
+                    let path = path.clone().unwrap_or_else(|| uri.into());
                     let points: Vec<PVector> = (mesh.vertices.iter())
                         .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))
                         .collect();
