@@ -364,7 +364,7 @@ fn zero_size_primitives_are_refused() {
 /// to sample, hull pre-checks, bounded exact searches) gives each pair exactly the smallest of
 /// its per-sample distances, and when.
 #[test]
-fn pruned_accumulation_equals_the_minimum_of_every_sample() {
+fn pruned_accumulation_equals_the_minimum_of_every_sample_and_finds_each_intersection() {
     let robot = real();
     let fixture = fixture("clearance_faze4_real.json");
     let poses = &fixture["poses"].as_array().unwrap()[100..112];
@@ -384,6 +384,9 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample() {
                 }
             }
             set.accumulate(&data.frame_pose, t, &mut pruned, &mut report);
+            let intersecting: Vec<bool> = every.distances.iter().map(|d| d.intersecting).collect();
+            assert_eq!(pruned.intersecting, intersecting, "{kind:?} at sample {k}");
+            assert_eq!(intersecting.iter().any(|&i| i), kind == ClearanceGeometry::Hull);
         }
         for (pair, (d, t)) in report.pairs.iter().zip(&minimum) {
             assert!(

@@ -109,6 +109,9 @@ pub struct GeometryData {
     poses: Vec<PPose>,
     /// The last [`CollisionSet::distances`], one per pair in [`CollisionSet::pair_links`] order.
     pub distances: Vec<PairDistance>,
+    /// Whether each pair intersects at the last [`CollisionSet::accumulate`]d pose, in
+    /// [`CollisionSet::pair_links`] order.
+    pub intersecting: Vec<bool>,
     /// Per pair, the two triangles found closest at its last exact mesh query.
     closest: Vec<(u32, u32)>,
     /// Per pair, a lower bound of its distance and the relative pose `a_T_b` it holds at.
@@ -127,6 +130,7 @@ impl GeometryData {
                 };
                 set.pairs.len()
             ],
+            intersecting: vec![false; set.pairs.len()],
             closest: vec![(0, 0); set.pairs.len()],
             reference: vec![(f64::NEG_INFINITY, PPose::IDENTITY); set.pairs.len()],
         }
@@ -274,24 +278,30 @@ impl CollisionSet {
         ClearanceReport::new(self.geometry(), self.pair_links(), self.unchecked().to_vec())
     }
 
-    /// Folds the pose at time `t` (s) into `report`: each pair's distance is computed only when
-    /// a lower bound (bounding spheres, then hulls) says it could be below the pair's smallest
-    /// so far. `report` must come from [`CollisionSet::new_report`] on this set.
+    /// Folds the pose at time `t` (s) into `report`, and sets `data.intersecting` to this
+    /// pose's intersecting pairs: each pair's distance is computed only when a lower bound
+    /// (the pair's last bound less its relative motion since, bounding spheres, then hulls)
+    /// says it could be below the pair's smallest so far or could be an intersection.
+    /// `report` must come from [`CollisionSet::new_report`] on this set.
     pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
         self.place(frame_pose, data);
         for (k, &(a, b)) in self.pairs.iter().enumerate() {
+            // a pair is skipped on a lower bound that is positive (no intersection) and not
+            // below the smallest distance so far (no new minimum)
             let best = report.pairs[k].min_m;
+            let skip = |lower: f64| lower > 0.0 && lower >= best;
+            data.intersecting[k] = false;
             let (oa, ob) = (&self.objects[a], &self.objects[b]);
             let (pa, pb) = (&data.poses[a], &data.poses[b]);
             let pose_ab = pa.inv_mul(pb);
             // the lower bound found at an earlier sample, less how far any point of b can have
             // moved relative to a since
             let (lower, then) = &data.reference[k];
-            if *lower - moved(then, &pose_ab, ob.reach) >= best {
+            if skip(*lower - moved(then, &pose_ab, ob.reach)) {
                 continue;
             }
             let gap = (*pa * oa.centre - *pb * ob.centre).length() - oa.radius - ob.radius;
-            if gap >= best {
+            if skip(gap) {
                 data.reference[k] = (gap, pose_ab);
                 continue;
             }
@@ -299,20 +309,25 @@ impl CollisionSet {
                 (None, None) => self.convex_distance(a, b, &data.poses),
                 _ => {
                     let hull = self.convex_distance(a, b, &data.poses).distance;
-                    if hull >= best {
+                    if skip(hull) {
                         data.reference[k] = (hull, pose_ab);
                         continue;
                     }
-                    match self.pair_distance(k, &data.poses, &mut data.closest[k], best) {
+                    // an exact search bounded by the smallest distance so far, or (once the
+                    // pair has intersected) by the least positive distance, which still finds
+                    // an intersection
+                    let bound = best.max(f64::MIN_POSITIVE);
+                    match self.pair_distance(k, &data.poses, &mut data.closest[k], bound) {
                         Some(d) => d,
                         None => {
-                            data.reference[k] = (best, pose_ab);
+                            data.reference[k] = (bound, pose_ab);
                             continue;
                         }
                     }
                 }
             };
             data.reference[k] = (d.distance, pose_ab);
+            data.intersecting[k] = d.intersecting;
             report.record(k, d, t);
         }
     }
