@@ -15,8 +15,10 @@
 //!
 //! Two meshes are compared by a simultaneous traversal of their bounding-volume hierarchies
 //! (parry's `Bvh::leaf_pairs`): a pair of nodes is opened only while the distance between their
-//! boxes (the second box re-boxed in the first mesh's frame, a lower bound of the distance of
-//! any triangles inside) is below the best triangle distance found so far, and each pair of
+//! boxes is below the best triangle distance found so far. That distance is bounded below twice,
+//! the second box re-boxed in the first mesh's frame and the first box in the second's (each a
+//! lower bound of the distance of any triangles inside; a rotated box grows when re-boxed, so
+//! the two differ), and the larger is used. Each pair of
 //! leaves is one triangle–triangle distance (parry's GJK), unless a cheaper lower bound (exact
 //! boxes of the two triangles, their projections on the line through their centroids) already
 //! reaches the best distance. The search starts from the two
@@ -88,9 +90,6 @@ struct Object {
     centre: PVector,
     /// Bounding sphere radius (m).
     radius: f64,
-    /// Largest distance of a point of the shape from the shape frame's origin, bounded above
-    /// by `|centre| + radius` (m).
-    reach: f64,
 }
 
 /// The collision objects of a robot loaded as parry shapes, and the pairs that are checked.
@@ -219,7 +218,6 @@ impl CollisionSet {
                 triangles,
                 centre: sphere.center,
                 radius: sphere.radius,
-                reach: sphere.center.length() + sphere.radius,
             });
             kept.push(g.clone());
         }
@@ -297,7 +295,7 @@ impl CollisionSet {
             // the lower bound found at an earlier sample, less how far any point of b can have
             // moved relative to a since
             let (lower, then) = &data.reference[k];
-            if skip(*lower - moved(then, &pose_ab, ob.reach)) {
+            if skip(*lower - moved(then, &pose_ab, ob.centre, ob.radius)) {
                 continue;
             }
             let gap = (*pa * oa.centre - *pb * ob.centre).length() - oa.radius - ob.radius;
@@ -391,11 +389,22 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     let seeded = triangles(*closest);
     let best = Cell::new(if seeded < bound { seeded } else { bound });
     let found = Cell::new((seeded < bound).then_some(*closest));
+    // each box re-boxed in the other's frame bounds the distance; the larger bound is used
+    let pos21 = pos12.inverse();
     let boxes_closer = |n1: &BvhNode, n2: &BvhNode| {
-        let b1 = Aabb::new(n1.mins(), n1.maxs());
-        let b2 = Aabb::new(n2.mins(), n2.maxs()).transform_by(pos12);
-        let gap = (b1.mins - b2.maxs).max(b2.mins - b1.maxs).max(PVector::ZERO);
-        best.get() > 0.0 && gap.length() < best.get()
+        let bound = best.get();
+        if bound <= 0.0 {
+            return false;
+        }
+        let (b1, b2) = (Aabb::new(n1.mins(), n1.maxs()), Aabb::new(n2.mins(), n2.maxs()));
+        let b2in1 = b2.transform_by(pos12);
+        let gap = (b1.mins - b2in1.maxs).max(b2in1.mins - b1.maxs).max(PVector::ZERO);
+        if gap.length_squared() >= bound * bound {
+            return false;
+        }
+        let b1in2 = b1.transform_by(&pos21);
+        let gap = (b2.mins - b1in2.maxs).max(b1in2.mins - b2.maxs).max(PVector::ZERO);
+        gap.length_squared() < bound * bound
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
         if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), pos12) >= best.get() {
@@ -415,16 +424,17 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     Some(best.get())
 }
 
-/// An upper bound of how far a point within `reach` of b's origin has moved relative to a
-/// between the relative poses `then` and `now` (`a_T_b`): `|Δp| + 2 sin(θ/2) · reach`, with `θ`
-/// the angle of the rotation between them (`2 sin(θ/2)` is the spectral norm of `R_now −
-/// R_then`, and `sin(θ/2)` the length of the vector part of the unit quaternion
-/// `q_then⁻¹ q_now`). Distances are 1-Lipschitz in such a displacement, so a lower bound `L` at
-/// `then` gives `L − moved` at `now`.
-fn moved(then: &PPose, now: &PPose, reach: f64) -> f64 {
+/// An upper bound of how far a point of b's bounding sphere (`centre`, `radius`, in b's frame)
+/// has moved relative to a between the relative poses `then` and `now` (`a_T_b`): a point
+/// `c + u` (`|u| ≤ radius`) moves by `(now·c − then·c) + (R_now − R_then) u`, at most
+/// `|now·c − then·c| + 2 sin(θ/2) · radius`, with `θ` the angle of the rotation between them
+/// (`2 sin(θ/2)` is the spectral norm of `R_now − R_then`, and `sin(θ/2)` the length of the
+/// vector part of the unit quaternion `q_then⁻¹ q_now`). Distances are 1-Lipschitz in such a
+/// displacement, so a lower bound `L` at `then` gives `L − moved` at `now`.
+fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
     let turn = then.rotation.inverse() * now.rotation;
     let half_sine = PVector::new(turn.x, turn.y, turn.z).length();
-    (now.translation - then.translation).length() + 2.0 * half_sine * reach
+    (*now * centre - *then * centre).length() + 2.0 * half_sine * radius
 }
 
 /// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `pos12`,
