@@ -38,6 +38,7 @@ use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as P
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{self, DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, Triangle};
+use rayon::prelude::*;
 
 use super::mesh::load;
 use super::pairs::{PairFilter, checked_pairs};
@@ -92,6 +93,65 @@ struct Object {
     radius: f64,
 }
 
+impl Object {
+    /// Collision element `g` (number `source`) loaded as `kind` reads it; `None` for a mesh
+    /// found nowhere.
+    fn load(source: usize, g: &GeometryObject, kind: ClearanceGeometry) -> Result<Option<Object>> {
+        let axis_fix = Pose::new(
+            Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
+            Vec3::zeros(),
+        );
+        let (convex, triangles, placement): (Box<dyn Shape>, Option<TriMesh>, Pose) = match &g.geometry {
+            Geometry::Box { size } => (
+                Box::new(Cuboid::new(PVector::new(size.x, size.y, size.z) / 2.0)),
+                None,
+                g.placement,
+            ),
+            Geometry::Sphere { radius } => (Box::new(Ball::new(*radius)), None, g.placement),
+            Geometry::Cylinder { radius, length } => (
+                Box::new(Cylinder::new(length / 2.0, *radius)),
+                None,
+                g.placement.compose(&axis_fix),
+            ),
+            Geometry::Mesh { uri, path, scale } => {
+                let Some(mesh) = load(uri, path.as_deref()) else {
+                    return Ok(None);
+                };
+                let mesh = mesh?;
+                let path = path.clone().unwrap_or_else(|| uri.into());
+                let points: Vec<PVector> = (mesh.vertices.iter())
+                    .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))
+                    .collect();
+                let hull = ConvexPolyhedron::from_convex_hull(&points).ok_or_else(|| Error::InvalidData {
+                    path: path.clone(),
+                    message: "the mesh spans no volume (no convex hull)".into(),
+                })?;
+                let triangles = match kind {
+                    ClearanceGeometry::Hull => None,
+                    ClearanceGeometry::Mesh => {
+                        Some(TriMesh::new(points, mesh.triangles).map_err(|e| Error::InvalidData {
+                            path: path.clone(),
+                            message: format!("not a triangle mesh: {e}"),
+                        })?)
+                    }
+                };
+                (Box::new(hull), triangles, g.placement)
+            }
+        };
+        let sphere = convex.compute_local_bounding_sphere();
+        Ok(Some(Object {
+            source,
+            link: g.link.clone(),
+            frame: g.frame.0,
+            placement: to_parry(&placement),
+            convex,
+            triangles,
+            centre: sphere.center,
+            radius: sphere.radius,
+        }))
+    }
+}
+
 /// The collision objects of a robot loaded as parry shapes, and the pairs that are checked.
 /// Immutable; built once per run. Queries go through a [`GeometryData`].
 pub struct CollisionSet {
@@ -111,10 +171,19 @@ pub struct GeometryData {
     /// Whether each pair intersects at the last [`CollisionSet::accumulate`]d pose, in
     /// [`CollisionSet::pair_links`] order.
     pub intersecting: Vec<bool>,
-    /// Per pair, the two triangles found closest at its last exact mesh query.
-    closest: Vec<(u32, u32)>,
-    /// Per pair, a lower bound of its distance and the relative pose `a_T_b` it holds at.
-    reference: Vec<(f64, PPose)>,
+    /// What each pair carries from one query to the next.
+    memory: Vec<PairMemory>,
+}
+
+/// One pair's state between queries.
+#[derive(Clone, Copy)]
+struct PairMemory {
+    /// The two triangles found closest at its last exact mesh query.
+    closest: (u32, u32),
+    /// A lower bound of its distance and the relative pose `a_T_b` it holds at.
+    reference: (f64, PPose),
+    /// What the last [`CollisionSet::accumulate`] found: the distance, if it was computed.
+    found: Option<PairDistance>,
 }
 
 impl GeometryData {
@@ -130,8 +199,14 @@ impl GeometryData {
                 set.pairs.len()
             ],
             intersecting: vec![false; set.pairs.len()],
-            closest: vec![(0, 0); set.pairs.len()],
-            reference: vec![(f64::NEG_INFINITY, PPose::IDENTITY); set.pairs.len()],
+            memory: vec![
+                PairMemory {
+                    closest: (0, 0),
+                    reference: (f64::NEG_INFINITY, PPose::IDENTITY),
+                    found: None,
+                };
+                set.pairs.len()
+            ],
         }
     }
 }
@@ -156,70 +231,30 @@ impl CollisionSet {
         kind: ClearanceGeometry,
         filter: PairFilter,
     ) -> Result<(CollisionSet, Vec<Warning>)> {
-        let mut warnings = Vec::new();
-        let mut unchecked = Vec::new();
-        let mut kept: Vec<GeometryObject> = Vec::new();
-        let mut objects = Vec::new();
-        for (source, g) in geometry.collisions.iter().enumerate() {
-            let axis_fix = Pose::new(
-                Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
-                Vec3::zeros(),
-            );
-            let (convex, triangles, placement): (Box<dyn Shape>, Option<TriMesh>, Pose) = match &g.geometry {
-                Geometry::Box { size } => (
-                    Box::new(Cuboid::new(PVector::new(size.x, size.y, size.z) / 2.0)),
-                    None,
-                    g.placement,
-                ),
-                Geometry::Sphere { radius } => (Box::new(Ball::new(*radius)), None, g.placement),
-                Geometry::Cylinder { radius, length } => (
-                    Box::new(Cylinder::new(length / 2.0, *radius)),
-                    None,
-                    g.placement.compose(&axis_fix),
-                ),
-                Geometry::Mesh { uri, path, scale } => {
-                    let Some(mesh) = load(uri, path.as_deref()) else {
-                        warnings.push(Warning::MeshNotFound {
-                            file: model.source.clone(),
-                            link: g.link.clone(),
-                            uri: uri.clone(),
-                        });
-                        unchecked.push(g.link.clone());
-                        continue;
-                    };
-                    let mesh = mesh?;
-                    let path = path.clone().unwrap_or_else(|| uri.into());
-                    let points: Vec<PVector> = (mesh.vertices.iter())
-                        .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))
-                        .collect();
-                    let hull = ConvexPolyhedron::from_convex_hull(&points).ok_or_else(|| Error::InvalidData {
-                        path: path.clone(),
-                        message: "the mesh spans no volume (no convex hull)".into(),
-                    })?;
-                    let triangles = match kind {
-                        ClearanceGeometry::Hull => None,
-                        ClearanceGeometry::Mesh => {
-                            Some(TriMesh::new(points, mesh.triangles).map_err(|e| Error::InvalidData {
-                                path: path.clone(),
-                                message: format!("not a triangle mesh: {e}"),
-                            })?)
-                        }
-                    };
-                    (Box::new(hull), triangles, g.placement)
+        // the objects are loaded in parallel (hulls and BVHs of big meshes take a while), and
+        // kept in document order
+        let loaded: Vec<Result<Option<Object>>> = (geometry.collisions.par_iter().enumerate())
+            .map(|(source, g)| Object::load(source, g, kind))
+            .collect();
+        let (mut warnings, mut unchecked, mut kept, mut objects) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (g, object) in geometry.collisions.iter().zip(loaded) {
+            match object? {
+                Some(object) => {
+                    objects.push(object);
+                    kept.push(g.clone());
                 }
-            };
-            let sphere = convex.compute_local_bounding_sphere();
-            objects.push(Object {
-                source,
-                link: g.link.clone(),
-                frame: g.frame.0,
-                placement: to_parry(&placement),
-                convex,
-                triangles,
-                centre: sphere.center,
-                radius: sphere.radius,
-            });
-            kept.push(g.clone());
+                None => {
+                    let Geometry::Mesh { uri, .. } = &g.geometry else {
+                        unreachable!("only a mesh can be missing")
+                    };
+                    warnings.push(Warning::MeshNotFound {
+                        file: model.source.clone(),
+                        link: g.link.clone(),
+                        uri: uri.clone(),
+                    });
+                    unchecked.push(g.link.clone());
+                }
+            }
         }
         let pairs = checked_pairs(model, &kept, &geometry.joined, filter);
         let set = CollisionSet {
@@ -264,11 +299,12 @@ impl CollisionSet {
     /// `data.distances`.
     pub fn distances(&self, frame_pose: &[Pose], data: &mut GeometryData) {
         self.place(frame_pose, data);
-        for k in 0..self.pairs.len() {
-            data.distances[k] = self
-                .pair_distance(k, &data.poses, &mut data.closest[k], f64::INFINITY)
+        let poses = &data.poses;
+        (data.distances.par_iter_mut().zip(&mut data.memory).enumerate()).for_each(|(k, (distance, memory))| {
+            *distance = self
+                .pair_distance(k, poses, &mut memory.closest, f64::INFINITY)
                 .expect("an unbounded search finds the distance");
-        }
+        });
     }
 
     /// An empty report for this set's pairs, to [`CollisionSet::accumulate`] a run into.
@@ -283,51 +319,61 @@ impl CollisionSet {
     /// `report` must come from [`CollisionSet::new_report`] on this set.
     pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
         self.place(frame_pose, data);
-        for (k, &(a, b)) in self.pairs.iter().enumerate() {
-            // a pair is skipped on a lower bound that is positive (no intersection) and not
-            // below the smallest distance so far (no new minimum)
-            let best = report.pairs[k].min_m;
-            let skip = |lower: f64| lower > 0.0 && lower >= best;
-            data.intersecting[k] = false;
-            let (oa, ob) = (&self.objects[a], &self.objects[b]);
-            let (pa, pb) = (&data.poses[a], &data.poses[b]);
-            let pose_ab = pa.inv_mul(pb);
-            // the lower bound found at an earlier sample, less how far any point of b can have
-            // moved relative to a since
-            let (lower, then) = &data.reference[k];
-            if skip(*lower - moved(then, &pose_ab, ob.centre, ob.radius)) {
-                continue;
+        let poses = &data.poses;
+        let smallest = &report.pairs;
+        (data.memory.par_iter_mut().enumerate())
+            .for_each(|(k, memory)| memory.found = self.fold_pair(k, poses, smallest[k].min_m, memory));
+        for (k, memory) in data.memory.iter().enumerate() {
+            data.intersecting[k] = memory.found.is_some_and(|d| d.intersecting);
+            if let Some(d) = memory.found {
+                report.record(k, d, t);
             }
-            let gap = (*pa * oa.centre - *pb * ob.centre).length() - oa.radius - ob.radius;
-            if skip(gap) {
-                data.reference[k] = (gap, pose_ab);
-                continue;
-            }
-            let d = match (&oa.triangles, &ob.triangles) {
-                (None, None) => self.convex_distance(a, b, &data.poses),
-                _ => {
-                    let hull = self.convex_distance(a, b, &data.poses).distance;
-                    if skip(hull) {
-                        data.reference[k] = (hull, pose_ab);
-                        continue;
-                    }
-                    // an exact search bounded by the smallest distance so far, or (once the
-                    // pair has intersected) by the least positive distance, which still finds
-                    // an intersection
-                    let bound = best.max(f64::MIN_POSITIVE);
-                    match self.pair_distance(k, &data.poses, &mut data.closest[k], bound) {
-                        Some(d) => d,
-                        None => {
-                            data.reference[k] = (bound, pose_ab);
-                            continue;
-                        }
+        }
+    }
+
+    /// Pair `k` at `poses` for [`CollisionSet::accumulate`]: its distance, unless a lower
+    /// bound shows that it is positive (no intersection) and not below `best`, the pair's
+    /// smallest so far (no new minimum).
+    fn fold_pair(&self, k: usize, poses: &[PPose], best: f64, memory: &mut PairMemory) -> Option<PairDistance> {
+        let (a, b) = self.pairs[k];
+        let skip = |lower: f64| lower > 0.0 && lower >= best;
+        let (oa, ob) = (&self.objects[a], &self.objects[b]);
+        let (pa, pb) = (&poses[a], &poses[b]);
+        let pose_ab = pa.inv_mul(pb);
+        // the lower bound found at an earlier sample, less how far any point of b can have
+        // moved relative to a since
+        let (lower, then) = &memory.reference;
+        if skip(*lower - moved(then, &pose_ab, ob.centre, ob.radius)) {
+            return None;
+        }
+        let gap = (*pa * oa.centre - *pb * ob.centre).length() - oa.radius - ob.radius;
+        if skip(gap) {
+            memory.reference = (gap, pose_ab);
+            return None;
+        }
+        let d = match (&oa.triangles, &ob.triangles) {
+            (None, None) => self.convex_distance(a, b, poses),
+            _ => {
+                let hull = self.convex_distance(a, b, poses).distance;
+                if skip(hull) {
+                    memory.reference = (hull, pose_ab);
+                    return None;
+                }
+                // an exact search bounded by the smallest distance so far, or (once the pair
+                // has intersected) by the least positive distance, which still finds an
+                // intersection
+                let bound = best.max(f64::MIN_POSITIVE);
+                match self.pair_distance(k, poses, &mut memory.closest, bound) {
+                    Some(d) => d,
+                    None => {
+                        memory.reference = (bound, pose_ab);
+                        return None;
                     }
                 }
-            };
-            data.reference[k] = (d.distance, pose_ab);
-            data.intersecting[k] = d.intersecting;
-            report.record(k, d, t);
-        }
+            }
+        };
+        memory.reference = (d.distance, pose_ab);
+        Some(d)
     }
 
     /// The distance of pair `k` at `poses`, as [`ClearanceGeometry`] reads its objects, if it
