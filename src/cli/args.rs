@@ -176,7 +176,7 @@ pub struct RunArgs {
         allow_hyphen_values = true
     )]
     pub max_deviation_mm: f64,
-    /// Exit with status 3 when the verdict is "cannot follow" (for CI jobs that guard a motion).
+    /// Exit with status 3 when the verdict is "cannot follow" or "collides" (for CI jobs that guard a motion).
     #[arg(long)]
     pub strict: bool,
     /// Trail CSV (t, x, y, z, q1…); 'none' writes none.

@@ -15,4 +15,4 @@ pub use scenario::{
 };
 pub use stop::StopFlag;
 pub use summary::{Diverged, PathDeviation, Summary, ToolRange};
-pub use verdict::{Reason, Thresholds, Verdict, percent};
+pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

@@ -418,7 +418,7 @@ impl ScenarioBuilder {
             warnings.push(Warning::UnstableGains { stability, given });
         }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
-        let (geometry, collision_set) = collision_set(&model, self.geometry, self.collisions, &mut warnings)?;
+        let (geometry, collision_set) = load_collisions(&model, self.geometry, self.collisions, &mut warnings)?;
         Ok(Scenario {
             command: self.command,
             model,
@@ -441,10 +441,12 @@ impl ScenarioBuilder {
     }
 }
 
-/// The geometry a run keeps and its loaded collision set: none, and no collision elements,
-/// when `collisions` is `None`; none when the geometry has no collision element. Meshes not
-/// found become warnings; a mesh that cannot be read is an error.
-fn collision_set(
+/// The geometry a run of `model` keeps and its loaded collision set, as
+/// [`ScenarioBuilder::collisions`] says: none, and no collision elements, when `collisions` is
+/// `None`; none when the geometry has no collision element. Meshes not found become warnings
+/// (appended to `warnings`); a mesh that cannot be read is an error. What the builder does; a
+/// sweep calls it once for all its runs.
+pub fn load_collisions(
     model: &Model,
     geometry: GeometryModel,
     collisions: Option<Collisions>,

@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::Verdict;
 use crate::control::Gains;
+use crate::geometry::ClearanceReport;
 use crate::model::JointId;
 
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
@@ -81,6 +82,11 @@ pub struct Summary {
     /// Shapes only: the largest IK position residual over the samples (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ik_max_residual_m: Option<f64>,
+    /// The self-clearance of the collision geometry over the trail samples: per checked pair
+    /// its smallest distance and when, the closest pair, the links not checked. Absent when
+    /// the run checks none (`--no-collisions`, or a model without collision geometry).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<ClearanceReport>,
     /// Only when the run was stopped by Ctrl-C: the simulated time it stopped at (s); the
     /// metrics cover the steps before it.
     #[serde(skip_serializing_if = "Option::is_none")]
