@@ -65,6 +65,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
         keys,
         [
             "clearance",
+            "clearance_wall_time_s",
             "diverged",
             "dof",
             "dt",

@@ -255,8 +255,12 @@ fn report_files(outputs: &Outputs, run: &RunArgs, save_q: Option<&Path>, summary
         written.push(format!("plot -> {}", p.path().display()));
     }
     let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
+    let clearance = match summary.clearance_wall_time_s {
+        Some(s) => format!("; self-clearance {s:.3} s of it"),
+        None => String::new(),
+    };
     written.push(format!(
-        "{} steps in {:.3} s ({:.2} µs/step)",
+        "{} steps in {:.3} s ({:.2} µs/step{clearance})",
         summary.steps,
         summary.wall_time_s,
         per_step * 1e6

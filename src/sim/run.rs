@@ -1,6 +1,6 @@
 //! The closed loop: the discrete step driven by the PD controller (docs/model.md).
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::algo::{Data, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
 use crate::error::{Error, Result};
@@ -167,6 +167,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     };
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
     let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
+    summary.clearance_wall_time_s = clearance.as_ref().map(|c| c.elapsed.as_secs_f64());
     summary.clearance = clearance.map(|c| c.report);
     summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
     for r in recorders.iter_mut() {
@@ -319,6 +320,8 @@ struct ClearanceMetrics<'a> {
     report: ClearanceReport,
     /// Per checked pair, the time of the first sample at which it intersects (s).
     first_intersection: Vec<Option<f64>>,
+    /// Wall-clock time spent in [`ClearanceMetrics::add`].
+    elapsed: Duration,
 }
 
 impl<'a> ClearanceMetrics<'a> {
@@ -330,17 +333,20 @@ impl<'a> ClearanceMetrics<'a> {
             data,
             report: set.new_report(),
             first_intersection,
+            elapsed: Duration::ZERO,
         }
     }
 
     /// Folds the sample at time `t` (s), whose frames are at `frame_pose`, in.
     fn add(&mut self, frame_pose: &[Pose], t: f64) {
+        let started = Instant::now();
         self.set.accumulate(frame_pose, t, &mut self.data, &mut self.report);
         for (first, &now) in self.first_intersection.iter_mut().zip(&self.data.intersecting) {
             if now && first.is_none() {
                 *first = Some(t);
             }
         }
+        self.elapsed += started.elapsed();
     }
 
     /// The pairs of links that intersected, each once (a link may carry several shapes), in

@@ -74,8 +74,12 @@ pub struct Summary {
     pub diverged: Option<Diverged>,
     /// Whether the arm follows its command, and if not, why (see [`Verdict`]).
     pub verdict: Verdict,
-    /// Wall-clock time of the simulation loop (s).
+    /// Wall-clock time of the simulation loop (s), the self-clearance included.
     pub wall_time_s: f64,
+    /// Of `wall_time_s`, the time spent measuring the self-clearance (s); absent when the run
+    /// checks none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_wall_time_s: Option<f64>,
     /// Shapes only: tool distance to the reference path.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub path_deviation_mm: Option<PathDeviation>,

@@ -514,6 +514,12 @@
     let text = `max tracking error (rad): ${f(s.max_tracking_error_rad, 4)}\nsaturation (%): ${f(s.saturation_pct, 2)}`;
     if (s.path_deviation_mm) text += `\npath deviation: max ${s.path_deviation_mm.max.toFixed(2)} mm, mean ${s.path_deviation_mm.mean.toFixed(2)} mm`;
     if (s.diverged) text += `\ndiverged at t = ${s.diverged.t.toFixed(4)} s, joint J${s.diverged.joint}`;
+    const c = s.clearance;
+    if (c && c.links) {
+      const what = c.geometry === 'hull' ? 'convex hulls' : 'exact meshes';
+      text += `\nself-clearance (${what}): ${c.links[0]}–${c.links[1]} ${(c.min_m * 1e3).toFixed(2)} mm at t = ${c.t.toFixed(2)} s`;
+    }
+    if (s.verdict && s.verdict.collides) text += `\n${s.verdict.reasons[0]}`;
     return text;
   }
 
