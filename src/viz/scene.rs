@@ -529,6 +529,54 @@ mod tests {
     }
 
     #[test]
+    fn records_flag_the_links_of_intersecting_pairs() {
+        let robot = crate::geometry::Robot::faze4();
+        let model = &robot.model;
+        let scene = Scene::from_model(model, &robot.geometry);
+        let frame = |name: &str| model.frame_index(name).unwrap();
+        let pairs = [
+            [frame("nadlaktica"), frame("podlaktica")],
+            [frame("base_link"), frame("saka")],
+        ];
+        let mut encoder = SampleEncoder::new(model, &scene.slots).collision_pairs(&pairs);
+        let zeros = vec![0.0; model.dof()];
+        let record = |encoder: &mut SampleEncoder, intersecting: &[bool]| {
+            let sample = Sample {
+                step: 0,
+                t: 0.0,
+                q: &zeros,
+                v: &zeros,
+                q_cmd: &zeros,
+                v_cmd: &zeros,
+                tau: &zeros,
+                g: &zeros,
+                tool: Vec3::zeros(),
+                target: None,
+                intersecting,
+            };
+            let mut out = Vec::new();
+            encoder.push(&sample, &mut out);
+            assert_eq!(out.len(), encoder.stride());
+            out[out.len() - scene.slots.len()..].to_vec()
+        };
+        let flagged = |flags: Vec<f32>| -> Vec<&str> {
+            (scene.slot_names.iter().zip(flags))
+                .filter(|(_, f)| *f == 1.0)
+                .map(|(n, _)| n.as_str())
+                .collect()
+        };
+        assert_eq!(
+            flagged(record(&mut encoder, &[true, false])),
+            ["nadlaktica", "podlaktica"]
+        );
+        // base_link is welded to the world (no slot): only saka is drawn red
+        assert_eq!(flagged(record(&mut encoder, &[false, true])), ["saka"]);
+        assert!(flagged(record(&mut encoder, &[false, false])).is_empty());
+        // a run that checks no clearance flags nothing
+        assert!(flagged(record(&mut SampleEncoder::new(model, &scene.slots), &[])).is_empty());
+    }
+
+    #[test]
     fn resampled_reference_spheres_touch() {
         let square = [Vec3::zeros(), Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.1, 0.0, 0.05)];
         let r = resample_closed(&square, 0.003);
