@@ -564,6 +564,43 @@ fn colliding_links_are_drawn_red() {
     check_arm_drawn(&exact, "exact meshes");
     let red = red_pixels(&exact);
     assert!(red < 50, "nothing collides with the exact meshes: {red} red pixels");
+
+    // the live view draws the same records: the hull run served with --view --hold
+    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(["shape", "--shape", "circle", "--duration", "2", "--trail", "none"])
+        .args(["--collision-geometry", "hull", "--view", "--port", "0", "--hold"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap())
+        .lines()
+        .map_while(Result::ok);
+    let url = stderr
+        .find_map(|line| line.strip_prefix("viz: live view at ").map(str::to_string))
+        .expect("the live view's address on stderr");
+    let mut red = 0;
+    for wait in [8, 24] {
+        // on a slow machine, again with more time
+        red = red_pixels(&screenshot(
+            &format!("{url}/#t=1&paused"),
+            &dir.join("live.png"),
+            Duration::from_secs(wait),
+        ));
+        if red > 3_000 {
+            break;
+        }
+    }
+    interrupt(child.id());
+    assert_eq!(
+        child.wait().unwrap().code(),
+        Some(0),
+        "Ctrl-C while holding ends cleanly"
+    );
+    assert!(
+        red > 3_000,
+        "the live view draws the colliding links red: {red} red pixels"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
