@@ -18,6 +18,16 @@ use serde_json::Value;
 /// The library's report for `robot` over the samples of a trail CSV (t and the joint
 /// positions q1…qn of every row, exact decimals), as `kind` and `filter` measure it.
 fn library_report(robot: &Robot, kind: ClearanceGeometry, filter: PairFilter, trail: &Path) -> ClearanceReport {
+    library_run(robot, kind, filter, trail).0
+}
+
+/// [`library_report`], and the time of the first sample at which any pair intersects.
+fn library_run(
+    robot: &Robot,
+    kind: ClearanceGeometry,
+    filter: PairFilter,
+    trail: &Path,
+) -> (ClearanceReport, Option<f64>) {
     let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, kind, filter).unwrap();
     let (header, rows) = read_csv(trail);
     let q_columns: Vec<usize> = (1..=robot.model.dof())
@@ -26,12 +36,16 @@ fn library_report(robot: &Robot, kind: ClearanceGeometry, filter: PairFilter, tr
     let mut data = Data::new(&robot.model);
     let mut geometry_data = GeometryData::new(&set);
     let mut report = set.new_report();
+    let mut first = None;
     for row in &rows {
         let q: Vec<f64> = q_columns.iter().map(|&c| row[c]).collect();
         forward_kinematics(&robot.model, &mut data, &q);
         set.accumulate(&data.frame_pose, row[0], &mut geometry_data, &mut report);
+        if first.is_none() && geometry_data.intersecting.contains(&true) {
+            first = Some(row[0]);
+        }
     }
-    report
+    (report, first)
 }
 
 fn summary(dir: &Path) -> Value {
@@ -279,7 +293,7 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
     assert!(run.status.success(), "{}", run.stderr);
     let s = summary(&dir);
     let robot = Robot::from_urdf_file(Path::new(&urdf), &PackagePaths::default()).unwrap();
-    let expected = library_report(
+    let (expected, first) = library_run(
         &robot,
         ClearanceGeometry::Mesh,
         PairFilter::NonAdjacent,
@@ -299,6 +313,8 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
         .parse()
         .unwrap();
     assert!(from > 0.2 && from < 2.0, "{reason}");
+    // the first trail sample at which the library sees the pair intersect
+    assert_eq!(format!("{:.2}", first.unwrap()), format!("{from:.2}"), "{reason}");
     assert_eq!(line(&run.stdout, "verdict"), format!("verdict: collides — {reason}"));
 
     let hull = faze4(&dir, &[&args[..], &["--collision-geometry", "hull"]].concat());
