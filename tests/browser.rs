@@ -14,7 +14,7 @@
 //! binary, its source removed) instead of a file from the binary under test.
 //!
 //! With `FAZE4_UPDATE_DOCS=1` the screenshots at the known poses are also copied to
-//! `docs/html_export.png` and `docs/live_view.png`.
+//! `docs/html_export.png`, `docs/live_view.png` and `docs/self_collision.png`.
 
 mod common;
 
@@ -50,7 +50,7 @@ fn chromium() -> &'static Path {
 
 /// The tests, in the order they run (one at a time: two software-rendering Chromiums at once
 /// starve a 2-core machine).
-const TESTS: [(&str, fn()); 3] = [
+const TESTS: [(&str, fn()); 4] = [
     (
         "exported_html_draws_the_arm_and_plays_the_motion",
         exported_html_draws_the_arm_and_plays_the_motion,
@@ -63,6 +63,7 @@ const TESTS: [(&str, fn()); 3] = [
         "default_arm_is_drawn_with_the_real_meshes",
         default_arm_is_drawn_with_the_real_meshes,
     ),
+    ("colliding_links_are_drawn_red", colliding_links_are_drawn_red),
 ];
 
 /// What `cargo test … -- ARGS` asks of these tests, with libtest's meaning: names to run
@@ -498,6 +499,108 @@ fn default_arm_is_drawn_with_the_real_meshes() {
     let url = format!("file://{}#t=1&paused", html.display());
     let shot = screenshot_drawn(&url, &dir.join("t1.png"), Duration::from_secs(6));
     check_arm_drawn(&shot, "default arm at t = 1 s");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Pixels of the colliding links' red (strongly red, little green or blue; not the pink
+/// target sphere) in the arm's region.
+fn red_pixels(image: &Image) -> usize {
+    let (x0, y0, x1, y1) = ARM_REGION;
+    let mut n = 0;
+    for y in y0..y1.min(image.height) {
+        for x in x0..x1.min(image.width) {
+            let [r, g, b] = image.pixel(x, y).map(|c| c as i32);
+            if r > 90 && 3 * g < r && 3 * b < r {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// `faze4 shape --shape circle --collision-geometry hull --html`: the hulls of nadlaktica and
+/// podlaktica overlap at every sample, so both links are drawn red; with the exact meshes
+/// (which never touch) nothing is.
+fn colliding_links_are_drawn_red() {
+    let dir = temp_dir("red");
+    let shot = |name: &str, extra: &[&str]| {
+        let html = dir.join(format!("{name}.html"));
+        let run = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args([
+                "shape",
+                "--shape",
+                "circle",
+                "--duration",
+                "2",
+                "--trail",
+                "none",
+                "--html",
+            ])
+            .arg(&html)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let url = format!("file://{}#t=1&paused", html.display());
+        let out = dir.join(format!("{name}.png"));
+        // drawn: the arm's pixels, grey-blue or red (on a slow machine, again with more time)
+        let (x0, y0, x1, y1) = ARM_REGION;
+        let drawn = |image: &Image| image.arm_pixels(x0, y0, x1, y1) + red_pixels(image) >= MIN_ARM_PIXELS;
+        let mut image = screenshot(&url, &out, Duration::from_secs(6));
+        for more in [3, 8] {
+            if drawn(&image) {
+                break;
+            }
+            image = screenshot(&url, &out, Duration::from_secs(6) * more);
+        }
+        assert!(drawn(&image), "{name}: the arm is not drawn");
+        image
+    };
+    let hull = shot("hull", &["--collision-geometry", "hull"]);
+    let red = red_pixels(&hull);
+    assert!(red > 3_000, "the two colliding links are red: {red} red pixels");
+    docs(&dir.join("hull.png"), "self_collision.png");
+    let exact = shot("exact", &[]);
+    check_arm_drawn(&exact, "exact meshes");
+    let red = red_pixels(&exact);
+    assert!(red < 50, "nothing collides with the exact meshes: {red} red pixels");
+
+    // the live view draws the same records: the hull run served with --view --hold
+    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(["shape", "--shape", "circle", "--duration", "2", "--trail", "none"])
+        .args(["--collision-geometry", "hull", "--view", "--port", "0", "--hold"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap())
+        .lines()
+        .map_while(Result::ok);
+    let url = stderr
+        .find_map(|line| line.strip_prefix("viz: live view at ").map(str::to_string))
+        .expect("the live view's address on stderr");
+    let mut red = 0;
+    for wait in [8, 24] {
+        // on a slow machine, again with more time
+        red = red_pixels(&screenshot(
+            &format!("{url}/#t=1&paused"),
+            &dir.join("live.png"),
+            Duration::from_secs(wait),
+        ));
+        if red > 3_000 {
+            break;
+        }
+    }
+    interrupt(child.id());
+    assert_eq!(
+        child.wait().unwrap().code(),
+        Some(0),
+        "Ctrl-C while holding ends cleanly"
+    );
+    assert!(
+        red > 3_000,
+        "the live view draws the colliding links red: {red} red pixels"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -64,6 +64,8 @@ fn wave_writes_the_trail_and_summary_contracts() {
     assert_eq!(
         keys,
         [
+            "clearance",
+            "clearance_wall_time_s",
             "diverged",
             "dof",
             "dt",
@@ -96,6 +98,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
         "t=  0.50s",
         "[summary]",
         "tool range",
+        "self-clearance (exact meshes): ",
     ] {
         assert!(run.stdout.contains(part), "stdout lacks {part:?}:\n{}", run.stdout);
     }
@@ -336,7 +339,7 @@ fn progress_bar_shows_on_a_terminal_only() {
     let dir = temp_dir("progress");
     let exe = env!("CARGO_BIN_EXE_faze4");
     // a run of a few seconds: under a pseudo-terminal (util-linux `script`) the bar appears…
-    let command = format!("{exe} wave --duration 300 --trail none");
+    let command = format!("{exe} wave --duration 300 --trail none --no-collisions");
     let tty = std::process::Command::new("script")
         .args(["-qec", &command, "/dev/null"])
         .current_dir(&dir)
@@ -349,7 +352,10 @@ fn progress_bar_shows_on_a_terminal_only() {
         "no progress bar on a terminal"
     );
     // …and with stderr a pipe, it does not
-    let piped = faze4(&dir, &["wave", "--duration", "300", "--trail", "none"]);
+    let piped = faze4(
+        &dir,
+        &["wave", "--duration", "300", "--trail", "none", "--no-collisions"],
+    );
     assert!(piped.status.success());
     assert!(
         piped.stderr.is_empty(),

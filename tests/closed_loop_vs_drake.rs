@@ -58,6 +58,8 @@ fn run_fixture(name: &str) -> (Value, Ours) {
         "trail.csv".into(),
         "--summary".into(),
         "summary.json".into(),
+        // the dynamics is what is compared: no self-clearance (tests/self_clearance.rs)
+        "--no-collisions".into(),
     ]);
     let argv: Vec<&str> = args.iter().map(String::as_str).collect();
     let run = faze4(&dir, &argv);

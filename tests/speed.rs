@@ -22,7 +22,7 @@ fn options(v: &Value) -> Vec<Option<f64>> {
 fn the_bundled_faze4_has_no_speed_limit_unless_given() {
     let dir = temp_dir("speed-faze4");
     // 25° at 0.5 rad/s: each joint's commanded speed peaks at A·ω = 0.218 rad/s
-    let s = run_summary(&dir, &["wave", "--duration", "8"]);
+    let s = run_summary(&dir, &["wave", "--duration", "8", "--no-collisions"]);
     let peak = 25f64.to_radians() * 0.5;
     for (i, &w) in vec_f64(&s["max_speed"]).iter().enumerate() {
         assert!((w - peak).abs() < 0.01 * peak || w < peak, "J{} max speed {w}", i + 1);
@@ -38,7 +38,14 @@ fn the_bundled_faze4_has_no_speed_limit_unless_given() {
     // a limit below J6's peak: over it for part of the run, not all of it
     let s = run_summary(
         &dir,
-        &["wave", "--duration", "8", "--max-speed", "auto,auto,auto,auto,auto,0.2"],
+        &[
+            "wave",
+            "--duration",
+            "8",
+            "--max-speed",
+            "auto,auto,auto,auto,auto,0.2",
+            "--no-collisions",
+        ],
     );
     let pct = options(&s["velocity_limit_pct"]);
     assert!(pct[..5].iter().all(Option::is_none));
@@ -46,7 +53,17 @@ fn the_bundled_faze4_has_no_speed_limit_unless_given() {
     assert!(over > 1.0 && over < 50.0, "{over}");
     assert_eq!(options(&s["velocity_limit"])[5], Some(0.2));
     // a limit above every speed: 0 %
-    let s = run_summary(&dir, &["wave", "--duration", "8", "--max-speed", "1,1,1,1,1,1"]);
+    let s = run_summary(
+        &dir,
+        &[
+            "wave",
+            "--duration",
+            "8",
+            "--max-speed",
+            "1,1,1,1,1,1",
+            "--no-collisions",
+        ],
+    );
     assert!(options(&s["velocity_limit_pct"]).iter().all(|p| *p == Some(0.0)));
     std::fs::remove_dir_all(&dir).unwrap();
 }

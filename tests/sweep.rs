@@ -1,6 +1,7 @@
 //! `faze4 sweep` through the real binary: rows equal single runs bit for bit, shards merge to
 //! the whole sweep, the search's answer agrees with single runs, and bad input is one line and
-//! exit 2.
+//! exit 2. Only the tests of rows against single runs measure self-clearance (its cost on the
+//! Faze4's exact meshes is seconds per run in a debug build); the others pass `--no-collisions`.
 
 mod common;
 
@@ -134,6 +135,23 @@ fn rows_equal_single_runs(name: &str, vary: &[&str], base: &[&str]) {
             }
             compared += 1;
         }
+        // the self-clearance: the closest pair, its distance and time; the per-pair list
+        // stays in the summary
+        assert!(!header.iter().any(|h| h.starts_with("clearance_pairs")), "{header:?}");
+        if let Some(c) = summary.get("clearance") {
+            for key in ["min_m", "t"] {
+                let cell = cells[format!("clearance_{key}").as_str()];
+                assert_eq!(
+                    cell.parse::<f64>().unwrap().to_bits(),
+                    c[key].as_f64().unwrap().to_bits(),
+                    "{single:?}: clearance_{key}"
+                );
+            }
+            assert_eq!(cells["clearance_geometry"], c["geometry"].as_str().unwrap());
+            assert_eq!(cells["clearance_links_1"], c["links"][0].as_str().unwrap());
+            assert_eq!(cells["clearance_links_2"], c["links"][1].as_str().unwrap());
+            compared += 1;
+        }
     }
     assert!(compared > 20 * rows.len(), "{name}: compared {compared} figures");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -157,6 +175,25 @@ fn a_shape_sweeps_rows_equal_its_single_runs() {
     );
 }
 
+/// With the convex hulls every run collides (nadlaktica and podlaktica): `follows` false, the
+/// reasons and the clearance columns those of the single runs.
+#[test]
+fn a_hull_sweeps_clearance_equals_its_single_runs() {
+    rows_equal_single_runs(
+        "hull",
+        &["payload-kg=0,1.2"],
+        &[
+            "shape",
+            "--shape",
+            "circle",
+            "--duration",
+            "1",
+            "--collision-geometry",
+            "hull",
+        ],
+    );
+}
+
 #[test]
 fn a_sweep_of_an_arm_of_our_own_equals_its_single_runs() {
     let urdf = repo_path("tests/urdf/arm_prismatic.urdf");
@@ -173,7 +210,7 @@ fn merged_shards_equal_the_whole_sweep() {
     let sweep = |extra: &[&str]| {
         let mut args = vec!["sweep", "--vary", "payload-kg=0:2:0.25", "--vary", "freq=0.5,1.5", "-q"];
         args.extend(extra);
-        args.extend(["--", "wave", "--duration", "0.5"]);
+        args.extend(["--", "wave", "--duration", "0.5", "--no-collisions"]);
         ok(&faze4(&dir, &args));
     };
     sweep(&["--out", "whole.csv"]);
@@ -199,10 +236,12 @@ fn merged_shards_equal_the_whole_sweep() {
     assert_eq!(whole_header, merged_header);
     assert_eq!(whole.len(), 18);
     assert_eq!(merged.len(), whole.len());
-    let wall = whole_header
-        .iter()
-        .position(|h| h == "wall_time_s")
-        .expect("wall_time_s column");
+    // wall-clock times (wall_time_s, clearance_wall_time_s) differ from run to run
+    let wall: Vec<usize> = (whole_header.iter().enumerate())
+        .filter(|(_, h)| h.ends_with("wall_time_s"))
+        .map(|(i, _)| i)
+        .collect();
+    assert!(!wall.is_empty(), "a wall_time_s column");
     let mut shard_sizes: Vec<usize> = (1..=4)
         .map(|k| read_table(&dir.join(format!("part{k}.csv"))).1.len())
         .collect();
@@ -210,7 +249,7 @@ fn merged_shards_equal_the_whole_sweep() {
     assert_eq!(shard_sizes, [4, 4, 5, 5]);
     for (a, b) in whole.iter().zip(&merged) {
         for (i, (x, y)) in a.iter().zip(b).enumerate() {
-            if i != wall {
+            if !wall.contains(&i) {
                 assert_eq!(x, y, "column {}", whole_header[i]);
             }
         }
@@ -229,6 +268,7 @@ fn merged_shards_equal_the_whole_sweep() {
             "-q",
             "--",
             "wave",
+            "--no-collisions",
             "--duration",
             "0.2",
         ],
@@ -254,7 +294,7 @@ fn number_after(line: &str, label: &str) -> f64 {
 #[test]
 fn find_answers_with_values_that_single_runs_confirm() {
     let dir = temp_dir("find");
-    let base = ["wave", "--duration", "1"];
+    let base = ["wave", "--duration", "1", "--no-collisions"];
     let mut args = vec!["sweep", "--find", "payload-kg=0:3", "--resolution", "0.01", "--"];
     args.extend(base);
     let run = faze4(&dir, &args);
@@ -317,6 +357,7 @@ fn failed_runs_are_rows_and_the_scales_multiply_the_tuned_values() {
             "t.json",
             "--",
             "wave",
+            "--no-collisions",
             "--duration",
             "0.5",
         ],
@@ -355,6 +396,7 @@ fn failed_runs_are_rows_and_the_scales_multiply_the_tuned_values() {
             "trails",
             "--",
             "wave",
+            "--no-collisions",
             "--duration",
             "0.5",
         ],
@@ -383,6 +425,7 @@ fn failed_runs_are_rows_and_the_scales_multiply_the_tuned_values() {
             "r.csv",
             "--",
             "wave",
+            "--no-collisions",
             "--motors",
             "faze4",
             "--duration",
@@ -410,6 +453,7 @@ fn the_plot_draws_one_option_as_lines_and_two_as_heatmaps() {
             "-q",
             "--",
             "shape",
+            "--no-collisions",
             "--shape",
             "tri",
             "--duration",
@@ -429,6 +473,7 @@ fn the_plot_draws_one_option_as_lines_and_two_as_heatmaps() {
             "-q",
             "--",
             "wave",
+            "--no-collisions",
             "--duration",
             "0.5",
         ],
@@ -569,6 +614,7 @@ fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
             "-q",
             "--",
             "wave",
+            "--no-collisions",
             "--duration",
             "1",
         ],

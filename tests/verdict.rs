@@ -26,14 +26,15 @@ fn the_originals_runs_follow() {
         vec!["shape", "--shape", "tri"],
     ] {
         let mut all = args.clone();
-        all.extend(["--trail", "none", "--summary", "s.json", "--strict"]);
+        // the figures are the point; the circle's self-clearance is tests/self_clearance.rs's
+        all.extend(["--trail", "none", "--summary", "s.json", "--strict", "--no-collisions"]);
         let run = faze4(&dir, &all);
         assert!(run.status.success(), "{args:?}: {}", run.stderr);
         assert_eq!(last_line(&run.stdout), "verdict: follows", "{args:?}");
         let s = summary(&dir, "s.json");
         assert_eq!(
             s["verdict"],
-            serde_json::json!({"follows": true, "reasons": []}),
+            serde_json::json!({"follows": true, "collides": false, "reasons": []}),
             "{args:?}"
         );
     }
@@ -55,6 +56,8 @@ fn a_heavy_payload_cannot_follow_and_strict_fails() {
         "none",
         "--summary",
         "s.json",
+        // the figures are the point here; self-clearance has its own tests
+        "--no-collisions",
     ];
     let run = faze4(&dir, &args);
     assert!(
@@ -99,7 +102,7 @@ fn the_thresholds_move_the_verdict() {
     let dir = temp_dir("verdict-thresholds");
     let verdict = |args: &[&str]| {
         let mut all = args.to_vec();
-        all.extend(["--trail", "none", "--strict"]);
+        all.extend(["--trail", "none", "--strict", "--no-collisions"]);
         let run = faze4(&dir, &all);
         (run.status.code(), last_line(&run.stdout).to_string())
     };
@@ -176,14 +179,23 @@ fn long_runs_print_about_forty_lines() {
         run.stdout.lines().filter(|l| l.starts_with("t=")).count()
     };
     assert_eq!(
-        lines(&["wave", "--duration", "8", "--trail", "none"]),
+        lines(&["wave", "--duration", "8", "--trail", "none", "--no-collisions"]),
         17,
         "0.5 s lines, t = 0 included"
     );
-    let long = lines(&["wave", "--duration", "120", "--trail", "none"]);
+    let long = lines(&["wave", "--duration", "120", "--trail", "none", "--no-collisions"]);
     assert!((20..=41).contains(&long), "{long} lines for 120 s");
     assert_eq!(
-        lines(&["wave", "--duration", "120", "--trail", "none", "--print-period", "10"]),
+        lines(&[
+            "wave",
+            "--duration",
+            "120",
+            "--trail",
+            "none",
+            "--print-period",
+            "10",
+            "--no-collisions"
+        ]),
         13
     );
     std::fs::remove_dir_all(&dir).unwrap();

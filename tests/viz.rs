@@ -176,7 +176,7 @@ fn live_view_serves_its_assets_and_nothing_else() {
     let early = events_until_end(early, port, false);
     for stream in [&late, &early] {
         assert!(
-            stream.contains("event: run\ndata: {\"run\":1,\"stride\":85}"),
+            stream.contains("event: run\ndata: {\"run\":1,\"stride\":91}"),
             "{stream}"
         );
         let b64: usize = stream

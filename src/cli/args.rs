@@ -176,7 +176,7 @@ pub struct RunArgs {
         allow_hyphen_values = true
     )]
     pub max_deviation_mm: f64,
-    /// Exit with status 3 when the verdict is "cannot follow" (for CI jobs that guard a motion).
+    /// Exit with status 3 when the verdict is "cannot follow" or "collides" (for CI jobs that guard a motion).
     #[arg(long)]
     pub strict: bool,
     /// Trail CSV (t, x, y, z, q1…); 'none' writes none.
@@ -193,6 +193,17 @@ pub struct RunArgs {
         allow_hyphen_values = true
     )]
     pub record_period: f64,
+    /// How self-clearance reads a collision mesh: 'mesh', its exact triangles, or 'hull', its
+    /// convex hull (as Drake and most simulators do; signed distances).
+    #[arg(long = "collision-geometry", default_value = "mesh", value_name = "KIND", value_parser = ["mesh", "hull"])]
+    pub collision_geometry: String,
+    /// Which pairs of links self-clearance checks: 'all' adds the pairs a joint connects to the
+    /// default (Drake's: links on different bodies not connected by a joint).
+    #[arg(long = "collision-pairs", value_name = "all", value_parser = ["all"])]
+    pub collision_pairs: Option<String>,
+    /// No self-clearance: the collision geometry is skipped altogether (its meshes not read).
+    #[arg(long = "no-collisions", conflicts_with_all = ["collision_geometry", "collision_pairs"])]
+    pub no_collisions: bool,
     /// Show the run live in the browser at http://127.0.0.1:PORT, in real time.
     #[arg(long)]
     pub view: bool,

@@ -24,7 +24,7 @@ use crate::viz::{HtmlExport, LiveView, PlotRecorder};
 pub const EXIT_DIVERGED: u8 = 1;
 /// Exit status of bad input (arguments, files, models).
 pub const EXIT_INPUT: u8 = 2;
-/// Exit status of a run whose verdict is "cannot follow", under `--strict`.
+/// Exit status of a run whose verdict is "cannot follow" or "collides", under `--strict`.
 pub const EXIT_CANNOT_FOLLOW: u8 = 3;
 /// Exit status of a run stopped by Ctrl-C (128 + SIGINT, as shells report it).
 pub const EXIT_INTERRUPTED: u8 = 130;
@@ -92,7 +92,7 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 /// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
 /// command's joint samples there). The last line says whether the arm follows its command; the
 /// exit status says whether the run diverged (1), was interrupted (130), or, with `--strict`,
-/// cannot follow (3).
+/// cannot follow or collides (3).
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let mut outputs = Outputs::open(scenario, run, save_q)?;
@@ -255,8 +255,12 @@ fn report_files(outputs: &Outputs, run: &RunArgs, save_q: Option<&Path>, summary
         written.push(format!("plot -> {}", p.path().display()));
     }
     let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
+    let clearance = match summary.clearance_wall_time_s {
+        Some(s) => format!("; self-clearance {s:.3} s of it"),
+        None => String::new(),
+    };
     written.push(format!(
-        "{} steps in {:.3} s ({:.2} µs/step)",
+        "{} steps in {:.3} s ({:.2} µs/step{clearance})",
         summary.steps,
         summary.wall_time_s,
         per_step * 1e6

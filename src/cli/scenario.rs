@@ -7,10 +7,10 @@ use std::path::Path;
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::error::{Error, Result};
 use crate::faze4::motors::{motor_effort, with_faze4_motors};
-use crate::geometry::Robot;
+use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
 use crate::model::{FrameId, Joint, Model, PackagePaths};
 use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
-use crate::sim::{Scenario, ScenarioBuilder, ShapeRun, Thresholds};
+use crate::sim::{Collisions, Scenario, ScenarioBuilder, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
@@ -216,6 +216,7 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
         .payload_kg(run.payload_kg)
         .gravity(!run.no_gravity)
         .feedforward(!run.no_ff)
+        .collisions(collisions(run))
         .thresholds(Thresholds {
             max_saturation_pct: run.max_saturation_pct,
             max_error: run.max_error,
@@ -236,6 +237,21 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
         builder = builder.kd(kd.0.clone());
     }
     Ok(builder)
+}
+
+/// `--collision-geometry`, `--collision-pairs`, `--no-collisions` → the run's clearance
+/// settings (`None`: no clearance).
+pub fn collisions(run: &RunArgs) -> Option<Collisions> {
+    (!run.no_collisions).then_some(Collisions {
+        geometry: match run.collision_geometry.as_str() {
+            "hull" => ClearanceGeometry::Hull,
+            _ => ClearanceGeometry::Mesh,
+        },
+        pairs: match run.collision_pairs.as_deref() {
+            Some("all") => PairFilter::All,
+            _ => PairFilter::NonAdjacent,
+        },
+    })
 }
 
 /// Every joint's value, `auto` refused (it is for gains).

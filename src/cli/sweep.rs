@@ -1,12 +1,12 @@
 //! `faze4 sweep`: the command line of [`crate::sweep`]. A sweep point is a set of overrides
 //! applied to the parsed options of the base command (after `--`); the model (and a replay's
-//! frames, a shape's IK) are read once and shared by every run.
+//! frames, a shape's IK, the collision meshes) are read once and shared by every run.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
@@ -15,7 +15,8 @@ use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, SweepArgs, Sweep
 use super::{EXIT_INTERRUPTED, scenario};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
-use crate::geometry::Robot;
+use crate::geometry::{CollisionSet, Robot};
+use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag};
 use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
 use crate::traj::{Trajectory, npy};
@@ -140,10 +141,14 @@ fn shape(c: &mut Command) -> Option<&mut ShapeArgs> {
     }
 }
 
-/// The base command with what it reads once: the model, a replay's frames, a shape's plan.
+/// The base command with what it reads once: the model, a replay's frames, a shape's plan, the
+/// collision set.
 struct Base {
     command: Command,
     robot: Robot,
+    /// The collision set every run measures its self-clearance with (`robot.geometry` keeps
+    /// its collision elements only when there is one).
+    collision_set: Option<Arc<CollisionSet>>,
     frames: Vec<Vec<f64>>,
     plan: Option<(Trajectory, ShapeRun)>,
 }
@@ -171,7 +176,7 @@ impl Base {
                 Error::argument(format!("sweep -- {}", words[0]), first)
             })?
             .command;
-        let (robot, frames, plan) = match &command {
+        let (mut robot, frames, plan) = match &command {
             Command::Wave(a) => (scenario::load_model(&a.run)?, Vec::new(), None),
             Command::Replay(a) => (scenario::load_model(&a.run)?, npy::read_samples(&a.q_traj)?, None),
             Command::Shape(a) => {
@@ -208,9 +213,15 @@ impl Base {
                 ));
             }
         }
+        // the meshes are read once, not once per run (a sweep prints no warnings: a mesh not
+        // found shows in the table's clearance_unchecked columns)
+        let collisions = scenario::collisions(run);
+        let (geometry, collision_set) = load_collisions(&robot.model, robot.geometry, collisions, &mut Vec::new())?;
+        robot.geometry = geometry;
         Ok(Base {
             command,
             robot,
+            collision_set,
             frames,
             plan,
         })
@@ -226,6 +237,8 @@ impl Base {
                 Knob::Scale(scale) => scales.push((*scale, x)),
             }
         }
+        // the collision set is Base's, loaded once
+        run(&mut command).no_collisions = true;
         let robot = self.robot.clone();
         let mut scenario = match &command {
             Command::Wave(a) => scenario::wave_with(a, robot)?,
@@ -239,6 +252,8 @@ impl Base {
             }
             Command::Sweep(_) => unreachable!("refused by Base::load"),
         };
+        scenario.geometry = self.robot.geometry.clone();
+        scenario.collision_set = self.collision_set.clone();
         for (scale, x) in scales {
             scale.apply(&mut scenario, x)?;
         }

@@ -139,3 +139,14 @@ impl GeometryModel {
         }
     }
 }
+
+impl std::fmt::Debug for CollisionSet {
+    /// How meshes are read, the checked pairs by link, and the links left out.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CollisionSet")
+            .field("geometry", &self.geometry())
+            .field("pairs", &self.pair_links().collect::<Vec<_>>())
+            .field("unchecked", &self.unchecked())
+            .finish()
+    }
+}

@@ -11,8 +11,8 @@ mod verdict;
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
-    DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
+    Collisions, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
 };
 pub use stop::StopFlag;
 pub use summary::{Diverged, PathDeviation, Summary, ToolRange};
-pub use verdict::{Reason, Thresholds, Verdict, percent};
+pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

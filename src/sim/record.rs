@@ -35,6 +35,9 @@ pub struct RunInfo<'a> {
     pub board: Option<&'a Board>,
     /// For shapes: the closed reference path the tool should draw (world, m).
     pub reference_path: Option<&'a [Vec3]>,
+    /// The link frames of each pair whose self-clearance is checked, in the order of
+    /// [`Sample::intersecting`] (empty when the run checks none).
+    pub collision_pairs: &'a [[FrameId; 2]],
 }
 
 /// The state of the run after `step` steps (t = step·Δt), with the torque computed from it.
@@ -60,6 +63,10 @@ pub struct Sample<'a> {
     pub tool: Vec3,
     /// For shapes: the reference point the tool should be at now (world, m).
     pub target: Option<Vec3>,
+    /// Per checked pair ([`RunInfo::collision_pairs`]), whether its collision geometry
+    /// intersects at the latest trail sample (this one when it is a trail sample); empty when
+    /// the run checks no clearance.
+    pub intersecting: &'a [bool],
 }
 
 /// A consumer of a run's output. `begin` once, `record` at every sample its period asks for

@@ -1,15 +1,17 @@
 //! The closed loop: the discrete step driven by the PD controller (docs/model.md).
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-use crate::algo::{Data, compute_all_terms, frame_position, integrate_discrete};
+use crate::algo::{Data, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
 use crate::error::{Error, Result};
-use crate::model::{JointId, JointKind};
+use crate::geometry::{ClearanceReport, CollisionSet, GeometryData};
+use crate::model::{FrameId, JointId, JointKind};
+use crate::spatial::Pose;
 use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, Verdict,
+    Diverged, Intersection, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, Verdict,
     steps_per_record,
 };
 
@@ -26,7 +28,10 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 /// pass; the command at t_k; the PD torque, held over the step; the discrete step. The summary's
 /// tracking error, saturation, speed and time over the speed limit are over those steps; tool
 /// range and path deviation over the
-/// samples every `record_every` steps and after the last. A diverged run stops at once; its
+/// samples every `record_every` steps and after the last, where the self-clearance of the
+/// scenario's collision set is measured too (every frame's pose by forward kinematics, then
+/// [`CollisionSet::accumulate`]): the summary's `clearance`, and a verdict that *collides* when
+/// any pair intersects at a sample. A diverged run stops at once; its
 /// summary says where (`diverged`), and covers the steps that completed. A raised `stop` flag
 /// ends the run at the next poll the same way, as if that step were the last
 /// (`interrupted_at_s` in the summary).
@@ -42,6 +47,11 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let (mut tau_raw, mut tau) = (vec![0.0; n], vec![0.0; n]);
     let mut steps = StepMetrics::new(n);
     let mut samples = SampleMetrics::new();
+    let mut clearance = sc.collision_set.as_deref().map(ClearanceMetrics::new);
+    let collision_pairs: Vec<[FrameId; 2]> = (sc.collision_set.iter())
+        .flat_map(|set| set.pairs())
+        .map(|(a, b)| [sc.geometry.collisions[a].frame, sc.geometry.collisions[b].frame])
+        .collect();
 
     let info = RunInfo {
         command: &sc.command,
@@ -55,6 +65,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         start_q: &start_q,
         board: sc.shape.as_ref().map(|s| &s.board),
         reference_path: sc.shape.as_ref().map(|s| s.reference.as_slice()),
+        collision_pairs: &collision_pairs,
     };
     for r in recorders.iter_mut() {
         r.begin(&info)?;
@@ -93,6 +104,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             });
             if record_metrics {
                 samples.add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
+                if let Some(c) = clearance.as_mut() {
+                    forward_kinematics(model, &mut data, &q);
+                    c.add(&data.frame_pose, t);
+                }
             }
             let sample = Sample {
                 step: k,
@@ -105,6 +120,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 g: data.g.as_slice(),
                 tool,
                 target,
+                intersecting: clearance.as_ref().map_or(&[], |c| c.data.intersecting.as_slice()),
             };
             schedule.record(recorders, k, last, &sample)?;
         }
@@ -150,7 +166,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         ..Summary::default()
     };
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
-    summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic);
+    let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
+    summary.clearance_wall_time_s = clearance.as_ref().map(|c| c.elapsed.as_secs_f64());
+    summary.clearance = clearance.map(|c| c.report);
+    summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
     for r in recorders.iter_mut() {
         r.finish(&summary)?;
     }
@@ -291,5 +310,65 @@ impl SampleMetrics {
             self.deviation_sum += d;
         }
         self.samples += 1;
+    }
+}
+
+/// Self-clearance over the trail samples: the report, and when each pair first intersected.
+struct ClearanceMetrics<'a> {
+    set: &'a CollisionSet,
+    data: GeometryData,
+    report: ClearanceReport,
+    /// Per checked pair, the time of the first sample at which it intersects (s).
+    first_intersection: Vec<Option<f64>>,
+    /// Wall-clock time spent in [`ClearanceMetrics::add`].
+    elapsed: Duration,
+}
+
+impl<'a> ClearanceMetrics<'a> {
+    fn new(set: &'a CollisionSet) -> Self {
+        let data = GeometryData::new(set);
+        let first_intersection = vec![None; data.intersecting.len()];
+        ClearanceMetrics {
+            set,
+            data,
+            report: set.new_report(),
+            first_intersection,
+            elapsed: Duration::ZERO,
+        }
+    }
+
+    /// Folds the sample at time `t` (s), whose frames are at `frame_pose`, in.
+    fn add(&mut self, frame_pose: &[Pose], t: f64) {
+        let started = Instant::now();
+        self.set.accumulate(frame_pose, t, &mut self.data, &mut self.report);
+        for (first, &now) in self.first_intersection.iter_mut().zip(&self.data.intersecting) {
+            if now && first.is_none() {
+                *first = Some(t);
+            }
+        }
+        self.elapsed += started.elapsed();
+    }
+
+    /// The pairs of links that intersected, each once (a link may carry several shapes), in
+    /// the order they first did (pair order among equals).
+    fn intersections(&self) -> Vec<Intersection> {
+        let mut pairs: Vec<Intersection> = (self.report.pairs.iter().zip(&self.first_intersection))
+            .filter_map(|(p, first)| {
+                first.map(|from_t| Intersection {
+                    links: p.links.clone(),
+                    from_t,
+                })
+            })
+            .collect();
+        pairs.sort_by(|a, b| a.from_t.total_cmp(&b.from_t));
+        let mut seen: Vec<[String; 2]> = Vec::new();
+        pairs.retain(|p| {
+            let new = !seen.contains(&p.links);
+            if new {
+                seen.push(p.links.clone());
+            }
+            new
+        });
+        pairs
     }
 }

@@ -14,6 +14,7 @@
 //! ```
 
 use std::fmt;
+use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
@@ -21,7 +22,7 @@ use crate::algo::{Data, crba};
 use crate::control::{Gains, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result};
 use crate::faze4;
-use crate::geometry::GeometryModel;
+use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::ik::{IkTask, solve_path};
 use crate::model::{FrameId, JointId, Model};
 use crate::spatial::Vec3;
@@ -45,8 +46,14 @@ pub struct Scenario {
     pub command: String,
     /// The simulated model (payload included; gravity as the run wants it).
     pub model: Model,
-    /// Its visuals and collision geometry (empty unless given).
+    /// Its visuals and collision geometry (empty unless given; no collision geometry when
+    /// the run checks no clearance).
     pub geometry: GeometryModel,
+    /// The loaded collision geometry whose self-clearance the run measures at every trail
+    /// sample: `None` with clearance off ([`ScenarioBuilder::collisions`]`(None)`) or when the
+    /// geometry has no collision element. Shared, immutable: clones of the scenario (a sweep's
+    /// runs) use the same one.
+    pub collision_set: Option<Arc<CollisionSet>>,
     /// The frame traced as the tool.
     pub tool_frame: FrameId,
     /// The joint command.
@@ -90,6 +97,8 @@ pub enum Warning {
         /// Whether the gains were given (`--kp`/`--kd`) rather than tuned.
         given: bool,
     },
+    /// Part of the collision geometry is left out of the clearance (a mesh not found).
+    Clearance(geometry::Warning),
 }
 
 impl fmt::Display for Warning {
@@ -108,8 +117,19 @@ impl fmt::Display for Warning {
                 s.b_max,
                 s.b_kd
             ),
+            Warning::Clearance(w) => write!(f, "warning: {w}"),
         }
     }
+}
+
+/// How a run measures the self-clearance of its collision geometry (see
+/// [`CollisionSet`]): the default is the exact meshes and Drake's non-adjacent pairs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Collisions {
+    /// Exact triangles (`--collision-geometry mesh`) or convex hulls (`hull`).
+    pub geometry: ClearanceGeometry,
+    /// Which pairs are checked (`--collision-pairs all` for [`PairFilter::All`]).
+    pub pairs: PairFilter,
 }
 
 /// The drawing part of a `shape` run.
@@ -166,6 +186,7 @@ impl Scenario {
     pub fn builder(model: Model, trajectory: Trajectory) -> ScenarioBuilder {
         ScenarioBuilder {
             geometry: GeometryModel::default(),
+            collisions: Some(Collisions::default()),
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
                 Trajectory::Interpolated(_) => "replay",
@@ -197,6 +218,7 @@ pub struct ScenarioBuilder {
     command: String,
     model: Model,
     geometry: GeometryModel,
+    collisions: Option<Collisions>,
     trajectory: Trajectory,
     dt: f64,
     duration: f64,
@@ -224,6 +246,14 @@ impl ScenarioBuilder {
     /// views; none by default.
     pub fn geometry(mut self, geometry: GeometryModel) -> Self {
         self.geometry = geometry;
+        self
+    }
+
+    /// How the self-clearance of the geometry's collision elements is measured, or `None`
+    /// (`--no-collisions`) for no clearance at all: the collision elements are dropped and no
+    /// mesh is read. Default: [`Collisions::default`] (exact meshes, non-adjacent pairs).
+    pub fn collisions(mut self, collisions: Option<Collisions>) -> Self {
+        self.collisions = collisions;
         self
     }
 
@@ -388,10 +418,12 @@ impl ScenarioBuilder {
             warnings.push(Warning::UnstableGains { stability, given });
         }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
+        let (geometry, collision_set) = load_collisions(&model, self.geometry, self.collisions, &mut warnings)?;
         Ok(Scenario {
             command: self.command,
             model,
-            geometry: self.geometry,
+            geometry,
+            collision_set,
             tool_frame,
             trajectory: self.trajectory,
             dt: self.dt,
@@ -407,6 +439,28 @@ impl ScenarioBuilder {
             warnings,
         })
     }
+}
+
+/// The geometry a run of `model` keeps and its loaded collision set, as
+/// [`ScenarioBuilder::collisions`] says: none, and no collision elements, when `collisions` is
+/// `None`; none when the geometry has no collision element. Meshes not found become warnings
+/// (appended to `warnings`); a mesh that cannot be read is an error. What the builder does; a
+/// sweep calls it once for all its runs.
+pub fn load_collisions(
+    model: &Model,
+    geometry: GeometryModel,
+    collisions: Option<Collisions>,
+    warnings: &mut Vec<Warning>,
+) -> Result<(GeometryModel, Option<Arc<CollisionSet>>)> {
+    let Some(Collisions { geometry: kind, pairs }) = collisions else {
+        return Ok((geometry.without_collisions(), None));
+    };
+    if geometry.collisions.is_empty() {
+        return Ok((geometry, None));
+    }
+    let (set, missing) = CollisionSet::new(model, &geometry, kind, pairs)?;
+    warnings.extend(missing.into_iter().map(Warning::Clearance));
+    Ok((geometry, Some(Arc::new(set))))
 }
 
 /// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then

@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::Verdict;
 use crate::control::Gains;
+use crate::geometry::ClearanceReport;
 use crate::model::JointId;
 
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
@@ -73,14 +74,23 @@ pub struct Summary {
     pub diverged: Option<Diverged>,
     /// Whether the arm follows its command, and if not, why (see [`Verdict`]).
     pub verdict: Verdict,
-    /// Wall-clock time of the simulation loop (s).
+    /// Wall-clock time of the simulation loop (s), the self-clearance included.
     pub wall_time_s: f64,
+    /// Of `wall_time_s`, the time spent measuring the self-clearance (s); absent when the run
+    /// checks none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_wall_time_s: Option<f64>,
     /// Shapes only: tool distance to the reference path.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub path_deviation_mm: Option<PathDeviation>,
     /// Shapes only: the largest IK position residual over the samples (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ik_max_residual_m: Option<f64>,
+    /// The self-clearance of the collision geometry over the trail samples: per checked pair
+    /// its smallest distance and when, the closest pair, the links not checked. Absent when
+    /// the run checks none (`--no-collisions`, or a model without collision geometry).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<ClearanceReport>,
     /// Only when the run was stopped by Ctrl-C: the simulated time it stopped at (s); the
     /// metrics cover the steps before it.
     #[serde(skip_serializing_if = "Option::is_none")]

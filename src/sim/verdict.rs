@@ -6,6 +6,12 @@
 //! deviation stays within [`Thresholds::max_deviation_mm`], and no joint exceeds its speed limit
 //! (where it has one). Each figure beyond its threshold is a [`Reason`], naming the joint and the
 //! figure.
+//!
+//! A run whose collision geometry intersects itself at any trail sample *collides*
+//! ([`Reason::Collides`], first among the reasons, naming the pairs and when each first
+//! intersected): it does not follow either, whatever its other figures; the verdict line reads
+//! `verdict: collides — …`, followed by `; cannot follow — …` when other figures are beyond
+//! their thresholds too.
 
 use std::fmt;
 
@@ -36,9 +42,26 @@ impl Default for Thresholds {
     }
 }
 
+/// A checked pair of links that intersected during a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Intersection {
+    /// The two URDF link names.
+    pub links: [String; 2],
+    /// Simulated time of the first trail sample at which they intersect (s).
+    pub from_t: f64,
+}
+
+/// How many intersecting pairs the verdict names (the summary's `"clearance"` has them all).
+const INTERSECTIONS_NAMED: usize = 3;
+
 /// Why a run cannot follow its command.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Reason {
+    /// The collision geometry intersects itself: these pairs, in the order they first did.
+    Collides {
+        /// The intersecting pairs (at least one).
+        pairs: Vec<Intersection>,
+    },
     /// The loop went unstable at time `t` (s) on joint `joint`.
     Diverged {
         /// Simulated time (s).
@@ -89,6 +112,16 @@ pub enum Reason {
 impl fmt::Display for Reason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
+            Reason::Collides { ref pairs } => {
+                let named: Vec<String> = (pairs.iter().take(INTERSECTIONS_NAMED))
+                    .map(|p| format!("{}–{} intersect from t = {:.2} s", p.links[0], p.links[1], p.from_t))
+                    .collect();
+                write!(f, "{}", named.join(", "))?;
+                match pairs.len().saturating_sub(INTERSECTIONS_NAMED) {
+                    0 => Ok(()),
+                    more => write!(f, " (and {more} more pairs)"),
+                }
+            }
             Reason::Diverged { t, joint } => write!(f, "the loop diverged at t = {t:.4} s on {joint}"),
             Reason::Saturates { joint, pct, limit } => {
                 write!(f, "{joint} saturates {} of the steps (limit {limit} %)", percent(pct))
@@ -143,6 +176,9 @@ pub fn percent(pct: f64) -> String {
 pub struct Verdict {
     /// True when no reason was found.
     pub follows: bool,
+    /// True when the collision geometry intersects itself ([`Reason::Collides`] is among the
+    /// reasons).
+    pub collides: bool,
     /// Every figure beyond its threshold (empty when the arm follows).
     pub reasons: Vec<Reason>,
 }
@@ -192,19 +228,39 @@ impl Verdict {
         }
         Verdict {
             follows: reasons.is_empty(),
+            collides: false,
             reasons,
         }
+    }
+
+    /// This verdict with the pairs that intersected (none: unchanged): the run collides, and
+    /// so does not follow; [`Reason::Collides`] goes first.
+    pub fn with_intersections(mut self, pairs: Vec<Intersection>) -> Verdict {
+        if !pairs.is_empty() {
+            self.reasons.insert(0, Reason::Collides { pairs });
+            self.follows = false;
+            self.collides = true;
+        }
+        self
     }
 }
 
 impl fmt::Display for Verdict {
-    /// One line: `verdict: follows`, or `verdict: cannot follow — ` and the reasons.
+    /// One line: `verdict: follows`; `verdict: collides — ` and the intersecting pairs (then
+    /// `; cannot follow — ` and any other reasons); or `verdict: cannot follow — ` and the
+    /// reasons.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.follows {
             return write!(f, "verdict: follows");
         }
-        let reasons: Vec<String> = self.reasons.iter().map(Reason::to_string).collect();
-        write!(f, "verdict: cannot follow — {}", reasons.join("; "))
+        let (collides, others): (Vec<&Reason>, Vec<&Reason>) =
+            (self.reasons.iter()).partition(|r| matches!(r, Reason::Collides { .. }));
+        let others: Vec<String> = others.iter().map(|r| r.to_string()).collect();
+        match collides.first() {
+            Some(c) if others.is_empty() => write!(f, "verdict: collides — {c}"),
+            Some(c) => write!(f, "verdict: collides — {c}; cannot follow — {}", others.join("; ")),
+            None => write!(f, "verdict: cannot follow — {}", others.join("; ")),
+        }
     }
 }
 
@@ -263,7 +319,7 @@ mod tests {
         );
         assert_eq!(
             serde_json::to_value(&v).unwrap(),
-            serde_json::json!({"follows": false, "reasons": ["the loop diverged at t = 0.0016 s on J2"]})
+            serde_json::json!({"follows": false, "collides": false, "reasons": ["the loop diverged at t = 0.0016 s on J2"]})
         );
     }
 
@@ -280,6 +336,34 @@ mod tests {
         );
         s.velocity_limit_pct = vec![None, Some(0.0)];
         assert!(Verdict::judge(&s, &Thresholds::default(), &[false; 2]).follows);
+    }
+
+    #[test]
+    fn an_intersection_collides_first_and_never_follows() {
+        let pair = |a: &str, b: &str, from_t| Intersection {
+            links: [a.into(), b.into()],
+            from_t,
+        };
+        let clean = summary([0.0, 0.0], [0.0, 0.0], None);
+        let follows = Verdict::judge(&clean, &Thresholds::default(), &[false; 2]);
+        assert_eq!(follows.clone().with_intersections(Vec::new()), follows);
+        let v = follows.with_intersections(vec![pair("nadlaktica", "podlaktica", 0.0)]);
+        assert!(!v.follows && v.collides);
+        assert_eq!(
+            v.to_string(),
+            "verdict: collides — nadlaktica–podlaktica intersect from t = 0.00 s"
+        );
+        assert_eq!(
+            serde_json::to_value(&v).unwrap(),
+            serde_json::json!({"follows": false, "collides": true, "reasons": ["nadlaktica–podlaktica intersect from t = 0.00 s"]})
+        );
+        let saturated = summary([0.0, 99.04], [0.0, 0.0], None);
+        let pairs = ["a", "b", "c", "d", "e"].map(|x| pair(x, "z", 1.5)).to_vec();
+        let v = Verdict::judge(&saturated, &Thresholds::default(), &[false; 2]).with_intersections(pairs);
+        assert_eq!(
+            v.to_string(),
+            "verdict: collides — a–z intersect from t = 1.50 s, b–z intersect from t = 1.50 s, c–z intersect from t = 1.50 s (and 2 more pairs); cannot follow — J2 saturates 99.0 % of the steps (limit 5 %)"
+        );
     }
 
     #[test]

@@ -5,7 +5,10 @@
 //! `follows`, `diverged`, `reasons` (the verdict's reasons, or `failed: …` for a run that could
 //! not be built or run), then every figure of the run's summary (the `--summary` JSON; `dt`
 //! only once when it is varied) flattened: a per-joint list `x` becomes `x_1` … `x_N`, a nested object `a: {b}` becomes
-//! `a_b`; an unlimited torque limit is empty. A failed run has empty figures.
+//! `a_b`; an unlimited torque limit is empty. A failed run has empty figures. Lists of objects
+//! (the clearance's per-pair `pairs`) stay in the summary: the table keeps the closest pair,
+//! `clearance_min_m`, `clearance_links_1`, `clearance_links_2`, `clearance_t` (and
+//! `clearance_geometry`), the same columns in every row.
 
 use std::io::Write;
 use std::path::Path;
@@ -72,6 +75,8 @@ fn flatten_into(cells: &mut Cells, prefix: &str, fields: &Map<String, Value>) {
         let name = format!("{prefix}{key}");
         match value {
             Value::Object(inner) => flatten_into(cells, &format!("{name}_"), inner),
+            // per-pair records: their fields vary from row to row (`intersecting`)
+            Value::Array(items) if items.iter().any(Value::is_object) => {}
             Value::Array(items) => {
                 for (i, item) in items.iter().enumerate() {
                     cells.push((format!("{name}_{}", i + 1), scalar(item)));

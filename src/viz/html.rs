@@ -59,7 +59,7 @@ impl Recorder for HtmlExport {
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
         let scene = Scene::for_run(run, self.period);
         scene.warn_fallbacks();
-        self.encoder = Some(SampleEncoder::new(run.model, &scene.slots));
+        self.encoder = Some(SampleEncoder::new(run.model, &scene.slots).collision_pairs(run.collision_pairs));
         self.records = Vec::with_capacity(
             (run.steps / steps_per_record(self.period, run.dt) + 2) * self.encoder.as_ref().unwrap().stride(),
         );

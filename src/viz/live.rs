@@ -133,7 +133,7 @@ impl Recorder for LiveView {
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
         let scene = Scene::for_run(run, self.period);
         scene.warn_fallbacks();
-        let encoder = SampleEncoder::new(run.model, &scene.slots);
+        let encoder = SampleEncoder::new(run.model, &scene.slots).collision_pairs(run.collision_pairs);
         self.server.publish_run(encoder.stride(), scene.encode());
         self.encoder = Some(encoder);
         self.start = None;

@@ -1,6 +1,7 @@
 //! What the viewer draws: per visual, the frame it is attached to, its placement there, a
 //! mesh and a colour; for shapes the board and the reference path. Encoded once per run into
-//! one binary blob; the motion is a stream of fixed-size f32 records (see [`SampleEncoder`]).
+//! one binary blob; the motion is a stream of fixed-size f32 records (see [`SampleEncoder`]),
+//! which also say which links' collision geometry intersects (the viewer tints them red).
 //!
 //! Scene blob, little-endian: `b"F4VZ"`, u32 format version, u32 JSON length, the JSON header,
 //! zero padding to a multiple of 4, then the mesh arrays the header points into (byte offsets
@@ -20,8 +21,8 @@ use crate::sim::{RunInfo, Sample};
 use crate::spatial::{Mat3, Pose, Vec3};
 use crate::traj::shape::Board;
 
-/// Version of the scene blob and sample record layout.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the scene blob and sample record layout (2: a collision flag per slot).
+pub const FORMAT_VERSION: u32 = 2;
 /// Radius of the reference path spheres (m), as the original drew them.
 pub const REFERENCE_RADIUS: f64 = 0.0045;
 /// Radius of the tool trail spheres (m), as the original drew them.
@@ -396,27 +397,46 @@ fn resample_closed(path: &[Vec3], spacing: f64) -> Vec<Vec3> {
 
 /// Turns samples into the viewer's fixed-size f32 records:
 /// `t, tool xyz, target xyz (NaN: none), q (dof), then per slot its world pose (12 floats,
-/// column-major 3×4)`.
+/// column-major 3×4), then per slot 1 if its link's collision geometry intersects another
+/// (see [`SampleEncoder::collision_pairs`]), else 0`.
 #[derive(Clone, Debug)]
 pub struct SampleEncoder {
     model: Model,
     data: Data,
     slots: Vec<usize>,
+    /// Per checked collision pair, the slots of its two links (`None`: a link not drawn or
+    /// fixed to the world).
+    pair_slots: Vec<[Option<usize>; 2]>,
+    /// Per slot, whether its link intersects at the sample being encoded.
+    colliding: Vec<bool>,
 }
 
 impl SampleEncoder {
-    /// An encoder for `model` and the frames `slots` (a scene's [`Scene::slots`]).
+    /// An encoder for `model` and the frames `slots` (a scene's [`Scene::slots`]); no link is
+    /// flagged as colliding unless [`SampleEncoder::collision_pairs`] says which pairs are
+    /// checked.
     pub fn new(model: &Model, slots: &[usize]) -> SampleEncoder {
         SampleEncoder {
             model: model.clone(),
             data: Data::new(model),
             slots: slots.to_vec(),
+            pair_slots: Vec::new(),
+            colliding: vec![false; slots.len()],
         }
+    }
+
+    /// This encoder flagging the links of the pairs that intersect: `pairs` are the link
+    /// frames of the checked pairs ([`RunInfo::collision_pairs`]), in the order of
+    /// [`Sample::intersecting`].
+    pub fn collision_pairs(mut self, pairs: &[[FrameId; 2]]) -> SampleEncoder {
+        let slot = |FrameId(f): FrameId| self.slots.iter().position(|&s| s == f);
+        self.pair_slots = pairs.iter().map(|&[a, b]| [slot(a), slot(b)]).collect();
+        self
     }
 
     /// Floats per record for `dof` joints and `slots` frames.
     pub fn stride_for(dof: usize, slots: usize) -> usize {
-        7 + dof + 12 * slots
+        7 + dof + 13 * slots
     }
 
     /// Floats per record.
@@ -437,6 +457,13 @@ impl SampleEncoder {
         for &f in &self.slots {
             out.extend(pose12(&self.data.frame_pose[f]));
         }
+        self.colliding.fill(false);
+        for (slots, _) in (self.pair_slots.iter().zip(sample.intersecting)).filter(|(_, on)| **on) {
+            for slot in slots.iter().flatten() {
+                self.colliding[*slot] = true;
+            }
+        }
+        out.extend(self.colliding.iter().map(|&c| f32::from(u8::from(c))));
     }
 }
 
@@ -499,6 +526,54 @@ mod tests {
             let expected = CompactMesh::new(&TriMesh::from_soup(&built_in.corners()));
             assert_eq!(scene.meshes[v.mesh], expected, "{}", v.name);
         }
+    }
+
+    #[test]
+    fn records_flag_the_links_of_intersecting_pairs() {
+        let robot = crate::geometry::Robot::faze4();
+        let model = &robot.model;
+        let scene = Scene::from_model(model, &robot.geometry);
+        let frame = |name: &str| model.frame_index(name).unwrap();
+        let pairs = [
+            [frame("nadlaktica"), frame("podlaktica")],
+            [frame("base_link"), frame("saka")],
+        ];
+        let mut encoder = SampleEncoder::new(model, &scene.slots).collision_pairs(&pairs);
+        let zeros = vec![0.0; model.dof()];
+        let record = |encoder: &mut SampleEncoder, intersecting: &[bool]| {
+            let sample = Sample {
+                step: 0,
+                t: 0.0,
+                q: &zeros,
+                v: &zeros,
+                q_cmd: &zeros,
+                v_cmd: &zeros,
+                tau: &zeros,
+                g: &zeros,
+                tool: Vec3::zeros(),
+                target: None,
+                intersecting,
+            };
+            let mut out = Vec::new();
+            encoder.push(&sample, &mut out);
+            assert_eq!(out.len(), encoder.stride());
+            out[out.len() - scene.slots.len()..].to_vec()
+        };
+        let flagged = |flags: Vec<f32>| -> Vec<&str> {
+            (scene.slot_names.iter().zip(flags))
+                .filter(|(_, f)| *f == 1.0)
+                .map(|(n, _)| n.as_str())
+                .collect()
+        };
+        assert_eq!(
+            flagged(record(&mut encoder, &[true, false])),
+            ["nadlaktica", "podlaktica"]
+        );
+        // base_link is welded to the world (no slot): only saka is drawn red
+        assert_eq!(flagged(record(&mut encoder, &[false, true])), ["saka"]);
+        assert!(flagged(record(&mut encoder, &[false, false])).is_empty());
+        // a run that checks no clearance flags nothing
+        assert!(flagged(record(&mut SampleEncoder::new(model, &scene.slots), &[])).is_empty());
     }
 
     #[test]

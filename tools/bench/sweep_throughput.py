@@ -5,7 +5,7 @@ The family: `wave --duration D` with `payload-kg` = 0, 0.01, …, (N−1)·0.01 
 default) on the bundled Faze4, Δt = 2e-4 s (5 kHz). Each faze4 figure is the median of
 --repeats runs; the three faze4 ways alternate so they see the same machine load.
 
-* sweep: `faze4 sweep --vary payload-kg=… --out T.csv -- wave --duration D` on every core;
+* sweep: `faze4 sweep --vary payload-kg=… --out T.csv -- wave --duration D --no-collisions` on every core;
 * sweep --jobs 1: the same on one thread;
 * processes: the same N runs as N `faze4 wave --payload-kg p` processes, one at a time.
 
@@ -81,7 +81,8 @@ def read_table(path):
 def faze4_side(args, tmp):
     last = (args.runs - 1) / 100
     vary = ["--vary", f"payload-kg=0:{last:.2f}:0.01"]
-    base = ["--", "wave", "--duration", str(args.duration)]
+    # the dynamics' throughput: no self-clearance (its exact meshes cost 100 times a run)
+    base = ["--", "wave", "--duration", str(args.duration), "--no-collisions"]
     table = os.path.join(tmp, "sweep.csv")
     times = {"sweep": [], "jobs1": [], "processes": []}
     loop_sums = []
@@ -95,7 +96,7 @@ def faze4_side(args, tmp):
         t0 = time.perf_counter()
         for row in rows:
             subprocess.run([FAZE4, "wave", "--duration", str(args.duration), "--payload-kg", row["payload-kg"],
-                            "--trail", "none", "-q"], check=True, stdout=subprocess.DEVNULL, cwd=tmp)
+                            "--trail", "none", "-q", "--no-collisions"], check=True, stdout=subprocess.DEVNULL, cwd=tmp)
         times["processes"].append(time.perf_counter() - t0)
         print(f"repeat {r + 1}/{args.repeats}: sweep {times['sweep'][-1]:.3f} s, --jobs 1 "
               f"{times['jobs1'][-1]:.3f} s (loops {loop_sums[-1]:.3f} s), processes "

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """faze4 against the Drake Python loop of the same experiment, side by side in one run.
 
-Runs, alternately, `faze4 wave --duration D` (release build) and
+Runs, alternately, `faze4 wave --duration D --no-collisions` (release build; Drake's loop
+measures no self-clearance either) and
 `tools/oracle/drake_closed_loop.py wave --duration D` (pydrake, the original's Python loop),
 N times each, and prints the medians and their ratio:
 
@@ -51,7 +52,7 @@ def main():
         s = os.path.join(tmp, "summary.json")
         d = str(args.duration)
         commands = {
-            "faze4": [FAZE4, "wave", "--duration", d, "--trail", "none", "--summary", s],
+            "faze4": [FAZE4, "wave", "--duration", d, "--trail", "none", "--summary", s, "--no-collisions"],
             "drake": [DRAKE_PY, DRAKE_LOOP, "wave", "--duration", d, "--quiet", "--summary", s],
         }
         for run in range(args.runs):

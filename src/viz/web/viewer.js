@@ -52,7 +52,7 @@
     const dv = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
     const magic = String.fromCharCode(bytes[0], bytes[1], bytes[2], bytes[3]);
     if (magic !== 'F4VZ') throw new Error('not a faze4 scene');
-    if (dv.getUint32(4, true) !== 1) throw new Error('unknown scene format ' + dv.getUint32(4, true));
+    if (dv.getUint32(4, true) !== 2) throw new Error('unknown scene format ' + dv.getUint32(4, true));
     const len = dv.getUint32(8, true);
     const header = JSON.parse(new TextDecoder().decode(bytes.subarray(12, 12 + len)));
     const start = (12 + len + 3) & ~3;
@@ -353,6 +353,9 @@
 
     const dof = header.joints.length;
     const slotBase = 7 + dof;
+    // after the slots' poses, one flag per slot: 1 while its link's collision geometry intersects
+    const collidingBase = slotBase + 12 * header.slots.length;
+    const COLLIDING = [0.93, 0.11, 0.09, 1.0];
     return {
       trailAppend: trailWrite,
       trailReset() {
@@ -377,17 +380,19 @@
         const pose = new Float32Array(12);
         for (const v of visuals) {
           let model = v.placement;
+          let color = v.color;
           if (v.slot >= 0) {
             if (k < 0) continue;
             const a = o0 + slotBase + 12 * v.slot;
             const b = o1 + slotBase + 12 * v.slot;
             for (let i = 0; i < 12; i++) pose[i] = s[a + i] + (s[b + i] - s[a + i]) * frac;
             model = mul(poseMatrix(pose), v.placement);
+            if (s[o0 + collidingBase + v.slot] > 0) color = COLLIDING;
           }
           gl.uniformMatrix4fv(u.u_model, false, model);
           gl.uniform3fv(u.u_min, v.mesh.min);
           gl.uniform3fv(u.u_ext, v.mesh.ext);
-          gl.uniform4fv(u.u_color, v.color);
+          gl.uniform4fv(u.u_color, color);
           gl.bindVertexArray(v.vao);
           gl.drawElements(gl.TRIANGLES, v.mesh.count, v.mesh.type, 0);
         }
@@ -509,6 +514,12 @@
     let text = `max tracking error (rad): ${f(s.max_tracking_error_rad, 4)}\nsaturation (%): ${f(s.saturation_pct, 2)}`;
     if (s.path_deviation_mm) text += `\npath deviation: max ${s.path_deviation_mm.max.toFixed(2)} mm, mean ${s.path_deviation_mm.mean.toFixed(2)} mm`;
     if (s.diverged) text += `\ndiverged at t = ${s.diverged.t.toFixed(4)} s, joint J${s.diverged.joint}`;
+    const c = s.clearance;
+    if (c && c.links) {
+      const what = c.geometry === 'hull' ? 'convex hulls' : 'exact meshes';
+      text += `\nself-clearance (${what}): ${c.links[0]}–${c.links[1]} ${(c.min_m * 1e3).toFixed(2)} mm at t = ${c.t.toFixed(2)} s`;
+    }
+    if (s.verdict && s.verdict.collides) text += `\n${s.verdict.reasons[0]}`;
     return text;
   }
 
