@@ -11,6 +11,7 @@
 
 mod all_terms;
 mod cholesky;
+mod contact;
 mod crba;
 mod data;
 mod forward_dynamics;
@@ -21,6 +22,7 @@ mod step;
 
 pub use all_terms::compute_all_terms;
 pub use cholesky::{cholesky_factor, cholesky_solve};
+pub use contact::{ContactPoint, ContactSolver, SIGMA, STICTION_TOLERANCE, integrate_discrete_with_contacts};
 pub use crba::crba;
 pub use data::Data;
 pub use forward_dynamics::forward_dynamics;

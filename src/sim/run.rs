@@ -2,6 +2,7 @@
 
 use std::time::Instant;
 
+use super::{ContactStep, ContactSummary};
 use crate::algo::{Data, compute_all_terms, frame_position, integrate_discrete};
 use crate::error::{Error, Result};
 use crate::model::{JointId, JointKind};
@@ -42,6 +43,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let (mut tau_raw, mut tau) = (vec![0.0; n], vec![0.0; n]);
     let mut steps = StepMetrics::new(n);
     let mut samples = SampleMetrics::new();
+    let mut contact =
+        (sc.self_contact.zip(sc.collision_set.clone())).map(|(settings, set)| ContactStep::new(model, set, settings));
 
     let info = RunInfo {
         command: &sc.command,
@@ -112,7 +115,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             break;
         }
 
-        let stepped = integrate_discrete(model, &mut data, &mut q, &mut v, &tau, dt);
+        let stepped = match &mut contact {
+            Some(contact) => contact.step(model, &mut data, &mut q, &mut v, &tau, dt, t),
+            None => integrate_discrete(model, &mut data, &mut q, &mut v, &tau, dt),
+        };
         done = k + 1;
         if let Some(joint) = runaway_joint(&q, &v, stepped)? {
             diverged = Some(Diverged {
@@ -147,6 +153,15 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         }),
         ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
         interrupted_at_s,
+        self_contact: contact
+            .as_ref()
+            .zip(sc.self_contact)
+            .map(|(c, settings)| ContactSummary {
+                friction: settings.friction,
+                geometry: c.geometry().geometry(),
+                steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
+                max_depth_m: c.max_depth,
+            }),
         ..Summary::default()
     };
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
