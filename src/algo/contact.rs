@@ -24,18 +24,30 @@
 //! ```
 //!
 //! ℓ is convex (the friction term uses the impulse n₀ of the previous velocity: "lagged").
-//! Newton's method: gradient `A v − A v* − Σ J_cᵀ γ_c`, Hessian `A + Σ J_cᵀ G_c J_c` with
-//! `G_c = −∂γ_c/∂v_c` (tangential block `μ n₀ (I − t tᵀ)/√(‖v_t‖² + ε²)`, t = v_t/√(‖v_t‖²+ε²);
-//! normal `−n'(v_n)`), an exact line search on α ∈ [0, 1.5], from the previous velocity; it
-//! stops when `‖D ∇ℓ‖ ≤ 1e-14 + 1e-6 max(‖D A v‖, ‖D Σ J_cᵀ γ_c‖)`, D = diag(A)^−½.
+//! Newton's method: gradient `∇ℓ = A v − A v* − Jᵀ γ`, Hessian `H = A + Jᵀ G J` (J the
+//! contacts' Jacobians stacked, 3m×n; G block-diagonal, `G_c = −∂γ_c/∂v_c`: tangential block
+//! `μ n₀ (I − t tᵀ)/√(‖v_t‖² + ε²)`, t = v_t/√(‖v_t‖²+ε²); normal `−n'(v_n)`), an exact line
+//! search on α ∈ [0, 1.5]; it stops when `‖D ∇ℓ‖ ≤ 1e-14 + 1e-6 max(‖D A v‖, ‖D Jᵀγ‖)`,
+//! D = diag(A)^−½.
 //!
-//! Joint limits are kept by step.rs's active set afterwards, with the contact impulses held
-//! (added to the step's right-hand side): limits and contacts are not solved as one problem.
+//! The iterates are kept in the affine space that holds the optimum, `v = v* + Y λ` with
+//! `Y = A⁻¹ Jᵀ` (n×3m; A's Cholesky factor is the free step's), so that every Newton step is
+//! a 3m×3m problem: with `W = J Y` (the Delassus operator) and `v_c = J v* + W λ`,
+//!
+//! ```text
+//!   ∇ℓ = Jᵀ (λ − γ),    H⁻¹ Jᵀ r = Y (I + G W)⁻¹ r     (Woodbury),
+//!   Δλ = −(I + G W)⁻¹ (λ − γ),   Δv_c = W Δλ,
+//!   dℓ(λ + αΔλ)/dα = Δv_cᵀ (λ + αΔλ − γ(v_c + αΔv_c)),   d²ℓ/dα² = Δv_cᵀ Δλ + Σ Δv_cᵀ G_c Δv_c
+//! ```
+//!
+//! — the same Newton steps and line search as in v, at O(m³ + m n) per iteration. The first
+//! iterate is the Newton step in v from the velocity the step starts from (Drake's start),
+//! which lands in that space; the optimum is unique (ℓ is strictly convex).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 use super::Data;
-use super::cholesky::{cholesky_factor, cholesky_solve};
+use super::cholesky::cholesky_solve;
 use super::step::{free_velocity, land};
 use crate::error::{Error, Result};
 use crate::model::{JointId, Model};
@@ -88,10 +100,10 @@ struct Response {
 }
 
 impl Response {
-    /// xᵀ G x.
-    fn quadratic(&self, x: [f64; 3]) -> f64 {
+    /// G x.
+    fn apply(&self, x: &[f64]) -> [f64; 3] {
         let [g00, g01, g11] = self.g_t;
-        g00 * x[0] * x[0] + 2.0 * g01 * x[0] * x[1] + g11 * x[1] * x[1] + self.g_n * x[2] * x[2]
+        [g00 * x[0] + g01 * x[1], g01 * x[0] + g11 * x[1], self.g_n * x[2]]
     }
 }
 
@@ -102,22 +114,26 @@ impl Response {
 pub struct ContactSolver {
     n: usize,
     points: Vec<ContactPoint>,
-    /// Contact c's Jacobian J_c, row-major: rows t₁, t₂, normal at `3n·c .. 3n·(c+1)`.
+    /// J (3m×n), row-major: contact c's rows t₁, t₂, normal at `3n·c .. 3n·(c+1)`.
     jacobian: Vec<f64>,
+    /// Y = A⁻¹ Jᵀ, one column of n per row of J.
+    y: Vec<f64>,
+    /// W = J Y (3m×3m, row-major).
+    w: Vec<f64>,
+    /// I + G W (3m×3m, row-major), factored in place.
+    system: Vec<f64>,
     invariant: Vec<Invariant>,
     response: Vec<Response>,
-    /// J_c v and J_c Δv per contact.
-    vc: Vec<[f64; 3]>,
-    dvc: Vec<[f64; 3]>,
-    v: DVector<f64>,
-    grad: DVector<f64>,
-    dv: DVector<f64>,
-    a_v: DVector<f64>,
-    impulse: DVector<f64>,
-    hessian: DMatrix<f64>,
-    chol: DMatrix<f64>,
-    /// Newton iterations of the last solve (0: no contact, or the previous velocity was
-    /// already optimal).
+    /// J v*, v_c, λ, Δλ, Δv_c and a right-hand side (3m each).
+    vc_star: Vec<f64>,
+    vc: Vec<f64>,
+    lambda: Vec<f64>,
+    dlambda: Vec<f64>,
+    dvc: Vec<f64>,
+    residual: Vec<f64>,
+    /// n-vector scratch.
+    column: DVector<f64>,
+    /// Newton iterations of the last solve (0: no contact; the first is the seed's).
     pub iterations: usize,
 }
 
@@ -129,17 +145,18 @@ impl ContactSolver {
             n,
             points: Vec::new(),
             jacobian: Vec::new(),
+            y: Vec::new(),
+            w: Vec::new(),
+            system: Vec::new(),
             invariant: Vec::new(),
             response: Vec::new(),
+            vc_star: Vec::new(),
             vc: Vec::new(),
+            lambda: Vec::new(),
+            dlambda: Vec::new(),
             dvc: Vec::new(),
-            v: DVector::zeros(n),
-            grad: DVector::zeros(n),
-            dv: DVector::zeros(n),
-            a_v: DVector::zeros(n),
-            impulse: DVector::zeros(n),
-            hessian: DMatrix::zeros(n, n),
-            chol: DMatrix::zeros(n, n),
+            residual: Vec::new(),
+            column: DVector::zeros(n),
             iterations: 0,
         }
     }
@@ -148,7 +165,6 @@ impl ContactSolver {
     pub fn clear(&mut self) {
         self.points.clear();
         self.jacobian.clear();
-        self.response.clear();
     }
 
     /// Adds a contact; returns its Jacobian (3×n, row-major, zeroed) for the caller to fill:
@@ -175,20 +191,23 @@ impl ContactSolver {
     pub fn impulse(&self, c: usize) -> [f64; 3] {
         self.response[c].gamma
     }
-}
 
-/// J_c x for every contact (`jacobian` as in [`ContactSolver`], n columns), into `out`.
-fn project(jacobian: &[f64], n: usize, x: &DVector<f64>, out: &mut Vec<[f64; 3]>) {
-    out.clear();
-    for block in jacobian.chunks_exact(3 * n) {
-        let dot = |r: usize| {
-            block[r * n..(r + 1) * n]
-                .iter()
-                .zip(x.iter())
-                .map(|(j, x)| j * x)
-                .sum::<f64>()
-        };
-        out.push([dot(0), dot(1), dot(2)]);
+    /// γ and G of every contact at v_c, into `response`.
+    fn respond(&mut self, dt: f64) {
+        self.response.clear();
+        for ((p, inv), v) in self.points.iter().zip(&self.invariant).zip(self.vc.chunks_exact(3)) {
+            self.response.push(response(p, inv, [v[0], v[1], v[2]], dt));
+        }
+    }
+
+    /// Jᵀ x (x of length 3m) into `out`.
+    fn transpose_times(&self, x: &[f64], out: &mut DVector<f64>) {
+        out.fill(0.0);
+        for (row, xr) in self.jacobian.chunks_exact(self.n).zip(x) {
+            for (o, j) in out.iter_mut().zip(row) {
+                *o += j * xr;
+            }
+        }
     }
 }
 
@@ -213,33 +232,25 @@ fn response(p: &ContactPoint, inv: &Invariant, v: [f64; 3], dt: f64) -> Response
     }
 }
 
-/// The invariants of each contact at the velocity `v` the step starts from, and the friction
-/// regularisation from the Delassus estimate `W = J diag(A)⁻¹ Jᵀ`.
-fn prepare(s: &mut ContactSolver, a: &DMatrix<f64>, dt: f64) {
-    let n = s.n;
-    project(&s.jacobian, n, &s.v, &mut s.vc);
-    s.invariant.clear();
-    for (c, p) in s.points.iter().enumerate() {
-        let block = &s.jacobian[3 * n * c..3 * n * (c + 1)];
-        let mut w2 = 0.0;
-        for r in 0..3 {
-            for t in 0..3 {
-                let w: f64 = (0..n).map(|i| block[r * n + i] * block[t * n + i] / a[(i, i)]).sum();
-                w2 += w * w;
-            }
-        }
-        let fe0 = p.stiffness * (-p.phi).max(0.0);
-        let n0 = (dt * fe0).max(0.0) * (1.0 - p.dissipation * s.vc[c][2]).max(0.0);
-        let eps = STICTION_TOLERANCE.max(p.friction * SIGMA * w2.sqrt() / 3.0 * n0);
-        s.invariant.push(Invariant { fe0, n0, eps });
-    }
+/// Row r of `x` (rows of length n).
+fn row(x: &[f64], n: usize, r: usize) -> &[f64] {
+    &x[r * n..(r + 1) * n]
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// ‖D x‖ with D = diag(A)^−½.
+fn scaled_norm(x: &DVector<f64>, a: &nalgebra::DMatrix<f64>) -> f64 {
+    x.iter().enumerate().map(|(i, x)| x * x / a[(i, i)]).sum::<f64>().sqrt()
 }
 
 /// The step with the contacts in `solver` (pushed at the current q): [`free_velocity`], then
 /// the contact problem of this module, then the joint limits and q⁺ = q + Δt v⁺. With no
 /// contact it is exactly [`super::integrate_discrete`]. `data.m` and `data.bias` must be at
-/// (q, v). Fails if `M + Δt·D` or the Newton Hessian is not positive definite, or Newton does
-/// not converge in 100 iterations.
+/// (q, v). Fails if `M + Δt·D` is not positive definite or Newton does not converge in 100
+/// iterations.
 pub fn integrate_discrete_with_contacts(
     model: &Model,
     data: &mut Data,
@@ -250,38 +261,43 @@ pub fn integrate_discrete_with_contacts(
     solver: &mut ContactSolver,
 ) -> Result<()> {
     free_velocity(model, data, v, tau, dt)?;
-    solver.iterations = 0;
-    if solver.is_empty() {
+    let s = solver;
+    s.iterations = 0;
+    if s.is_empty() {
+        s.response.clear();
         land(model, data, q, v, dt);
         return Ok(());
     }
-    let s = solver;
-    let n = s.n;
-    let (a, b) = (&data.step_matrix, &data.limit_rhs);
-    s.v.copy_from_slice(v);
-    prepare(s, a, dt);
-    // ‖D x‖ with D = diag(A)^−½
-    let scaled = |x: &DVector<f64>| (0..n).map(|i| x[i] * x[i] / a[(i, i)]).sum::<f64>().sqrt();
+    let (n, rows) = (s.n, 3 * s.points.len());
+    prepare(s, data, v, dt);
+    seed(s, v, rows, dt);
+    s.iterations = 1;
+    let a = &data.step_matrix;
     loop {
-        // γ at v, the generalized impulse Σ Jᵀγ, the gradient A v − b − Σ Jᵀγ
-        project(&s.jacobian, n, &s.v, &mut s.vc);
-        s.response.clear();
-        for ((p, inv), vc) in s.points.iter().zip(&s.invariant).zip(&s.vc) {
-            s.response.push(response(p, inv, *vc, dt));
+        // v_c = J v* + W λ; γ, G there; the residual λ − γ
+        for r in 0..rows {
+            s.vc[r] = s.vc_star[r] + dot(row(&s.w, rows, r), &s.lambda);
         }
-        s.impulse.fill(0.0);
-        for (block, r) in s.jacobian.chunks_exact(3 * n).zip(&s.response) {
-            for (row, g) in block.chunks_exact(n).zip(r.gamma) {
-                for (x, j) in s.impulse.iter_mut().zip(row) {
-                    *x += j * g;
-                }
+        s.respond(dt);
+        for (c, resp) in s.response.iter().enumerate() {
+            for k in 0..3 {
+                s.residual[3 * c + k] = s.lambda[3 * c + k] - resp.gamma[k];
             }
         }
-        a.mul_to(&s.v, &mut s.a_v);
-        s.grad.copy_from(&s.a_v);
-        s.grad -= b;
-        s.grad -= &s.impulse;
-        if scaled(&s.grad) <= ABS_TOL + REL_TOL * scaled(&s.a_v).max(scaled(&s.impulse)) {
+        // ‖D ∇ℓ‖ = ‖D Jᵀ(λ − γ)‖ against ‖D A v‖ = ‖D (b + Jᵀλ)‖ and ‖D Jᵀγ‖
+        let mut column = std::mem::take(&mut s.column);
+        s.transpose_times(&s.residual, &mut column);
+        let gradient = scaled_norm(&column, a);
+        s.transpose_times(&s.lambda, &mut column);
+        column += &data.limit_rhs;
+        let momentum = scaled_norm(&column, a);
+        for (c, resp) in s.response.iter().enumerate() {
+            s.dvc[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
+        }
+        s.transpose_times(&s.dvc, &mut column);
+        let impulse = scaled_norm(&column, a);
+        s.column = column;
+        if gradient <= ABS_TOL + REL_TOL * momentum.max(impulse) {
             break;
         }
         if s.iterations == MAX_ITERATIONS {
@@ -291,55 +307,178 @@ pub fn integrate_discrete_with_contacts(
             });
         }
         s.iterations += 1;
-        // Newton direction: (A + Σ Jᵀ G J) Δv = −∇ℓ
-        s.hessian.copy_from(a);
-        for (block, r) in s.jacobian.chunks_exact(3 * n).zip(&s.response) {
-            let g = [[r.g_t[0], r.g_t[1], 0.0], [r.g_t[1], r.g_t[2], 0.0], [0.0, 0.0, r.g_n]];
-            for i in 0..n {
-                for j in 0..n {
-                    let mut h = 0.0;
-                    for (x, gx) in g.iter().enumerate() {
-                        for (y, gxy) in gx.iter().enumerate() {
-                            h += block[x * n + i] * gxy * block[y * n + j];
-                        }
-                    }
-                    s.hessian[(i, j)] += h;
-                }
-            }
+        newton_direction(s, rows);
+        let alpha = line_search(s, rows, dt);
+        for (l, d) in s.lambda.iter_mut().zip(&s.dlambda) {
+            *l += alpha * d;
         }
-        cholesky_factor(&s.hessian, &mut s.chol).map_err(|(joint, pivot)| Error::Diverged {
-            joint: JointId(joint),
-            pivot,
-        })?;
-        s.dv.copy_from(&s.grad);
-        s.dv.neg_mut();
-        cholesky_solve(&s.chol, &mut s.dv);
-        let alpha = line_search(s, a, dt);
-        s.v.axpy(alpha, &s.dv, 1.0);
     }
-    // the impulses act on the limit solve as given forces
-    data.rhs.copy_from(&s.v);
-    data.limit_rhs += &s.impulse;
+    // v⁺ = v* + Y λ; the impulses Jᵀγ act on the limit solve as given forces
+    for (r, l) in s.lambda.iter().enumerate() {
+        for (x, y) in data.rhs.iter_mut().zip(row(&s.y, n, r)) {
+            *x += y * l;
+        }
+    }
+    for (c, resp) in s.response.iter().enumerate() {
+        s.dvc[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
+    }
+    let mut column = std::mem::take(&mut s.column);
+    s.transpose_times(&s.dvc, &mut column);
+    data.limit_rhs += &column;
+    s.column = column;
     land(model, data, q, v, dt);
     Ok(())
 }
 
-/// The exact line search: the α ∈ (0, 1.5] minimising ℓ(v + α Δv), by safeguarded Newton on
-/// dℓ/dα (a convex function of α). Uses `s.grad` (∇ℓ at v) and `s.impulse`.
-fn line_search(s: &mut ContactSolver, a: &DMatrix<f64>, dt: f64) -> f64 {
+/// The first λ: one Newton step in v from the velocity `v` the step starts from (Drake's
+/// start), which lands in the affine space: with γ₀, G₀ at v_c0 = J v,
+/// `λ = γ₀ + (I + G₀ W)⁻¹ G₀ (v_c0 − J v* − W γ₀)` (v* + Y λ = v − H⁻¹ ∇ℓ(v), by Woodbury).
+fn seed(s: &mut ContactSolver, v: &[f64], rows: usize, dt: f64) {
     let n = s.n;
-    project(&s.jacobian, n, &s.dv, &mut s.dvc);
-    // dℓ/dα = Δvᵀ(A v − b) + α Δvᵀ A Δv − Σ γ_c(v_c + α Δv_c)·Δv_c
-    let r0 = s.dv.dot(&s.grad) + s.dv.dot(&s.impulse);
-    a.mul_to(&s.dv, &mut s.a_v);
-    let quad = s.dv.dot(&s.a_v);
+    for r in 0..rows {
+        s.vc[r] = dot(row(&s.jacobian, n, r), v);
+    }
+    s.respond(dt);
+    s.lambda.resize(rows, 0.0);
+    for (c, resp) in s.response.iter().enumerate() {
+        s.lambda[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
+    }
+    // residual = v_c0 − J v* − W γ₀, then G₀ times it, solved against I + G₀ W
+    for r in 0..rows {
+        s.residual[r] = s.vc[r] - s.vc_star[r] - dot(row(&s.w, rows, r), &s.lambda);
+    }
+    fill_system(s, rows);
+    for (c, resp) in s.response.iter().enumerate() {
+        let g = resp.apply(&s.residual[3 * c..3 * c + 3]);
+        s.dlambda[3 * c..3 * c + 3].copy_from_slice(&g);
+    }
+    solve_dense(&mut s.system, &mut s.dlambda);
+    for (l, d) in s.lambda.iter_mut().zip(&s.dlambda) {
+        *l += d;
+    }
+}
+
+/// The invariants of each contact at the velocity `v` the step starts from (the friction
+/// regularisation from the Delassus estimate `J diag(A)⁻¹ Jᵀ`), J v*, Y = A⁻¹Jᵀ and W = J Y.
+/// Sizes the 3m buffers.
+fn prepare(s: &mut ContactSolver, data: &Data, v: &[f64], dt: f64) {
+    let (n, rows) = (s.n, 3 * s.points.len());
+    let a = &data.step_matrix;
+    for buffer in [&mut s.vc_star, &mut s.vc, &mut s.dlambda, &mut s.dvc, &mut s.residual] {
+        buffer.resize(rows, 0.0);
+    }
+    s.y.resize(rows * n, 0.0);
+    s.w.resize(rows * rows, 0.0);
+    s.system.resize(rows * rows, 0.0);
+    s.invariant.clear();
+    for (c, p) in s.points.iter().enumerate() {
+        let block = &s.jacobian[3 * n * c..3 * n * (c + 1)];
+        let mut w2 = 0.0;
+        for r in 0..3 {
+            for t in 0..3 {
+                let w: f64 = (0..n).map(|i| block[r * n + i] * block[t * n + i] / a[(i, i)]).sum();
+                w2 += w * w;
+            }
+        }
+        let vn0 = dot(row(block, n, 2), v);
+        let fe0 = p.stiffness * (-p.phi).max(0.0);
+        let n0 = (dt * fe0).max(0.0) * (1.0 - p.dissipation * vn0).max(0.0);
+        let eps = STICTION_TOLERANCE.max(p.friction * SIGMA * w2.sqrt() / 3.0 * n0);
+        s.invariant.push(Invariant { fe0, n0, eps });
+    }
+    for r in 0..rows {
+        let jr = row(&s.jacobian, n, r);
+        s.vc_star[r] = dot(jr, data.rhs.as_slice());
+        s.column.copy_from_slice(jr);
+        cholesky_solve(&data.chol, &mut s.column);
+        s.y[r * n..(r + 1) * n].copy_from_slice(s.column.as_slice());
+    }
+    for r in 0..rows {
+        for t in 0..rows {
+            s.w[r * rows + t] = dot(row(&s.jacobian, n, r), row(&s.y, n, t));
+        }
+    }
+}
+
+/// Δλ = −(I + G W)⁻¹ (λ − γ) (Gaussian elimination with partial pivoting; I + G W is
+/// invertible, G and W being positive semi-definite), and Δv_c = W Δλ.
+fn newton_direction(s: &mut ContactSolver, rows: usize) {
+    fill_system(s, rows);
+    for (d, r) in s.dlambda.iter_mut().zip(&s.residual) {
+        *d = -r;
+    }
+    solve_dense(&mut s.system, &mut s.dlambda);
+    for r in 0..rows {
+        s.dvc[r] = dot(row(&s.w, rows, r), &s.dlambda);
+    }
+}
+
+/// `s.system` = I + G W at the responses in `s.response`.
+fn fill_system(s: &mut ContactSolver, rows: usize) {
+    for (c, resp) in s.response.iter().enumerate() {
+        for t in 0..rows {
+            let column = [
+                s.w[3 * c * rows + t],
+                s.w[(3 * c + 1) * rows + t],
+                s.w[(3 * c + 2) * rows + t],
+            ];
+            let gw = resp.apply(&column);
+            for k in 0..3 {
+                s.system[(3 * c + k) * rows + t] = gw[k] + if 3 * c + k == t { 1.0 } else { 0.0 };
+            }
+        }
+    }
+}
+
+/// Solves `m x = b` in place (`m` square, row-major, overwritten; `x` holds b on entry) by
+/// Gaussian elimination with partial pivoting. Returns false, leaving `x` meaningless, if a
+/// pivot is below 1e-12 of the largest entry of `m` (singular).
+fn solve_dense(m: &mut [f64], x: &mut [f64]) -> bool {
+    let rows = x.len();
+    let tiny = 1e-12 * m.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    for k in 0..rows {
+        let pivot = (k..rows)
+            .max_by(|&i, &j| m[i * rows + k].abs().total_cmp(&m[j * rows + k].abs()))
+            .expect("rows");
+        if m[pivot * rows + k].abs() <= tiny {
+            return false;
+        }
+        if pivot != k {
+            for t in 0..rows {
+                m.swap(k * rows + t, pivot * rows + t);
+            }
+            x.swap(k, pivot);
+        }
+        for i in k + 1..rows {
+            let f = m[i * rows + k] / m[k * rows + k];
+            for t in k..rows {
+                m[i * rows + t] -= f * m[k * rows + t];
+            }
+            x[i] -= f * x[k];
+        }
+    }
+    for k in (0..rows).rev() {
+        let tail: f64 = (k + 1..rows).map(|t| m[k * rows + t] * x[t]).sum();
+        x[k] = (x[k] - tail) / m[k * rows + k];
+    }
+    true
+}
+
+/// The exact line search: the α ∈ (0, 1.5] minimising ℓ along Δλ, by safeguarded Newton on
+/// dℓ/dα (increasing: ℓ is convex).
+fn line_search(s: &ContactSolver, rows: usize, dt: f64) -> f64 {
+    let curvature = dot(&s.dvc, &s.dlambda);
     let derivatives = |alpha: f64| -> (f64, f64) {
-        let (mut d1, mut d2) = (r0 + alpha * quad, quad);
-        for ((p, inv), (vc, dvc)) in s.points.iter().zip(&s.invariant).zip(s.vc.iter().zip(&s.dvc)) {
-            let at = [vc[0] + alpha * dvc[0], vc[1] + alpha * dvc[1], vc[2] + alpha * dvc[2]];
-            let r = response(p, inv, at, dt);
-            d1 -= r.gamma[0] * dvc[0] + r.gamma[1] * dvc[1] + r.gamma[2] * dvc[2];
-            d2 += r.quadratic(*dvc);
+        let (mut d1, mut d2) = (0.0, curvature);
+        for r in 0..rows {
+            d1 += s.dvc[r] * (s.lambda[r] + alpha * s.dlambda[r]);
+        }
+        for (c, (p, inv)) in s.points.iter().zip(&s.invariant).enumerate() {
+            let at = |k: usize| s.vc[3 * c + k] + alpha * s.dvc[3 * c + k];
+            let resp = response(p, inv, [at(0), at(1), at(2)], dt);
+            let dvc = &s.dvc[3 * c..3 * c + 3];
+            d1 -= dot(&resp.gamma, dvc);
+            d2 += dot(&resp.apply(dvc), dvc);
         }
         (d1, d2)
     };

@@ -22,8 +22,11 @@
 
 use std::sync::Arc;
 
+use std::cell::Cell;
+
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
-use parry3d_f64::query;
+use parry3d_f64::query::{self, details};
+use parry3d_f64::shape::{ConvexPolyhedron, SupportMap};
 
 use super::CollisionSet;
 use super::clearance::{motion_bound, parry_pose};
@@ -52,6 +55,75 @@ pub struct Contact {
 pub struct ContactGeometry {
     set: Arc<CollisionSet>,
     bodies: Vec<Option<JointId>>,
+    /// Per object, its bounding sphere's centre in its model frame (m) and radius (m).
+    spheres: Vec<(Vec3, f64)>,
+    /// Per object, a mesh hull's vertex adjacency (`None` for a primitive).
+    climbs: Vec<Option<Adjacency>>,
+}
+
+/// The edges of a convex polyhedron as vertex adjacency lists: vertex v's neighbours are
+/// `neighbours[offsets[v]..offsets[v + 1]]`.
+struct Adjacency {
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+}
+
+impl Adjacency {
+    /// The edges of `hull`'s faces (consecutive vertices of each face polygon).
+    fn of(hull: &ConvexPolyhedron) -> Adjacency {
+        let mut lists = vec![Vec::new(); hull.points().len()];
+        let ring = hull.vertices_adj_to_face();
+        for face in hull.faces() {
+            let (first, count) = (face.first_vertex_or_edge as usize, face.num_vertices_or_edges as usize);
+            for k in 0..count {
+                let (a, b) = (ring[first + k], ring[first + (k + 1) % count]);
+                for (x, y) in [(a, b), (b, a)] {
+                    if !lists[x as usize].contains(&y) {
+                        lists[x as usize].push(y);
+                    }
+                }
+            }
+        }
+        let mut offsets = vec![0];
+        let mut neighbours = Vec::new();
+        for list in lists {
+            neighbours.extend(list);
+            offsets.push(neighbours.len() as u32);
+        }
+        Adjacency { offsets, neighbours }
+    }
+}
+
+/// A hull's support map by hill climbing along its edges from the last support vertex: on a
+/// convex polyhedron a vertex no neighbour of which is further along a direction is the
+/// furthest of all (the same point as parry's scan of every vertex, up to ties), reached in a
+/// few steps when the directions change little.
+struct Climber<'a> {
+    points: &'a [PVector],
+    adjacency: &'a Adjacency,
+    at: Cell<u32>,
+}
+
+impl SupportMap for Climber<'_> {
+    fn local_support_point(&self, dir: PVector) -> PVector {
+        let (mut best, mut top) = (self.at.get(), dir.dot(self.points[self.at.get() as usize]));
+        loop {
+            let (from, to) = (
+                self.adjacency.offsets[best as usize],
+                self.adjacency.offsets[best as usize + 1],
+            );
+            let next = (self.adjacency.neighbours[from as usize..to as usize].iter())
+                .map(|&v| (v, dir.dot(self.points[v as usize])))
+                .filter(|&(_, d)| d > top)
+                .max_by(|a, b| a.1.total_cmp(&b.1));
+            match next {
+                Some((v, d)) => (best, top) = (v, d),
+                None => break,
+            }
+        }
+        self.at.set(best);
+        self.points[best as usize]
+    }
 }
 
 /// At most how many calls of [`ContactGeometry::find`] a penetrating pair's contact is followed
@@ -84,6 +156,11 @@ struct Followed {
 /// buffers.
 pub struct ContactData {
     poses: Vec<PPose>,
+    /// Per object, the vertex its hull's support was last found at.
+    support_at: Vec<u32>,
+    /// The call each entry of `poses` was computed at, and this call's number.
+    posed_at: Vec<u64>,
+    call: u64,
     bound: Vec<(f64, PPose)>,
     /// Per pair, the two triangles closest at its last exact query.
     closest: Vec<(u32, u32)>,
@@ -105,7 +182,21 @@ impl ContactGeometry {
     /// The contact geometry of `set`, loaded for `model`.
     pub fn new(model: &Model, set: Arc<CollisionSet>) -> ContactGeometry {
         let bodies = set.objects().map(|o| model.frames[o.frame].body).collect();
-        ContactGeometry { set, bodies }
+        let spheres = (set.objects())
+            .map(|o| {
+                let c = *o.placement * o.sphere.0;
+                (Vec3::new(c.x, c.y, c.z), o.sphere.1)
+            })
+            .collect();
+        let climbs = (set.objects())
+            .map(|o| o.convex.as_convex_polyhedron().map(Adjacency::of))
+            .collect();
+        ContactGeometry {
+            set,
+            bodies,
+            spheres,
+            climbs,
+        }
     }
 
     /// How meshes are read.
@@ -118,6 +209,9 @@ impl ContactGeometry {
         let (objects, pairs) = (self.bodies.len(), self.set.object_pairs().len());
         ContactData {
             poses: vec![PPose::IDENTITY; objects],
+            posed_at: vec![0; objects],
+            support_at: vec![0; objects],
+            call: 0,
             bound: vec![(f64::NEG_INFINITY, PPose::IDENTITY); pairs],
             closest: vec![(0, 0); pairs],
             followed: vec![None; pairs],
@@ -144,16 +238,86 @@ impl ContactGeometry {
             .collect()
     }
 
+    /// The support map of object `o`: hill climbing on a hull (from `support_at[o]`); `None`
+    /// for a primitive.
+    fn climber<'a>(&'a self, o: usize, support_at: &[u32]) -> Option<Climber<'a>> {
+        let adjacency = self.climbs[o].as_ref()?;
+        let hull = self.set.object(o).convex.as_convex_polyhedron()?;
+        Some(Climber {
+            points: hull.points(),
+            adjacency,
+            at: Cell::new(support_at[o]),
+        })
+    }
+
+    /// parry's contact of the convex shapes of objects `a` and `b` (world poses `pa`, `pb`,
+    /// `pose_ab = pa⁻¹ pb`), in world coordinates, `None` when apart: two hulls by GJK/EPA on
+    /// [`Climber`]s, any other pair by parry's dispatcher.
+    fn convex_contact(
+        &self,
+        a: usize,
+        b: usize,
+        pa: &PPose,
+        pb: &PPose,
+        pose_ab: &PPose,
+        support_at: &mut [u32],
+    ) -> Option<query::Contact> {
+        let (oa, ob) = (self.set.object(a), self.set.object(b));
+        let (Some(ca), Some(cb)) = (self.climber(a, support_at), self.climber(b, support_at)) else {
+            return query::contact(pa, oa.convex, pb, ob.convex, 0.0).expect("parry supports convex pairs");
+        };
+        let local = details::contact_support_map_support_map(pose_ab, &ca, &cb, 0.0);
+        (support_at[a], support_at[b]) = (ca.at.get(), cb.at.get());
+        local.map(|c| query::Contact {
+            point1: *pa * c.point1,
+            point2: *pb * c.point2,
+            normal1: pa.rotation * c.normal1,
+            normal2: pb.rotation * c.normal2,
+            ..c
+        })
+    }
+
+    /// The distance of the convex shapes of objects `a` and `b` (as [`Self::convex_contact`]).
+    fn convex_distance(
+        &self,
+        a: usize,
+        b: usize,
+        pa: &PPose,
+        pb: &PPose,
+        pose_ab: &PPose,
+        support_at: &mut [u32],
+    ) -> f64 {
+        let (oa, ob) = (self.set.object(a), self.set.object(b));
+        let (Some(ca), Some(cb)) = (self.climber(a, support_at), self.climber(b, support_at)) else {
+            return query::distance(pa, oa.convex, pb, ob.convex)
+                .expect("parry supports convex pairs")
+                .distance;
+        };
+        let d = details::distance_support_map_support_map(pose_ab, &ca, &cb);
+        (support_at[a], support_at[b]) = (ca.at.get(), cb.at.get());
+        d
+    }
+
     /// The contacts of the pose whose model frames are at `frame_pose` (world, e.g.
     /// `algo::Data::frame_pose` after `forward_kinematics`), into `data.contacts`. `t` (s)
     /// names the time in the error. Fails if two exact meshes intersect.
     pub fn find(&self, frame_pose: &[Pose], t: f64, data: &mut ContactData) -> Result<()> {
         data.contacts.clear();
-        for (o, pose) in self.set.objects().zip(&mut data.poses) {
-            *pose = parry_pose(&frame_pose[o.frame]) * *o.placement;
-        }
+        data.call += 1;
         for (k, &(a, b)) in self.set.object_pairs().iter().enumerate() {
             let (oa, ob) = (self.set.object(a), self.set.object(b));
+            // bounding spheres apart: no contact (no parry pose needed)
+            let centre = |o: usize| frame_pose[self.set.object(o).frame].transform_point(&self.spheres[o].0);
+            if (centre(a) - centre(b)).norm() > self.spheres[a].1 + self.spheres[b].1 {
+                data.followed[k] = None;
+                continue;
+            }
+            for o in [a, b] {
+                if data.posed_at[o] != data.call {
+                    data.poses[o] = parry_pose(&frame_pose[self.set.object(o).frame]) * *self.set.object(o).placement;
+                    data.posed_at[o] = data.call;
+                }
+            }
             let (pa, pb) = (data.poses[a], data.poses[b]);
             let bodies = [self.bodies[a], self.bodies[b]];
             let pose_ab = pa.inv_mul(&pb);
@@ -174,16 +338,10 @@ impl ContactGeometry {
             if *lower - motion_bound(then, &pose_ab, ob.reach) > 0.0 {
                 continue;
             }
-            let gap = (pa * oa.sphere.0 - pb * ob.sphere.0).length() - oa.sphere.1 - ob.sphere.1;
-            if gap > 0.0 {
-                data.bound[k] = (gap, pose_ab);
-                continue;
-            }
             data.queries += 1;
-            let hit = query::contact(&pa, oa.convex, &pb, ob.convex, 0.0).expect("parry supports convex pairs");
+            let hit = self.convex_contact(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
             let Some(c) = hit.filter(|c| c.dist < 0.0) else {
-                let d =
-                    (query::distance(&pa, oa.convex, &pb, ob.convex).expect("parry supports convex pairs")).distance;
+                let d = self.convex_distance(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
                 data.bound[k] = (d, pose_ab);
                 continue;
             };

@@ -18,7 +18,7 @@ mod pairs;
 mod report;
 
 pub use clearance::{CollisionSet, GeometryData, Warning};
-pub use contact::{Contact, ContactData, ContactGeometry};
+pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 pub use pairs::{PairFilter, checked_pairs};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
 

@@ -5,7 +5,7 @@ use crate::algo::{ContactPoint, ContactSolver, Data, forward_kinematics, integra
 use crate::error::Result;
 use std::sync::Arc;
 
-use crate::geometry::{CollisionSet, ContactData, ContactGeometry};
+use crate::geometry::{CollisionSet, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 use crate::model::{JointId, JointKind, Model};
 use crate::spatial::Vec3;
 
@@ -27,6 +27,11 @@ pub struct SelfContact {
     pub stiffness: f64,
     /// Hunt–Crossley dissipation of each geometry (s/m, ≥ 0).
     pub dissipation: f64,
+    /// A penetrating pair is queried again after at most this many steps (≥ 1; 1: every
+    /// step); between queries its contact is followed rigidly (docs/contact.md).
+    pub refresh_every: u32,
+    /// ... or sooner, once its shapes have moved this far relative to each other (m, ≥ 0).
+    pub refresh_motion: f64,
 }
 
 impl Default for SelfContact {
@@ -35,6 +40,8 @@ impl Default for SelfContact {
             friction: 1.0,
             stiffness: POINT_STIFFNESS,
             dissipation: HUNT_CROSSLEY_DISSIPATION,
+            refresh_every: REFRESH_EVERY,
+            refresh_motion: REFRESH_MOTION,
         }
     }
 }
@@ -49,25 +56,36 @@ pub struct ContactStep {
     pub steps_in_contact: u64,
     /// Deepest penetration seen (m, ≥ 0).
     pub max_depth: f64,
+    /// Newton iterations over the run.
+    pub newton_iterations: u64,
 }
 
 impl ContactStep {
     /// Contact between the objects of `set` (loaded for `model`) as `settings` say.
     pub fn new(model: &Model, set: Arc<CollisionSet>, settings: SelfContact) -> ContactStep {
         let geometry = ContactGeometry::new(model, set);
+        let mut data = geometry.data();
+        data.refresh_every = settings.refresh_every.max(1);
+        data.refresh_motion = settings.refresh_motion;
         ContactStep {
             settings,
-            data: geometry.data(),
+            data,
             geometry,
             solver: ContactSolver::new(model),
             steps_in_contact: 0,
             max_depth: 0.0,
+            newton_iterations: 0,
         }
     }
 
     /// The loaded contact geometry.
     pub fn geometry(&self) -> &ContactGeometry {
         &self.geometry
+    }
+
+    /// Pair queries of the geometry so far.
+    pub fn geometry_queries(&self) -> u64 {
+        self.data.queries
     }
 
     /// The contacts of the last step.
@@ -105,7 +123,9 @@ impl ContactStep {
             contact_jacobian(model, data, c, rows);
         }
         self.steps_in_contact += u64::from(!self.data.contacts.is_empty());
-        integrate_discrete_with_contacts(model, data, q, v, tau, dt, &mut self.solver)
+        let stepped = integrate_discrete_with_contacts(model, data, q, v, tau, dt, &mut self.solver);
+        self.newton_iterations += self.solver.iterations as u64;
+        stepped
     }
 }
 

@@ -161,6 +161,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 geometry: c.geometry().geometry(),
                 steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
                 max_depth_m: c.max_depth,
+                geometry_queries: c.geometry_queries(),
+                newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
             }),
         ..Summary::default()
     };

@@ -101,4 +101,9 @@ pub struct ContactSummary {
     pub steps_in_contact_pct: f64,
     /// Deepest penetration (m).
     pub max_depth_m: f64,
+    /// Mean Newton iterations per step in contact.
+    pub newton_iterations_per_step: f64,
+    /// Pair queries of the geometry (the other pairs at the other steps were pruned or
+    /// followed).
+    pub geometry_queries: u64,
 }
