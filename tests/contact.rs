@@ -6,7 +6,8 @@ mod common;
 
 use common::*;
 use faze4::algo::{
-    ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, integrate_discrete_with_contacts,
+    ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, forward_kinematics,
+    forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
 use faze4::geometry::{ClearanceGeometry, PairFilter, Robot};
 use faze4::model::PackagePaths;
@@ -307,5 +308,31 @@ fn following_contacts_between_queries_changes_the_figures_little() {
         // at most half the tolerance against Drake (15 %)
         assert!((x.max - y.max).abs() < 0.075 * x.max, "μ {friction}: {x:?} vs {y:?}");
         assert!((x.mean - y.mean).abs() < 0.075 * x.mean, "μ {friction}: {x:?} vs {y:?}");
+    }
+}
+
+#[test]
+fn world_poses_from_the_joint_transforms_are_forward_kinematics() {
+    for file in [
+        "urdf/faze4_arm.urdf",
+        "tests/urdf/arm_prismatic.urdf",
+        "tests/urdf/contact_arm.urdf",
+    ] {
+        let model = load(file);
+        let mut rng = Rng::new(7);
+        let (mut from_xup, mut direct) = (Data::new(&model), Data::new(&model));
+        for _ in 0..20 {
+            let q = rng.configuration(&model);
+            let v = rng.vector(model.dof(), -1.0, 1.0);
+            compute_all_terms(&model, &mut from_xup, &q, &v);
+            forward_kinematics_from_transforms(&model, &mut from_xup);
+            forward_kinematics(&model, &mut direct, &q);
+            for (a, b) in from_xup.frame_pose.iter().zip(&direct.frame_pose) {
+                assert!(
+                    (a.rot - b.rot).abs().max() < 1e-12 && (a.pos - b.pos).norm() < 1e-12,
+                    "{file}"
+                );
+            }
+        }
     }
 }

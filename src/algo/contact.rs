@@ -133,6 +133,8 @@ pub struct ContactSolver {
     residual: Vec<f64>,
     /// n-vector scratch.
     column: DVector<f64>,
+    /// 1/A_ii.
+    inverse_diagonal: DVector<f64>,
     /// Newton iterations of the last solve (0: no contact; the first is the seed's).
     pub iterations: usize,
 }
@@ -157,6 +159,7 @@ impl ContactSolver {
             dvc: Vec::new(),
             residual: Vec::new(),
             column: DVector::zeros(n),
+            inverse_diagonal: DVector::zeros(n),
             iterations: 0,
         }
     }
@@ -241,9 +244,13 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// ‖D x‖ with D = diag(A)^−½.
-fn scaled_norm(x: &DVector<f64>, a: &nalgebra::DMatrix<f64>) -> f64 {
-    x.iter().enumerate().map(|(i, x)| x * x / a[(i, i)]).sum::<f64>().sqrt()
+/// ‖D x‖ with D = diag(A)^−½ (`inverse_diagonal` = 1/A_ii).
+fn scaled_norm(x: &DVector<f64>, inverse_diagonal: &DVector<f64>) -> f64 {
+    x.iter()
+        .zip(inverse_diagonal.iter())
+        .map(|(x, d)| x * x * d)
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The step with the contacts in `solver` (pushed at the current q): [`free_velocity`], then
@@ -272,7 +279,6 @@ pub fn integrate_discrete_with_contacts(
     prepare(s, data, v, dt);
     seed(s, v, rows, dt);
     s.iterations = 1;
-    let a = &data.step_matrix;
     loop {
         // v_c = J v* + W λ; γ, G there; the residual λ − γ
         for r in 0..rows {
@@ -287,15 +293,15 @@ pub fn integrate_discrete_with_contacts(
         // ‖D ∇ℓ‖ = ‖D Jᵀ(λ − γ)‖ against ‖D A v‖ = ‖D (b + Jᵀλ)‖ and ‖D Jᵀγ‖
         let mut column = std::mem::take(&mut s.column);
         s.transpose_times(&s.residual, &mut column);
-        let gradient = scaled_norm(&column, a);
+        let gradient = scaled_norm(&column, &s.inverse_diagonal);
         s.transpose_times(&s.lambda, &mut column);
         column += &data.limit_rhs;
-        let momentum = scaled_norm(&column, a);
+        let momentum = scaled_norm(&column, &s.inverse_diagonal);
         for (c, resp) in s.response.iter().enumerate() {
             s.dvc[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
         }
         s.transpose_times(&s.dvc, &mut column);
-        let impulse = scaled_norm(&column, a);
+        let impulse = scaled_norm(&column, &s.inverse_diagonal);
         s.column = column;
         if gradient <= ABS_TOL + REL_TOL * momentum.max(impulse) {
             break;
@@ -364,6 +370,9 @@ fn seed(s: &mut ContactSolver, v: &[f64], rows: usize, dt: f64) {
 fn prepare(s: &mut ContactSolver, data: &Data, v: &[f64], dt: f64) {
     let (n, rows) = (s.n, 3 * s.points.len());
     let a = &data.step_matrix;
+    for (d, i) in s.inverse_diagonal.iter_mut().zip(0..n) {
+        *d = 1.0 / a[(i, i)];
+    }
     for buffer in [&mut s.vc_star, &mut s.vc, &mut s.dlambda, &mut s.dvc, &mut s.residual] {
         buffer.resize(rows, 0.0);
     }
@@ -376,7 +385,9 @@ fn prepare(s: &mut ContactSolver, data: &Data, v: &[f64], dt: f64) {
         let mut w2 = 0.0;
         for r in 0..3 {
             for t in 0..3 {
-                let w: f64 = (0..n).map(|i| block[r * n + i] * block[t * n + i] / a[(i, i)]).sum();
+                let w: f64 = (0..n)
+                    .map(|i| block[r * n + i] * block[t * n + i] * s.inverse_diagonal[i])
+                    .sum();
                 w2 += w * w;
             }
         }

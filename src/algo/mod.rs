@@ -27,6 +27,6 @@ pub use crba::crba;
 pub use data::Data;
 pub use forward_dynamics::forward_dynamics;
 pub use jacobian::frame_jacobian;
-pub use kinematics::{forward_kinematics, frame_position, update_joint_transforms};
+pub use kinematics::{forward_kinematics, forward_kinematics_from_transforms, frame_position, update_joint_transforms};
 pub use rnea::{bias, gravity, rnea};
 pub use step::{discrete_step, integrate_discrete};

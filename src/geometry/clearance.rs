@@ -456,8 +456,6 @@ pub(super) struct ObjectView<'a> {
     pub triangles: Option<&'a TriMesh>,
     /// Bounding sphere centre in the shape frame (m) and its radius (m).
     pub sphere: (PVector, f64),
-    /// Largest distance of a point of the shape from the shape frame's origin (m).
-    pub reach: f64,
 }
 
 impl CollisionSet {
@@ -476,7 +474,6 @@ impl CollisionSet {
             convex: &*o.convex,
             triangles: o.triangles.as_ref(),
             sphere: (o.centre, o.radius),
-            reach: o.reach,
         }
     }
 
@@ -497,10 +494,4 @@ impl CollisionSet {
 /// [`to_parry`] for the contact query: our pose in parry's form.
 pub(super) fn parry_pose(p: &Pose) -> PPose {
     to_parry(p)
-}
-
-/// [`moved`] for the contact query: a bound of how far a point within `reach` of b's origin
-/// has moved relative to a between the relative poses `then` and `now`.
-pub(super) fn motion_bound(then: &PPose, now: &PPose, reach: f64) -> f64 {
-    moved(then, now, reach)
 }

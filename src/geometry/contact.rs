@@ -17,8 +17,13 @@
 //!
 //! Pruning: a pair is queried only when a lower bound of its distance is not positive. The
 //! bounds are the pair's last positive distance less how far its shapes can have moved
-//! relative to each other since (the Lipschitz bound of the clearance), and the gap of the two
-//! bounding spheres.
+//! relative to each other since, and the gap of the two bounding spheres. How far a shape's
+//! points move when the joints move by Δq is bounded without any pose: a revolute joint j
+//! moves a point p by at most |Δq_j|·|p − o_j| (o_j on its axis), and |p − o_j| is at most the
+//! sum of the joint offsets from j to the shape's body, the frame's offset and the shape's
+//! reach, in any configuration; a prismatic joint moves it by |Δq_j|. Two shapes move relative
+//! to each other by at most the sum of these over the joints that move one but not the other
+//! (the joints that move both move them together).
 
 use std::sync::Arc;
 
@@ -29,10 +34,10 @@ use parry3d_f64::query::{self, details};
 use parry3d_f64::shape::{ConvexPolyhedron, SupportMap};
 
 use super::CollisionSet;
-use super::clearance::{motion_bound, parry_pose};
+use super::clearance::parry_pose;
 use super::report::ClearanceGeometry;
 use crate::error::{Error, Result};
-use crate::model::{JointId, Model};
+use crate::model::{JointId, JointKind, Model};
 use crate::spatial::{Pose, Vec3};
 
 /// One contact at a pose.
@@ -59,6 +64,10 @@ pub struct ContactGeometry {
     spheres: Vec<(Vec3, f64)>,
     /// Per object, a mesh hull's vertex adjacency (`None` for a primitive).
     climbs: Vec<Option<Adjacency>>,
+    /// Per pair, each joint that moves one object of the pair but not the other, with its
+    /// lever (m per rad; 1 for a prismatic joint): a bound of how far that object's points
+    /// move per unit of that joint's motion. Joints that move both move them together.
+    levers: Vec<Vec<(usize, f64)>>,
 }
 
 /// The edges of a convex polyhedron as vertex adjacency lists: vertex v's neighbours are
@@ -136,17 +145,17 @@ pub const REFRESH_EVERY: u32 = 100;
 pub const REFRESH_MOTION: f64 = 1e-4;
 
 /// A contact followed between queries: its two deepest points and its normal, fixed in the
-/// shapes they were found on.
+/// model frames of the shapes they were found on.
 #[derive(Clone, Copy, Debug)]
 struct Followed {
-    /// The first shape's deepest point, in its shape frame.
-    point_a: PVector,
-    /// The second shape's deepest point, in its shape frame.
-    point_b: PVector,
-    /// The normal, in the first shape's frame.
-    normal_a: PVector,
-    /// The relative pose `a_T_b` at the query.
-    pose_ab: PPose,
+    /// The first shape's deepest point, in its model frame.
+    point_a: Vec3,
+    /// The second shape's deepest point, in its model frame.
+    point_b: Vec3,
+    /// The normal, in the first shape's model frame.
+    normal_a: Vec3,
+    /// A bound of the shapes' relative motion since the query (m).
+    moved: f64,
     /// Calls since the query.
     age: u32,
 }
@@ -161,7 +170,8 @@ pub struct ContactData {
     /// The call each entry of `poses` was computed at, and this call's number.
     posed_at: Vec<u64>,
     call: u64,
-    bound: Vec<(f64, PPose)>,
+    /// Per pair, a lower bound of its distance now (m; −∞: unknown).
+    bound: Vec<f64>,
     /// Per pair, the two triangles closest at its last exact query.
     closest: Vec<(u32, u32)>,
     /// Per pair, its contact at the last query if it penetrated.
@@ -191,11 +201,38 @@ impl ContactGeometry {
         let climbs = (set.objects())
             .map(|o| o.convex.as_convex_polyhedron().map(Adjacency::of))
             .collect();
+        let levers = (set.objects())
+            .zip(&spheres)
+            .map(|(o, (centre, radius)): (_, &(Vec3, f64))| {
+                let frame = &model.frames[o.frame];
+                let mut reach = frame.placement.pos.norm() + centre.norm() + radius;
+                let mut levers = Vec::new();
+                let mut joint = frame.body.map(|JointId(j)| j);
+                while let Some(j) = joint {
+                    let lever = match model.joints[j].kind {
+                        JointKind::Prismatic => 1.0,
+                        JointKind::Revolute | JointKind::Continuous => reach,
+                    };
+                    levers.push((j, lever));
+                    reach += model.tree_pose[j].pos.norm();
+                    joint = model.parent[j];
+                }
+                levers
+            })
+            .collect::<Vec<Vec<(usize, f64)>>>();
+        let levers = (set.object_pairs().iter())
+            .map(|&(a, b)| {
+                let moves = |o: usize, j: usize| levers[o].iter().any(|&(k, _)| k == j);
+                let only = |o: usize, other: usize| levers[o].iter().filter(move |&&(j, _)| !moves(other, j));
+                only(a, b).chain(only(b, a)).copied().collect()
+            })
+            .collect();
         ContactGeometry {
             set,
             bodies,
             spheres,
             climbs,
+            levers,
         }
     }
 
@@ -212,7 +249,7 @@ impl ContactGeometry {
             posed_at: vec![0; objects],
             support_at: vec![0; objects],
             call: 0,
-            bound: vec![(f64::NEG_INFINITY, PPose::IDENTITY); pairs],
+            bound: vec![f64::NEG_INFINITY; pairs],
             closest: vec![(0, 0); pairs],
             followed: vec![None; pairs],
             refresh_every: REFRESH_EVERY,
@@ -299,17 +336,49 @@ impl ContactGeometry {
     }
 
     /// The contacts of the pose whose model frames are at `frame_pose` (world, e.g.
-    /// `algo::Data::frame_pose` after `forward_kinematics`), into `data.contacts`. `t` (s)
-    /// names the time in the error. Fails if two exact meshes intersect.
-    pub fn find(&self, frame_pose: &[Pose], t: f64, data: &mut ContactData) -> Result<()> {
+    /// `algo::Data::frame_pose`), into `data.contacts`. `joint_motion[j]` bounds how far joint
+    /// j moved since the previous call (|Δq_j|, rad or m; the first call's bounds are unknown
+    /// anyway). `t` (s) names the time in the error. Fails if two exact meshes intersect.
+    pub fn find(&self, frame_pose: &[Pose], joint_motion: &[f64], t: f64, data: &mut ContactData) -> Result<()> {
         data.contacts.clear();
         data.call += 1;
+        let (every, refresh) = (data.refresh_every, data.refresh_motion);
         for (k, &(a, b)) in self.set.object_pairs().iter().enumerate() {
-            let (oa, ob) = (self.set.object(a), self.set.object(b));
-            // bounding spheres apart: no contact (no parry pose needed)
-            let centre = |o: usize| frame_pose[self.set.object(o).frame].transform_point(&self.spheres[o].0);
-            if (centre(a) - centre(b)).norm() > self.spheres[a].1 + self.spheres[b].1 {
+            let motion: f64 = self.levers[k].iter().map(|&(j, lever)| joint_motion[j] * lever).sum();
+            data.bound[k] -= motion;
+            let (fa, fb) = (
+                &frame_pose[self.set.object(a).frame],
+                &frame_pose[self.set.object(b).frame],
+            );
+            let bodies = [self.bodies[a], self.bodies[b]];
+            if let Some(f) = data.followed[k].as_mut() {
+                f.moved += motion;
+                f.age += 1;
+                if f.age < every && f.moved <= refresh {
+                    // φ ≈ n̂·(p_b − p_a) with the points and the normal moving with their frames
+                    let (pa, pb, n) = (
+                        fa.transform_point(&f.point_a),
+                        fb.transform_point(&f.point_b),
+                        fa.rot * f.normal_a,
+                    );
+                    let phi = n.dot(&(pb - pa));
+                    if phi < 0.0 {
+                        data.contacts.push(contact(k, bodies, pa, pb, n, phi));
+                        continue;
+                    }
+                }
                 data.followed[k] = None;
+                data.bound[k] = f64::NEG_INFINITY;
+            }
+            if data.bound[k] > 0.0 {
+                continue;
+            }
+            // bounding spheres apart: no contact
+            let gap = (fa.transform_point(&self.spheres[a].0) - fb.transform_point(&self.spheres[b].0)).norm()
+                - self.spheres[a].1
+                - self.spheres[b].1;
+            if gap > 0.0 {
+                data.bound[k] = gap;
                 continue;
             }
             for o in [a, b] {
@@ -319,32 +388,14 @@ impl ContactGeometry {
                 }
             }
             let (pa, pb) = (data.poses[a], data.poses[b]);
-            let bodies = [self.bodies[a], self.bodies[b]];
             let pose_ab = pa.inv_mul(&pb);
-            let (every, motion) = (data.refresh_every, data.refresh_motion);
-            let fresh = |f: &&mut Followed| f.age + 1 < every && motion_bound(&f.pose_ab, &pose_ab, ob.reach) <= motion;
-            if let Some(f) = data.followed[k].as_mut().filter(fresh) {
-                // φ ≈ n̂·(p_b − p_a) with the points and the normal moving with their shapes
-                f.age += 1;
-                let (point_a, point_b, normal) = (pa * f.point_a, pb * f.point_b, pa.rotation * f.normal_a);
-                let phi = normal.dot(point_b - point_a);
-                if phi < 0.0 {
-                    data.contacts.push(contact(k, bodies, point_a, point_b, normal, phi));
-                    continue;
-                }
-            }
-            data.followed[k] = None;
-            let (lower, then) = &data.bound[k];
-            if *lower - motion_bound(then, &pose_ab, ob.reach) > 0.0 {
-                continue;
-            }
             data.queries += 1;
             let hit = self.convex_contact(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
             let Some(c) = hit.filter(|c| c.dist < 0.0) else {
-                let d = self.convex_distance(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
-                data.bound[k] = (d, pose_ab);
+                data.bound[k] = self.convex_distance(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
                 continue;
             };
+            let (oa, ob) = (self.set.object(a), self.set.object(b));
             if oa.triangles.is_some() || ob.triangles.is_some() {
                 let exact = self.set.exact_pair_distance(k, &data.poses, &mut data.closest[k]);
                 if exact.intersecting {
@@ -353,19 +404,19 @@ impl ContactGeometry {
                         t,
                     });
                 }
-                data.bound[k] = (exact.distance, pose_ab);
+                data.bound[k] = exact.distance;
                 continue;
             }
-            data.bound[k] = (c.dist, pose_ab);
+            let world = |v: PVector| Vec3::new(v.x, v.y, v.z);
+            let (point_a, point_b, normal) = (world(c.point1), world(c.point2), world(c.normal1));
             data.followed[k] = Some(Followed {
-                point_a: pa.inverse() * c.point1,
-                point_b: pb.inverse() * c.point2,
-                normal_a: pa.rotation.inverse() * c.normal1,
-                pose_ab,
+                point_a: fa.rot.transpose() * (point_a - fa.pos),
+                point_b: fb.rot.transpose() * (point_b - fb.pos),
+                normal_a: fa.rot.transpose() * normal,
+                moved: 0.0,
                 age: 0,
             });
-            data.contacts
-                .push(contact(k, bodies, c.point1, c.point2, c.normal1, c.dist));
+            data.contacts.push(contact(k, bodies, point_a, point_b, normal, c.dist));
         }
         Ok(())
     }
@@ -373,13 +424,12 @@ impl ContactGeometry {
 
 /// The contact of pair `k` from the deepest points of its two shapes (world), the normal from
 /// the first to the second and φ: the point is their midpoint (equal stiffnesses).
-fn contact(k: usize, bodies: [Option<JointId>; 2], a: PVector, b: PVector, normal: PVector, phi: f64) -> Contact {
-    let point = 0.5 * (a + b);
+fn contact(k: usize, bodies: [Option<JointId>; 2], a: Vec3, b: Vec3, normal: Vec3, phi: f64) -> Contact {
     Contact {
         pair: k,
         bodies,
-        point: Vec3::new(point.x, point.y, point.z),
-        normal: Vec3::new(normal.x, normal.y, normal.z),
+        point: 0.5 * (a + b),
+        normal,
         phi,
     }
 }

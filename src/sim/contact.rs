@@ -1,7 +1,9 @@
 //! `--self-collisions`: contact forces between the checked pairs of the arm's own collision
 //! geometry, solved inside the discrete step (docs/contact.md).
 
-use crate::algo::{ContactPoint, ContactSolver, Data, forward_kinematics, integrate_discrete_with_contacts};
+use crate::algo::{
+    ContactPoint, ContactSolver, Data, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
+};
 use crate::error::Result;
 use std::sync::Arc;
 
@@ -58,6 +60,9 @@ pub struct ContactStep {
     pub max_depth: f64,
     /// Newton iterations over the run.
     pub newton_iterations: u64,
+    /// q at the previous step, and |Δq| since (per joint).
+    last_q: Vec<f64>,
+    joint_motion: Vec<f64>,
 }
 
 impl ContactStep {
@@ -75,6 +80,8 @@ impl ContactStep {
             steps_in_contact: 0,
             max_depth: 0.0,
             newton_iterations: 0,
+            last_q: Vec::new(),
+            joint_motion: vec![0.0; model.dof()],
         }
     }
 
@@ -94,7 +101,8 @@ impl ContactStep {
     }
 
     /// One step at time `t` (s): the world poses, the contacts at q, their Jacobians, and
-    /// [`integrate_discrete_with_contacts`]. `data.m` and `data.bias` must be at (q, v).
+    /// [`integrate_discrete_with_contacts`]. `data.xup`, `data.m` and `data.bias` must be at
+    /// (q, v) ([`crate::algo::compute_all_terms`]).
     #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
@@ -106,8 +114,16 @@ impl ContactStep {
         dt: f64,
         t: f64,
     ) -> Result<()> {
-        forward_kinematics(model, data, q);
-        self.geometry.find(&data.frame_pose, t, &mut self.data)?;
+        forward_kinematics_from_transforms(model, data);
+        if self.last_q.is_empty() {
+            self.last_q.extend_from_slice(q);
+        }
+        for ((m, last), now) in self.joint_motion.iter_mut().zip(&mut self.last_q).zip(q.iter()) {
+            *m = (now - *last).abs();
+            *last = *now;
+        }
+        self.geometry
+            .find(&data.frame_pose, &self.joint_motion, t, &mut self.data)?;
         self.solver.clear();
         let s = &self.settings;
         // two equal geometries: stiffness in series k/2, dissipation (k_b d_a + k_a d_b)/(k_a + k_b) = d
@@ -133,7 +149,7 @@ impl ContactStep {
 /// first at the contact point p, in the contact frame (t₁, t₂, n̂): for each joint j on the
 /// path of body B (sign +1) or body A (−1) to the root, world axis a and origin o, the column
 /// `±(a × (p − o))` (revolute) or `±a` (prismatic), then rotated into the frame. Joints both
-/// paths share cancel. Requires `forward_kinematics` at q.
+/// paths share cancel. Requires the world poses at q.
 fn contact_jacobian(model: &Model, data: &Data, c: &crate::geometry::Contact, rows: &mut [f64]) {
     let n = model.dof();
     let normal = c.normal;
