@@ -139,8 +139,8 @@ impl SupportMap for Climber<'_> {
 /// rigidly between two queries, by default ([`ContactData::refresh_every`]).
 pub const REFRESH_EVERY: u32 = 100;
 
-/// How far (m) the points of a penetrating pair may move relative to each other (the bound of
-/// the clearance's pruning) before its contact is queried again, by default
+/// How far (m) the points of a penetrating pair may have moved relative to each other (the
+/// joint-motion bound of the module's pruning) before its contact is queried again, by default
 /// ([`ContactData::refresh_motion`]).
 pub const REFRESH_MOTION: f64 = 1e-4;
 
