@@ -9,7 +9,7 @@ use faze4::algo::{
     ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, forward_kinematics,
     forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
-use faze4::geometry::{ClearanceGeometry, PairFilter, Robot};
+use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, PairFilter, Robot};
 use faze4::model::PackagePaths;
 use faze4::sim::{Collisions, Scenario, SelfContact, ShapeRun, StopFlag, run};
 use faze4::traj::shape::Shape;
@@ -333,6 +333,26 @@ fn world_poses_from_the_joint_transforms_are_forward_kinematics() {
                     "{file}"
                 );
             }
+        }
+    }
+}
+
+#[test]
+fn contact_geometry_reads_the_faze4_hulls_and_drakes_pairs() {
+    let packages = PackagePaths::new(vec![repo_path("assets")]);
+    let Robot { model, geometry } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
+    let (set, missing) =
+        CollisionSet::new(&model, &geometry, ClearanceGeometry::Hull, PairFilter::NonAdjacent).unwrap();
+    assert!(missing.is_empty());
+    let pairs = set.pair_links().count();
+    let contact = ContactGeometry::new(&model, std::sync::Arc::new(set));
+    assert_eq!(contact.pair_links().count(), pairs);
+    for (link, vertices) in contact.hull_vertices() {
+        // the base's cylinder is a primitive; every mesh is a hull of a few hundred vertices
+        if link == "base_link" {
+            assert_eq!(vertices, 0);
+        } else {
+            assert!((100..2000).contains(&vertices), "{link}: {vertices}");
         }
     }
 }
