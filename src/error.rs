@@ -121,6 +121,19 @@ pub enum Error {
         /// What is wrong with it.
         message: String,
     },
+
+    /// Under `--self-collisions` with exact meshes, two meshes intersect: contact between two
+    /// triangle meshes is not modelled (only between convex shapes).
+    #[error(
+        "--self-collisions: the exact meshes of '{}' and '{}' intersect at t = {t:.4} s; contact is modelled between convex shapes only: use --collision-geometry hull",
+        links[0], links[1]
+    )]
+    MeshContact {
+        /// The two URDF link names.
+        links: [String; 2],
+        /// Simulated time (s).
+        t: f64,
+    },
 }
 
 /// A distance in m for messages: µm resolution, or three significant digits below 1 mm.

@@ -2,7 +2,7 @@
 
 use super::Data;
 use crate::model::{FrameId, JointId, JointKind, Model};
-use crate::spatial::{Vec3, Xform};
+use crate::spatial::{Pose, Vec3, Xform};
 
 /// Computes `data.xup[i] = i_X_λ(i)(q)` for every joint: the joint's own motion composed with
 /// its fixed tree transform `X_T(i) = (E_T, r_T)` (`tree_pose[i]` = `(E_Tᵀ, r_T)`),
@@ -43,6 +43,25 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
         };
     }
     // o_T_frame = o_T_body · body_T_frame
+    for (k, frame) in model.frames.iter().enumerate() {
+        data.frame_pose[k] = match frame.body {
+            Some(b) => data.body_pose[b.0].compose(&frame.placement),
+            None => frame.placement,
+        };
+    }
+}
+
+/// [`forward_kinematics`] from the joint transforms `data.xup` already at q (e.g. after
+/// [`crate::algo::compute_all_terms`]), without trigonometry: `xup[i] = (E_i, r_i)` is the
+/// placement `λ_T_i = (E_iᵀ, r_i)`, so `o_T_i = o_T_λ · (E_iᵀ, r_i)`.
+pub fn forward_kinematics_from_transforms(model: &Model, data: &mut Data) {
+    for i in 0..model.dof() {
+        let local = Pose::new(data.xup[i].e.transpose(), data.xup[i].r);
+        data.body_pose[i] = match model.parent[i] {
+            Some(p) => data.body_pose[p].compose(&local),
+            None => local,
+        };
+    }
     for (k, frame) in model.frames.iter().enumerate() {
         data.frame_pose[k] = match frame.body {
             Some(b) => data.body_pose[b.0].compose(&frame.placement),

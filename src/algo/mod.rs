@@ -11,6 +11,7 @@
 
 mod all_terms;
 mod cholesky;
+mod contact;
 mod crba;
 mod data;
 mod forward_dynamics;
@@ -21,10 +22,11 @@ mod step;
 
 pub use all_terms::compute_all_terms;
 pub use cholesky::{cholesky_factor, cholesky_solve};
+pub use contact::{ContactPoint, ContactSolver, SIGMA, STICTION_TOLERANCE, integrate_discrete_with_contacts};
 pub use crba::crba;
 pub use data::Data;
 pub use forward_dynamics::forward_dynamics;
 pub use jacobian::frame_jacobian;
-pub use kinematics::{forward_kinematics, frame_position, update_joint_transforms};
+pub use kinematics::{forward_kinematics, forward_kinematics_from_transforms, frame_position, update_joint_transforms};
 pub use rnea::{bias, gravity, rnea};
 pub use step::{discrete_step, integrate_discrete};

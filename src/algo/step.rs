@@ -31,6 +31,15 @@ pub fn integrate_discrete(
     tau: &[f64],
     dt: f64,
 ) -> Result<()> {
+    free_velocity(model, data, v, tau, dt)?;
+    land(model, data, q, v, dt);
+    Ok(())
+}
+
+/// The step's matrix `A = M + Δt·D` into `data.step_matrix` (its Cholesky factor in
+/// `data.chol`), `b = M v + Δt (τ − bias)` into `data.limit_rhs`, and the free velocity
+/// `v* = A⁻¹ b` into `data.rhs`.
+pub(super) fn free_velocity(model: &Model, data: &mut Data, v: &[f64], tau: &[f64], dt: f64) -> Result<()> {
     let n = model.dof();
     // A = M + Δt·D,  b = M v + Δt (τ − bias); M is column-major, so M v is summed column by
     // column (`max(1)`: a model without moving joints has no columns at all)
@@ -53,6 +62,14 @@ pub fn integrate_discrete(
         pivot,
     })?;
     cholesky_solve(&data.chol, &mut data.rhs);
+    Ok(())
+}
+
+/// From the velocity in `data.rhs` (the solution of `A v⁺ = b`, b in `data.limit_rhs`): if
+/// q + Δt v⁺ would leave a joint's limits, the box-constrained solution instead; then
+/// `v = v⁺`, `q += Δt v⁺`.
+pub(super) fn land(model: &Model, data: &mut Data, q: &mut [f64], v: &mut [f64], dt: f64) {
+    let n = model.dof();
     if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
         solve_with_limits(model, data, q, dt);
     }
@@ -61,7 +78,6 @@ pub fn integrate_discrete(
         v[i] = data.rhs[i];
         q[i] += dt * v[i];
     }
-    Ok(())
 }
 
 /// Active-set solution of the box-constrained problem into `data.rhs`. Joints in

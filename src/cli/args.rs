@@ -204,6 +204,20 @@ pub struct RunArgs {
     /// No self-clearance: the collision geometry is skipped altogether (its meshes not read).
     #[arg(long = "no-collisions", conflicts_with_all = ["collision_geometry", "collision_pairs"])]
     pub no_collisions: bool,
+    /// Contact forces between the checked pairs of the collision geometry, solved inside the
+    /// step (Drake's compliant point contact; with --collision-geometry hull the convex hulls
+    /// touch, as in Drake; exact meshes that intersect stop the run).
+    #[arg(long = "self-collisions", conflicts_with = "no_collisions")]
+    pub self_collisions: bool,
+    /// Coulomb friction of --self-collisions contacts.
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        value_name = "MU",
+        requires = "self_collisions",
+        allow_hyphen_values = true
+    )]
+    pub friction: f64,
     /// Show the run live in the browser at http://127.0.0.1:PORT, in real time.
     #[arg(long)]
     pub view: bool,

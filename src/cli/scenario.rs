@@ -10,7 +10,7 @@ use crate::faze4::motors::{motor_effort, with_faze4_motors};
 use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
 use crate::model::{FrameId, Joint, Model, PackagePaths};
 use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
-use crate::sim::{Collisions, Scenario, ScenarioBuilder, ShapeRun, Thresholds};
+use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
@@ -222,6 +222,12 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
             max_error: run.max_error,
             max_deviation_mm: run.max_deviation_mm,
         });
+    if run.self_collisions {
+        builder = builder.self_contact(SelfContact {
+            friction: run.friction,
+            ..SelfContact::default()
+        });
+    }
     if let Some(effort) = &run.effort {
         builder = builder.effort(all_given("--effort", effort, n)?);
     } else if let Some(limits) = motor_limits {

@@ -573,3 +573,57 @@ fn triangle_gap(t1: &Triangle, t2: &Triangle, pos12: &PPose) -> f64 {
     let bottom2 = axis.dot(a).min(axis.dot(b)).min(axis.dot(c));
     boxes.max(bottom2 - top1)
 }
+
+/// One loaded collision object as the contact query ([`super::contact`]) reads it.
+pub(super) struct ObjectView<'a> {
+    /// Its link.
+    pub link: &'a str,
+    /// The model frame it is fixed to.
+    pub frame: usize,
+    /// `frame_T_shape` in parry's form.
+    pub placement: &'a PPose,
+    /// The convex shape (a primitive, or a mesh's hull).
+    pub convex: &'a dyn Shape,
+    /// The exact triangles of a mesh read as [`ClearanceGeometry::Mesh`].
+    pub triangles: Option<&'a TriMesh>,
+    /// Bounding sphere centre in the shape frame (m) and its radius (m).
+    pub sphere: (PVector, f64),
+}
+
+impl CollisionSet {
+    /// The loaded objects, in the order the pairs of [`CollisionSet::object_pairs`] index.
+    pub(super) fn objects(&self) -> impl Iterator<Item = ObjectView<'_>> + '_ {
+        (0..self.objects.len()).map(|k| self.object(k))
+    }
+
+    /// Object `k` of [`CollisionSet::objects`].
+    pub(super) fn object(&self, k: usize) -> ObjectView<'_> {
+        let o = &self.objects[k];
+        ObjectView {
+            link: &o.link,
+            frame: o.frame,
+            placement: &o.placement,
+            convex: &*o.convex,
+            triangles: o.triangles.as_ref(),
+            sphere: (o.centre, o.radius),
+        }
+    }
+
+    /// The distance of pair `k` at the object poses `poses`, as this set reads its objects (the
+    /// clearance's own search; `closest` seeds it with the two triangles found closest before,
+    /// and receives them).
+    pub(super) fn exact_pair_distance(&self, k: usize, poses: &[PPose], closest: &mut (u32, u32)) -> PairDistance {
+        self.pair_distance(k, poses, closest, f64::INFINITY, None)
+            .expect("an unbounded search finds the distance")
+    }
+
+    /// The checked pairs as indices into [`CollisionSet::objects`].
+    pub(super) fn object_pairs(&self) -> &[(usize, usize)] {
+        &self.pairs
+    }
+}
+
+/// [`to_parry`] for the contact query: our pose in parry's form.
+pub(super) fn parry_pose(p: &Pose) -> PPose {
+    to_parry(p)
+}

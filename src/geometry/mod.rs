@@ -8,14 +8,17 @@
 //! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII) → exact f32 vertices, welded indices |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `clearance.rs` | [`CollisionSet`] (parry shapes), [`GeometryData`] (workspace), distances at a pose |
+//! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
 mod clearance;
+mod contact;
 pub mod mesh;
 mod pairs;
 mod report;
 
 pub use clearance::{CollisionSet, GeometryData, Warning};
+pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 pub use pairs::{PairFilter, checked_pairs};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
 

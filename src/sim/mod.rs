@@ -1,6 +1,7 @@
 //! Closed-loop runs: a [`Scenario`] (model, command, controller) stepped at Δt by [`run`],
 //! reported to recorders, summarised in a [`Summary`].
 
+mod contact;
 mod record;
 mod run;
 pub(crate) mod scenario;
@@ -8,11 +9,12 @@ mod stop;
 mod summary;
 mod verdict;
 
+pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, POINT_STIFFNESS, SelfContact};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
     Collisions, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
 };
 pub use stop::StopFlag;
-pub use summary::{Diverged, PathDeviation, Summary, ToolRange};
+pub use summary::{ContactSummary, Diverged, PathDeviation, Summary, ToolRange};
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

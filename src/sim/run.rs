@@ -2,6 +2,7 @@
 
 use std::time::{Duration, Instant};
 
+use super::{ContactStep, ContactSummary};
 use crate::algo::{Data, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceReport, CollisionSet, GeometryData};
@@ -52,6 +53,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         .flat_map(|set| set.pairs())
         .map(|(a, b)| [sc.geometry.collisions[a].frame, sc.geometry.collisions[b].frame])
         .collect();
+    let mut contact =
+        (sc.self_contact.zip(sc.collision_set.clone())).map(|(settings, set)| ContactStep::new(model, set, settings));
 
     let info = RunInfo {
         command: &sc.command,
@@ -128,7 +131,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             break;
         }
 
-        let stepped = integrate_discrete(model, &mut data, &mut q, &mut v, &tau, dt);
+        let stepped = match &mut contact {
+            Some(contact) => contact.step(model, &mut data, &mut q, &mut v, &tau, dt, t),
+            None => integrate_discrete(model, &mut data, &mut q, &mut v, &tau, dt),
+        };
         done = k + 1;
         if let Some(joint) = runaway_joint(&q, &v, stepped)? {
             diverged = Some(Diverged {
@@ -163,6 +169,17 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         }),
         ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
         interrupted_at_s,
+        self_contact: contact
+            .as_ref()
+            .zip(sc.self_contact)
+            .map(|(c, settings)| ContactSummary {
+                friction: settings.friction,
+                geometry: c.geometry().geometry(),
+                steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
+                max_depth_m: c.max_depth,
+                geometry_queries: c.geometry_queries(),
+                newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
+            }),
         ..Summary::default()
     };
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();

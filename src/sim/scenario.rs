@@ -18,6 +18,7 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
+use super::SelfContact;
 use crate::algo::{Data, crba};
 use crate::control::{Gains, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result};
@@ -76,6 +77,8 @@ pub struct Scenario {
     pub thresholds: Thresholds,
     /// What the builder noticed and the user should know before the run.
     pub warnings: Vec<Warning>,
+    /// `--self-collisions`: contact between the arm's own collision geometry, if on.
+    pub self_contact: Option<SelfContact>,
 }
 
 /// Something a scenario runs with that the user should know about; the builder returns these
@@ -206,6 +209,7 @@ impl Scenario {
             max_speed: Vec::new(),
             shape: None,
             thresholds: Thresholds::default(),
+            self_contact: None,
         }
     }
 }
@@ -233,6 +237,7 @@ pub struct ScenarioBuilder {
     max_speed: Vec<Option<f64>>,
     shape: Option<ShapeRun>,
     thresholds: Thresholds,
+    self_contact: Option<SelfContact>,
 }
 
 impl ScenarioBuilder {
@@ -339,6 +344,13 @@ impl ScenarioBuilder {
         self
     }
 
+    /// Contact forces between the checked pairs of the collision geometry given by
+    /// [`ScenarioBuilder::geometry`] (`--self-collisions`; off by default).
+    pub fn self_contact(mut self, contact: SelfContact) -> Self {
+        self.self_contact = Some(contact);
+        self
+    }
+
     /// Checks everything, applies gravity and the payload, tunes the controller at the start
     /// pose, and returns the scenario with its warnings.
     pub fn build(self) -> Result<Scenario> {
@@ -349,6 +361,17 @@ impl ScenarioBuilder {
         non_negative("--max-error", self.thresholds.max_error)?;
         non_negative("--max-deviation-mm", self.thresholds.max_deviation_mm)?;
         non_negative("--payload-kg", self.payload_kg)?;
+        if let Some(contact) = &self.self_contact {
+            non_negative("--friction", contact.friction)?;
+            positive("--self-collisions: stiffness", contact.stiffness)?;
+            non_negative("--self-collisions: dissipation", contact.dissipation)?;
+            if self.collisions.is_none() {
+                return Err(Error::argument(
+                    "--self-collisions",
+                    "needs the collision geometry: not with --no-collisions",
+                ));
+            }
+        }
         let mut model = self.model;
         let n = model.dof();
         if self.trajectory.dof() != n {
@@ -437,6 +460,7 @@ impl ScenarioBuilder {
             shape: self.shape,
             thresholds: self.thresholds,
             warnings,
+            self_contact: self.self_contact,
         })
     }
 }

@@ -95,4 +95,25 @@ pub struct Summary {
     /// metrics cover the steps before it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interrupted_at_s: Option<f64>,
+    /// Only under `--self-collisions`: what the contacts did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub self_contact: Option<ContactSummary>,
+}
+
+/// The contacts of a `--self-collisions` run (the summary's `"self_contact"`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ContactSummary {
+    /// Coulomb friction μ.
+    pub friction: f64,
+    /// How meshes were read: `"hull"` or `"mesh"`.
+    pub geometry: crate::geometry::ClearanceGeometry,
+    /// Share of the steps with at least one contact (%).
+    pub steps_in_contact_pct: f64,
+    /// Deepest penetration (m).
+    pub max_depth_m: f64,
+    /// Mean Newton iterations per step in contact.
+    pub newton_iterations_per_step: f64,
+    /// Pair queries of the geometry (the other pairs at the other steps were pruned or
+    /// followed).
+    pub geometry_queries: u64,
 }

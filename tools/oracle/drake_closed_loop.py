@@ -123,12 +123,14 @@ def periodic_command(Q, period=5.0):
 # Plant and controller.
 # --------------------------------------------------------------------------------------------
 
-def build(urdf=DEFAULT_URDF, dt=2e-4, gravity=True):
-    """Discrete SAP MultibodyPlant in a diagram, wrapped in a Simulator.
+def build(urdf=DEFAULT_URDF, dt=2e-4, gravity=True, plant_config=None):
+    """Discrete SAP MultibodyPlant in a diagram, wrapped in a Simulator. ``plant_config``: extra
+    MultibodyPlantConfig fields (drake_contact_loop.py sets the contact model and approximation).
 
     Returns (plant, simulator, plant_context)."""
     builder = DiagramBuilder()
-    config = MultibodyPlantConfig(time_step=dt, discrete_contact_approximation="sap")
+    config = MultibodyPlantConfig(**{"time_step": dt, "discrete_contact_approximation": "sap",
+                                     **(plant_config or {})})
     plant, _scene_graph = AddMultibodyPlant(config, builder)
     Parser(plant).AddModels(urdf)
     if not gravity:
@@ -162,13 +164,15 @@ def _fmt(a, f="{:.3f}"):
 
 def run_closed_loop(command, duration=8.0, dt=2e-4, feed_forward=True, gravity=True,
                     record_period=0.02, urdf=DEFAULT_URDF, effort=EFFORT, verbose=True,
-                    print_period=0.5, step_hook=None):
+                    print_period=0.5, step_hook=None, plant_config=None, record_hook=None):
     """Run the closed loop; returns (summary dict, trail ndarray with TRAIL_COLUMNS).
 
     step_hook(k, q, v, tau_raw, tau), if given, is called every step with the state the controller
-    read, the unclipped torque and the torque it applied (used by the fixture generator's checks)."""
+    read, the unclipped torque and the torque it applied (used by the fixture generator's checks).
+    record_hook(plant, context, count), if given, is called at every trail row (drake_contact_loop.py
+    reads the contact results there). plant_config: see build()."""
     effort = np.asarray(effort, dtype=float)
-    plant, simulator, ctx = build(urdf, dt, gravity)
+    plant, simulator, ctx = build(urdf, dt, gravity, plant_config)
     dof = plant.num_velocities()
     tool = plant.GetBodyByName(TOOL_BODY)
     port = plant.get_applied_generalized_force_input_port()
@@ -205,6 +209,8 @@ def run_closed_loop(command, duration=8.0, dt=2e-4, feed_forward=True, gravity=T
     def record(count, q):
         xyz = plant.EvalBodyPoseInWorld(ctx, tool).translation()
         trail.append([count * dt, *xyz, *q])
+        if record_hook is not None:
+            record_hook(plant, ctx, count)
         if verbose and count % p == 0:
             print(f"t={count * dt:5.2f}s  q(rad): {_fmt(q)}  tool XYZ(m): {_fmt(xyz)}")
 

@@ -1,0 +1,175 @@
+//! `--self-collisions`: contact forces between the checked pairs of the arm's own collision
+//! geometry, solved inside the discrete step (docs/contact.md).
+
+use crate::algo::{
+    ContactPoint, ContactSolver, Data, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
+};
+use crate::error::Result;
+use std::sync::Arc;
+
+use crate::geometry::{CollisionSet, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
+use crate::model::{JointId, JointKind, Model};
+use crate::spatial::Vec3;
+
+/// Drake's default point-contact stiffness of one geometry (N/m).
+pub const POINT_STIFFNESS: f64 = 1e6;
+/// Drake's default Hunt–Crossley dissipation (s/m).
+pub const HUNT_CROSSLEY_DISSIPATION: f64 = 50.0;
+
+/// How the arm's collision geometry touches itself. The defaults are Drake's: every geometry
+/// of stiffness 1e6 N/m (two in contact combine in series, 5e5 N/m), dissipation 50 s/m,
+/// friction 1.0. Which pairs touch and how meshes are read are the run's collision settings
+/// ([`super::Collisions`]: with `Hull` the convex hulls touch, as in Drake; with `Mesh` two
+/// intersecting meshes stop the run, see [`crate::error::Error::MeshContact`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SelfContact {
+    /// Coulomb friction μ (≥ 0), `--friction`.
+    pub friction: f64,
+    /// Stiffness of each geometry (N/m, > 0).
+    pub stiffness: f64,
+    /// Hunt–Crossley dissipation of each geometry (s/m, ≥ 0).
+    pub dissipation: f64,
+    /// A penetrating pair is queried again after at most this many steps (≥ 1; 1: every
+    /// step); between queries its contact is followed rigidly (docs/contact.md).
+    pub refresh_every: u32,
+    /// ... or sooner, once its shapes have moved this far relative to each other (m, ≥ 0).
+    pub refresh_motion: f64,
+}
+
+impl Default for SelfContact {
+    fn default() -> Self {
+        SelfContact {
+            friction: 1.0,
+            stiffness: POINT_STIFFNESS,
+            dissipation: HUNT_CROSSLEY_DISSIPATION,
+            refresh_every: REFRESH_EVERY,
+            refresh_motion: REFRESH_MOTION,
+        }
+    }
+}
+
+/// The discrete step with self-contact: the contact geometry, its workspace and the solver's.
+pub struct ContactStep {
+    settings: SelfContact,
+    geometry: ContactGeometry,
+    data: ContactData,
+    solver: ContactSolver,
+    /// Steps that had at least one contact.
+    pub steps_in_contact: u64,
+    /// Deepest penetration seen (m, ≥ 0).
+    pub max_depth: f64,
+    /// Newton iterations over the run.
+    pub newton_iterations: u64,
+    /// q at the previous step, and |Δq| since (per joint).
+    last_q: Vec<f64>,
+    joint_motion: Vec<f64>,
+}
+
+impl ContactStep {
+    /// Contact between the objects of `set` (loaded for `model`) as `settings` say.
+    pub fn new(model: &Model, set: Arc<CollisionSet>, settings: SelfContact) -> ContactStep {
+        let geometry = ContactGeometry::new(model, set);
+        let mut data = geometry.data();
+        data.refresh_every = settings.refresh_every.max(1);
+        data.refresh_motion = settings.refresh_motion;
+        ContactStep {
+            settings,
+            data,
+            geometry,
+            solver: ContactSolver::new(model),
+            steps_in_contact: 0,
+            max_depth: 0.0,
+            newton_iterations: 0,
+            last_q: Vec::new(),
+            joint_motion: vec![0.0; model.dof()],
+        }
+    }
+
+    /// The loaded contact geometry.
+    pub fn geometry(&self) -> &ContactGeometry {
+        &self.geometry
+    }
+
+    /// Pair queries of the geometry so far.
+    pub fn geometry_queries(&self) -> u64 {
+        self.data.queries
+    }
+
+    /// The contacts of the last step.
+    pub fn contacts(&self) -> &[crate::geometry::Contact] {
+        &self.data.contacts
+    }
+
+    /// One step at time `t` (s): the world poses, the contacts at q, their Jacobians, and
+    /// [`integrate_discrete_with_contacts`]. `data.xup`, `data.m` and `data.bias` must be at
+    /// (q, v) ([`crate::algo::compute_all_terms`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        q: &mut [f64],
+        v: &mut [f64],
+        tau: &[f64],
+        dt: f64,
+        t: f64,
+    ) -> Result<()> {
+        forward_kinematics_from_transforms(model, data);
+        if self.last_q.is_empty() {
+            self.last_q.extend_from_slice(q);
+        }
+        for ((m, last), now) in self.joint_motion.iter_mut().zip(&mut self.last_q).zip(q.iter()) {
+            *m = (now - *last).abs();
+            *last = *now;
+        }
+        self.geometry
+            .find(&data.frame_pose, &self.joint_motion, t, &mut self.data)?;
+        self.solver.clear();
+        let s = &self.settings;
+        // two equal geometries: stiffness in series k/2, dissipation (k_b d_a + k_a d_b)/(k_a + k_b) = d
+        let point = |phi| ContactPoint {
+            phi,
+            stiffness: s.stiffness * s.stiffness / (s.stiffness + s.stiffness),
+            dissipation: s.dissipation,
+            friction: s.friction,
+        };
+        for c in &self.data.contacts {
+            self.max_depth = self.max_depth.max(-c.phi);
+            let rows = self.solver.push(point(c.phi));
+            contact_jacobian(model, data, c, rows);
+        }
+        self.steps_in_contact += u64::from(!self.data.contacts.is_empty());
+        let stepped = integrate_discrete_with_contacts(model, data, q, v, tau, dt, &mut self.solver);
+        self.newton_iterations += self.solver.iterations as u64;
+        stepped
+    }
+}
+
+/// The 3×n Jacobian (row-major into `rows`) of the velocity of the second body relative to the
+/// first at the contact point p, in the contact frame (t₁, t₂, n̂): for each joint j on the
+/// path of body B (sign +1) or body A (−1) to the root, world axis a and origin o, the column
+/// `±(a × (p − o))` (revolute) or `±a` (prismatic), then rotated into the frame. Joints both
+/// paths share cancel. Requires the world poses at q.
+fn contact_jacobian(model: &Model, data: &Data, c: &crate::geometry::Contact, rows: &mut [f64]) {
+    let n = model.dof();
+    let normal = c.normal;
+    // any unit tangent, then t₂ = n̂ × t₁
+    let helper = if normal.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
+    let t1 = normal.cross(&helper).normalize();
+    let t2 = normal.cross(&t1);
+    for (body, sign) in [(c.bodies[1], 1.0), (c.bodies[0], -1.0)] {
+        let mut joint = body.map(|JointId(j)| j);
+        while let Some(j) = joint {
+            let pose = &data.body_pose[j];
+            let axis = pose.rot * model.joints[j].axis;
+            let column = match model.joints[j].kind {
+                JointKind::Revolute | JointKind::Continuous => axis.cross(&(c.point - pose.pos)),
+                JointKind::Prismatic => axis,
+            } * sign;
+            rows[j] += t1.dot(&column);
+            rows[n + j] += t2.dot(&column);
+            rows[2 * n + j] += normal.dot(&column);
+            joint = model.parent[j];
+        }
+    }
+}

@@ -1,0 +1,358 @@
+//! `--self-collisions` (docs/contact.md): the real binary against Drake's contact closed loop
+//! (fixtures by tools/oracle/drake_contact_loop.py), the exact meshes' truth, the contact solver
+//! on a slider pressed into a wall, and the options' answers to bad input.
+
+mod common;
+
+use common::*;
+use faze4::algo::{
+    ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, forward_kinematics,
+    forward_kinematics_from_transforms, integrate_discrete_with_contacts,
+};
+use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, PairFilter, Robot};
+use faze4::model::PackagePaths;
+use faze4::sim::{Collisions, Scenario, SelfContact, ShapeRun, StopFlag, run};
+use faze4::traj::shape::Shape;
+use serde_json::Value;
+
+/// Runs `faze4 shape --shape circle` on the real Faze4 (official meshes) with `extra`; returns
+/// the summary and the trail.
+fn circle(name: &str, extra: &[&str]) -> (Value, Vec<Vec<f64>>) {
+    let dir = temp_dir(name);
+    let urdf = repo_path("urdf/faze4_real.urdf").display().to_string();
+    let assets = repo_path("assets").display().to_string();
+    let mut args = vec![
+        "shape",
+        "--shape",
+        "circle",
+        "--urdf",
+        &urdf,
+        "--package-path",
+        &assets,
+        "--trail",
+        "trail.csv",
+        "--summary",
+        "summary.json",
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let run = faze4(&dir, &args);
+    assert!(matches!(run.status.code(), Some(0 | 3)), "{args:?}: {}", run.stderr);
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let (_, trail) = read_csv(&dir.join("trail.csv"));
+    (summary, trail)
+}
+
+/// Saturation per joint within 5 percentage points of Drake's, path deviation max and mean
+/// within 15 %.
+fn matches_drake(name: &str, fixture_name: &str, friction: &str) -> Value {
+    let fx = fixture(fixture_name);
+    let (ours, _) = circle(
+        name,
+        &[
+            "--collision-geometry",
+            "hull",
+            "--self-collisions",
+            "--friction",
+            friction,
+        ],
+    );
+    let (sat, drake_sat) = (
+        vec_f64(&ours["saturation_pct"]),
+        vec_f64(&fx["summary"]["saturation_pct"]),
+    );
+    for (j, (a, b)) in sat.iter().zip(&drake_sat).enumerate() {
+        assert!((a - b).abs() <= 5.0, "J{} saturation {a} % vs Drake {b} %", j + 1);
+    }
+    for key in ["max", "mean"] {
+        let (a, b) = (
+            ours["path_deviation_mm"][key].as_f64().unwrap(),
+            fx["summary"]["path_deviation_mm"][key].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 0.15 * b, "deviation {key} {a} mm vs Drake {b} mm");
+    }
+    let contact = &ours["self_contact"];
+    assert_eq!(contact["geometry"], "hull");
+    assert_eq!(contact["friction"].as_f64().unwrap(), friction.parse::<f64>().unwrap());
+    // Drake's hulls of nadlaktica and podlaktica overlap along the whole circle
+    assert!(contact["steps_in_contact_pct"].as_f64().unwrap() > 99.0, "{contact}");
+    ours
+}
+
+#[test]
+fn circle_on_hulls_pins_j3_as_drake_does() {
+    let ours = matches_drake("hull_mu1", "contact_circle_mu1.json", "1");
+    let sat = vec_f64(&ours["saturation_pct"]);
+    assert!(sat[2] > 90.0 && sat[3] == 0.0, "J3 pinned, J4 free: {sat:?}");
+}
+
+#[test]
+fn circle_on_hulls_without_friction_lets_j4_roll_as_drake_does() {
+    let ours = matches_drake("hull_mu0", "contact_circle_mu0.json", "0");
+    let sat = vec_f64(&ours["saturation_pct"]);
+    assert!(sat[3] > 90.0 && sat[2] == 0.0, "J4 saturated, J3 free: {sat:?}");
+}
+
+#[test]
+fn exact_meshes_never_touch_on_the_circle() {
+    let (free, free_trail) = circle("mesh_off", &[]);
+    let (ours, trail) = circle("mesh_on", &["--self-collisions"]);
+    assert_eq!(ours["self_contact"]["geometry"], "mesh");
+    assert_eq!(ours["self_contact"]["steps_in_contact_pct"].as_f64(), Some(0.0));
+    for key in [
+        "saturation_pct",
+        "max_tracking_error_rad",
+        "path_deviation_mm",
+        "tool_range_m",
+    ] {
+        assert_eq!(ours[key], free[key], "{key}");
+    }
+    assert_eq!(trail, free_trail);
+}
+
+#[test]
+fn contact_arm_follows_drake_closely() {
+    let fx = fixture("contact_arm.json");
+    let dir = temp_dir("contact_arm");
+    let a = &fx["args"];
+    let num = |k: &str| a[k].as_f64().unwrap().to_string();
+    let urdf = repo_path(fx["urdf"].as_str().unwrap()).display().to_string();
+    let effort: Vec<String> = vec_f64(&a["effort"]).iter().map(f64::to_string).collect();
+    let args = [
+        "wave",
+        "--urdf",
+        &urdf,
+        "--effort",
+        &effort.join(","),
+        "--tool-link",
+        a["tool_link"].as_str().unwrap(),
+        "--freq",
+        &num("freq"),
+        "--amp-deg",
+        &num("amp_deg"),
+        "--duration",
+        &num("duration"),
+        "--dt",
+        &num("dt"),
+        "--record-period",
+        &num("record_period"),
+        "--self-collisions",
+        "--friction",
+        &num("friction"),
+        "--collision-geometry",
+        "hull",
+        "--trail",
+        "trail.csv",
+        "--summary",
+        "summary.json",
+        "--quiet",
+    ];
+    let run = faze4(&dir, &args);
+    assert!(matches!(run.status.code(), Some(0 | 3)), "{}", run.stderr);
+    let (_, trail) = read_csv(&dir.join("trail.csv"));
+    let drake = mat_f64(&fx["trail"]["rows"]);
+    assert_eq!(trail.len(), drake.len());
+    let worst = trail
+        .iter()
+        .zip(&drake)
+        .map(|(a, b)| max_abs_diff(a, b))
+        .fold(0.0, f64::max);
+    assert!(worst < 2e-5, "trail differs from Drake's by {worst}");
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let (sat, drake_sat) = (
+        vec_f64(&summary["saturation_pct"]),
+        vec_f64(&fx["summary"]["saturation_pct"]),
+    );
+    assert!(max_abs_diff(&sat, &drake_sat) < 0.1, "{sat:?} vs {drake_sat:?}");
+    // the tip is pressed into the wall for a good part of the run
+    assert!(fx["contacts"]["rows_in_contact"].as_u64().unwrap() > 20);
+    assert!(summary["self_contact"]["steps_in_contact_pct"].as_f64().unwrap() > 15.0);
+}
+
+/// A point mass on two prismatic joints (x, then y), no gravity, no damping: the wall is the
+/// plane x = 0, the mass penetrates it when x < 0.
+const SLIDER: &str = r#"<robot name="slider">
+  <link name="world"/>
+  <joint name="x" type="prismatic"><parent link="world"/><child link="carriage"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="100" velocity="1"/></joint>
+  <link name="carriage"><inertial><mass value="0.5"/>
+    <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
+  <joint name="y" type="prismatic"><parent link="carriage"/><child link="block"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="100" velocity="1"/></joint>
+  <link name="block"><inertial><mass value="2"/>
+    <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
+</robot>"#;
+
+/// Pushes the slider into the wall with force `push` (N) and along it with `drag` (N) for
+/// `steps`; returns (x, y velocity, normal force n/Δt, friction force) after the last step.
+fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
+    let mut model = Robot::from_urdf_str(SLIDER, "slider", None, &PackagePaths::default())
+        .unwrap()
+        .model;
+    model.gravity = Default::default();
+    let (dt, k) = (2e-4, 5e5);
+    let mut data = Data::new(&model);
+    let mut solver = ContactSolver::new(&model);
+    let (mut q, mut v) = (vec![0.0, 0.0], vec![0.0, 0.0]);
+    let tau = [-push, drag];
+    for _ in 0..steps {
+        compute_all_terms(&model, &mut data, &q, &v);
+        solver.clear();
+        if q[0] < 0.0 {
+            let point = ContactPoint {
+                phi: q[0],
+                stiffness: k,
+                dissipation: 50.0,
+                friction,
+            };
+            // rows: tangent y, tangent z, normal x (wall → block)
+            solver.push(point).copy_from_slice(&[0.0, 1.0, 0.0, 0.0, 1.0, 0.0]);
+        }
+        integrate_discrete_with_contacts(&model, &mut data, &mut q, &mut v, &tau, dt, &mut solver).unwrap();
+    }
+    let gamma = if solver.is_empty() { [0.0; 3] } else { solver.impulse(0) };
+    (q[0], v[1], gamma[2] / dt, gamma[0] / dt)
+}
+
+#[test]
+fn a_pressed_slider_settles_at_force_over_stiffness() {
+    let (x, _, normal, _) = slide(20.0, 0.0, 1.0, 20_000);
+    assert!((normal - 20.0).abs() < 1e-4, "normal force {normal} N");
+    assert!((x + 20.0 / 5e5).abs() < 1e-9, "penetration {x} m");
+}
+
+#[test]
+fn friction_holds_below_mu_n_and_slides_above() {
+    // μ N = 10 N: a 6 N drag is held (slip within the stiction tolerance), the friction
+    // force balancing it
+    let (_, slip, normal, friction) = slide(20.0, 6.0, 0.5, 20_000);
+    assert!((normal - 20.0).abs() < 1e-4, "{normal}");
+    assert!(slip.abs() < STICTION_TOLERANCE, "slip {slip} m/s");
+    assert!((friction + 6.0).abs() < 1e-4, "friction {friction} N");
+    // a 14 N drag slides: friction μ N against it, the other 4 N accelerate the 2 kg block
+    let (_, v1, _, friction) = slide(20.0, 14.0, 0.5, 2_000);
+    let (_, v2, _, _) = slide(20.0, 14.0, 0.5, 4_000);
+    assert!((friction + 10.0).abs() < 1e-3, "friction {friction} N");
+    let acceleration = (v2 - v1) / (2_000.0 * 2e-4);
+    assert!(
+        (acceleration - 4.0 / 2.0).abs() < 1e-3,
+        "acceleration {acceleration} m/s²"
+    );
+}
+
+#[test]
+fn self_collision_options_refuse_bad_input() {
+    let dir = temp_dir("contact_refuses");
+    refuses(
+        &dir,
+        &["wave", "--self-collisions", "--friction", "-1"],
+        &["--friction", "-1"],
+    );
+    let run = faze4(&dir, &["wave", "--friction", "0.5"]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(run.stderr.contains("--self-collisions"), "{}", run.stderr);
+    let run = faze4(&dir, &["wave", "--self-collisions", "--no-collisions"]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(run.stderr.contains("--no-collisions"), "{}", run.stderr);
+}
+
+/// The circle on the hulls through the library, with `settings`.
+fn circle_summary(settings: SelfContact) -> faze4::sim::Summary {
+    let packages = PackagePaths::new(vec![repo_path("assets")]);
+    let Robot { model, geometry } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
+    let tool = model.default_tool_frame();
+    let (trajectory, shape) = ShapeRun::plan(&model, tool, Shape::Circle, 240).unwrap();
+    let scenario = Scenario::builder(model, trajectory)
+        .geometry(geometry)
+        .collisions(Some(Collisions {
+            geometry: ClearanceGeometry::Hull,
+            pairs: PairFilter::NonAdjacent,
+        }))
+        .self_contact(settings)
+        .duration(12.0)
+        .shape(shape)
+        .build()
+        .unwrap();
+    run(&scenario, &mut [], &StopFlag::new()).unwrap()
+}
+
+#[test]
+fn following_contacts_between_queries_changes_the_figures_little() {
+    for friction in [1.0, 0.0] {
+        let every_step = circle_summary(SelfContact {
+            friction,
+            refresh_every: 1,
+            refresh_motion: 0.0,
+            ..SelfContact::default()
+        });
+        let followed = circle_summary(SelfContact {
+            friction,
+            ..SelfContact::default()
+        });
+        let (a, b) = (
+            every_step.self_contact.unwrap(),
+            followed.self_contact.as_ref().unwrap(),
+        );
+        assert!(
+            b.geometry_queries * 2 < a.geometry_queries,
+            "{} vs {}",
+            b.geometry_queries,
+            a.geometry_queries
+        );
+        let sat = max_abs_diff(&every_step.saturation_pct, &followed.saturation_pct);
+        assert!(sat < 0.5, "μ {friction}: saturation differs by {sat} points");
+        let (x, y) = (
+            every_step.path_deviation_mm.unwrap(),
+            followed.path_deviation_mm.unwrap(),
+        );
+        // at most half the tolerance against Drake (15 %)
+        assert!((x.max - y.max).abs() < 0.075 * x.max, "μ {friction}: {x:?} vs {y:?}");
+        assert!((x.mean - y.mean).abs() < 0.075 * x.mean, "μ {friction}: {x:?} vs {y:?}");
+    }
+}
+
+#[test]
+fn world_poses_from_the_joint_transforms_are_forward_kinematics() {
+    for file in [
+        "urdf/faze4_arm.urdf",
+        "tests/urdf/arm_prismatic.urdf",
+        "tests/urdf/contact_arm.urdf",
+    ] {
+        let model = load(file);
+        let mut rng = Rng::new(7);
+        let (mut from_xup, mut direct) = (Data::new(&model), Data::new(&model));
+        for _ in 0..20 {
+            let q = rng.configuration(&model);
+            let v = rng.vector(model.dof(), -1.0, 1.0);
+            compute_all_terms(&model, &mut from_xup, &q, &v);
+            forward_kinematics_from_transforms(&model, &mut from_xup);
+            forward_kinematics(&model, &mut direct, &q);
+            for (a, b) in from_xup.frame_pose.iter().zip(&direct.frame_pose) {
+                assert!(
+                    (a.rot - b.rot).abs().max() < 1e-12 && (a.pos - b.pos).norm() < 1e-12,
+                    "{file}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn contact_geometry_reads_the_faze4_hulls_and_drakes_pairs() {
+    let packages = PackagePaths::new(vec![repo_path("assets")]);
+    let Robot { model, geometry } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
+    let (set, missing) =
+        CollisionSet::new(&model, &geometry, ClearanceGeometry::Hull, PairFilter::NonAdjacent).unwrap();
+    assert!(missing.is_empty());
+    let pairs = set.pair_links().count();
+    let contact = ContactGeometry::new(&model, std::sync::Arc::new(set));
+    assert_eq!(contact.pair_links().count(), pairs);
+    for (link, vertices) in contact.hull_vertices() {
+        // the base's cylinder is a primitive; every mesh is a hull of a few hundred vertices
+        if link == "base_link" {
+            assert_eq!(vertices, 0);
+        } else {
+            assert!((100..2000).contains(&vertices), "{link}: {vertices}");
+        }
+    }
+}
