@@ -4,7 +4,8 @@
 //! Reads the official description from the repository (`assets/faze4_description`), or from
 //! `FAZE4_DESCRIPTION`.
 //!
-//! * `clearance_hull_600_samples`: forward kinematics and [`CollisionSet::accumulate`] with
+//! * `clearance_hull_600_samples`: forward kinematics and [`CollisionSet::accumulate`] (then
+//!   [`CollisionSet::finish`]) with
 //!   each mesh as its convex hull, for the 600 samples of a run.
 //! * `clearance_mesh_600_samples`: the same with the exact triangles.
 //!
@@ -44,6 +45,7 @@ fn clearance_pass(robot: &Robot, set: &CollisionSet, samples: &[(f64, &Vec<f64>)
         forward_kinematics(&robot.model, &mut data, q);
         set.accumulate(&data.frame_pose, *t, &mut geometry_data, &mut report);
     }
+    set.finish(&mut geometry_data, &mut report);
     report.min_m.unwrap()
 }
 

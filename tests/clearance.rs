@@ -195,6 +195,7 @@ fn circle_clearance_report_names_the_closest_pair() {
         forward_kinematics(&robot.model, &mut data, &vec_f64(&pose["q"]));
         set.accumulate(&data.frame_pose, k as f64 * 0.02, &mut geometry_data, &mut report);
     }
+    set.finish(&mut geometry_data, &mut report);
     let pair = fixture_pairs(&robot, &fixture)
         .iter()
         .position(|&(a, b)| {
@@ -237,6 +238,7 @@ fn circle_clearance_report_names_the_closest_pair() {
         forward_kinematics(&robot.model, &mut data, &vec_f64(&circle[k]["q"]));
         set.accumulate(&data.frame_pose, k as f64 * 0.02, &mut geometry_data, &mut report);
     }
+    set.finish(&mut geometry_data, &mut report);
     let ours = &report.pairs[set
         .pair_links()
         .position(|l| l == ["nadlaktica", "podlaktica"])
@@ -388,6 +390,7 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample_and_finds_each_interse
             assert_eq!(pruned.intersecting, intersecting, "{kind:?} at sample {k}");
             assert_eq!(intersecting.iter().any(|&i| i), kind == ClearanceGeometry::Hull);
         }
+        set.finish(&mut pruned, &mut report);
         for (pair, (d, t)) in report.pairs.iter().zip(&minimum) {
             assert!(
                 (pair.min_m - d).abs() <= 1e-12,

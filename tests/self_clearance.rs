@@ -45,6 +45,7 @@ fn library_run(
             first = Some(row[0]);
         }
     }
+    set.finish(&mut geometry_data, &mut report);
     (report, first)
 }
 

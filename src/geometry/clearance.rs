@@ -181,7 +181,7 @@ pub struct GeometryData {
 }
 
 /// One pair's state between queries.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 struct PairMemory {
     /// The two triangles found closest at its last exact mesh query.
     closest: (u32, u32),
@@ -189,6 +189,24 @@ struct PairMemory {
     reference: (f64, PPose),
     /// What the last [`CollisionSet::accumulate`] found: the distance, if it was computed.
     found: Option<PairDistance>,
+    /// An actual distance of the pair at some sample so far (m): the run's smallest is no
+    /// larger.
+    upper: f64,
+    /// Samples left for [`CollisionSet::finish`]: apart, but not proven by the hulls.
+    pending: Vec<Pending>,
+}
+
+/// A sample whose exact distance is left for [`CollisionSet::finish`].
+#[derive(Clone, Copy)]
+struct Pending {
+    /// Its time (s).
+    t: f64,
+    /// The pair's relative pose `a_T_b` then.
+    pose_ab: PPose,
+    /// The hulls' distance then (m), a lower bound of the pair's.
+    lower: f64,
+    /// An actual distance of two of its parts then (m), an upper bound of the pair's.
+    upper: f64,
 }
 
 impl GeometryData {
@@ -209,6 +227,8 @@ impl GeometryData {
                     closest: (0, 0),
                     reference: (f64::NEG_INFINITY, PPose::IDENTITY),
                     found: None,
+                    upper: f64::INFINITY,
+                    pending: Vec::new(),
                 };
                 set.pairs.len()
             ],
@@ -320,14 +340,16 @@ impl CollisionSet {
     /// Folds the pose at time `t` (s) into `report`, and sets `data.intersecting` to this
     /// pose's intersecting pairs: each pair's distance is computed only when a lower bound
     /// (the pair's last bound less its relative motion since, bounding spheres, then hulls)
-    /// says it could be below the pair's smallest so far or could be an intersection.
-    /// `report` must come from [`CollisionSet::new_report`] on this set.
+    /// says it could be below the pair's smallest so far or could be an intersection. A pair
+    /// whose hulls are apart but do not prove its distance is not searched now: the sample
+    /// waits for [`CollisionSet::finish`], which searches only those that can still hold the
+    /// minimum. `report` must come from [`CollisionSet::new_report`] on this set.
     pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
         self.place(frame_pose, data);
         let poses = &data.poses;
         let smallest = &report.pairs;
         (data.memory.par_iter_mut().enumerate())
-            .for_each(|(k, memory)| memory.found = self.fold_pair(k, poses, smallest[k].min_m, memory));
+            .for_each(|(k, memory)| memory.found = self.fold_pair(k, poses, t, smallest[k].min_m, memory));
         for (k, memory) in data.memory.iter().enumerate() {
             data.intersecting[k] = memory.found.is_some_and(|d| d.intersecting);
             if let Some(d) = memory.found {
@@ -336,12 +358,40 @@ impl CollisionSet {
         }
     }
 
-    /// Pair `k` at `poses` for [`CollisionSet::accumulate`]: its distance, unless a lower
-    /// bound shows that it is positive (no intersection) and not below `best`, the pair's
-    /// smallest so far (no new minimum).
-    fn fold_pair(&self, k: usize, poses: &[PPose], best: f64, memory: &mut PairMemory) -> Option<PairDistance> {
+    /// Completes `report` after the last [`CollisionSet::accumulate`]: each pair's waiting
+    /// samples whose lower bound is below the pair's smallest distance so far are searched,
+    /// the smallest upper bound first (none of them intersects: their hulls were apart).
+    pub fn finish(&self, data: &mut GeometryData, report: &mut ClearanceReport) {
+        for (k, &(a, b)) in self.pairs.iter().enumerate() {
+            let mut pending = std::mem::take(&mut data.memory[k].pending);
+            // the likeliest minimum first (the smallest actual distance seen), so that the
+            // searches after it are bounded tightly
+            pending.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.t.total_cmp(&y.t)));
+            for p in &pending {
+                let best = report.pairs[k].min_m;
+                if p.lower >= best {
+                    continue;
+                }
+                // distances depend on the relative pose alone
+                (data.poses[a], data.poses[b]) = (PPose::IDENTITY, p.pose_ab);
+                let closest = &mut data.memory[k].closest;
+                if let Some(d) = self.pair_distance(k, &data.poses, closest, best, Some(p.lower)) {
+                    report.record(k, d, p.t);
+                }
+            }
+            pending.clear();
+            data.memory[k].pending = pending;
+        }
+    }
+
+    /// Pair `k` at `poses` (time `t`) for [`CollisionSet::accumulate`]: its distance, unless a
+    /// lower bound shows that it is positive (no intersection) and not below the pair's
+    /// smallest so far (`best`, or an actual distance seen: no new minimum), or the sample is
+    /// left for [`CollisionSet::finish`].
+    fn fold_pair(&self, k: usize, poses: &[PPose], t: f64, best: f64, memory: &mut PairMemory) -> Option<PairDistance> {
         let (a, b) = self.pairs[k];
-        let skip = |lower: f64| lower > 0.0 && lower >= best;
+        let least = best.min(memory.upper);
+        let skip = |lower: f64| lower > 0.0 && lower >= least;
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         let (pa, pb) = (&poses[a], &poses[b]);
         let pose_ab = pa.inv_mul(pb);
@@ -360,19 +410,42 @@ impl CollisionSet {
             (None, None) => self.convex_distance(a, b, poses),
             _ => {
                 let hull = self.convex_distance(a, b, poses).distance;
+                memory.reference = (hull, pose_ab);
                 if skip(hull) {
-                    memory.reference = (hull, pose_ab);
                     return None;
                 }
-                // an exact search bounded by the smallest distance so far, or (once the pair
-                // has intersected) by the least positive distance, which still finds an
-                // intersection
-                let bound = best.max(f64::MIN_POSITIVE);
-                match self.pair_distance(k, poses, &mut memory.closest, bound, Some(hull)) {
-                    Some(d) => d,
-                    None => {
-                        memory.reference = (bound, pose_ab);
-                        return None;
+                if hull > 0.0 {
+                    match self.proven_by_hulls(a, b, poses, hull, &mut memory.closest) {
+                        Ok(distance) => {
+                            memory.upper = memory.upper.min(distance);
+                            PairDistance {
+                                distance,
+                                intersecting: false,
+                            }
+                        }
+                        Err(upper) => {
+                            memory.upper = memory.upper.min(upper);
+                            memory.pending.push(Pending {
+                                t,
+                                pose_ab,
+                                lower: hull,
+                                upper,
+                            });
+                            return None;
+                        }
+                    }
+                } else {
+                    // the hulls overlap: an exact search now (an intersection must be seen at
+                    // its sample), bounded by the smallest distance so far, or (once the pair
+                    // has intersected) by the least positive distance, which still finds an
+                    // intersection
+                    let bound = best.max(f64::MIN_POSITIVE);
+                    match self.pair_distance(k, poses, &mut memory.closest, bound, Some(hull)) {
+                        Some(d) => d,
+                        None => {
+                            memory.reference = (bound, pose_ab);
+                            return None;
+                        }
                     }
                 }
             }
@@ -403,7 +476,7 @@ impl CollisionSet {
         if hull >= bound {
             return None;
         }
-        if let Some(distance) = self.proven_by_hulls(a, b, poses, hull, closest) {
+        if let Ok(distance) = self.proven_by_hulls(a, b, poses, hull, closest) {
             return (distance < bound).then_some(PairDistance {
                 distance,
                 intersecting: false,
@@ -434,20 +507,28 @@ impl CollisionSet {
     /// a primitive is its own part) is no further apart than `hull` + [`HULL_CERTIFICATE`],
     /// that pair's distance is the objects' distance to within the certificate, since a mesh
     /// lies inside its hull. The parts tried: `closest` (the pair's last closest parts), then
-    /// the parts under the hulls' closest points; `closest` receives the closer.
-    fn proven_by_hulls(&self, a: usize, b: usize, poses: &[PPose], hull: f64, closest: &mut (u32, u32)) -> Option<f64> {
+    /// the parts under the hulls' closest points; `closest` receives the closer. Not proven:
+    /// `Err` with the smallest actual distance found, an upper bound of the objects'.
+    fn proven_by_hulls(
+        &self,
+        a: usize,
+        b: usize,
+        poses: &[PPose],
+        hull: f64,
+        closest: &mut (u32, u32),
+    ) -> std::result::Result<f64, f64> {
+        let seeded = self.part_distance(a, b, poses, *closest);
         if hull <= 0.0 {
-            return None;
+            return Err(seeded);
+        }
+        if seeded <= hull + HULL_CERTIFICATE {
+            return Ok(seeded);
         }
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
-        let seeded = self.part_distance(a, b, poses, *closest);
-        if seeded <= hull + HULL_CERTIFICATE {
-            return Some(seeded);
-        }
         let Ok(ClosestPoints::WithinMargin(pa, pb)) =
             query::closest_points(&poses[a], &*oa.convex, &poses[b], &*ob.convex, f64::MAX)
         else {
-            return None;
+            return Err(seeded);
         };
         // the triangle of a mesh nearest a point on its hull (world frame)
         let part = |o: &Object, pose: &PPose, p: PVector| {
@@ -462,7 +543,11 @@ impl CollisionSet {
         if under < seeded {
             *closest = parts;
         }
-        (under <= hull + HULL_CERTIFICATE).then_some(under)
+        if under <= hull + HULL_CERTIFICATE {
+            Ok(under)
+        } else {
+            Err(under.min(seeded))
+        }
     }
 
     /// The distance between part `i` of `a` and part `j` of `b` (a mesh's triangle, or a

@@ -31,7 +31,7 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 /// range and path deviation over the
 /// samples every `record_every` steps and after the last, where the self-clearance of the
 /// scenario's collision set is measured too (every frame's pose by forward kinematics, then
-/// [`CollisionSet::accumulate`]): the summary's `clearance`, and a verdict that *collides* when
+/// [`CollisionSet::accumulate`], completed by [`CollisionSet::finish`]): the summary's `clearance`, and a verdict that *collides* when
 /// any pair intersects at a sample. A diverged run stops at once; its
 /// summary says where (`diverged`), and covers the steps that completed. A raised `stop` flag
 /// ends the run at the next poll the same way, as if that step were the last
@@ -143,6 +143,9 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 stiffness_b: sc.controller.gains.stiffness_b(dt),
             });
         }
+    }
+    if let Some(c) = clearance.as_mut() {
+        c.finish();
     }
     let wall_time_s = wall.elapsed().as_secs_f64();
 
@@ -337,7 +340,7 @@ struct ClearanceMetrics<'a> {
     report: ClearanceReport,
     /// Per checked pair, the time of the first sample at which it intersects (s).
     first_intersection: Vec<Option<f64>>,
-    /// Wall-clock time spent in [`ClearanceMetrics::add`].
+    /// Wall-clock time spent in [`ClearanceMetrics::add`] and [`ClearanceMetrics::finish`].
     elapsed: Duration,
 }
 
@@ -363,6 +366,13 @@ impl<'a> ClearanceMetrics<'a> {
                 *first = Some(t);
             }
         }
+        self.elapsed += started.elapsed();
+    }
+
+    /// Completes the report after the last sample ([`CollisionSet::finish`]).
+    fn finish(&mut self) {
+        let started = Instant::now();
+        self.set.finish(&mut self.data, &mut self.report);
         self.elapsed += started.elapsed();
     }
 
