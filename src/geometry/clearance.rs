@@ -36,10 +36,13 @@ use std::cell::Cell;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
-use parry3d_f64::query::{self, ClosestPoints, DefaultQueryDispatcher, PointQueryWithLocation, QueryDispatcher};
+use parry3d_f64::query::{
+    self, ClosestPoints, DefaultQueryDispatcher, PointQueryWithLocation, QueryDispatcher, details,
+};
 use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, Triangle};
 use rayon::prelude::*;
 
+use super::hull::{Adjacency, Climber};
 use super::mesh::load;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
@@ -92,6 +95,8 @@ struct Object {
     convex: Box<dyn Shape>,
     /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]).
     triangles: Option<TriMesh>,
+    /// A hull's vertex adjacency, for its support map by hill climbing (`None`: a primitive).
+    climb: Option<Adjacency>,
     /// Bounding sphere centre in the shape frame (m).
     centre: PVector,
     /// Bounding sphere radius (m).
@@ -144,6 +149,7 @@ impl Object {
             }
         };
         let sphere = convex.compute_local_bounding_sphere();
+        let climb = convex.as_convex_polyhedron().map(Adjacency::of);
         Ok(Some(Object {
             source,
             link: g.link.clone(),
@@ -151,6 +157,7 @@ impl Object {
             placement: to_parry(&placement),
             convex,
             triangles,
+            climb,
             centre: sphere.center,
             radius: sphere.radius,
         }))
@@ -185,6 +192,8 @@ pub struct GeometryData {
 struct PairMemory {
     /// The two triangles found closest at its last exact mesh query.
     closest: (u32, u32),
+    /// The two hull vertices last found furthest along GJK's directions (hill climbing starts).
+    support: (u32, u32),
     /// A lower bound of its distance and the relative pose `a_T_b` it holds at.
     reference: (f64, PPose),
     /// What the last [`CollisionSet::accumulate`] found: the distance, if it was computed.
@@ -225,6 +234,7 @@ impl GeometryData {
             memory: vec![
                 PairMemory {
                     closest: (0, 0),
+                    support: (0, 0),
                     reference: (f64::NEG_INFINITY, PPose::IDENTITY),
                     found: None,
                     upper: f64::INFINITY,
@@ -407,9 +417,9 @@ impl CollisionSet {
             return None;
         }
         let d = match (&oa.triangles, &ob.triangles) {
-            (None, None) => self.convex_distance(a, b, poses),
+            (None, None) => self.convex_distance(a, b, poses, Some(&mut memory.support)),
             _ => {
-                let hull = self.convex_distance(a, b, poses).distance;
+                let hull = self.convex_distance(a, b, poses, Some(&mut memory.support)).distance;
                 memory.reference = (hull, pose_ab);
                 if skip(hull) {
                     return None;
@@ -470,9 +480,9 @@ impl CollisionSet {
         let (a, b) = self.pairs[k];
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         if oa.triangles.is_none() && ob.triangles.is_none() {
-            return Some(self.convex_distance(a, b, poses));
+            return Some(self.convex_distance(a, b, poses, None));
         }
-        let hull = hull.unwrap_or_else(|| self.convex_distance(a, b, poses).distance);
+        let hull = hull.unwrap_or_else(|| self.convex_distance(a, b, poses, None).distance);
         if hull >= bound {
             return None;
         }
@@ -564,8 +574,42 @@ impl CollisionSet {
     }
 
     /// The signed distance of the convex shapes of `a` and `b` (negative: penetration depth).
-    fn convex_distance(&self, a: usize, b: usize, poses: &[PPose]) -> PairDistance {
-        let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
+    /// With `support` (the pair's last support vertices, updated), two hulls' support maps
+    /// climb from there ([`Climber`]) instead of scanning every vertex.
+    fn convex_distance(&self, a: usize, b: usize, poses: &[PPose], support: Option<&mut (u32, u32)>) -> PairDistance {
+        let (oa, ob) = (&self.objects[a], &self.objects[b]);
+        let (sa, sb) = (&*oa.convex, &*ob.convex);
+        let climbers = match (
+            support,
+            sa.as_convex_polyhedron(),
+            sb.as_convex_polyhedron(),
+            &oa.climb,
+            &ob.climb,
+        ) {
+            (Some(at), Some(ha), Some(hb), Some(ja), Some(jb)) => {
+                Some((Climber::new(ha, ja, at.0), Climber::new(hb, jb, at.1), at))
+            }
+            _ => None,
+        };
+        if let Some((ca, cb, at)) = climbers {
+            let pose_ab = poses[a].inv_mul(&poses[b]);
+            let gap = details::distance_support_map_support_map(&pose_ab, &ca, &cb);
+            let d = if gap > 0.0 {
+                PairDistance {
+                    distance: gap,
+                    intersecting: false,
+                }
+            } else {
+                let depth =
+                    details::contact_support_map_support_map(&pose_ab, &ca, &cb, 0.0).map_or(0.0, |c| c.dist.min(0.0));
+                PairDistance {
+                    distance: depth,
+                    intersecting: true,
+                }
+            };
+            *at = (ca.at.get(), cb.at.get());
+            return d;
+        }
         let gap = query::distance(&poses[a], sa, &poses[b], sb).expect("parry supports convex pairs");
         if gap.distance > 0.0 {
             return PairDistance {
@@ -673,6 +717,8 @@ pub(super) struct ObjectView<'a> {
     pub triangles: Option<&'a TriMesh>,
     /// Bounding sphere centre in the shape frame (m) and its radius (m).
     pub sphere: (PVector, f64),
+    /// A hull's vertex adjacency (`None`: a primitive).
+    pub climb: Option<&'a Adjacency>,
 }
 
 impl CollisionSet {
@@ -691,6 +737,7 @@ impl CollisionSet {
             convex: &*o.convex,
             triangles: o.triangles.as_ref(),
             sphere: (o.centre, o.radius),
+            climb: o.climb.as_ref(),
         }
     }
 

@@ -27,14 +27,12 @@
 
 use std::sync::Arc;
 
-use std::cell::Cell;
-
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 use parry3d_f64::query::{self, details};
-use parry3d_f64::shape::{ConvexPolyhedron, SupportMap};
 
 use super::CollisionSet;
 use super::clearance::parry_pose;
+use super::hull::Climber;
 use super::report::ClearanceGeometry;
 use crate::error::{Error, Result};
 use crate::model::{JointId, JointKind, Model};
@@ -62,77 +60,10 @@ pub struct ContactGeometry {
     bodies: Vec<Option<JointId>>,
     /// Per object, its bounding sphere's centre in its model frame (m) and radius (m).
     spheres: Vec<(Vec3, f64)>,
-    /// Per object, a mesh hull's vertex adjacency (`None` for a primitive).
-    climbs: Vec<Option<Adjacency>>,
     /// Per pair, each joint that moves one object of the pair but not the other, with its
     /// lever (m per rad; 1 for a prismatic joint): a bound of how far that object's points
     /// move per unit of that joint's motion. Joints that move both move them together.
     levers: Vec<Vec<(usize, f64)>>,
-}
-
-/// The edges of a convex polyhedron as vertex adjacency lists: vertex v's neighbours are
-/// `neighbours[offsets[v]..offsets[v + 1]]`.
-struct Adjacency {
-    offsets: Vec<u32>,
-    neighbours: Vec<u32>,
-}
-
-impl Adjacency {
-    /// The edges of `hull`'s faces (consecutive vertices of each face polygon).
-    fn of(hull: &ConvexPolyhedron) -> Adjacency {
-        let mut lists = vec![Vec::new(); hull.points().len()];
-        let ring = hull.vertices_adj_to_face();
-        for face in hull.faces() {
-            let (first, count) = (face.first_vertex_or_edge as usize, face.num_vertices_or_edges as usize);
-            for k in 0..count {
-                let (a, b) = (ring[first + k], ring[first + (k + 1) % count]);
-                for (x, y) in [(a, b), (b, a)] {
-                    if !lists[x as usize].contains(&y) {
-                        lists[x as usize].push(y);
-                    }
-                }
-            }
-        }
-        let mut offsets = vec![0];
-        let mut neighbours = Vec::new();
-        for list in lists {
-            neighbours.extend(list);
-            offsets.push(neighbours.len() as u32);
-        }
-        Adjacency { offsets, neighbours }
-    }
-}
-
-/// A hull's support map by hill climbing along its edges from the last support vertex: on a
-/// convex polyhedron a vertex no neighbour of which is further along a direction is the
-/// furthest of all (the same point as parry's scan of every vertex, up to ties), reached in a
-/// few steps when the directions change little.
-struct Climber<'a> {
-    points: &'a [PVector],
-    adjacency: &'a Adjacency,
-    at: Cell<u32>,
-}
-
-impl SupportMap for Climber<'_> {
-    fn local_support_point(&self, dir: PVector) -> PVector {
-        let (mut best, mut top) = (self.at.get(), dir.dot(self.points[self.at.get() as usize]));
-        loop {
-            let (from, to) = (
-                self.adjacency.offsets[best as usize],
-                self.adjacency.offsets[best as usize + 1],
-            );
-            let next = (self.adjacency.neighbours[from as usize..to as usize].iter())
-                .map(|&v| (v, dir.dot(self.points[v as usize])))
-                .filter(|&(_, d)| d > top)
-                .max_by(|a, b| a.1.total_cmp(&b.1));
-            match next {
-                Some((v, d)) => (best, top) = (v, d),
-                None => break,
-            }
-        }
-        self.at.set(best);
-        self.points[best as usize]
-    }
 }
 
 /// At most how many calls of [`ContactGeometry::find`] a penetrating pair's contact is followed
@@ -198,9 +129,6 @@ impl ContactGeometry {
                 (Vec3::new(c.x, c.y, c.z), o.sphere.1)
             })
             .collect();
-        let climbs = (set.objects())
-            .map(|o| o.convex.as_convex_polyhedron().map(Adjacency::of))
-            .collect();
         let levers = (set.objects())
             .zip(&spheres)
             .map(|(o, (centre, radius)): (_, &(Vec3, f64))| {
@@ -231,7 +159,6 @@ impl ContactGeometry {
             set,
             bodies,
             spheres,
-            climbs,
             levers,
         }
     }
@@ -278,13 +205,9 @@ impl ContactGeometry {
     /// The support map of object `o`: hill climbing on a hull (from `support_at[o]`); `None`
     /// for a primitive.
     fn climber<'a>(&'a self, o: usize, support_at: &[u32]) -> Option<Climber<'a>> {
-        let adjacency = self.climbs[o].as_ref()?;
+        let adjacency = self.set.object(o).climb?;
         let hull = self.set.object(o).convex.as_convex_polyhedron()?;
-        Some(Climber {
-            points: hull.points(),
-            adjacency,
-            at: Cell::new(support_at[o]),
-        })
+        Some(Climber::new(hull, adjacency, support_at[o]))
     }
 
     /// parry's contact of the convex shapes of objects `a` and `b` (world poses `pa`, `pb`,

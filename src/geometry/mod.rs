@@ -13,6 +13,7 @@
 
 mod clearance;
 mod contact;
+mod hull;
 pub mod mesh;
 mod pairs;
 mod report;
