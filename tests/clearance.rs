@@ -392,7 +392,11 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample_and_finds_each_interse
         // the pair is that close: within GJK's accuracy on the hulls (the accumulation's
         // hill-climbing support maps stop GJK at other points than the full query's scans),
         // exactly for the meshes
-        let tolerance = if kind == ClearanceGeometry::Hull { TOLERANCE } else { 1e-12 };
+        let tolerance = if kind == ClearanceGeometry::Hull {
+            TOLERANCE
+        } else {
+            1e-12
+        };
         for (p, pair) in report.pairs.iter().enumerate() {
             let least = every_sample.iter().map(|d| d[p]).fold(f64::INFINITY, f64::min);
             let at_t = every_sample[(pair.t / 0.02).round() as usize][p];

@@ -42,13 +42,7 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
             None => local,
         };
     }
-    // o_T_frame = o_T_body · body_T_frame
-    for (k, frame) in model.frames.iter().enumerate() {
-        data.frame_pose[k] = match frame.body {
-            Some(b) => data.body_pose[b.0].compose(&frame.placement),
-            None => frame.placement,
-        };
-    }
+    frame_poses(model, data);
 }
 
 /// [`forward_kinematics`] from the joint transforms `data.xup` already at q (e.g. after
@@ -62,6 +56,12 @@ pub fn forward_kinematics_from_transforms(model: &Model, data: &mut Data) {
             None => local,
         };
     }
+    frame_poses(model, data);
+}
+
+/// Every frame's world pose from its body's, `data.body_pose` already at q.
+fn frame_poses(model: &Model, data: &mut Data) {
+    // o_T_frame = o_T_body · body_T_frame
     for (k, frame) in model.frames.iter().enumerate() {
         data.frame_pose[k] = match frame.body {
             Some(b) => data.body_pose[b.0].compose(&frame.placement),
