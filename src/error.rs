@@ -68,6 +68,18 @@ pub enum Error {
         pivot: f64,
     },
 
+    /// The contact problem of a step (`--self-collisions`) did not converge: the run has gone
+    /// unstable, or the contacts are too stiff for the step.
+    #[error(
+        "the contact problem did not converge in {iterations} Newton iterations (scaled residual {residual:e}): the run has gone unstable, or the contacts are too stiff for the step"
+    )]
+    ContactNotConverged {
+        /// Newton iterations made.
+        iterations: usize,
+        /// The scaled gradient norm left.
+        residual: f64,
+    },
+
     /// A mesh file holds a NaN or infinite coordinate.
     #[error("{}: triangle {triangle} has a non-finite coordinate", path.display())]
     MeshNotFinite {

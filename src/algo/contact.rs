@@ -50,7 +50,7 @@ use super::Data;
 use super::cholesky::cholesky_solve;
 use super::step::{free_velocity, land};
 use crate::error::{Error, Result};
-use crate::model::{JointId, Model};
+use crate::model::Model;
 
 /// Drake's stiction tolerance v_s (m/s): the friction regularisation's smallest slip scale.
 pub const STICTION_TOLERANCE: f64 = 1e-4;
@@ -256,7 +256,7 @@ fn scaled_norm(x: &DVector<f64>, inverse_diagonal: &DVector<f64>) -> f64 {
 /// The step with the contacts in `solver` (pushed at the current q): [`free_velocity`], then
 /// the contact problem of this module, then the joint limits and q⁺ = q + Δt v⁺. With no
 /// contact it is exactly [`super::integrate_discrete`]. `data.m` and `data.bias` must be at
-/// (q, v). Fails if `M + Δt·D` is not positive definite or Newton does not converge in 100
+/// (q, v). Fails if `M + Δt·D` is not positive definite, or with `Error::ContactNotConverged` if Newton does not converge in 100
 /// iterations.
 pub fn integrate_discrete_with_contacts(
     model: &Model,
@@ -307,9 +307,9 @@ pub fn integrate_discrete_with_contacts(
             break;
         }
         if s.iterations == MAX_ITERATIONS {
-            return Err(Error::Diverged {
-                joint: JointId(0),
-                pivot: f64::NAN,
+            return Err(Error::ContactNotConverged {
+                iterations: MAX_ITERATIONS,
+                residual: gradient,
             });
         }
         s.iterations += 1;

@@ -197,7 +197,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
 }
 
 /// After a step: the joint that has gone bad, if any — a non-finite state, the fastest joint
-/// beyond [`RUNAWAY_SPEED`], or the joint whose pivot failed when the step could not be solved.
+/// beyond [`RUNAWAY_SPEED`], the joint whose pivot failed when the step could not be solved, or
+/// the fastest joint when the step's contact problem did not converge.
 fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<JointId>> {
     let n = q.len();
     let bad = (0..n)
@@ -211,6 +212,10 @@ fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<Joi
     match stepped {
         Ok(()) => Ok(bad),
         Err(Error::Diverged { joint, .. }) => Ok(bad.or(Some(joint))),
+        // no joint is to blame for a contact solve that does not converge: the fastest is named
+        Err(Error::ContactNotConverged { .. }) => {
+            Ok(bad.or_else(|| (0..n).max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs())).map(JointId)))
+        }
         Err(e) => Err(e),
     }
 }
