@@ -374,19 +374,25 @@ impl CollisionSet {
     pub fn finish(&self, data: &mut GeometryData, report: &mut ClearanceReport) {
         for (k, &(a, b)) in self.pairs.iter().enumerate() {
             let mut pending = std::mem::take(&mut data.memory[k].pending);
-            // the likeliest minimum first (the smallest actual distance seen), so that the
-            // searches after it are bounded tightly
+            // the likeliest minimum first (the smallest actual distance seen); each search
+            // finds its sample's distance d_j, which bounds every other waiting sample i from
+            // below by d_j − moved(j, i) (the pair's relative motion between them)
             pending.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.t.total_cmp(&y.t)));
-            for p in &pending {
-                let best = report.pairs[k].min_m;
-                if p.lower >= best {
+            let radius = (self.objects[b].centre, self.objects[b].radius);
+            for j in 0..pending.len() {
+                let p = pending[j];
+                if p.lower >= report.pairs[k].min_m {
                     continue;
                 }
                 // distances depend on the relative pose alone
                 (data.poses[a], data.poses[b]) = (PPose::IDENTITY, p.pose_ab);
                 let closest = &mut data.memory[k].closest;
-                if let Some(d) = self.pair_distance(k, &data.poses, closest, best, Some(p.lower)) {
-                    report.record(k, d, p.t);
+                let d = (self.pair_distance(k, &data.poses, closest, f64::INFINITY, Some(p.lower)))
+                    .expect("an unbounded search finds the distance");
+                report.record(k, d, p.t);
+                for other in &mut pending[j + 1..] {
+                    let bound = d.distance - moved(&p.pose_ab, &other.pose_ab, radius.0, radius.1);
+                    other.lower = other.lower.max(bound);
                 }
             }
             pending.clear();
