@@ -256,6 +256,103 @@ fn self_collision_options_refuse_bad_input() {
     assert!(run.stderr.contains("--no-collisions"), "{}", run.stderr);
 }
 
+/// An ASCII STL of an axis-aligned box of `size` (m) centred on the origin: 12 triangles.
+fn box_stl(size: [f64; 3]) -> String {
+    let h = size.map(|x| x / 2.0);
+    let corner = |i: usize| [0, 1, 2].map(|k| if i >> k & 1 == 1 { h[k] } else { -h[k] });
+    // each face as two triangles of corner indices (bit k set: +h on axis k)
+    let faces = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let mut text = String::from("solid box\n");
+    for f in faces {
+        for t in [[f[0], f[1], f[2]], [f[0], f[2], f[3]]] {
+            text += "facet normal 0 0 0\nouter loop\n";
+            for v in t {
+                let [x, y, z] = corner(v);
+                text += &format!("vertex {x} {y} {z}\n");
+            }
+            text += "endloop\nendfacet\n";
+        }
+    }
+    text + "endsolid box\n"
+}
+
+#[test]
+fn exact_meshes_that_intersect_stop_the_run_with_one_line_naming_them() {
+    // contact_arm with its wall and its tip sphere as box meshes: the tip's path crosses the
+    // wall's face, so the exact meshes intersect; contact between two triangle meshes is not
+    // modelled, and the run says so instead of going on without it
+    let dir = temp_dir("contact_mesh_clash");
+    let urdf = std::fs::read_to_string(repo_path("tests/urdf/contact_arm.urdf"))
+        .unwrap()
+        .replace(
+            r#"<geometry><box size="0.4 0.1 0.1"/></geometry>"#,
+            r#"<geometry><mesh filename="wall.stl"/></geometry>"#,
+        )
+        .replace(
+            r#"<geometry><sphere radius="0.03"/></geometry>"#,
+            r#"<geometry><mesh filename="tip.stl"/></geometry>"#,
+        );
+    std::fs::write(dir.join("wall.stl"), box_stl([0.4, 0.1, 0.1])).unwrap();
+    std::fs::write(dir.join("tip.stl"), box_stl([0.06, 0.06, 0.06])).unwrap();
+    std::fs::write(dir.join("mesh_arm.urdf"), urdf).unwrap();
+    let fx = fixture("contact_arm.json");
+    let a = &fx["args"];
+    let num = |k: &str| a[k].as_f64().unwrap().to_string();
+    let effort: Vec<String> = vec_f64(&a["effort"]).iter().map(f64::to_string).collect();
+    let (effort, freq, amp, duration) = (effort.join(","), num("freq"), num("amp_deg"), num("duration"));
+    let args = |geometry: &'static str| {
+        let mut args = vec![
+            "wave",
+            "--urdf",
+            "mesh_arm.urdf",
+            "--effort",
+            &effort,
+            "--tool-link",
+            "tip_link",
+        ];
+        args.extend([
+            "--freq",
+            &freq,
+            "--amp-deg",
+            &amp,
+            "--duration",
+            &duration,
+            "--self-collisions",
+        ]);
+        args.extend(["--collision-geometry", geometry, "--trail", "trail.csv", "--quiet"]);
+        args
+    };
+    let run = faze4(&dir, &args("mesh"));
+    assert_eq!(run.status.code(), Some(2), "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{}", run.stderr);
+    for part in [
+        "faze4: error: ",
+        "'wall'",
+        "'forearm'",
+        "intersect at t = ",
+        "--collision-geometry hull",
+    ] {
+        assert!(lines[0].contains(part), "{:?} should mention {part:?}", lines[0]);
+    }
+    assert!(!dir.join("trail.csv").exists(), "a run that stopped left its trail");
+    // the same arm on the hulls (boxes: their own hulls) is contact the solver models
+    let mut hull = args("hull");
+    hull.extend(["--summary", "summary.json"]);
+    let run = faze4(&dir, &hull);
+    assert!(matches!(run.status.code(), Some(0 | 3)), "{}", run.stderr);
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let in_contact = summary["self_contact"]["steps_in_contact_pct"].as_f64().unwrap();
+    assert!(in_contact > 1.0, "the hulls touch in {in_contact} % of the steps");
+}
+
 /// The circle on the hulls through the library, with `settings`.
 fn circle_summary(settings: SelfContact) -> faze4::sim::Summary {
     let packages = PackagePaths::new(vec![repo_path("assets")]);
