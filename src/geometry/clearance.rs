@@ -104,6 +104,15 @@ struct Object {
 }
 
 impl Object {
+    /// Its hull's support map climbing from vertex `start`; `None` for a primitive.
+    fn climber(&self, start: u32) -> Option<Climber<'_>> {
+        Some(Climber::new(
+            self.convex.as_convex_polyhedron()?,
+            self.climb.as_ref()?,
+            start,
+        ))
+    }
+
     /// Collision element `g` (number `source`) loaded as `kind` reads it; `None` for a mesh
     /// found nowhere.
     fn load(source: usize, g: &GeometryObject, kind: ClearanceGeometry) -> Result<Option<Object>> {
@@ -579,57 +588,79 @@ impl CollisionSet {
         gap.expect("parry supports triangles and convex shapes").distance
     }
 
-    /// The signed distance of the convex shapes of `a` and `b` (negative: penetration depth).
-    /// With `support` (the pair's last support vertices, updated), two hulls' support maps
-    /// climb from there ([`Climber`]) instead of scanning every vertex.
-    fn convex_distance(&self, a: usize, b: usize, poses: &[PPose], support: Option<&mut (u32, u32)>) -> PairDistance {
-        let (oa, ob) = (&self.objects[a], &self.objects[b]);
-        let (sa, sb) = (&*oa.convex, &*ob.convex);
-        let climbers = match (
-            support,
-            sa.as_convex_polyhedron(),
-            sb.as_convex_polyhedron(),
-            &oa.climb,
-            &ob.climb,
-        ) {
-            (Some(at), Some(ha), Some(hb), Some(ja), Some(jb)) => {
-                Some((Climber::new(ha, ja, at.0), Climber::new(hb, jb, at.1), at))
-            }
-            _ => None,
-        };
-        if let Some((ca, cb, at)) = climbers {
-            let pose_ab = poses[a].inv_mul(&poses[b]);
-            let gap = details::distance_support_map_support_map(&pose_ab, &ca, &cb);
-            let d = if gap > 0.0 {
-                PairDistance {
-                    distance: gap,
-                    intersecting: false,
-                }
-            } else {
-                let depth =
-                    details::contact_support_map_support_map(&pose_ab, &ca, &cb, 0.0).map_or(0.0, |c| c.dist.min(0.0));
-                PairDistance {
-                    distance: depth,
-                    intersecting: true,
-                }
-            };
-            *at = (ca.at.get(), cb.at.get());
-            return d;
-        }
-        let gap = query::distance(&poses[a], sa, &poses[b], sb).expect("parry supports convex pairs");
-        if gap.distance > 0.0 {
+    /// The signed distance of the convex shapes of `a` and `b` (negative: penetration depth),
+    /// from [`CollisionSet::convex_gap`] and, when they touch, [`CollisionSet::convex_contact`].
+    fn convex_distance(
+        &self,
+        a: usize,
+        b: usize,
+        poses: &[PPose],
+        mut support: Option<&mut (u32, u32)>,
+    ) -> PairDistance {
+        let (pa, pb) = (&poses[a], &poses[b]);
+        let gap = self.convex_gap(a, b, pa, pb, support.as_deref_mut());
+        if gap > 0.0 {
             return PairDistance {
-                distance: gap.distance,
+                distance: gap,
                 intersecting: false,
             };
         }
-        let depth = query::contact(&poses[a], sa, &poses[b], sb, 0.0)
-            .expect("parry supports convex pairs")
-            .map_or(0.0, |c| c.dist.min(0.0));
+        let depth = (self.convex_contact(a, b, pa, pb, support)).map_or(0.0, |c| c.dist.min(0.0));
         PairDistance {
             distance: depth,
             intersecting: true,
         }
+    }
+
+    /// The support maps of two hulls climbing from `at` ([`Climber`]); `None` unless both
+    /// objects are hulls.
+    fn climbers(&self, a: usize, b: usize, at: (u32, u32)) -> Option<(Climber<'_>, Climber<'_>)> {
+        Some((self.objects[a].climber(at.0)?, self.objects[b].climber(at.1)?))
+    }
+
+    /// The distance between the convex shapes of objects `a` and `b` at world poses `pa`, `pb`
+    /// (GJK; 0 when they touch or overlap). With `at` (the pair's last support vertices,
+    /// updated), two hulls' support maps climb from there instead of scanning every vertex.
+    pub(super) fn convex_gap(&self, a: usize, b: usize, pa: &PPose, pb: &PPose, at: Option<&mut (u32, u32)>) -> f64 {
+        if let Some(at) = at
+            && let Some((ca, cb)) = self.climbers(a, b, *at)
+        {
+            let gap = details::distance_support_map_support_map(&pa.inv_mul(pb), &ca, &cb);
+            *at = (ca.at.get(), cb.at.get());
+            return gap;
+        }
+        let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
+        (query::distance(pa, sa, pb, sb))
+            .expect("parry supports convex pairs")
+            .distance
+    }
+
+    /// parry's contact of the convex shapes of objects `a` and `b` at world poses `pa`, `pb`,
+    /// in world coordinates; `None` when apart. `at` as in [`CollisionSet::convex_gap`] (EPA on
+    /// the climbing support maps).
+    pub(super) fn convex_contact(
+        &self,
+        a: usize,
+        b: usize,
+        pa: &PPose,
+        pb: &PPose,
+        at: Option<&mut (u32, u32)>,
+    ) -> Option<query::Contact> {
+        if let Some(at) = at
+            && let Some((ca, cb)) = self.climbers(a, b, *at)
+        {
+            let local = details::contact_support_map_support_map(&pa.inv_mul(pb), &ca, &cb, 0.0);
+            *at = (ca.at.get(), cb.at.get());
+            return local.map(|c| query::Contact {
+                point1: *pa * c.point1,
+                point2: *pb * c.point2,
+                normal1: pa.rotation * c.normal1,
+                normal2: pb.rotation * c.normal2,
+                ..c
+            });
+        }
+        let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
+        query::contact(pa, sa, pb, sb, 0.0).expect("parry supports convex pairs")
     }
 }
 
@@ -723,8 +754,6 @@ pub(super) struct ObjectView<'a> {
     pub triangles: Option<&'a TriMesh>,
     /// Bounding sphere centre in the shape frame (m) and its radius (m).
     pub sphere: (PVector, f64),
-    /// A hull's vertex adjacency (`None`: a primitive).
-    pub climb: Option<&'a Adjacency>,
 }
 
 impl CollisionSet {
@@ -743,7 +772,6 @@ impl CollisionSet {
             convex: &*o.convex,
             triangles: o.triangles.as_ref(),
             sphere: (o.centre, o.radius),
-            climb: o.climb.as_ref(),
         }
     }
 

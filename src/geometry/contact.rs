@@ -28,11 +28,9 @@
 use std::sync::Arc;
 
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
-use parry3d_f64::query::{self, details};
 
 use super::CollisionSet;
 use super::clearance::parry_pose;
-use super::hull::Climber;
 use super::report::ClearanceGeometry;
 use crate::error::{Error, Result};
 use crate::model::{JointId, JointKind, Model};
@@ -202,62 +200,6 @@ impl ContactGeometry {
             .collect()
     }
 
-    /// The support map of object `o`: hill climbing on a hull (from `support_at[o]`); `None`
-    /// for a primitive.
-    fn climber<'a>(&'a self, o: usize, support_at: &[u32]) -> Option<Climber<'a>> {
-        let adjacency = self.set.object(o).climb?;
-        let hull = self.set.object(o).convex.as_convex_polyhedron()?;
-        Some(Climber::new(hull, adjacency, support_at[o]))
-    }
-
-    /// parry's contact of the convex shapes of objects `a` and `b` (world poses `pa`, `pb`,
-    /// `pose_ab = pa⁻¹ pb`), in world coordinates, `None` when apart: two hulls by GJK/EPA on
-    /// [`Climber`]s, any other pair by parry's dispatcher.
-    fn convex_contact(
-        &self,
-        a: usize,
-        b: usize,
-        pa: &PPose,
-        pb: &PPose,
-        pose_ab: &PPose,
-        support_at: &mut [u32],
-    ) -> Option<query::Contact> {
-        let (oa, ob) = (self.set.object(a), self.set.object(b));
-        let (Some(ca), Some(cb)) = (self.climber(a, support_at), self.climber(b, support_at)) else {
-            return query::contact(pa, oa.convex, pb, ob.convex, 0.0).expect("parry supports convex pairs");
-        };
-        let local = details::contact_support_map_support_map(pose_ab, &ca, &cb, 0.0);
-        (support_at[a], support_at[b]) = (ca.at.get(), cb.at.get());
-        local.map(|c| query::Contact {
-            point1: *pa * c.point1,
-            point2: *pb * c.point2,
-            normal1: pa.rotation * c.normal1,
-            normal2: pb.rotation * c.normal2,
-            ..c
-        })
-    }
-
-    /// The distance of the convex shapes of objects `a` and `b` (as [`Self::convex_contact`]).
-    fn convex_distance(
-        &self,
-        a: usize,
-        b: usize,
-        pa: &PPose,
-        pb: &PPose,
-        pose_ab: &PPose,
-        support_at: &mut [u32],
-    ) -> f64 {
-        let (oa, ob) = (self.set.object(a), self.set.object(b));
-        let (Some(ca), Some(cb)) = (self.climber(a, support_at), self.climber(b, support_at)) else {
-            return query::distance(pa, oa.convex, pb, ob.convex)
-                .expect("parry supports convex pairs")
-                .distance;
-        };
-        let d = details::distance_support_map_support_map(pose_ab, &ca, &cb);
-        (support_at[a], support_at[b]) = (ca.at.get(), cb.at.get());
-        d
-    }
-
     /// The contacts of the pose whose model frames are at `frame_pose` (world, e.g.
     /// `algo::Data::frame_pose`), into `data.contacts`. `joint_motion[j]` bounds how far joint
     /// j moved since the previous call (|Δq_j|, rad or m; the first call's bounds are unknown
@@ -311,11 +253,15 @@ impl ContactGeometry {
                 }
             }
             let (pa, pb) = (data.poses[a], data.poses[b]);
-            let pose_ab = pa.inv_mul(&pb);
             data.queries += 1;
-            let hit = self.convex_contact(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
-            let Some(c) = hit.filter(|c| c.dist < 0.0) else {
-                data.bound[k] = self.convex_distance(a, b, &pa, &pb, &pose_ab, &mut data.support_at);
+            // two hulls' support maps climb from where they last stopped on each object
+            let mut at = (data.support_at[a], data.support_at[b]);
+            let hit = (self.set.convex_contact(a, b, &pa, &pb, Some(&mut at))).filter(|c| c.dist < 0.0);
+            if hit.is_none() {
+                data.bound[k] = self.set.convex_gap(a, b, &pa, &pb, Some(&mut at));
+            }
+            (data.support_at[a], data.support_at[b]) = at;
+            let Some(c) = hit else {
                 continue;
             };
             let (oa, ob) = (self.set.object(a), self.set.object(b));
