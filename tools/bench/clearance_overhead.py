@@ -44,37 +44,20 @@ COAL = r'''
 import json, sys, time
 from pathlib import Path
 sys.path.insert(0, str(Path(sys.argv[1]) / "tools" / "oracle"))
-import numpy as np
 import coal
 import clearance_fixtures as cf
-from pydrake.multibody.parsing import Parser
-from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
-from pydrake.multibody.tree import BodyIndex
-from pydrake.geometry import Role
-from pydrake.systems.framework import DiagramBuilder
 import tempfile
 
 q_rows, pairs_wanted = json.load(open(sys.argv[2]))
 tmp = Path(tempfile.mkdtemp())
 urdf, meshes = cf.prepare(cf.REPO / "urdf" / "faze4_real.urdf", tmp)
-builder = DiagramBuilder()
-plant, _ = AddMultibodyPlantSceneGraph(builder, 0.0)
-Parser(plant).AddModels(str(urdf))
-plant.Finalize()
-diagram = builder.Build()
-context = diagram.CreateDefaultContext()
-pc = plant.GetMyContextFromRoot(context)
+_diagram, _context, plant, pc = cf.plant_of(urdf)
 inspector = plant.get_geometry_query_input_port().Eval(pc).inspector()
 geometry = {}
-for b in range(plant.num_bodies()):
-    body = plant.get_body(BodyIndex(b))
-    frame = plant.GetBodyFrameIdIfExists(body.index())
-    if frame is None:
-        continue
-    for g in inspector.GetGeometries(frame, Role.kProximity):
-        exact, _, is_mesh, _, _ = cf.coal_object(inspector.GetShape(g), meshes)
-        if is_mesh:
-            geometry[body.name()] = (g, exact)
+for link, _, g in cf.proximity_geometries(plant, inspector):
+    exact, _, is_mesh, _, _ = cf.coal_object(inspector.GetShape(g), meshes)
+    if is_mesh:
+        geometry[link] = (g, exact)
 pairs = [p for p in pairs_wanted if p[0] in geometry and p[1] in geometry]
 poses = []
 for q in q_rows:

@@ -148,29 +148,42 @@ def tf(X):
     return coal.Transform3s(X.rotation().matrix(), X.translation())
 
 
-def run(urdf_rel: str, poses: list, labels: list, tmp: Path):
-    urdf, meshes = prepare(REPO / urdf_rel, tmp)
+def plant_of(urdf: Path):
+    """A finalised MultibodyPlant of `urdf` with its SceneGraph (no time step):
+    (diagram, root context, plant, plant context); the caller keeps the first two alive."""
     builder = DiagramBuilder()
     plant, _ = AddMultibodyPlantSceneGraph(builder, 0.0)
     Parser(plant).AddModels(str(urdf))
     plant.Finalize()
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
-    pc = plant.GetMyContextFromRoot(context)
-    qo = plant.get_geometry_query_input_port().Eval(pc)
-    inspector = qo.inspector()
+    return diagram, context, plant, plant.GetMyContextFromRoot(context)
 
-    # every proximity geometry as (link, index within the link, document order)
-    objects, index_of, coal_of = [], {}, {}
+
+def proximity_geometries(plant, inspector):
+    """Every proximity geometry, in body order then document order: (link name, index within
+    the link, geometry id)."""
     for b in range(plant.num_bodies()):
         body = plant.get_body(BodyIndex(b))
         frame = plant.GetBodyFrameIdIfExists(body.index())
         if frame is None:
             continue
         for k, g in enumerate(inspector.GetGeometries(frame, Role.kProximity)):
-            index_of[g] = len(objects)
-            objects.append({"link": body.name(), "index": k})
-            coal_of[g] = coal_object(inspector.GetShape(g), meshes)
+            yield body.name(), k, g
+
+
+def run(urdf_rel: str, poses: list, labels: list, tmp: Path):
+    urdf, meshes = prepare(REPO / urdf_rel, tmp)
+    _diagram, _context, plant, pc = plant_of(urdf)
+    qo = plant.get_geometry_query_input_port().Eval(pc)
+    inspector = qo.inspector()
+
+    # every proximity geometry as (link, index within the link, document order)
+    objects, index_of, coal_of = [], {}, {}
+    for link, k, g in proximity_geometries(plant, inspector):
+        index_of[g] = len(objects)
+        objects.append({"link": link, "index": k})
+        coal_of[g] = coal_object(inspector.GetShape(g), meshes)
 
     out_poses, pair_list, drake_gap, fallbacks = [], None, [0.0], [0]
     for q, label in zip(poses, labels):
@@ -231,11 +244,8 @@ def run(urdf_rel: str, poses: list, labels: list, tmp: Path):
 
 
 def random_poses(urdf_rel, n, seed, tmp):
-    builder = DiagramBuilder()
-    plant, _ = AddMultibodyPlantSceneGraph(builder, 0.0)
     urdf, _ = prepare(REPO / urdf_rel, tmp)
-    Parser(plant).AddModels(str(urdf))
-    plant.Finalize()
+    _diagram, _context, plant, _ = plant_of(urdf)
     lo, hi = plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits()
     lo, hi = np.maximum(lo, -np.pi), np.minimum(hi, np.pi)
     rng = np.random.default_rng(seed)
