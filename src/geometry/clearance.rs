@@ -183,7 +183,9 @@ pub struct CollisionSet {
 }
 
 /// The workspace of clearance queries: world poses of the objects and the last distances.
-/// Sized once by [`GeometryData::new`]; queries allocate nothing.
+/// Sized once by [`GeometryData::new`]; queries allocate nothing, except the samples
+/// [`CollisionSet::accumulate`] leaves for [`CollisionSet::finish`] (one relative pose per
+/// waiting sample and pair, kept until `finish`, whose buffers are reused).
 pub struct GeometryData {
     /// World pose of each object's shape (parry's form).
     poses: Vec<PPose>,
