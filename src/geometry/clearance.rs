@@ -39,7 +39,7 @@ use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{
     self, ClosestPoints, DefaultQueryDispatcher, PointQueryWithLocation, QueryDispatcher, details,
 };
-use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, Triangle};
+use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap, TriMesh, Triangle};
 use rayon::prelude::*;
 
 use super::hull::{Adjacency, Climber};
@@ -104,13 +104,15 @@ struct Object {
 }
 
 impl Object {
-    /// Its hull's support map climbing from vertex `start`; `None` for a primitive.
-    fn climber(&self, start: u32) -> Option<Climber<'_>> {
-        Some(Climber::new(
-            self.convex.as_convex_polyhedron()?,
-            self.climb.as_ref()?,
-            start,
-        ))
+    /// Its convex shape's support map: a hull's climbing from vertex `start`, a primitive's
+    /// own.
+    fn support(&self, start: u32) -> Support<'_> {
+        match (self.convex.as_convex_polyhedron(), &self.climb) {
+            (Some(hull), Some(adjacency)) => Support::Hull(Climber::new(hull, adjacency, start)),
+            _ => Support::Primitive(
+                (self.convex.as_support_map()).expect("parry's boxes, balls and cylinders have support maps"),
+            ),
+        }
     }
 
     /// Collision element `g` (number `source`) loaded as `kind` reads it; `None` for a mesh
@@ -347,8 +349,9 @@ impl CollisionSet {
         self.place(frame_pose, data);
         let poses = &data.poses;
         (data.distances.par_iter_mut().zip(&mut data.memory).enumerate()).for_each(|(k, (distance, memory))| {
+            let (a, b) = self.pairs[k];
             *distance = self
-                .pair_distance(k, poses, &mut memory.closest, f64::INFINITY, None)
+                .pair_distance(k, (&poses[a], &poses[b]), &mut memory.closest, f64::INFINITY, None)
                 .expect("an unbounded search finds the distance");
         });
     }
@@ -369,8 +372,9 @@ impl CollisionSet {
         self.place(frame_pose, data);
         let poses = &data.poses;
         let smallest = &report.pairs;
-        (data.memory.par_iter_mut().enumerate())
-            .for_each(|(k, memory)| memory.found = self.fold_pair(k, poses, t, smallest[k].min_m, memory));
+        for (k, memory) in data.memory.iter_mut().enumerate() {
+            memory.found = self.fold_pair(k, poses, t, smallest[k].min_m, memory);
+        }
         for (k, memory) in data.memory.iter().enumerate() {
             data.intersecting[k] = memory.found.is_some_and(|d| d.intersecting);
             if let Some(d) = memory.found {
@@ -381,34 +385,56 @@ impl CollisionSet {
 
     /// Completes `report` after the last [`CollisionSet::accumulate`]: each pair's waiting
     /// samples whose lower bound is below the pair's smallest distance so far are searched,
-    /// the smallest upper bound first (none of them intersects: their hulls were apart).
+    /// the smallest upper bound first (none of them intersects: their hulls were apart). The
+    /// pairs are searched in parallel.
     pub fn finish(&self, data: &mut GeometryData, report: &mut ClearanceReport) {
-        for (k, &(a, b)) in self.pairs.iter().enumerate() {
-            let mut pending = std::mem::take(&mut data.memory[k].pending);
-            // the likeliest minimum first (the smallest actual distance seen); each search
-            // finds its sample's distance d_j, which bounds every other waiting sample i from
-            // below by d_j − moved(j, i) (the pair's relative motion between them)
-            pending.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.t.total_cmp(&y.t)));
-            let radius = (self.objects[b].centre, self.objects[b].radius);
-            for j in 0..pending.len() {
-                let p = pending[j];
-                if p.lower >= report.pairs[k].min_m {
-                    continue;
-                }
-                // distances depend on the relative pose alone
-                (data.poses[a], data.poses[b]) = (PPose::IDENTITY, p.pose_ab);
-                let closest = &mut data.memory[k].closest;
-                let d = (self.pair_distance(k, &data.poses, closest, f64::INFINITY, Some(p.lower)))
-                    .expect("an unbounded search finds the distance");
-                report.record(k, d, p.t);
-                for other in &mut pending[j + 1..] {
-                    let bound = d.distance - moved(&p.pose_ab, &other.pose_ab, radius.0, radius.1);
-                    other.lower = other.lower.max(bound);
-                }
+        let smallest = &report.pairs;
+        let found: Vec<Option<(PairDistance, f64)>> = (data.memory.par_iter_mut().enumerate())
+            .map(|(k, memory)| self.finish_pair(k, memory, smallest[k].min_m))
+            .collect();
+        for (k, found) in found.into_iter().enumerate() {
+            if let Some((d, t)) = found {
+                report.record(k, d, t);
             }
-            pending.clear();
-            data.memory[k].pending = pending;
         }
+    }
+
+    /// Pair `k`'s waiting samples for [`CollisionSet::finish`]: the smallest distance among
+    /// them and its time, if below `best` (the pair's smallest so far).
+    fn finish_pair(&self, k: usize, memory: &mut PairMemory, mut best: f64) -> Option<(PairDistance, f64)> {
+        let b = self.pairs[k].1;
+        let mut pending = std::mem::take(&mut memory.pending);
+        // the likeliest minimum first (the smallest actual distance seen); each search finds
+        // its sample's distance d_j, which bounds every other waiting sample i from below by
+        // d_j − moved(j, i) (the pair's relative motion between them)
+        pending.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.t.total_cmp(&y.t)));
+        let (centre, radius) = (self.objects[b].centre, self.objects[b].radius);
+        let mut found = None;
+        for j in 0..pending.len() {
+            let p = pending[j];
+            if p.lower >= best {
+                continue;
+            }
+            // distances depend on the relative pose alone
+            let d = (self.pair_distance(
+                k,
+                (&PPose::IDENTITY, &p.pose_ab),
+                &mut memory.closest,
+                f64::INFINITY,
+                Some(p.lower),
+            ))
+            .expect("an unbounded search finds the distance");
+            if d.distance < best {
+                (best, found) = (d.distance, Some((d, p.t)));
+            }
+            for other in &mut pending[j + 1..] {
+                let bound = d.distance - moved(&p.pose_ab, &other.pose_ab, centre, radius);
+                other.lower = other.lower.max(bound);
+            }
+        }
+        pending.clear();
+        memory.pending = pending;
+        found
     }
 
     /// Pair `k` at `poses` (time `t`) for [`CollisionSet::accumulate`]: its distance, unless a
@@ -434,15 +460,15 @@ impl CollisionSet {
             return None;
         }
         let d = match (&oa.triangles, &ob.triangles) {
-            (None, None) => self.convex_distance(a, b, poses, Some(&mut memory.support)),
+            (None, None) => self.convex_distance(a, b, (pa, pb), Some(&mut memory.support)),
             _ => {
-                let hull = self.convex_distance(a, b, poses, Some(&mut memory.support)).distance;
+                let hull = self.convex_distance(a, b, (pa, pb), Some(&mut memory.support)).distance;
                 memory.reference = (hull, pose_ab);
                 if skip(hull) {
                     return None;
                 }
                 if hull > 0.0 {
-                    match self.proven_by_hulls(a, b, poses, hull, &mut memory.closest) {
+                    match self.proven_by_hulls(a, b, (pa, pb), hull, &mut memory.closest) {
                         Ok(distance) => {
                             memory.upper = memory.upper.min(distance);
                             PairDistance {
@@ -467,7 +493,7 @@ impl CollisionSet {
                     // has intersected) by the least positive distance, which still finds an
                     // intersection
                     let bound = best.max(f64::MIN_POSITIVE);
-                    match self.pair_distance(k, poses, &mut memory.closest, bound, Some(hull)) {
+                    match self.pair_distance(k, (pa, pb), &mut memory.closest, bound, Some(hull)) {
                         Some(d) => d,
                         None => {
                             memory.reference = (bound, pose_ab);
@@ -481,7 +507,8 @@ impl CollisionSet {
         Some(d)
     }
 
-    /// The distance of pair `k` at `poses`, as [`ClearanceGeometry`] reads its objects, if it
+    /// The distance of pair `k` at the world poses `(pa, pb)` of its objects, as
+    /// [`ClearanceGeometry`] reads them, if it
     /// is below `bound` (`None`: not below; convex pairs are always answered). `closest` is
     /// the pair's closest triangles, read as a seed and updated; `hull` the hulls' signed
     /// distance if the caller has it. A pair with a mesh is first tried with
@@ -489,7 +516,7 @@ impl CollisionSet {
     fn pair_distance(
         &self,
         k: usize,
-        poses: &[PPose],
+        (pa, pb): (&PPose, &PPose),
         closest: &mut (u32, u32),
         bound: f64,
         hull: Option<f64>,
@@ -497,13 +524,13 @@ impl CollisionSet {
         let (a, b) = self.pairs[k];
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         if oa.triangles.is_none() && ob.triangles.is_none() {
-            return Some(self.convex_distance(a, b, poses, None));
+            return Some(self.convex_distance(a, b, (pa, pb), None));
         }
-        let hull = hull.unwrap_or_else(|| self.convex_distance(a, b, poses, None).distance);
+        let hull = hull.unwrap_or_else(|| self.convex_distance(a, b, (pa, pb), None).distance);
         if hull >= bound {
             return None;
         }
-        if let Ok(distance) = self.proven_by_hulls(a, b, poses, hull, closest) {
+        if let Ok(distance) = self.proven_by_hulls(a, b, (pa, pb), hull, closest) {
             return (distance < bound).then_some(PairDistance {
                 distance,
                 intersecting: false,
@@ -511,14 +538,14 @@ impl CollisionSet {
         }
         let distance = match (&oa.triangles, &ob.triangles) {
             (None, None) => unreachable!("convex pairs are answered above"),
-            (Some(ma), Some(mb)) => mesh_distance(ma, mb, &poses[a].inv_mul(&poses[b]), closest, bound)?,
+            (Some(ma), Some(mb)) => mesh_distance(ma, mb, &pa.inv_mul(pb), closest, bound)?,
             (Some(ma), None) => {
-                query::distance(&poses[a], ma, &poses[b], &*ob.convex)
+                query::distance(pa, ma, pb, &*ob.convex)
                     .expect("parry supports meshes against convex shapes")
                     .distance
             }
             (None, Some(mb)) => {
-                query::distance(&poses[a], &*oa.convex, &poses[b], mb)
+                query::distance(pa, &*oa.convex, pb, mb)
                     .expect("parry supports meshes against convex shapes")
                     .distance
             }
@@ -540,11 +567,11 @@ impl CollisionSet {
         &self,
         a: usize,
         b: usize,
-        poses: &[PPose],
+        (pa, pb): (&PPose, &PPose),
         hull: f64,
         closest: &mut (u32, u32),
     ) -> std::result::Result<f64, f64> {
-        let seeded = self.part_distance(a, b, poses, *closest);
+        let seeded = self.part_distance(a, b, (pa, pb), *closest);
         if hull <= 0.0 {
             return Err(seeded);
         }
@@ -552,8 +579,7 @@ impl CollisionSet {
             return Ok(seeded);
         }
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
-        let Ok(ClosestPoints::WithinMargin(pa, pb)) =
-            query::closest_points(&poses[a], &*oa.convex, &poses[b], &*ob.convex, f64::MAX)
+        let Ok(ClosestPoints::WithinMargin(ca, cb)) = query::closest_points(pa, &*oa.convex, pb, &*ob.convex, f64::MAX)
         else {
             return Err(seeded);
         };
@@ -565,8 +591,8 @@ impl CollisionSet {
                     .0
             })
         };
-        let parts = (part(oa, &poses[a], pa), part(ob, &poses[b], pb));
-        let under = self.part_distance(a, b, poses, parts);
+        let parts = (part(oa, pa, ca), part(ob, pb, cb));
+        let under = self.part_distance(a, b, (pa, pb), parts);
         if under < seeded {
             *closest = parts;
         }
@@ -579,13 +605,13 @@ impl CollisionSet {
 
     /// The distance between part `i` of `a` and part `j` of `b` (a mesh's triangle, or a
     /// primitive whole).
-    fn part_distance(&self, a: usize, b: usize, poses: &[PPose], (i, j): (u32, u32)) -> f64 {
+    fn part_distance(&self, a: usize, b: usize, (pa, pb): (&PPose, &PPose), (i, j): (u32, u32)) -> f64 {
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         let gap = match (&oa.triangles, &ob.triangles) {
-            (Some(ma), Some(mb)) => query::distance(&poses[a], &ma.triangle(i), &poses[b], &mb.triangle(j)),
-            (Some(ma), None) => query::distance(&poses[a], &ma.triangle(i), &poses[b], &*ob.convex),
-            (None, Some(mb)) => query::distance(&poses[a], &*oa.convex, &poses[b], &mb.triangle(j)),
-            (None, None) => query::distance(&poses[a], &*oa.convex, &poses[b], &*ob.convex),
+            (Some(ma), Some(mb)) => query::distance(pa, &ma.triangle(i), pb, &mb.triangle(j)),
+            (Some(ma), None) => query::distance(pa, &ma.triangle(i), pb, &*ob.convex),
+            (None, Some(mb)) => query::distance(pa, &*oa.convex, pb, &mb.triangle(j)),
+            (None, None) => query::distance(pa, &*oa.convex, pb, &*ob.convex),
         };
         gap.expect("parry supports triangles and convex shapes").distance
     }
@@ -596,10 +622,9 @@ impl CollisionSet {
         &self,
         a: usize,
         b: usize,
-        poses: &[PPose],
+        (pa, pb): (&PPose, &PPose),
         mut support: Option<&mut (u32, u32)>,
     ) -> PairDistance {
-        let (pa, pb) = (&poses[a], &poses[b]);
         let gap = self.convex_gap(a, b, pa, pb, support.as_deref_mut());
         if gap > 0.0 {
             return PairDistance {
@@ -614,21 +639,23 @@ impl CollisionSet {
         }
     }
 
-    /// The support maps of two hulls climbing from `at` ([`Climber`]); `None` unless both
-    /// objects are hulls.
-    fn climbers(&self, a: usize, b: usize, at: (u32, u32)) -> Option<(Climber<'_>, Climber<'_>)> {
-        Some((self.objects[a].climber(at.0)?, self.objects[b].climber(at.1)?))
+    /// The support maps of objects `a` and `b`, hulls climbing from `at` ([`Climber`]); `None`
+    /// when neither is a hull (two primitives: parry's own distance and contact are exact
+    /// for them).
+    fn supports(&self, a: usize, b: usize, at: (u32, u32)) -> Option<(Support<'_>, Support<'_>)> {
+        let (oa, ob) = (&self.objects[a], &self.objects[b]);
+        (oa.climb.is_some() || ob.climb.is_some()).then(|| (oa.support(at.0), ob.support(at.1)))
     }
 
     /// The distance between the convex shapes of objects `a` and `b` at world poses `pa`, `pb`
     /// (GJK; 0 when they touch or overlap). With `at` (the pair's last support vertices,
-    /// updated), two hulls' support maps climb from there instead of scanning every vertex.
+    /// updated), a hull's support map climbs from there instead of scanning every vertex.
     pub(super) fn convex_gap(&self, a: usize, b: usize, pa: &PPose, pb: &PPose, at: Option<&mut (u32, u32)>) -> f64 {
         if let Some(at) = at
-            && let Some((ca, cb)) = self.climbers(a, b, *at)
+            && let Some((ca, cb)) = self.supports(a, b, *at)
         {
             let gap = details::distance_support_map_support_map(&pa.inv_mul(pb), &ca, &cb);
-            *at = (ca.at.get(), cb.at.get());
+            *at = (ca.at(at.0), cb.at(at.1));
             return gap;
         }
         let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
@@ -649,10 +676,10 @@ impl CollisionSet {
         at: Option<&mut (u32, u32)>,
     ) -> Option<query::Contact> {
         if let Some(at) = at
-            && let Some((ca, cb)) = self.climbers(a, b, *at)
+            && let Some((ca, cb)) = self.supports(a, b, *at)
         {
             let local = details::contact_support_map_support_map(&pa.inv_mul(pb), &ca, &cb, 0.0);
-            *at = (ca.at.get(), cb.at.get());
+            *at = (ca.at(at.0), cb.at(at.1));
             return local.map(|c| query::Contact {
                 point1: *pa * c.point1,
                 point2: *pb * c.point2,
@@ -663,6 +690,32 @@ impl CollisionSet {
         }
         let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
         query::contact(pa, sa, pb, sb, 0.0).expect("parry supports convex pairs")
+    }
+}
+
+/// The support map of a convex object for GJK and EPA: a hull's by hill climbing, or a
+/// primitive's own.
+enum Support<'a> {
+    Hull(Climber<'a>),
+    Primitive(&'a dyn SupportMap),
+}
+
+impl Support<'_> {
+    /// Where a hull's climb ended (`start` for a primitive).
+    fn at(&self, start: u32) -> u32 {
+        match self {
+            Support::Hull(c) => c.at.get(),
+            Support::Primitive(_) => start,
+        }
+    }
+}
+
+impl SupportMap for Support<'_> {
+    fn local_support_point(&self, dir: PVector) -> PVector {
+        match self {
+            Support::Hull(c) => c.local_support_point(dir),
+            Support::Primitive(s) => s.local_support_point(dir),
+        }
     }
 }
 
@@ -777,11 +830,16 @@ impl CollisionSet {
         }
     }
 
-    /// The distance of pair `k` at the object poses `poses`, as this set reads its objects (the
+    /// The distance of pair `k` at the world poses `(pa, pb)` of its objects, as this set reads them (the
     /// clearance's own search; `closest` seeds it with the two triangles found closest before,
     /// and receives them).
-    pub(super) fn exact_pair_distance(&self, k: usize, poses: &[PPose], closest: &mut (u32, u32)) -> PairDistance {
-        self.pair_distance(k, poses, closest, f64::INFINITY, None)
+    pub(super) fn exact_pair_distance(
+        &self,
+        k: usize,
+        (pa, pb): (&PPose, &PPose),
+        closest: &mut (u32, u32),
+    ) -> PairDistance {
+        self.pair_distance(k, (pa, pb), closest, f64::INFINITY, None)
             .expect("an unbounded search finds the distance")
     }
 

@@ -266,7 +266,7 @@ impl ContactGeometry {
             };
             let (oa, ob) = (self.set.object(a), self.set.object(b));
             if oa.triangles.is_some() || ob.triangles.is_some() {
-                let exact = self.set.exact_pair_distance(k, &data.poses, &mut data.closest[k]);
+                let exact = self.set.exact_pair_distance(k, (&pa, &pb), &mut data.closest[k]);
                 if exact.intersecting {
                     return Err(Error::MeshContact {
                         links: [oa.link.to_string(), ob.link.to_string()],
