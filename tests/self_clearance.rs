@@ -398,6 +398,31 @@ fn a_missing_mesh_is_one_warning_and_an_unchecked_link() {
     assert!(off.status.success(), "{}", off.stderr);
     assert!(!off.stderr.contains("claw"), "{}", off.stderr);
     assert!(summary(&dir).get("clearance").is_none());
+
+    // a sweep reads the meshes once and says so once, whatever its number of runs
+    let base = ["wave", "--urdf", urdf.as_str(), "--duration", "0.2", "--trail", "none"];
+    let sweep = |extra: &[&str]| {
+        let words = [
+            &["sweep", "--vary", "payload-kg=0,0.5,1", "--out", "table.csv"],
+            extra,
+            &["--"],
+            &base[..],
+        ];
+        let run = faze4(&dir, &words.concat());
+        assert!(run.status.success(), "{}", run.stderr);
+        run.stderr.lines().filter(|l| l.contains("claw.STL")).count()
+    };
+    assert_eq!(sweep(&[]), 1);
+    assert_eq!(sweep(&["--quiet"]), 0);
+    let mut table = csv::Reader::from_path(dir.join("table.csv")).unwrap();
+    let column = table
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == "clearance_unchecked_1");
+    let column = column.expect("an unchecked column");
+    let unchecked: Vec<String> = (table.records()).map(|r| r.unwrap()[column].to_string()).collect();
+    assert_eq!(unchecked, ["hand"; 3]);
     std::fs::remove_dir_all(&dir).unwrap();
     std::fs::remove_dir_all(&models).unwrap();
 }

@@ -17,7 +17,7 @@ use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
 use crate::sim::scenario::load_collisions;
-use crate::sim::{Scenario, ShapeRun, StopFlag};
+use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
 use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
 use crate::traj::{Trajectory, npy};
 
@@ -151,6 +151,9 @@ struct Base {
     collision_set: Option<Arc<CollisionSet>>,
     frames: Vec<Vec<f64>>,
     plan: Option<(Trajectory, ShapeRun)>,
+    /// What reading the collision geometry found wrong (meshes not found), said once for the
+    /// whole sweep.
+    warnings: Vec<Warning>,
 }
 
 impl Base {
@@ -213,10 +216,10 @@ impl Base {
                 ));
             }
         }
-        // the meshes are read once, not once per run (a sweep prints no warnings: a mesh not
-        // found shows in the table's clearance_unchecked columns)
+        // the meshes are read once, not once per run, and a mesh not found is said once
         let collisions = scenario::collisions(run);
-        let (geometry, collision_set) = load_collisions(&robot.model, robot.geometry, collisions, &mut Vec::new())?;
+        let mut warnings = Vec::new();
+        let (geometry, collision_set) = load_collisions(&robot.model, robot.geometry, collisions, &mut warnings)?;
         robot.geometry = geometry;
         Ok(Base {
             command,
@@ -224,7 +227,17 @@ impl Base {
             collision_set,
             frames,
             plan,
+            warnings,
         })
+    }
+
+    /// Prints the base's warnings on stderr, unless `quiet`.
+    fn warn(&self, quiet: bool) {
+        if !quiet {
+            for warning in &self.warnings {
+                eprintln!("faze4: {warning}");
+            }
+        }
     }
 
     /// The scenario of one point: `knobs[i]` set to `values[i]`.
@@ -359,6 +372,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let replan = grid.axes.iter().any(|a| a.name == "shape-points");
     let base = Base::load(&args.base, replan)?;
     let knobs = knobs(&base.command, &grid.axes)?;
+    base.warn(args.quiet);
     let indices = shard.map_or(0..total, |s| s.range(total));
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -498,6 +512,7 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         Error::InvalidArgument { message, .. } => Error::argument(option, message),
         other => other,
     })?;
+    base.warn(args.quiet);
     if let [Knob::Option(Field::Count(_))] = knobs[..] {
         return Err(Error::argument(
             option,
