@@ -56,7 +56,7 @@ use crate::model::Model;
 pub const STICTION_TOLERANCE: f64 = 1e-4;
 /// SAP's regularisation factor σ of the friction scale from the Delassus estimate.
 pub const SIGMA: f64 = 1e-3;
-/// Newton iterations before the step gives up (it then fails as diverged).
+/// Newton iterations before the step gives up (`Error::ContactNotConverged`).
 const MAX_ITERATIONS: usize = 100;
 /// Convergence tolerances on the scaled gradient (absolute, relative).
 const ABS_TOL: f64 = 1e-14;
