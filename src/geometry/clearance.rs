@@ -27,8 +27,10 @@
 //!
 //! Pruning in [`CollisionSet::accumulate`] uses lower bounds of a pair's distance: the last
 //! lower bound found for the pair less how far its shapes can have moved relative to each other
-//! since (see [`moved`]), the bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, and (for meshes) the
-//! hulls' signed distance, since a mesh lies inside its hull. A pair whose bound is not below
+//! since (see [`moved`]), the bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, the gap between the
+//! convex shapes' projections on the axis that separated them at the pair's last GJK (see
+//! [`CollisionSet::separation_along`]: two support points, and tight when the pair moves little),
+//! and (for meshes) the hulls' signed distance, since a mesh lies inside its hull. A pair whose bound is not below
 //! its smallest distance so far cannot lower it and needs no exact query.
 
 use std::cell::Cell;
@@ -36,6 +38,7 @@ use std::cell::Cell;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
+use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{
     self, ClosestPoints, DefaultQueryDispatcher, PointQueryWithLocation, QueryDispatcher, details,
 };
@@ -207,6 +210,9 @@ struct PairMemory {
     closest: (u32, u32),
     /// The two hull vertices last found furthest along GJK's directions (hill climbing starts).
     support: (u32, u32),
+    /// The unit direction from a to b along the convex shapes' closest points at their last
+    /// GJK, in a's shape frame (zero: none, or they touched).
+    axis: PVector,
     /// A lower bound of its distance and the relative pose `a_T_b` it holds at.
     reference: (f64, PPose),
     /// What the last [`CollisionSet::accumulate`] found: the distance, if it was computed.
@@ -248,6 +254,7 @@ impl GeometryData {
                 PairMemory {
                     closest: (0, 0),
                     support: (0, 0),
+                    axis: PVector::ZERO,
                     reference: (f64::NEG_INFINITY, PPose::IDENTITY),
                     found: None,
                     upper: f64::INFINITY,
@@ -459,10 +466,19 @@ impl CollisionSet {
             memory.reference = (gap, pose_ab);
             return None;
         }
+        // the convex shapes' separation along the axis that separated them last time
+        if memory.axis != PVector::ZERO {
+            let gap = self.separation_along(a, b, &pose_ab, memory.axis, &mut memory.support);
+            if skip(gap) {
+                memory.reference = (gap, pose_ab);
+                return None;
+            }
+        }
         let d = match (&oa.triangles, &ob.triangles) {
-            (None, None) => self.convex_distance(a, b, (pa, pb), Some(&mut memory.support)),
+            (None, None) => self.convex_distance(a, b, (pa, pb), Some(&mut memory.support), Some(&mut memory.axis)),
             _ => {
-                let hull = self.convex_distance(a, b, (pa, pb), Some(&mut memory.support)).distance;
+                let hull =
+                    (self.convex_distance(a, b, (pa, pb), Some(&mut memory.support), Some(&mut memory.axis))).distance;
                 memory.reference = (hull, pose_ab);
                 if skip(hull) {
                     return None;
@@ -524,9 +540,9 @@ impl CollisionSet {
         let (a, b) = self.pairs[k];
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         if oa.triangles.is_none() && ob.triangles.is_none() {
-            return Some(self.convex_distance(a, b, (pa, pb), None));
+            return Some(self.convex_distance(a, b, (pa, pb), None, None));
         }
-        let hull = hull.unwrap_or_else(|| self.convex_distance(a, b, (pa, pb), None).distance);
+        let hull = hull.unwrap_or_else(|| self.convex_distance(a, b, (pa, pb), None, None).distance);
         if hull >= bound {
             return None;
         }
@@ -617,15 +633,17 @@ impl CollisionSet {
     }
 
     /// The signed distance of the convex shapes of `a` and `b` (negative: penetration depth),
-    /// from [`CollisionSet::convex_gap`] and, when they touch, [`CollisionSet::convex_contact`].
+    /// from [`CollisionSet::convex_gap`] (`support`, `axis` as there) and, when they touch,
+    /// [`CollisionSet::convex_contact`].
     fn convex_distance(
         &self,
         a: usize,
         b: usize,
         (pa, pb): (&PPose, &PPose),
         mut support: Option<&mut (u32, u32)>,
+        axis: Option<&mut PVector>,
     ) -> PairDistance {
-        let gap = self.convex_gap(a, b, pa, pb, support.as_deref_mut());
+        let gap = self.convex_gap(a, b, pa, pb, support.as_deref_mut(), axis);
         if gap > 0.0 {
             return PairDistance {
                 distance: gap,
@@ -639,6 +657,20 @@ impl CollisionSet {
         }
     }
 
+    /// A lower bound of the distance between the convex shapes of `a` and `b` (`pose_ab`: b's
+    /// shape frame in a's) from any unit axis `n` (a's frame): the gap between their
+    /// projections on it, `n·t + m·s_b(−m) − n·s_a(n)` with `m = Rᵀn` (s the support points,
+    /// `at` their climbs' starts, updated). Two convex shapes are at least that far apart; along
+    /// the last closest points' axis it is the distance itself when the poses have not changed,
+    /// and falls short of it only to second order in the axis' turn.
+    fn separation_along(&self, a: usize, b: usize, pose_ab: &PPose, n: PVector, at: &mut (u32, u32)) -> f64 {
+        let (sa, sb) = (self.objects[a].support(at.0), self.objects[b].support(at.1));
+        let m = pose_ab.rotation.inverse() * n;
+        let gap = n.dot(pose_ab.translation) + m.dot(sb.local_support_point(-m)) - n.dot(sa.local_support_point(n));
+        *at = (sa.at(at.0), sb.at(at.1));
+        gap
+    }
+
     /// The support maps of objects `a` and `b`, hulls climbing from `at` ([`Climber`]); `None`
     /// when neither is a hull (two primitives: parry's own distance and contact are exact
     /// for them).
@@ -649,14 +681,38 @@ impl CollisionSet {
 
     /// The distance between the convex shapes of objects `a` and `b` at world poses `pa`, `pb`
     /// (GJK; 0 when they touch or overlap). With `at` (the pair's last support vertices,
-    /// updated), a hull's support map climbs from there instead of scanning every vertex.
-    pub(super) fn convex_gap(&self, a: usize, b: usize, pa: &PPose, pb: &PPose, at: Option<&mut (u32, u32)>) -> f64 {
+    /// updated), a hull's support map climbs from there instead of scanning every vertex, and
+    /// `axis` (if given) receives the unit direction from `a` to `b` along their closest points
+    /// in `a`'s frame (zero when they touch, or for two primitives).
+    pub(super) fn convex_gap(
+        &self,
+        a: usize,
+        b: usize,
+        pa: &PPose,
+        pb: &PPose,
+        at: Option<&mut (u32, u32)>,
+        axis: Option<&mut PVector>,
+    ) -> f64 {
         if let Some(at) = at
             && let Some((ca, cb)) = self.supports(a, b, *at)
         {
-            let gap = details::distance_support_map_support_map(&pa.inv_mul(pb), &ca, &cb);
+            // parry's distance_support_map_support_map, keeping GJK's separating axis
+            let pos12 = pa.inv_mul(pb);
+            let start = (-pos12.translation).try_normalize().unwrap_or(PVector::X);
+            let mut simplex = VoronoiSimplex::new();
+            simplex.reset(CsoPoint::from_shapes(&pos12, &ca, &cb, start));
+            let (gap, found) = match gjk::closest_points(&pos12, &ca, &cb, f64::MAX, true, &mut simplex) {
+                GJKResult::ClosestPoints(p1, p2, n) => ((p1 - p2).length(), n),
+                _ => (0.0, PVector::ZERO),
+            };
+            if let Some(axis) = axis {
+                *axis = found;
+            }
             *at = (ca.at(at.0), cb.at(at.1));
             return gap;
+        }
+        if let Some(axis) = axis {
+            *axis = PVector::ZERO;
         }
         let (sa, sb) = (&*self.objects[a].convex, &*self.objects[b].convex);
         (query::distance(pa, sa, pb, sb))

@@ -258,7 +258,7 @@ impl ContactGeometry {
             let mut at = (data.support_at[a], data.support_at[b]);
             let hit = (self.set.convex_contact(a, b, &pa, &pb, Some(&mut at))).filter(|c| c.dist < 0.0);
             if hit.is_none() {
-                data.bound[k] = self.set.convex_gap(a, b, &pa, &pb, Some(&mut at));
+                data.bound[k] = self.set.convex_gap(a, b, &pa, &pb, Some(&mut at), None);
             }
             (data.support_at[a], data.support_at[b]) = at;
             let Some(c) = hit else {
