@@ -9,7 +9,7 @@ use faze4::algo::{
     ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, forward_kinematics,
     forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
-use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, PairFilter, Robot};
+use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, GeometryData, PairFilter, Robot};
 use faze4::model::PackagePaths;
 use faze4::sim::{Collisions, Scenario, SelfContact, ShapeRun, StopFlag, run};
 use faze4::traj::shape::Shape;
@@ -110,10 +110,10 @@ fn exact_meshes_never_touch_on_the_circle() {
     assert_eq!(trail, free_trail);
 }
 
-#[test]
-fn contact_arm_follows_drake_closely() {
-    let fx = fixture("contact_arm.json");
-    let dir = temp_dir("contact_arm");
+/// Runs `faze4 wave` with the self-contact on the arm, command and friction of a
+/// drake_contact_loop.py arm fixture (`fx`); returns our summary and trail (rows as Drake's).
+fn arm_run(name: &str, fx: &Value) -> (Value, Vec<Vec<f64>>) {
+    let dir = temp_dir(name);
     let a = &fx["args"];
     let num = |k: &str| a[k].as_f64().unwrap().to_string();
     let urdf = repo_path(fx["urdf"].as_str().unwrap()).display().to_string();
@@ -150,15 +150,26 @@ fn contact_arm_follows_drake_closely() {
     let run = faze4(&dir, &args);
     assert!(matches!(run.status.code(), Some(0 | 3)), "{}", run.stderr);
     let (_, trail) = read_csv(&dir.join("trail.csv"));
-    let drake = mat_f64(&fx["trail"]["rows"]);
-    assert_eq!(trail.len(), drake.len());
-    let worst = trail
-        .iter()
-        .zip(&drake)
-        .map(|(a, b)| max_abs_diff(a, b))
-        .fold(0.0, f64::max);
-    assert!(worst < 2e-5, "trail differs from Drake's by {worst}");
     let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    (summary, trail)
+}
+
+/// The largest difference between two trails of equal length, and the time of its row.
+fn worst_row(trail: &[Vec<f64>], drake: &[Vec<f64>]) -> (f64, f64) {
+    assert_eq!(trail.len(), drake.len());
+    trail
+        .iter()
+        .zip(drake)
+        .map(|(a, b)| (max_abs_diff(a, b), b[0]))
+        .fold((0.0, 0.0), |w, x| if x.0 > w.0 { x } else { w })
+}
+
+#[test]
+fn contact_arm_follows_drake_closely() {
+    let fx = fixture("contact_arm.json");
+    let (summary, trail) = arm_run("contact_arm", &fx);
+    let (worst, _) = worst_row(&trail, &mat_f64(&fx["trail"]["rows"]));
+    assert!(worst < 2e-5, "trail differs from Drake's by {worst}");
     let (sat, drake_sat) = (
         vec_f64(&summary["saturation_pct"]),
         vec_f64(&fx["summary"]["saturation_pct"]),
@@ -168,6 +179,79 @@ fn contact_arm_follows_drake_closely() {
     assert!(fx["contacts"]["rows_in_contact"].as_u64().unwrap() > 20);
     assert!(summary["self_contact"]["steps_in_contact_pct"].as_f64().unwrap() > 15.0);
 }
+
+/// Per trail row (q in columns 4..): whether a checked pair penetrates and whether a joint
+/// sits on one of its limits (within `tolerance`), from the trail's q and the URDF.
+fn contact_and_limit_rows(urdf: &str, trail: &[Vec<f64>], tolerance: f64) -> Vec<(bool, bool)> {
+    let robot = Robot::from_urdf_file(&repo_path(urdf), &PackagePaths::default()).unwrap();
+    let (set, _) = CollisionSet::new(
+        &robot.model,
+        &robot.geometry,
+        ClearanceGeometry::Hull,
+        PairFilter::NonAdjacent,
+    )
+    .unwrap();
+    let (mut data, mut distances) = (Data::new(&robot.model), GeometryData::new(&set));
+    trail
+        .iter()
+        .map(|row| {
+            let q = &row[4..4 + robot.model.dof()];
+            forward_kinematics(&robot.model, &mut data, q);
+            set.distances(&data.frame_pose, &mut distances);
+            let contact = distances.distances.iter().any(|d| d.intersecting);
+            let at_limit = robot
+                .model
+                .joints
+                .iter()
+                .zip(q)
+                .any(|(j, &x)| (x - j.lower).abs() <= tolerance || (x - j.upper).abs() <= tolerance);
+            (contact, at_limit)
+        })
+        .collect()
+}
+
+#[test]
+fn contact_pushing_a_joint_onto_its_limit_follows_drake() {
+    let fx = fixture("contact_limit_arm.json");
+    let urdf = fx["urdf"].as_str().unwrap();
+    let (summary, trail) = arm_run("contact_limit_arm", &fx);
+    let drake = mat_f64(&fx["trail"]["rows"]);
+    // the scenario: the tip on the wall and j2 on its upper limit together in a third of the
+    // rows, on our side (the limit held exactly) and on Drake's (its limit constraint is
+    // compliant: j2 sits about 1e-9 rad beyond)
+    for (who, rows, tolerance) in [("faze4", &trail, 0.0), ("Drake", &drake, 1e-8)] {
+        let both = contact_and_limit_rows(urdf, rows, tolerance)
+            .iter()
+            .filter(|&&(c, l)| c && l)
+            .count();
+        assert!(
+            both * 4 > rows.len(),
+            "{who}: contact and limit in {both} of {} rows",
+            rows.len()
+        );
+    }
+    let (worst, at) = worst_row(&trail, &drake);
+    assert!(
+        worst < LIMIT_ARM_TOLERANCE,
+        "trail differs from Drake's by {worst} at t = {at} s"
+    );
+    let (sat, drake_sat) = (
+        vec_f64(&summary["saturation_pct"]),
+        vec_f64(&fx["summary"]["saturation_pct"]),
+    );
+    assert!(max_abs_diff(&sat, &drake_sat) < 0.1, "{sat:?} vs {drake_sat:?}");
+    let (err, drake_err) = (
+        vec_f64(&summary["max_tracking_error_rad"]),
+        vec_f64(&fx["summary"]["max_tracking_error_rad"]),
+    );
+    assert!(
+        max_abs_diff(&err, &drake_err) < LIMIT_ARM_TOLERANCE,
+        "{err:?} vs {drake_err:?}"
+    );
+}
+
+/// How far contact_limit_arm's trail may be from Drake's (rad, m): docs/contact.md.
+const LIMIT_ARM_TOLERANCE: f64 = 1e-3;
 
 /// A point mass on two prismatic joints (x, then y), no gravity, no damping: the wall is the
 /// plane x = 0, the mass penetrates it when x < 0.
