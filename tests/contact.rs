@@ -10,7 +10,7 @@ use faze4::algo::{
     forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
 use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, GeometryData, PairFilter, Robot};
-use faze4::model::PackagePaths;
+use faze4::model::{Model, PackagePaths};
 use faze4::sim::{Collisions, Scenario, SelfContact, ShapeRun, StopFlag, run};
 use faze4::traj::shape::Shape;
 use serde_json::Value;
@@ -219,22 +219,28 @@ fn contact_pushing_a_joint_onto_its_limit_follows_drake() {
     // the scenario: the tip on the wall and j2 on its upper limit together in a third of the
     // rows, on our side (the limit held exactly) and on Drake's (its limit constraint is
     // compliant: j2 sits about 1e-9 rad beyond)
+    let mut last_both = 0;
     for (who, rows, tolerance) in [("faze4", &trail, 0.0), ("Drake", &drake, 1e-8)] {
-        let both = contact_and_limit_rows(urdf, rows, tolerance)
-            .iter()
-            .filter(|&&(c, l)| c && l)
-            .count();
+        let flags = contact_and_limit_rows(urdf, rows, tolerance);
+        let both = flags.iter().filter(|&&(c, l)| c && l).count();
         assert!(
             both * 4 > rows.len(),
             "{who}: contact and limit in {both} of {} rows",
             rows.len()
         );
+        last_both = last_both.max(flags.iter().rposition(|&(c, l)| c && l).unwrap());
     }
-    let (worst, at) = worst_row(&trail, &drake);
+    // up to the last row with both: the contact and the limit solved together, as Drake does
+    // (solved one after the other the trail was 5.7e-4 away at the impact, 2.5e-5 in the hold)
+    let (held, at) = worst_row(&trail[..=last_both], &drake[..=last_both]);
     assert!(
-        worst < LIMIT_ARM_TOLERANCE,
-        "trail differs from Drake's by {worst} at t = {at} s"
+        held < 1e-5,
+        "while held: trail differs from Drake's by {held} at t = {at} s"
     );
+    // Drake's compliant limit lets j2 go one step (0.2 ms) earlier; the swing that follows
+    // carries that step's difference
+    let (worst, at) = worst_row(&trail, &drake);
+    assert!(worst < 3e-4, "trail differs from Drake's by {worst} at t = {at} s");
     let (sat, drake_sat) = (
         vec_f64(&summary["saturation_pct"]),
         vec_f64(&fx["summary"]["saturation_pct"]),
@@ -244,14 +250,8 @@ fn contact_pushing_a_joint_onto_its_limit_follows_drake() {
         vec_f64(&summary["max_tracking_error_rad"]),
         vec_f64(&fx["summary"]["max_tracking_error_rad"]),
     );
-    assert!(
-        max_abs_diff(&err, &drake_err) < LIMIT_ARM_TOLERANCE,
-        "{err:?} vs {drake_err:?}"
-    );
+    assert!(max_abs_diff(&err, &drake_err) < 3e-4, "{err:?} vs {drake_err:?}");
 }
-
-/// How far contact_limit_arm's trail may be from Drake's (rad, m): docs/contact.md.
-const LIMIT_ARM_TOLERANCE: f64 = 1e-3;
 
 /// A point mass on two prismatic joints (x, then y), no gravity, no damping: the wall is the
 /// plane x = 0, the mass penetrates it when x < 0.
@@ -267,20 +267,31 @@ const SLIDER: &str = r#"<robot name="slider">
     <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
 </robot>"#;
 
-/// Pushes the slider into the wall with force `push` (N) and along it with `drag` (N) for
-/// `steps`; returns (x, y velocity, normal force n/Δt, friction force) after the last step.
-fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
-    let mut model = Robot::from_urdf_str(SLIDER, "slider", None, &PackagePaths::default())
+/// The slider without gravity, its x joint's lower limit at `lower_x` (m).
+fn slider(lower_x: f64) -> Model {
+    let text = SLIDER.replacen(r#"lower="-1""#, &format!(r#"lower="{lower_x}""#), 1);
+    let mut model = Robot::from_urdf_str(&text, "slider", None, &PackagePaths::default())
         .unwrap()
         .model;
     model.gravity = Default::default();
+    model
+}
+
+/// Pushes the slider into the wall with force `push` (N) and along it with `drag` (N) for
+/// `steps`; returns (x, y velocity, normal force n/Δt, friction force) after the last step.
+fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
+    slide_on(&slider(-1.0), push, drag, friction, steps)
+}
+
+/// [`slide`] on a given slider model.
+fn slide_on(model: &Model, push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
     let (dt, k) = (2e-4, 5e5);
-    let mut data = Data::new(&model);
-    let mut solver = ContactSolver::new(&model);
+    let mut data = Data::new(model);
+    let mut solver = ContactSolver::new(model);
     let (mut q, mut v) = (vec![0.0, 0.0], vec![0.0, 0.0]);
     let tau = [-push, drag];
     for _ in 0..steps {
-        compute_all_terms(&model, &mut data, &q, &v);
+        compute_all_terms(model, &mut data, &q, &v);
         solver.clear();
         if q[0] < 0.0 {
             let point = ContactPoint {
@@ -292,7 +303,7 @@ fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f
             // rows: tangent y, tangent z, normal x (wall → block)
             solver.push(point).copy_from_slice(&[0.0, 1.0, 0.0, 0.0, 1.0, 0.0]);
         }
-        integrate_discrete_with_contacts(&model, &mut data, &mut q, &mut v, &tau, dt, &mut solver).unwrap();
+        integrate_discrete_with_contacts(model, &mut data, &mut q, &mut v, &tau, dt, &mut solver).unwrap();
     }
     let gamma = if solver.is_empty() { [0.0; 3] } else { solver.impulse(0) };
     (q[0], v[1], gamma[2] / dt, gamma[0] / dt)
@@ -322,6 +333,17 @@ fn friction_holds_below_mu_n_and_slides_above() {
         (acceleration - 4.0 / 2.0).abs() < 1e-3,
         "acceleration {acceleration} m/s²"
     );
+}
+
+#[test]
+fn a_limit_inside_the_wall_takes_the_rest_of_the_push() {
+    // 20 N would press the slider 40 µm into the wall; its limit stops it at 10 µm, so the
+    // contact carries k·10 µm = 5 N and the limit the other 15 N. Solved together, the contact's
+    // impulse is that of the penetration held (v_n = 0); a contact solved before the limit
+    // would see the slider still moving in and push harder.
+    let (x, _, normal, _) = slide_on(&slider(-1e-5), 20.0, 0.0, 1.0, 2_000);
+    assert!((x + 1e-5).abs() < 1e-15, "x = {x} m");
+    assert!((normal - 5.0).abs() < 1e-9, "normal force {normal} N");
 }
 
 #[test]
