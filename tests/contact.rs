@@ -9,8 +9,8 @@ use faze4::algo::{
     ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, forward_kinematics,
     forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
-use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, PairFilter, Robot};
-use faze4::model::PackagePaths;
+use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, GeometryData, PairFilter, Robot};
+use faze4::model::{Model, PackagePaths};
 use faze4::sim::{Collisions, Scenario, SelfContact, ShapeRun, StopFlag, run};
 use faze4::traj::shape::Shape;
 use serde_json::Value;
@@ -110,10 +110,10 @@ fn exact_meshes_never_touch_on_the_circle() {
     assert_eq!(trail, free_trail);
 }
 
-#[test]
-fn contact_arm_follows_drake_closely() {
-    let fx = fixture("contact_arm.json");
-    let dir = temp_dir("contact_arm");
+/// Runs `faze4 wave` with the self-contact on the arm, command and friction of a
+/// drake_contact_loop.py arm fixture (`fx`); returns our summary and trail (rows as Drake's).
+fn arm_run(name: &str, fx: &Value) -> (Value, Vec<Vec<f64>>) {
+    let dir = temp_dir(name);
     let a = &fx["args"];
     let num = |k: &str| a[k].as_f64().unwrap().to_string();
     let urdf = repo_path(fx["urdf"].as_str().unwrap()).display().to_string();
@@ -150,15 +150,26 @@ fn contact_arm_follows_drake_closely() {
     let run = faze4(&dir, &args);
     assert!(matches!(run.status.code(), Some(0 | 3)), "{}", run.stderr);
     let (_, trail) = read_csv(&dir.join("trail.csv"));
-    let drake = mat_f64(&fx["trail"]["rows"]);
-    assert_eq!(trail.len(), drake.len());
-    let worst = trail
-        .iter()
-        .zip(&drake)
-        .map(|(a, b)| max_abs_diff(a, b))
-        .fold(0.0, f64::max);
-    assert!(worst < 2e-5, "trail differs from Drake's by {worst}");
     let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    (summary, trail)
+}
+
+/// The largest difference between two trails of equal length, and the time of its row.
+fn worst_row(trail: &[Vec<f64>], drake: &[Vec<f64>]) -> (f64, f64) {
+    assert_eq!(trail.len(), drake.len());
+    trail
+        .iter()
+        .zip(drake)
+        .map(|(a, b)| (max_abs_diff(a, b), b[0]))
+        .fold((0.0, 0.0), |w, x| if x.0 > w.0 { x } else { w })
+}
+
+#[test]
+fn contact_arm_follows_drake_closely() {
+    let fx = fixture("contact_arm.json");
+    let (summary, trail) = arm_run("contact_arm", &fx);
+    let (worst, _) = worst_row(&trail, &mat_f64(&fx["trail"]["rows"]));
+    assert!(worst < 2e-5, "trail differs from Drake's by {worst}");
     let (sat, drake_sat) = (
         vec_f64(&summary["saturation_pct"]),
         vec_f64(&fx["summary"]["saturation_pct"]),
@@ -167,6 +178,79 @@ fn contact_arm_follows_drake_closely() {
     // the tip is pressed into the wall for a good part of the run
     assert!(fx["contacts"]["rows_in_contact"].as_u64().unwrap() > 20);
     assert!(summary["self_contact"]["steps_in_contact_pct"].as_f64().unwrap() > 15.0);
+}
+
+/// Per trail row (q in columns 4..): whether a checked pair penetrates and whether a joint
+/// sits on one of its limits (within `tolerance`), from the trail's q and the URDF.
+fn contact_and_limit_rows(urdf: &str, trail: &[Vec<f64>], tolerance: f64) -> Vec<(bool, bool)> {
+    let robot = Robot::from_urdf_file(&repo_path(urdf), &PackagePaths::default()).unwrap();
+    let (set, _) = CollisionSet::new(
+        &robot.model,
+        &robot.geometry,
+        ClearanceGeometry::Hull,
+        PairFilter::NonAdjacent,
+    )
+    .unwrap();
+    let (mut data, mut distances) = (Data::new(&robot.model), GeometryData::new(&set));
+    trail
+        .iter()
+        .map(|row| {
+            let q = &row[4..4 + robot.model.dof()];
+            forward_kinematics(&robot.model, &mut data, q);
+            set.distances(&data.frame_pose, &mut distances);
+            let contact = distances.distances.iter().any(|d| d.intersecting);
+            let at_limit = robot
+                .model
+                .joints
+                .iter()
+                .zip(q)
+                .any(|(j, &x)| (x - j.lower).abs() <= tolerance || (x - j.upper).abs() <= tolerance);
+            (contact, at_limit)
+        })
+        .collect()
+}
+
+#[test]
+fn contact_pushing_a_joint_onto_its_limit_follows_drake() {
+    let fx = fixture("contact_limit_arm.json");
+    let urdf = fx["urdf"].as_str().unwrap();
+    let (summary, trail) = arm_run("contact_limit_arm", &fx);
+    let drake = mat_f64(&fx["trail"]["rows"]);
+    // the scenario: the tip on the wall and j2 on its upper limit together in a third of the
+    // rows, on our side (the limit held exactly) and on Drake's (its limit constraint is
+    // compliant: j2 sits about 1e-9 rad beyond)
+    let mut last_both = 0;
+    for (who, rows, tolerance) in [("faze4", &trail, 0.0), ("Drake", &drake, 1e-8)] {
+        let flags = contact_and_limit_rows(urdf, rows, tolerance);
+        let both = flags.iter().filter(|&&(c, l)| c && l).count();
+        assert!(
+            both * 4 > rows.len(),
+            "{who}: contact and limit in {both} of {} rows",
+            rows.len()
+        );
+        last_both = last_both.max(flags.iter().rposition(|&(c, l)| c && l).unwrap());
+    }
+    // up to the last row with both: the contact and the limit solved together, as Drake does
+    // (solved one after the other the trail was 5.7e-4 away at the impact, 2.5e-5 in the hold)
+    let (held, at) = worst_row(&trail[..=last_both], &drake[..=last_both]);
+    assert!(
+        held < 1e-5,
+        "while held: trail differs from Drake's by {held} at t = {at} s"
+    );
+    // Drake's compliant limit lets j2 go one step (0.2 ms) earlier; the swing that follows
+    // carries that step's difference
+    let (worst, at) = worst_row(&trail, &drake);
+    assert!(worst < 3e-4, "trail differs from Drake's by {worst} at t = {at} s");
+    let (sat, drake_sat) = (
+        vec_f64(&summary["saturation_pct"]),
+        vec_f64(&fx["summary"]["saturation_pct"]),
+    );
+    assert!(max_abs_diff(&sat, &drake_sat) < 0.1, "{sat:?} vs {drake_sat:?}");
+    let (err, drake_err) = (
+        vec_f64(&summary["max_tracking_error_rad"]),
+        vec_f64(&fx["summary"]["max_tracking_error_rad"]),
+    );
+    assert!(max_abs_diff(&err, &drake_err) < 3e-4, "{err:?} vs {drake_err:?}");
 }
 
 /// A point mass on two prismatic joints (x, then y), no gravity, no damping: the wall is the
@@ -183,20 +267,31 @@ const SLIDER: &str = r#"<robot name="slider">
     <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
 </robot>"#;
 
-/// Pushes the slider into the wall with force `push` (N) and along it with `drag` (N) for
-/// `steps`; returns (x, y velocity, normal force n/Δt, friction force) after the last step.
-fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
-    let mut model = Robot::from_urdf_str(SLIDER, "slider", None, &PackagePaths::default())
+/// The slider without gravity, its x joint's lower limit at `lower_x` (m).
+fn slider(lower_x: f64) -> Model {
+    let text = SLIDER.replacen(r#"lower="-1""#, &format!(r#"lower="{lower_x}""#), 1);
+    let mut model = Robot::from_urdf_str(&text, "slider", None, &PackagePaths::default())
         .unwrap()
         .model;
     model.gravity = Default::default();
+    model
+}
+
+/// Pushes the slider into the wall with force `push` (N) and along it with `drag` (N) for
+/// `steps`; returns (x, y velocity, normal force n/Δt, friction force) after the last step.
+fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
+    slide_on(&slider(-1.0), push, drag, friction, steps)
+}
+
+/// [`slide`] on a given slider model.
+fn slide_on(model: &Model, push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f64) {
     let (dt, k) = (2e-4, 5e5);
-    let mut data = Data::new(&model);
-    let mut solver = ContactSolver::new(&model);
+    let mut data = Data::new(model);
+    let mut solver = ContactSolver::new(model);
     let (mut q, mut v) = (vec![0.0, 0.0], vec![0.0, 0.0]);
     let tau = [-push, drag];
     for _ in 0..steps {
-        compute_all_terms(&model, &mut data, &q, &v);
+        compute_all_terms(model, &mut data, &q, &v);
         solver.clear();
         if q[0] < 0.0 {
             let point = ContactPoint {
@@ -208,7 +303,7 @@ fn slide(push: f64, drag: f64, friction: f64, steps: usize) -> (f64, f64, f64, f
             // rows: tangent y, tangent z, normal x (wall → block)
             solver.push(point).copy_from_slice(&[0.0, 1.0, 0.0, 0.0, 1.0, 0.0]);
         }
-        integrate_discrete_with_contacts(&model, &mut data, &mut q, &mut v, &tau, dt, &mut solver).unwrap();
+        integrate_discrete_with_contacts(model, &mut data, &mut q, &mut v, &tau, dt, &mut solver).unwrap();
     }
     let gamma = if solver.is_empty() { [0.0; 3] } else { solver.impulse(0) };
     (q[0], v[1], gamma[2] / dt, gamma[0] / dt)
@@ -238,6 +333,17 @@ fn friction_holds_below_mu_n_and_slides_above() {
         (acceleration - 4.0 / 2.0).abs() < 1e-3,
         "acceleration {acceleration} m/s²"
     );
+}
+
+#[test]
+fn a_limit_inside_the_wall_takes_the_rest_of_the_push() {
+    // 20 N would press the slider 40 µm into the wall; its limit stops it at 10 µm, so the
+    // contact carries k·10 µm = 5 N and the limit the other 15 N. Solved together, the contact's
+    // impulse is that of the penetration held (v_n = 0); a contact solved before the limit
+    // would see the slider still moving in and push harder.
+    let (x, _, normal, _) = slide_on(&slider(-1e-5), 20.0, 0.0, 1.0, 2_000);
+    assert!((x + 1e-5).abs() < 1e-15, "x = {x} m");
+    assert!((normal - 5.0).abs() < 1e-9, "normal force {normal} N");
 }
 
 #[test]

@@ -43,12 +43,18 @@
 //! — the same Newton steps and line search as in v, at O(m³ + m n) per iteration. The first
 //! iterate is the Newton step in v from the velocity the step starts from (Drake's start),
 //! which lands in that space; the optimum is unique (ℓ is strictly convex).
+//!
+//! Joint limits join the same problem (`lower ≤ q + Δt v ≤ upper`) by step.rs's active set:
+//! for a clamped set C, held at the velocities v_C that land them on their limits, the free
+//! joints F and the contacts solve the problem above with `A_FF v*_F = b_F − A_FC v_C` and
+//! `Y = A⁻¹ P Jᵀ` (P zeroes C's columns, so `W = J_F A_FF⁻¹ J_Fᵀ`); a clamped joint's
+//! multiplier is `λᵢ = (A v⁺ − b − Jᵀγ)ᵢ`.
 
 use nalgebra::DVector;
 
 use super::Data;
 use super::cholesky::cholesky_solve;
-use super::step::{free_velocity, land};
+use super::step::{change_active_set, free_velocity, land, solve_clamped};
 use crate::error::{Error, Result};
 use crate::model::Model;
 
@@ -135,7 +141,10 @@ pub struct ContactSolver {
     column: DVector<f64>,
     /// 1/A_ii.
     inverse_diagonal: DVector<f64>,
-    /// Newton iterations of the last solve (0: no contact; the first is the seed's).
+    /// The free step's b = M v + Δt (τ − bias), kept while the joint limits are solved.
+    momentum: DVector<f64>,
+    /// Newton iterations of the last step (0: no contact; the first is the seed's; with the
+    /// re-solves of the joint-limit active set when a limit was in reach).
     pub iterations: usize,
 }
 
@@ -160,6 +169,7 @@ impl ContactSolver {
             residual: Vec::new(),
             column: DVector::zeros(n),
             inverse_diagonal: DVector::zeros(n),
+            momentum: DVector::zeros(n),
             iterations: 0,
         }
     }
@@ -254,10 +264,13 @@ fn scaled_norm(x: &DVector<f64>, inverse_diagonal: &DVector<f64>) -> f64 {
 }
 
 /// The step with the contacts in `solver` (pushed at the current q): [`free_velocity`], then
-/// the contact problem of this module, then the joint limits and q⁺ = q + Δt v⁺. With no
-/// contact it is exactly [`super::integrate_discrete`]. `data.m` and `data.bias` must be at
-/// (q, v). Fails if `M + Δt·D` is not positive definite, or with `Error::ContactNotConverged` if Newton does not converge in 100
-/// iterations.
+/// the contact problem of this module, then q⁺ = q + Δt v⁺. If q⁺ would leave a joint's limits,
+/// the contact problem is solved again with the joint-limit active set (docs/contact.md): the
+/// clamped joints held at the velocity that lands them on their limit, the contacts and the
+/// free joints solved together, until no free joint crosses a limit and no clamped joint is
+/// held by a pull. With no contact it is exactly [`super::integrate_discrete`]. `data.m` and
+/// `data.bias` must be at (q, v). Fails if `M + Δt·D` is not positive definite, or with
+/// `Error::ContactNotConverged` if Newton does not converge in 100 iterations.
 pub fn integrate_discrete_with_contacts(
     model: &Model,
     data: &mut Data,
@@ -277,8 +290,70 @@ pub fn integrate_discrete_with_contacts(
     }
     let (n, rows) = (s.n, 3 * s.points.len());
     prepare(s, data, v, dt);
+    operators(s, data, |_| false);
     seed(s, v, rows, dt);
     s.iterations = 1;
+    newton(s, data, rows, dt, 1)?;
+    // v⁺ = v* + Y λ
+    add_y_lambda(s, data);
+    if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
+        solve_with_limits(model, data, q, dt, s)?;
+    }
+    for i in 0..n {
+        v[i] = data.rhs[i];
+        q[i] += dt * v[i];
+    }
+    Ok(())
+}
+
+/// The joint-limit active set with the contacts in the problem: each change of the clamped
+/// set (step.rs's rule, with the multiplier `λᵢ = (A v − b − Jᵀγ)ᵢ`) is followed by the contact
+/// problem over the free joints, `A` and `v*` those of the clamped step (identity rows for the
+/// clamped joints, `A_FF v*_F = b_F − A_FC v_C`) and J's clamped columns set aside in `Y`,
+/// Newton starting from the last λ. Leaves v⁺ in `data.rhs` and `b` in `data.limit_rhs`.
+fn solve_with_limits(model: &Model, data: &mut Data, q: &[f64], dt: f64, s: &mut ContactSolver) -> Result<()> {
+    let (n, rows) = (s.n, 3 * s.points.len());
+    s.momentum.copy_from(&data.limit_rhs);
+    data.limit_at.fill(None);
+    for _ in 0..4 * n {
+        // the multiplier's b + Jᵀγ
+        impulses_into(s, &mut data.limit_rhs);
+        data.limit_rhs += &s.momentum;
+        let changed = change_active_set(model, data, q, dt);
+        data.limit_rhs.copy_from(&s.momentum);
+        if !changed {
+            break;
+        }
+        solve_clamped(data, n);
+        let clamped = std::mem::take(&mut data.limit_at);
+        operators(s, data, |i| clamped[i].is_some());
+        data.limit_at = clamped;
+        newton(s, data, rows, dt, 0)?;
+        add_y_lambda(s, data);
+    }
+    Ok(())
+}
+
+/// `data.rhs += Y λ`.
+fn add_y_lambda(s: &ContactSolver, data: &mut Data) {
+    for (r, l) in s.lambda.iter().enumerate() {
+        for (x, y) in data.rhs.iter_mut().zip(row(&s.y, s.n, r)) {
+            *x += y * l;
+        }
+    }
+}
+
+/// Jᵀγ (the contacts' impulses in joint space, N·m·s) at the last responses into `out`.
+fn impulses_into(s: &mut ContactSolver, out: &mut DVector<f64>) {
+    for (c, resp) in s.response.iter().enumerate() {
+        s.dvc[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
+    }
+    s.transpose_times(&s.dvc, out);
+}
+
+/// Newton's iterations from the λ in `s.lambda` until the module's stopping rule holds;
+/// `iterations` counts those already spent on this solve (the seed's) towards the limit.
+fn newton(s: &mut ContactSolver, data: &Data, rows: usize, dt: f64, mut iterations: usize) -> Result<()> {
     loop {
         // v_c = J v* + W λ; γ, G there; the residual λ − γ
         for r in 0..rows {
@@ -297,21 +372,19 @@ pub fn integrate_discrete_with_contacts(
         s.transpose_times(&s.lambda, &mut column);
         column += &data.limit_rhs;
         let momentum = scaled_norm(&column, &s.inverse_diagonal);
-        for (c, resp) in s.response.iter().enumerate() {
-            s.dvc[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
-        }
-        s.transpose_times(&s.dvc, &mut column);
+        impulses_into(s, &mut column);
         let impulse = scaled_norm(&column, &s.inverse_diagonal);
         s.column = column;
         if gradient <= ABS_TOL + REL_TOL * momentum.max(impulse) {
-            break;
+            return Ok(());
         }
-        if s.iterations == MAX_ITERATIONS {
+        if iterations == MAX_ITERATIONS {
             return Err(Error::ContactNotConverged {
                 iterations: MAX_ITERATIONS,
                 residual: gradient,
             });
         }
+        iterations += 1;
         s.iterations += 1;
         newton_direction(s, rows);
         let alpha = line_search(s, rows, dt);
@@ -319,21 +392,6 @@ pub fn integrate_discrete_with_contacts(
             *l += alpha * d;
         }
     }
-    // v⁺ = v* + Y λ; the impulses Jᵀγ act on the limit solve as given forces
-    for (r, l) in s.lambda.iter().enumerate() {
-        for (x, y) in data.rhs.iter_mut().zip(row(&s.y, n, r)) {
-            *x += y * l;
-        }
-    }
-    for (c, resp) in s.response.iter().enumerate() {
-        s.dvc[3 * c..3 * c + 3].copy_from_slice(&resp.gamma);
-    }
-    let mut column = std::mem::take(&mut s.column);
-    s.transpose_times(&s.dvc, &mut column);
-    data.limit_rhs += &column;
-    s.column = column;
-    land(model, data, q, v, dt);
-    Ok(())
 }
 
 /// The first λ: one Newton step in v from the velocity `v` the step starts from (Drake's
@@ -365,8 +423,7 @@ fn seed(s: &mut ContactSolver, v: &[f64], rows: usize, dt: f64) {
 }
 
 /// The invariants of each contact at the velocity `v` the step starts from (the friction
-/// regularisation from the Delassus estimate `J diag(A)⁻¹ Jᵀ`), J v*, Y = A⁻¹Jᵀ and W = J Y.
-/// Sizes the 3m buffers.
+/// regularisation from the Delassus estimate `J diag(A)⁻¹ Jᵀ`). Sizes the 3m buffers.
 fn prepare(s: &mut ContactSolver, data: &Data, v: &[f64], dt: f64) {
     let (n, rows) = (s.n, 3 * s.points.len());
     let a = &data.step_matrix;
@@ -397,10 +454,19 @@ fn prepare(s: &mut ContactSolver, data: &Data, v: &[f64], dt: f64) {
         let eps = STICTION_TOLERANCE.max(p.friction * SIGMA * w2.sqrt() / 3.0 * n0);
         s.invariant.push(Invariant { fe0, n0, eps });
     }
+}
+
+/// J v* (v* in `data.rhs`), `Y = A⁻¹ Jᵀ` (A's factor in `data.chol`) with the columns of the
+/// joints `held` set aside (zero in Jᵀ: the contacts do not move a joint held on its limit)
+/// and `W = J Y`.
+fn operators(s: &mut ContactSolver, data: &Data, held: impl Fn(usize) -> bool) {
+    let (n, rows) = (s.n, 3 * s.points.len());
     for r in 0..rows {
         let jr = row(&s.jacobian, n, r);
         s.vc_star[r] = dot(jr, data.rhs.as_slice());
-        s.column.copy_from_slice(jr);
+        for (i, (x, j)) in s.column.iter_mut().zip(jr).enumerate() {
+            *x = if held(i) { 0.0 } else { *j };
+        }
         cholesky_solve(&data.chol, &mut s.column);
         s.y[r * n..(r + 1) * n].copy_from_slice(s.column.as_slice());
     }

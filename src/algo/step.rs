@@ -86,6 +86,21 @@ pub(super) fn land(model: &Model, data: &mut Data, q: &mut [f64], v: &mut [f64],
 /// its constraint would have to pull instead of push.
 fn solve_with_limits(model: &Model, data: &mut Data, q: &[f64], dt: f64) {
     let n = model.dof();
+    data.limit_at.fill(None);
+    for _ in 0..4 * n {
+        if !change_active_set(model, data, q, dt) {
+            return;
+        }
+        solve_clamped(data, n);
+    }
+}
+
+/// One change of the joint-limit active set `data.limit_at` at the velocity in `data.rhs`: the
+/// most violating free joint is clamped to the velocity that lands it on its limit, or else a
+/// clamped joint whose multiplier `λᵢ = (A v − b)ᵢ` (b in `data.limit_rhs`) would have to pull
+/// instead of push is released. Returns false if there was nothing to change (the optimum).
+pub(super) fn change_active_set(model: &Model, data: &mut Data, q: &[f64], dt: f64) -> bool {
+    let n = model.dof();
     let bound = |i: usize, v: f64| -> Option<f64> {
         let (lo, hi) = ((model.joints[i].lower - q[i]) / dt, (model.joints[i].upper - q[i]) / dt);
         if v < lo {
@@ -96,38 +111,34 @@ fn solve_with_limits(model: &Model, data: &mut Data, q: &[f64], dt: f64) {
             None
         }
     };
-    data.limit_at.fill(None);
-    for _ in 0..4 * n {
-        // the most violating free joint joins the clamped set
-        let worst = (0..n)
-            .filter(|&i| data.limit_at[i].is_none())
-            .filter_map(|i| bound(i, data.rhs[i]).map(|b| (i, b, (data.rhs[i] - b).abs())))
-            .max_by(|x, y| x.2.total_cmp(&y.2));
-        match worst {
-            Some((i, b, _)) => data.limit_at[i] = Some(b),
-            None => {
-                // release a clamped joint whose multiplier λ = (A v − b)_i has the wrong sign
-                let release = (0..n).find(|&i| {
-                    data.limit_at[i].is_some_and(|vb| {
-                        let lambda: f64 =
-                            (0..n).map(|k| data.step_matrix[(i, k)] * data.rhs[k]).sum::<f64>() - data.limit_rhs[i];
-                        let at_lower = vb <= (model.joints[i].lower - q[i]) / dt;
-                        if at_lower { lambda < 0.0 } else { lambda > 0.0 }
-                    })
-                });
-                match release {
-                    Some(i) => data.limit_at[i] = None,
-                    None => return,
-                }
-            }
+    let worst = (0..n)
+        .filter(|&i| data.limit_at[i].is_none())
+        .filter_map(|i| bound(i, data.rhs[i]).map(|b| (i, b, (data.rhs[i] - b).abs())))
+        .max_by(|x, y| x.2.total_cmp(&y.2));
+    if let Some((i, b, _)) = worst {
+        data.limit_at[i] = Some(b);
+        return true;
+    }
+    let release = (0..n).find(|&i| {
+        data.limit_at[i].is_some_and(|vb| {
+            let lambda: f64 = (0..n).map(|k| data.step_matrix[(i, k)] * data.rhs[k]).sum::<f64>() - data.limit_rhs[i];
+            let at_lower = vb <= (model.joints[i].lower - q[i]) / dt;
+            if at_lower { lambda < 0.0 } else { lambda > 0.0 }
+        })
+    });
+    match release {
+        Some(i) => {
+            data.limit_at[i] = None;
+            true
         }
-        solve_clamped(data, n);
+        None => false,
     }
 }
 
 /// Solves `A v = b` with the clamped joints' rows and columns replaced by identity, i.e. free
-/// joints get `A_FF v_F = b_F − A_FC v_C` and clamped joints their bound.
-fn solve_clamped(data: &mut Data, n: usize) {
+/// joints get `A_FF v_F = b_F − A_FC v_C` and clamped joints their bound (v into `data.rhs`,
+/// the factor of that matrix into `data.chol`).
+pub(super) fn solve_clamped(data: &mut Data, n: usize) {
     for i in 0..n {
         data.rhs[i] = match data.limit_at[i] {
             Some(vb) => vb,

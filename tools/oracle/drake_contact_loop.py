@@ -31,6 +31,7 @@ Usage (from the repository root, with the oracle venv):
 
     tools/oracle/.venv/bin/python tools/oracle/drake_contact_loop.py circle [--friction 1.0]
         [--approximation lagged|similar|sap] [--duration 12] [--summary F.json]
+    tools/oracle/.venv/bin/python tools/oracle/drake_contact_loop.py arm|limit-arm [--approximation A]
     tools/oracle/.venv/bin/python tools/oracle/drake_contact_loop.py fixtures
 
 `circle` runs the circle shape (tests/fixtures/shape_circle_q.npy as the periodic command, 5 s per
@@ -42,6 +43,14 @@ or $FAZE4_DESCRIPTION) and prints the figures and the loop's wall time. `fixture
     tests/fixtures/contact_arm.json          tests/urdf/contact_arm.urdf: a planar two-link arm
                                              whose tip sphere is driven into a box welded to the
                                              base (wave, 3 s), with the whole trail
+    tests/fixtures/contact_limit_arm.json    tests/urdf/contact_limit_arm.urdf: the same arm and
+                                             wave with the wall turned so that the contact pushes
+                                             j2 onto its upper limit (μ = 0), with the whole trail
+
+Joint limits: the URDF's position limits are kept. Drake's discrete SAP plant (all three
+approximations) puts a limit constraint into the same convex problem as the contacts whenever a
+limit lies within 2 Δt max(|v|, |v*|) of q: "near-rigid" (stiffness 1e12, dissipation time scale
+Δt, β = 0.1), so a joint pressed onto its limit sits beyond it by about 1e-9 rad here.
 
 Each fixture holds the summary (per-joint saturation %, max tracking error, path deviation
 max/mean for the circle, tool range), trail rows, and the contacts Drake reports at the trail
@@ -73,6 +82,11 @@ ARM_URDF = "tests/urdf/contact_arm.urdf"
 # contact_arm: the wave command of drake_closed_loop.py (q_i = A sin(w t + i pi/3)), its limits
 ARM = dict(duration=3.0, dt=2e-4, record_period=0.02, freq=2.0, amp_deg=25.0)
 ARM_EFFORT = [4.0, 2.0]
+# contact_limit_arm: the same wave; the contact pushes j2 onto its upper limit (frictionless: with
+# friction the tip sticks to the face before j2 gets there), its URDF's efforts
+LIMIT_ARM_URDF = "tests/urdf/contact_limit_arm.urdf"
+LIMIT_ARM_EFFORT = [4.0, 0.5]
+LIMIT_ARM_FRICTION = 0.0
 ARM_TOOL = "tip_link"
 # every trail row of the circle is kept in the summary's figures; the fixture stores every 25th
 CIRCLE_ROW_STRIDE = 25
@@ -154,19 +168,28 @@ def run_circle(friction=None, approximation="lagged", duration=CIRCLE["duration"
     return summary, trail, log.summary()
 
 
-def run_arm(approximation="lagged"):
+def run_arm(approximation="lagged", urdf=ARM_URDF, friction=None, effort=ARM_EFFORT):
+    """A small arm of tests/urdf/ on ARM's wave (tool ARM_TOOL); returns (summary, trail, contacts).
+    friction None: Drake's default μ (1.0) from the URDF as it is."""
     log = ContactLog()
     saved = dcl.TOOL_BODY
     dcl.TOOL_BODY = ARM_TOOL
     try:
-        summary, trail = dcl.run_closed_loop(
-            dcl.wave_command(ARM["amp_deg"], ARM["freq"], dof=2), duration=ARM["duration"],
-            dt=ARM["dt"], record_period=ARM["record_period"], urdf=str(REPO / ARM_URDF),
-            effort=ARM_EFFORT, verbose=False, plant_config=plant_config(approximation),
-            record_hook=log)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = str(REPO / urdf) if friction is None else prepared_urdf(urdf, friction, Path(tmp))
+            summary, trail = dcl.run_closed_loop(
+                dcl.wave_command(ARM["amp_deg"], ARM["freq"], dof=2), duration=ARM["duration"],
+                dt=ARM["dt"], record_period=ARM["record_period"], urdf=path,
+                effort=effort, verbose=False, plant_config=plant_config(approximation),
+                record_hook=log)
     finally:
         dcl.TOOL_BODY = saved
     return summary, trail, log.summary()
+
+
+def run_limit_arm(approximation="lagged"):
+    """tests/urdf/contact_limit_arm.urdf: contact and j2's upper limit in the same steps."""
+    return run_arm(approximation, LIMIT_ARM_URDF, LIMIT_ARM_FRICTION, LIMIT_ARM_EFFORT)
 
 
 def report(name, summary, contacts):
@@ -213,6 +236,10 @@ def write_fixtures():
     report("contact_arm", summary, contacts)
     args = {**ARM, "effort": ARM_EFFORT, "tool_link": ARM_TOOL, "friction": 1.0}
     fixture("contact_arm.json", ARM_URDF, "wave", args, summary, trail, contacts, "lagged")
+    summary, trail, contacts = run_limit_arm()
+    report("contact_limit_arm", summary, contacts)
+    args = {**ARM, "effort": LIMIT_ARM_EFFORT, "tool_link": ARM_TOOL, "friction": LIMIT_ARM_FRICTION}
+    fixture("contact_limit_arm.json", LIMIT_ARM_URDF, "wave", args, summary, trail, contacts, "lagged")
 
 
 def main(argv=None):
@@ -226,6 +253,8 @@ def main(argv=None):
     c.add_argument("--verbose", action="store_true")
     a = sub.add_parser("arm", help="tests/urdf/contact_arm.urdf against its wall")
     a.add_argument("--approximation", default="lagged", choices=["lagged", "similar", "sap"])
+    a = sub.add_parser("limit-arm", help="tests/urdf/contact_limit_arm.urdf: contact and a joint limit")
+    a.add_argument("--approximation", default="lagged", choices=["lagged", "similar", "sap"])
     sub.add_parser("fixtures", help="write tests/fixtures/contact_*.json")
     args = ap.parse_args(argv)
     if args.mode == "fixtures":
@@ -234,6 +263,10 @@ def main(argv=None):
     if args.mode == "arm":
         summary, _trail, contacts = run_arm(args.approximation)
         report(f"contact_arm ({args.approximation})", summary, contacts)
+        return 0
+    if args.mode == "limit-arm":
+        summary, _trail, contacts = run_limit_arm(args.approximation)
+        report(f"contact_limit_arm ({args.approximation})", summary, contacts)
         return 0
     summary, _trail, contacts = run_circle(args.friction, args.approximation, args.duration, args.verbose)
     report(f"circle (μ={args.friction if args.friction is not None else 'default'}, {args.approximation})",
