@@ -33,7 +33,6 @@
 
 use std::cell::Cell;
 
-use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{
@@ -733,24 +732,17 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     let best = Cell::new(if seeded < bound { seeded } else { bound });
     let found = Cell::new((seeded < bound).then_some(*closest));
     // each box re-boxed in the other's frame bounds the distance; the larger bound is used
-    let pos21 = pos12.inverse();
+    let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
     let boxes_closer = |n1: &BvhNode, n2: &BvhNode| {
         let bound = best.get();
         if bound <= 0.0 {
             return false;
         }
-        let (b1, b2) = (Aabb::new(n1.mins(), n1.maxs()), Aabb::new(n2.mins(), n2.maxs()));
-        let b2in1 = b2.transform_by(pos12);
-        let gap = (b1.mins - b2in1.maxs).max(b2in1.mins - b1.maxs).max(PVector::ZERO);
-        if gap.length_squared() >= bound * bound {
-            return false;
-        }
-        let b1in2 = b1.transform_by(&pos21);
-        let gap = (b2.mins - b1in2.maxs).max(b1in2.mins - b2.maxs).max(PVector::ZERO);
-        gap.length_squared() < bound * bound
+        let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
+        two_in_one.squared_gap(box1, box2) < bound * bound && one_in_two.squared_gap(box2, box1) < bound * bound
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
-        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), pos12) >= best.get() {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) >= best.get() {
             continue;
         }
         let d = triangles(pair);
@@ -767,6 +759,47 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     Some(best.get())
 }
 
+/// A relative pose `a_T_b` ready to re-box boxes of b in a's frame: its rotation matrix `R`,
+/// `|R|` (entrywise absolute values) and its translation, computed once per mesh query instead
+/// of once per box.
+struct Rebox {
+    rotation: PMat3,
+    spread: PMat3,
+    translation: PVector,
+}
+
+impl Rebox {
+    /// The re-boxing by `a_T_b`.
+    fn new(a_t_b: &PPose) -> Rebox {
+        let rotation = PMat3::from_quat(a_t_b.rotation);
+        Rebox {
+            rotation,
+            spread: rotation.abs(),
+            translation: a_t_b.translation,
+        }
+    }
+
+    /// Point `p` of b (b's frame) in a's frame.
+    fn point(&self, p: PVector) -> PVector {
+        self.rotation * p + self.translation
+    }
+
+    /// The squared distance (m²) between the box `(mins, maxs)` of a (in a's frame) and the
+    /// box of b `(mins, maxs)` (in b's frame) re-boxed in a's frame: a lower bound of the
+    /// squared distance of any points inside the two. The box of b with centre `c` and half
+    /// extents `h` re-boxes to centre `R c + t` and half extents `|R| h`; two boxes with
+    /// centres `c₁`, `c₂` and half extents `h₁`, `h₂` are apart along each axis by
+    /// `max(|c₁ − c₂| − h₁ − h₂, 0)`.
+    fn squared_gap(&self, (mins_a, maxs_a): (PVector, PVector), (mins_b, maxs_b): (PVector, PVector)) -> f64 {
+        let centre_b = self.point((mins_b + maxs_b) * 0.5);
+        let half_b = self.spread * ((maxs_b - mins_b) * 0.5);
+        let (centre_a, half_a) = ((mins_a + maxs_a) * 0.5, (maxs_a - mins_a) * 0.5);
+        ((centre_a - centre_b).abs() - half_a - half_b)
+            .max(PVector::ZERO)
+            .length_squared()
+    }
+}
+
 /// An upper bound of how far a point of b's bounding sphere (`centre`, `radius`, in b's frame)
 /// has moved relative to a between the relative poses `then` and `now` (`a_T_b`): a point
 /// `c + u` (`|u| ≤ radius`) moves by `(now·c − then·c) + (R_now − R_then) u`, at most
@@ -780,12 +813,12 @@ fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
     (*now * centre - *then * centre).length() + 2.0 * half_sine * radius
 }
 
-/// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `pos12`,
+/// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `two_in_one`,
 /// cheaper than the distance itself: the larger of the gap between their exact bounding boxes
 /// (in `t1`'s frame) and the gap between their projections on the line through their
 /// centroids (any direction separates by the gap of the projections).
-fn triangle_gap(t1: &Triangle, t2: &Triangle, pos12: &PPose) -> f64 {
-    let (a, b, c) = (pos12 * t2.a, pos12 * t2.b, pos12 * t2.c);
+fn triangle_gap(t1: &Triangle, t2: &Triangle, two_in_one: &Rebox) -> f64 {
+    let (a, b, c) = (two_in_one.point(t2.a), two_in_one.point(t2.b), two_in_one.point(t2.c));
     let (lo1, hi1) = (t1.a.min(t1.b).min(t1.c), t1.a.max(t1.b).max(t1.c));
     let (lo2, hi2) = (a.min(b).min(c), a.max(b).max(c));
     let boxes = (lo1 - hi2).max(lo2 - hi1).max(PVector::ZERO).length();
