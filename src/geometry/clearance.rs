@@ -15,10 +15,13 @@
 //!
 //! Two meshes are compared by a simultaneous traversal of their bounding-volume hierarchies
 //! (parry's `Bvh::leaf_pairs`): a pair of nodes is opened only while the distance between their
-//! boxes is below the best triangle distance found so far. That distance is bounded below twice,
+//! boxes is below the best triangle distance found so far (plus a round-off margin, so that
+//! triangle pairs tying with the best to round-off are all looked at and the smallest computed
+//! distance wins whatever the order of the search). That distance is bounded below twice,
 //! the second box re-boxed in the first mesh's frame and the first box in the second's (each a
 //! lower bound of the distance of any triangles inside; a rotated box grows when re-boxed, so
-//! the two differ), and the larger is used. Each pair of
+//! the two differ), and the larger is used; the relative pose's rotation matrix and its
+//! absolute values are computed once per query for that. Each pair of
 //! leaves is one triangle–triangle distance (parry's GJK), unless a cheaper lower bound (exact
 //! boxes of the two triangles, their projections on the line through their centroids) already
 //! reaches the best distance. The search starts from the two
@@ -29,7 +32,13 @@
 //! lower bound found for the pair less how far its shapes can have moved relative to each other
 //! since (see [`moved`]), the bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, and (for meshes) the
 //! hulls' signed distance, since a mesh lies inside its hull. A pair whose bound is not below
-//! its smallest distance so far cannot lower it and needs no exact query.
+//! its smallest distance so far cannot lower it and needs no exact query. A pair whose hulls
+//! are apart may be proven by them ([`CollisionSet::proven_by_hulls`]); one whose hulls
+//! overlap is only tested for crossing triangles at the sample (the same traversal, opening
+//! just the boxes that touch, which stops at the first crossing pair). The samples whose
+//! distance is left open wait for [`CollisionSet::finish`], which searches them in order of
+//! their upper bound, each search raising the other samples' lower bounds by its distance less
+//! the relative motion between the two samples.
 
 use std::cell::Cell;
 
@@ -79,6 +88,14 @@ impl std::fmt::Display for Warning {
 /// [`CollisionSet::proven_by_hulls`] to take it as the distance: far below the oracle
 /// tests' 1e-6 m, far above GJK's round-off.
 const HULL_CERTIFICATE: f64 = 1e-9;
+
+/// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
+/// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
+/// only when its lower bound exceeds the best distance by this much, so that among triangle
+/// pairs (or samples) whose distances tie to round-off the smallest computed distance is
+/// found, whatever the order of the search ([`meshes_touch`] looks inside boxes and triangles
+/// this close to each other).
+const ROUND_OFF: f64 = 1e-9;
 
 /// One collision object, loaded.
 struct Object {
@@ -228,6 +245,11 @@ struct Pending {
     lower: f64,
     /// An actual distance of two of its parts then (m), an upper bound of the pair's.
     upper: f64,
+    /// Whether its hulls were apart. Its lower bound then serves
+    /// [`CollisionSet::proven_by_hulls`] as the hulls' distance would (any lower bound proves
+    /// an actual pair no further apart than it plus [`HULL_CERTIFICATE`]); a sample whose
+    /// hulls overlapped is searched triangle by triangle.
+    hulls_apart: bool,
 }
 
 impl GeometryData {
@@ -363,10 +385,11 @@ impl CollisionSet {
     /// Folds the pose at time `t` (s) into `report`, and sets `data.intersecting` to this
     /// pose's intersecting pairs: each pair's distance is computed only when a lower bound
     /// (the pair's last bound less its relative motion since, bounding spheres, then hulls)
-    /// says it could be below the pair's smallest so far or could be an intersection. A pair
-    /// whose hulls are apart but do not prove its distance is not searched now: the sample
-    /// waits for [`CollisionSet::finish`], which searches only those that can still hold the
-    /// minimum. `report` must come from [`CollisionSet::new_report`] on this set.
+    /// says it could be below the pair's smallest so far or could be an intersection. A mesh
+    /// pair whose hulls are apart but do not prove its distance, or whose hulls overlap but
+    /// whose triangles do not cross, is not searched now: the sample waits for
+    /// [`CollisionSet::finish`], which searches only those that can still hold the minimum.
+    /// `report` must come from [`CollisionSet::new_report`] on this set.
     pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
         self.place(frame_pose, data);
         let poses = &data.poses;
@@ -383,9 +406,9 @@ impl CollisionSet {
     }
 
     /// Completes `report` after the last [`CollisionSet::accumulate`]: each pair's waiting
-    /// samples whose lower bound is below the pair's smallest distance so far are searched,
-    /// the smallest upper bound first (none of them intersects: their hulls were apart). The
-    /// pairs are searched in parallel.
+    /// samples whose lower bound is below the pair's smallest distance so far plus
+    /// [`ROUND_OFF`] are searched, the smallest upper bound first (none of them intersects: their hulls were apart, or
+    /// their triangles were tested apart). The pairs are searched in parallel.
     pub fn finish(&self, data: &mut GeometryData, report: &mut ClearanceReport) {
         let smallest = &report.pairs;
         let found: Vec<Option<(PairDistance, f64)>> = (data.memory.par_iter_mut().enumerate())
@@ -411,16 +434,22 @@ impl CollisionSet {
         let mut found = None;
         for j in 0..pending.len() {
             let p = pending[j];
-            if p.lower >= best {
+            if best <= 0.0 {
+                // an intersection: no waiting sample (all apart) can be closer
+                break;
+            }
+            if p.lower >= best + ROUND_OFF {
                 continue;
             }
-            // distances depend on the relative pose alone
+            // distances depend on the relative pose alone; overlapping hulls (0 stands for
+            // their distance) prove nothing
+            let hull = if p.hulls_apart { p.lower } else { 0.0 };
             let d = (self.pair_distance(
                 k,
                 (&PPose::IDENTITY, &p.pose_ab),
                 &mut memory.closest,
                 f64::INFINITY,
-                Some(p.lower),
+                Some(hull),
             ))
             .expect("an unbounded search finds the distance");
             if d.distance < best {
@@ -482,15 +511,39 @@ impl CollisionSet {
                                 pose_ab,
                                 lower: hull,
                                 upper,
+                                hulls_apart: true,
                             });
                             return None;
                         }
                     }
+                } else if let (Some(ma), Some(mb)) = (&oa.triangles, &ob.triangles) {
+                    // the hulls overlap: whether two triangles cross is tested now (an
+                    // intersection must be seen at its sample); the distance of a sample
+                    // whose triangles are apart waits for finish like the others, its hulls
+                    // bounding it below by 0 (none can lower a smallest distance of 0)
+                    match meshes_touch(ma, mb, &pose_ab, &mut memory.closest) {
+                        Ok(()) => PairDistance {
+                            distance: 0.0,
+                            intersecting: true,
+                        },
+                        Err(upper) => {
+                            memory.upper = memory.upper.min(upper);
+                            if least > 0.0 {
+                                memory.pending.push(Pending {
+                                    t,
+                                    pose_ab,
+                                    lower: 0.0,
+                                    upper,
+                                    hulls_apart: false,
+                                });
+                            }
+                            return None;
+                        }
+                    }
                 } else {
-                    // the hulls overlap: an exact search now (an intersection must be seen at
-                    // its sample), bounded by the smallest distance so far, or (once the pair
-                    // has intersected) by the least positive distance, which still finds an
-                    // intersection
+                    // a mesh and a primitive whose hulls overlap: an exact search now, bounded
+                    // by the smallest distance so far, or (once the pair has intersected) by
+                    // the least positive distance, which still finds an intersection
                     let bound = best.max(f64::MIN_POSITIVE);
                     match self.pair_distance(k, (pa, pb), &mut memory.closest, bound, Some(hull)) {
                         Some(d) => d,
@@ -733,16 +786,18 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     let found = Cell::new((seeded < bound).then_some(*closest));
     // each box re-boxed in the other's frame bounds the distance; the larger bound is used
     let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
+    // what could be closer, or tie with the best to round-off, is looked at
+    let reach = || best.get() + ROUND_OFF;
     let boxes_closer = |n1: &BvhNode, n2: &BvhNode| {
-        let bound = best.get();
-        if bound <= 0.0 {
+        if best.get() <= 0.0 {
             return false;
         }
         let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
-        two_in_one.squared_gap(box1, box2) < bound * bound && one_in_two.squared_gap(box2, box1) < bound * bound
+        let reach = reach() * reach();
+        two_in_one.squared_gap(box1, box2) < reach && one_in_two.squared_gap(box2, box1) < reach
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
-        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) >= best.get() {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) >= reach() {
             continue;
         }
         let d = triangles(pair);
@@ -798,6 +853,40 @@ impl Rebox {
             .max(PVector::ZERO)
             .length_squared()
     }
+}
+
+/// Whether a triangle of `m1` and a triangle of `m2` (`pos12`: `m2`'s frame in `m1`'s) touch
+/// or cross (parry's triangle distance 0, as [`mesh_distance`] reads an intersection):
+/// `Ok(())`, with `closest` set to such a pair; else `Err` with the distance of the pair
+/// `closest` held on entry (an upper bound of the meshes' distance). `closest` is tried
+/// first; then the traversal opens only pairs of nodes whose boxes (each re-boxed in the
+/// other's frame) are within [`ROUND_OFF`] of each other, and runs the triangle distance
+/// only on pairs of leaves that [`triangle_gap`] does not put that far apart: far fewer
+/// than a distance search opens when the meshes are some millimetres apart.
+fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32)) -> std::result::Result<(), f64> {
+    let triangles = |(i, j): (u32, u32)| {
+        DefaultQueryDispatcher
+            .distance(pos12, &m1.triangle(i), &m2.triangle(j))
+            .expect("parry supports triangle pairs")
+            .distance
+    };
+    let seeded = triangles(*closest);
+    if seeded <= 0.0 {
+        return Ok(());
+    }
+    let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
+    let slack = ROUND_OFF * ROUND_OFF;
+    let boxes_touch = |n1: &BvhNode, n2: &BvhNode| {
+        let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
+        two_in_one.squared_gap(box1, box2) < slack && one_in_two.squared_gap(box2, box1) < slack
+    };
+    for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_touch) {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) < ROUND_OFF && triangles(pair) <= 0.0 {
+            *closest = pair;
+            return Ok(());
+        }
+    }
+    Err(seeded)
 }
 
 /// An upper bound of how far a point of b's bounding sphere (`centre`, `radius`, in b's frame)
