@@ -98,6 +98,10 @@ const HULL_CERTIFICATE: f64 = 1e-9;
 /// this close to each other).
 const ROUND_OFF: f64 = 1e-9;
 
+/// How many pairs of nodes [`meshes_touch`] may open at a sample (a distance search opens
+/// some thousands): past it, the pair's distance is searched at each sample instead.
+const TOUCH_BUDGET: usize = 1000;
+
 /// One collision object, loaded.
 struct Object {
     /// Its index in [`GeometryModel::collisions`].
@@ -233,6 +237,10 @@ struct PairMemory {
     upper: f64,
     /// Samples left for [`CollisionSet::finish`]: apart, but not proven by the hulls.
     pending: Vec<Pending>,
+    /// Whether a crossing test of the pair ran out of [`TOUCH_BUDGET`]: its hulls overlapping,
+    /// its distance is then searched at each sample rather than tested and left for
+    /// [`CollisionSet::finish`].
+    search_now: bool,
 }
 
 /// A sample whose exact distance is left for [`CollisionSet::finish`].
@@ -274,6 +282,7 @@ impl GeometryData {
                     found: None,
                     upper: f64::INFINITY,
                     pending: Vec::new(),
+                    search_now: false,
                 };
                 set.pairs.len()
             ],
@@ -517,17 +526,21 @@ impl CollisionSet {
                             return None;
                         }
                     }
-                } else if let (Some(ma), Some(mb)) = (&oa.triangles, &ob.triangles) {
+                } else if let (Some(ma), Some(mb)) = (&oa.triangles, &ob.triangles)
+                    && !(memory.search_now && best > 0.0)
+                {
                     // the hulls overlap: whether two triangles cross is tested now (an
                     // intersection must be seen at its sample); the distance of a sample
                     // whose triangles are apart waits for finish like the others, its hulls
-                    // bounding it below by 0 (none can lower a smallest distance of 0)
-                    match meshes_touch(ma, mb, &pose_ab, &mut memory.closest) {
-                        Ok(()) => PairDistance {
+                    // bounding it below by 0 (none can lower a smallest distance of 0, and
+                    // then the test goes on whatever it costs)
+                    let budget = if best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
+                    match meshes_touch(ma, mb, &pose_ab, &mut memory.closest, budget) {
+                        Touch::Crossing => PairDistance {
                             distance: 0.0,
                             intersecting: true,
                         },
-                        Err(upper) => {
+                        Touch::Apart(upper) => {
                             memory.upper = memory.upper.min(upper);
                             if least > 0.0 {
                                 memory.pending.push(Pending {
@@ -540,24 +553,41 @@ impl CollisionSet {
                             }
                             return None;
                         }
-                    }
-                } else {
-                    // a mesh and a primitive whose hulls overlap: an exact search now, bounded
-                    // by the smallest distance so far, or (once the pair has intersected) by
-                    // the least positive distance, which still finds an intersection
-                    let bound = best.max(f64::MIN_POSITIVE);
-                    match self.pair_distance(k, (pa, pb), &mut memory.closest, bound, Some(hull)) {
-                        Some(d) => d,
-                        None => {
-                            memory.reference = (bound, pose_ab);
-                            return None;
+                        Touch::Undecided => {
+                            memory.search_now = true;
+                            self.search_now(k, (pa, pb), best, hull, memory)?
                         }
                     }
+                } else {
+                    // a mesh and a primitive, or meshes too close for a crossing test, whose
+                    // hulls overlap
+                    self.search_now(k, (pa, pb), best, hull, memory)?
                 }
             }
         };
         memory.reference = (d.distance, pose_ab);
         Some(d)
+    }
+
+    /// For [`CollisionSet::fold_pair`]: the distance of pair `k`, whose hulls overlap (signed
+    /// distance `hull`), at the world poses `(pa, pb)` of its objects, searched now, bounded by
+    /// the smallest distance so far `best`, or (once the pair has intersected) by the least
+    /// positive distance, which still finds an intersection (a pair of meshes is then given
+    /// the crossing test, whose budget is lifted).
+    fn search_now(
+        &self,
+        k: usize,
+        (pa, pb): (&PPose, &PPose),
+        best: f64,
+        hull: f64,
+        memory: &mut PairMemory,
+    ) -> Option<PairDistance> {
+        let bound = best.max(f64::MIN_POSITIVE);
+        let found = self.pair_distance(k, (pa, pb), &mut memory.closest, bound, Some(hull));
+        if found.is_none() {
+            memory.reference = (bound, pa.inv_mul(pb));
+        }
+        found
     }
 
     /// The distance of pair `k` at the world poses `(pa, pb)` of its objects, as
@@ -860,15 +890,27 @@ impl Rebox {
     }
 }
 
+/// What [`meshes_touch`] found.
+enum Touch {
+    /// Two triangles touch or cross.
+    Crossing,
+    /// No two triangles touch; the distance of the pair of triangles tried first (m), an
+    /// upper bound of the meshes' distance.
+    Apart(f64),
+    /// The test opened more pairs of nodes than its budget before it could tell.
+    Undecided,
+}
+
 /// Whether a triangle of `m1` and a triangle of `m2` (`pos12`: `m2`'s frame in `m1`'s) touch
-/// or cross (parry's triangle distance 0, as [`mesh_distance`] reads an intersection):
-/// `Ok(())`, with `closest` set to such a pair; else `Err` with the distance of the pair
-/// `closest` held on entry (an upper bound of the meshes' distance). `closest` is tried
-/// first; then the traversal opens only pairs of nodes whose boxes (each re-boxed in the
-/// other's frame) are within [`ROUND_OFF`] of each other, and runs the triangle distance
-/// only on pairs of leaves that [`triangle_gap`] does not put that far apart: far fewer
-/// than a distance search opens when the meshes are some millimetres apart.
-fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32)) -> std::result::Result<(), f64> {
+/// or cross (parry's triangle distance 0, as [`mesh_distance`] reads an intersection), with
+/// `closest` set to such a pair when they do. `closest` is tried first; then the traversal
+/// opens only pairs of nodes whose boxes (each re-boxed in the other's frame) are within
+/// [`ROUND_OFF`] of each other, and runs the triangle distance only on pairs of leaves that
+/// [`triangle_gap`] does not put that far apart: far fewer than a distance search opens when
+/// the meshes are some millimetres apart. Meshes a fraction of a millimetre apart along
+/// large surfaces (the parts of a joint) have boxes touching all the way down, though: after
+/// `budget` pairs of nodes the test gives up ([`Touch::Undecided`]).
+fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32), budget: usize) -> Touch {
     let triangles = |(i, j): (u32, u32)| {
         DefaultQueryDispatcher
             .distance(pos12, &m1.triangle(i), &m2.triangle(j))
@@ -877,21 +919,29 @@ fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u
     };
     let seeded = triangles(*closest);
     if seeded <= 0.0 {
-        return Ok(());
+        return Touch::Crossing;
     }
     let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
     let slack = ROUND_OFF * ROUND_OFF;
+    let opened = Cell::new(0);
     let boxes_touch = |n1: &BvhNode, n2: &BvhNode| {
+        opened.set(opened.get() + 1);
         let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
-        two_in_one.squared_gap(box1, box2) < slack && one_in_two.squared_gap(box2, box1) < slack
+        opened.get() <= budget
+            && two_in_one.squared_gap(box1, box2) < slack
+            && one_in_two.squared_gap(box2, box1) < slack
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_touch) {
         if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) < ROUND_OFF && triangles(pair) <= 0.0 {
             *closest = pair;
-            return Ok(());
+            return Touch::Crossing;
         }
     }
-    Err(seeded)
+    if opened.get() > budget {
+        Touch::Undecided
+    } else {
+        Touch::Apart(seeded)
+    }
 }
 
 /// An upper bound of how far a point of b's bounding sphere (`centre`, `radius`, in b's frame)
