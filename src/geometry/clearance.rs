@@ -36,7 +36,10 @@
 //! its smallest distance so far cannot lower it and needs no exact query. A pair whose hulls
 //! are apart may be proven by them ([`CollisionSet::proven_by_hulls`]); one whose hulls
 //! overlap is only tested for crossing triangles at the sample (the same traversal, opening
-//! just the boxes that touch, which stops at the first crossing pair). The samples whose
+//! just the boxes that touch, which stops at the first crossing pair), unless that test runs
+//! over a budget (meshes a fraction of a millimetre apart all along a joint's parts, whose
+//! boxes touch all the way down): such a pair is searched at each sample, bounded by its
+//! smallest distance so far. The samples whose
 //! distance is left open wait for [`CollisionSet::finish`], which searches them in order of
 //! their upper bound, each search raising the other samples' lower bounds by its distance less
 //! the relative motion between the two samples.
