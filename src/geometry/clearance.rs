@@ -420,8 +420,9 @@ impl CollisionSet {
 
     /// Completes `report` after the last [`CollisionSet::accumulate`]: each pair's waiting
     /// samples whose lower bound is below the pair's smallest distance so far plus
-    /// [`ROUND_OFF`] are searched, the smallest upper bound first (none of them intersects: their hulls were apart, or
-    /// their triangles were tested apart). The pairs are searched in parallel.
+    /// [`ROUND_OFF`] are searched, the smallest upper bound first (none of them intersects:
+    /// their hulls were apart, or their triangles were tested apart). The pairs are searched
+    /// in parallel.
     pub fn finish(&self, data: &mut GeometryData, report: &mut ClearanceReport) {
         let smallest = &report.pairs;
         let found: Vec<Option<(PairDistance, f64)>> = (data.memory.par_iter_mut().enumerate())
