@@ -15,13 +15,17 @@
 //!
 //! Two meshes are compared by a simultaneous traversal of their bounding-volume hierarchies
 //! (parry's `Bvh::leaf_pairs`): a pair of nodes is opened only while the distance between their
-//! boxes is below the best triangle distance found so far. That distance is bounded below twice,
+//! boxes is below the best triangle distance found so far (plus a round-off margin, so that
+//! triangle pairs tying with the best to round-off are all looked at and the smallest computed
+//! distance wins whatever the order of the search). That distance is bounded below twice,
 //! the second box re-boxed in the first mesh's frame and the first box in the second's (each a
 //! lower bound of the distance of any triangles inside; a rotated box grows when re-boxed, so
-//! the two differ), and the larger is used. Each pair of
+//! the two differ), and the larger is used; the relative pose's rotation matrix and its
+//! absolute values are computed once per query for that. Each pair of
 //! leaves is one triangle–triangle distance (parry's GJK), unless a cheaper lower bound (exact
 //! boxes of the two triangles, their projections on the line through their centroids) already
-//! reaches the best distance. The search starts from the two
+//! reaches the best distance; the leaves' own boxes are not re-boxed first (the triangles'
+//! exact boxes are tighter). The search starts from the two
 //! triangles that were closest at the previous query of that pair (a good bound at once when
 //! the poses change little from sample to sample).
 //!
@@ -29,13 +33,22 @@
 //! lower bound found for the pair less how far its shapes can have moved relative to each other
 //! since (see [`moved`]), the bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, the gap between the
 //! convex shapes' projections on the axis that separated them at the pair's last GJK (see
-//! [`CollisionSet::separation_along`]: two support points, and tight when the pair moves little),
-//! and (for meshes) the hulls' signed distance, since a mesh lies inside its hull. A pair whose bound is not below
-//! its smallest distance so far cannot lower it and needs no exact query.
+//! [`CollisionSet::separation_along`]: two support points, and tight when the pair moves
+//! little), and (for meshes) the hulls' signed distance, since a mesh lies inside its hull. A
+//! pair whose bound is not below its smallest distance so far cannot lower it and needs no
+//! exact query. A pair whose hulls
+//! are apart may be proven by them ([`CollisionSet::proven_by_hulls`]); one whose hulls
+//! overlap is only tested for crossing triangles at the sample (the same traversal, opening
+//! just the boxes that touch, which stops at the first crossing pair), unless that test runs
+//! over a budget (meshes a fraction of a millimetre apart all along a joint's parts, whose
+//! boxes touch all the way down): such a pair is searched at each sample, bounded by its
+//! smallest distance so far. The samples whose
+//! distance is left open wait for [`CollisionSet::finish`], which searches them in order of
+//! their upper bound, each search raising the other samples' lower bounds by its distance less
+//! the relative motion between the two samples.
 
 use std::cell::Cell;
 
-use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
@@ -83,6 +96,18 @@ impl std::fmt::Display for Warning {
 /// [`CollisionSet::proven_by_hulls`] to take it as the distance: far below the oracle
 /// tests' 1e-6 m, far above GJK's round-off.
 const HULL_CERTIFICATE: f64 = 1e-9;
+
+/// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
+/// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
+/// only when its lower bound exceeds the best distance by this much, so that among triangle
+/// pairs (or samples) whose distances tie to round-off the smallest computed distance is
+/// found, whatever the order of the search ([`meshes_touch`] looks inside boxes and triangles
+/// this close to each other).
+const ROUND_OFF: f64 = 1e-9;
+
+/// How many pairs of nodes [`meshes_touch`] may open at a sample (a distance search opens
+/// some thousands): past it, the pair's distance is searched at each sample instead.
+const TOUCH_BUDGET: usize = 1000;
 
 /// One collision object, loaded.
 struct Object {
@@ -222,6 +247,10 @@ struct PairMemory {
     upper: f64,
     /// Samples left for [`CollisionSet::finish`]: apart, but not proven by the hulls.
     pending: Vec<Pending>,
+    /// Whether a crossing test of the pair ran out of [`TOUCH_BUDGET`]: its hulls overlapping,
+    /// its distance is then searched at each sample rather than tested and left for
+    /// [`CollisionSet::finish`].
+    search_now: bool,
 }
 
 /// A sample whose exact distance is left for [`CollisionSet::finish`].
@@ -235,6 +264,11 @@ struct Pending {
     lower: f64,
     /// An actual distance of two of its parts then (m), an upper bound of the pair's.
     upper: f64,
+    /// Whether its hulls were apart. Its lower bound then serves
+    /// [`CollisionSet::proven_by_hulls`] as the hulls' distance would (any lower bound proves
+    /// an actual pair no further apart than it plus [`HULL_CERTIFICATE`]); a sample whose
+    /// hulls overlapped is searched triangle by triangle.
+    hulls_apart: bool,
 }
 
 impl GeometryData {
@@ -259,6 +293,7 @@ impl GeometryData {
                     found: None,
                     upper: f64::INFINITY,
                     pending: Vec::new(),
+                    search_now: false,
                 };
                 set.pairs.len()
             ],
@@ -371,10 +406,11 @@ impl CollisionSet {
     /// Folds the pose at time `t` (s) into `report`, and sets `data.intersecting` to this
     /// pose's intersecting pairs: each pair's distance is computed only when a lower bound
     /// (the pair's last bound less its relative motion since, bounding spheres, then hulls)
-    /// says it could be below the pair's smallest so far or could be an intersection. A pair
-    /// whose hulls are apart but do not prove its distance is not searched now: the sample
-    /// waits for [`CollisionSet::finish`], which searches only those that can still hold the
-    /// minimum. `report` must come from [`CollisionSet::new_report`] on this set.
+    /// says it could be below the pair's smallest so far or could be an intersection. A mesh
+    /// pair whose hulls are apart but do not prove its distance, or whose hulls overlap but
+    /// whose triangles do not cross, is not searched now: the sample waits for
+    /// [`CollisionSet::finish`], which searches only those that can still hold the minimum.
+    /// `report` must come from [`CollisionSet::new_report`] on this set.
     pub fn accumulate(&self, frame_pose: &[Pose], t: f64, data: &mut GeometryData, report: &mut ClearanceReport) {
         self.place(frame_pose, data);
         let poses = &data.poses;
@@ -391,9 +427,10 @@ impl CollisionSet {
     }
 
     /// Completes `report` after the last [`CollisionSet::accumulate`]: each pair's waiting
-    /// samples whose lower bound is below the pair's smallest distance so far are searched,
-    /// the smallest upper bound first (none of them intersects: their hulls were apart). The
-    /// pairs are searched in parallel.
+    /// samples whose lower bound is below the pair's smallest distance so far plus
+    /// [`ROUND_OFF`] are searched, the smallest upper bound first (none of them intersects:
+    /// their hulls were apart, or their triangles were tested apart). The pairs are searched
+    /// in parallel.
     pub fn finish(&self, data: &mut GeometryData, report: &mut ClearanceReport) {
         let smallest = &report.pairs;
         let found: Vec<Option<(PairDistance, f64)>> = (data.memory.par_iter_mut().enumerate())
@@ -419,16 +456,22 @@ impl CollisionSet {
         let mut found = None;
         for j in 0..pending.len() {
             let p = pending[j];
-            if p.lower >= best {
+            if best <= 0.0 {
+                // an intersection: no waiting sample (all apart) can be closer
+                break;
+            }
+            if p.lower >= best + ROUND_OFF {
                 continue;
             }
-            // distances depend on the relative pose alone
+            // distances depend on the relative pose alone; overlapping hulls (0 stands for
+            // their distance) prove nothing
+            let hull = if p.hulls_apart { p.lower } else { 0.0 };
             let d = (self.pair_distance(
                 k,
                 (&PPose::IDENTITY, &p.pose_ab),
                 &mut memory.closest,
                 f64::INFINITY,
-                Some(p.lower),
+                Some(hull),
             ))
             .expect("an unbounded search finds the distance");
             if d.distance < best {
@@ -499,28 +542,73 @@ impl CollisionSet {
                                 pose_ab,
                                 lower: hull,
                                 upper,
+                                hulls_apart: true,
                             });
                             return None;
                         }
                     }
-                } else {
-                    // the hulls overlap: an exact search now (an intersection must be seen at
-                    // its sample), bounded by the smallest distance so far, or (once the pair
-                    // has intersected) by the least positive distance, which still finds an
-                    // intersection
-                    let bound = best.max(f64::MIN_POSITIVE);
-                    match self.pair_distance(k, (pa, pb), &mut memory.closest, bound, Some(hull)) {
-                        Some(d) => d,
-                        None => {
-                            memory.reference = (bound, pose_ab);
+                } else if let (Some(ma), Some(mb)) = (&oa.triangles, &ob.triangles)
+                    && !(memory.search_now && best > 0.0)
+                {
+                    // the hulls overlap: whether two triangles cross is tested now (an
+                    // intersection must be seen at its sample); the distance of a sample
+                    // whose triangles are apart waits for finish like the others, its hulls
+                    // bounding it below by 0 (none can lower a smallest distance of 0, and
+                    // then the test goes on whatever it costs)
+                    let budget = if best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
+                    match meshes_touch(ma, mb, &pose_ab, &mut memory.closest, budget) {
+                        Touch::Crossing => PairDistance {
+                            distance: 0.0,
+                            intersecting: true,
+                        },
+                        Touch::Apart(upper) => {
+                            memory.upper = memory.upper.min(upper);
+                            if least > 0.0 {
+                                memory.pending.push(Pending {
+                                    t,
+                                    pose_ab,
+                                    lower: 0.0,
+                                    upper,
+                                    hulls_apart: false,
+                                });
+                            }
                             return None;
                         }
+                        Touch::Undecided => {
+                            memory.search_now = true;
+                            self.search_now(k, (pa, pb), best, hull, memory)?
+                        }
                     }
+                } else {
+                    // a mesh and a primitive, or meshes too close for a crossing test, whose
+                    // hulls overlap
+                    self.search_now(k, (pa, pb), best, hull, memory)?
                 }
             }
         };
         memory.reference = (d.distance, pose_ab);
         Some(d)
+    }
+
+    /// For [`CollisionSet::fold_pair`]: the distance of pair `k`, whose hulls overlap (signed
+    /// distance `hull`), at the world poses `(pa, pb)` of its objects, searched now, bounded by
+    /// the smallest distance so far `best`, or (once the pair has intersected) by the least
+    /// positive distance, which still finds an intersection (a pair of meshes is then given
+    /// the crossing test, whose budget is lifted).
+    fn search_now(
+        &self,
+        k: usize,
+        (pa, pb): (&PPose, &PPose),
+        best: f64,
+        hull: f64,
+        memory: &mut PairMemory,
+    ) -> Option<PairDistance> {
+        let bound = best.max(f64::MIN_POSITIVE);
+        let found = self.pair_distance(k, (pa, pb), &mut memory.closest, bound, Some(hull));
+        if found.is_none() {
+            memory.reference = (bound, pa.inv_mul(pb));
+        }
+        found
     }
 
     /// The distance of pair `k` at the world poses `(pa, pb)` of its objects, as
@@ -789,24 +877,23 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     let best = Cell::new(if seeded < bound { seeded } else { bound });
     let found = Cell::new((seeded < bound).then_some(*closest));
     // each box re-boxed in the other's frame bounds the distance; the larger bound is used
-    let pos21 = pos12.inverse();
+    let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
+    // what could be closer, or tie with the best to round-off, is looked at
+    let reach = || best.get() + ROUND_OFF;
     let boxes_closer = |n1: &BvhNode, n2: &BvhNode| {
-        let bound = best.get();
-        if bound <= 0.0 {
+        if best.get() <= 0.0 {
             return false;
         }
-        let (b1, b2) = (Aabb::new(n1.mins(), n1.maxs()), Aabb::new(n2.mins(), n2.maxs()));
-        let b2in1 = b2.transform_by(pos12);
-        let gap = (b1.mins - b2in1.maxs).max(b2in1.mins - b1.maxs).max(PVector::ZERO);
-        if gap.length_squared() >= bound * bound {
-            return false;
+        if n1.is_leaf() && n2.is_leaf() {
+            // triangle_gap's exact boxes of the two triangles do better
+            return true;
         }
-        let b1in2 = b1.transform_by(&pos21);
-        let gap = (b2.mins - b1in2.maxs).max(b1in2.mins - b2.maxs).max(PVector::ZERO);
-        gap.length_squared() < bound * bound
+        let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
+        let reach = reach() * reach();
+        two_in_one.squared_gap(box1, box2) < reach && one_in_two.squared_gap(box2, box1) < reach
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
-        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), pos12) >= best.get() {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) >= reach() {
             continue;
         }
         let d = triangles(pair);
@@ -823,6 +910,101 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     Some(best.get())
 }
 
+/// A relative pose `a_T_b` ready to re-box boxes of b in a's frame: its rotation matrix `R`,
+/// `|R|` (entrywise absolute values) and its translation, computed once per mesh query instead
+/// of once per box.
+struct Rebox {
+    rotation: PMat3,
+    spread: PMat3,
+    translation: PVector,
+}
+
+impl Rebox {
+    /// The re-boxing by `a_T_b`.
+    fn new(a_t_b: &PPose) -> Rebox {
+        let rotation = PMat3::from_quat(a_t_b.rotation);
+        Rebox {
+            rotation,
+            spread: rotation.abs(),
+            translation: a_t_b.translation,
+        }
+    }
+
+    /// Point `p` of b (b's frame) in a's frame.
+    fn point(&self, p: PVector) -> PVector {
+        self.rotation * p + self.translation
+    }
+
+    /// The squared distance (m²) between the box `(mins, maxs)` of a (in a's frame) and the
+    /// box of b `(mins, maxs)` (in b's frame) re-boxed in a's frame: a lower bound of the
+    /// squared distance of any points inside the two. The box of b with centre `c` and half
+    /// extents `h` re-boxes to centre `R c + t` and half extents `|R| h`; two boxes with
+    /// centres `c₁`, `c₂` and half extents `h₁`, `h₂` are apart along each axis by
+    /// `max(|c₁ − c₂| − h₁ − h₂, 0)`.
+    fn squared_gap(&self, (mins_a, maxs_a): (PVector, PVector), (mins_b, maxs_b): (PVector, PVector)) -> f64 {
+        let centre_b = self.point((mins_b + maxs_b) * 0.5);
+        let half_b = self.spread * ((maxs_b - mins_b) * 0.5);
+        let (centre_a, half_a) = ((mins_a + maxs_a) * 0.5, (maxs_a - mins_a) * 0.5);
+        ((centre_a - centre_b).abs() - half_a - half_b)
+            .max(PVector::ZERO)
+            .length_squared()
+    }
+}
+
+/// What [`meshes_touch`] found.
+enum Touch {
+    /// Two triangles touch or cross.
+    Crossing,
+    /// No two triangles touch; the distance of the pair of triangles tried first (m), an
+    /// upper bound of the meshes' distance.
+    Apart(f64),
+    /// The test opened more pairs of nodes than its budget before it could tell.
+    Undecided,
+}
+
+/// Whether a triangle of `m1` and a triangle of `m2` (`pos12`: `m2`'s frame in `m1`'s) touch
+/// or cross (parry's triangle distance 0, as [`mesh_distance`] reads an intersection), with
+/// `closest` set to such a pair when they do. `closest` is tried first; then the traversal
+/// opens only pairs of nodes whose boxes (each re-boxed in the other's frame) are within
+/// [`ROUND_OFF`] of each other, and runs the triangle distance only on pairs of leaves that
+/// [`triangle_gap`] does not put that far apart: far fewer than a distance search opens when
+/// the meshes are some millimetres apart. Meshes a fraction of a millimetre apart along
+/// large surfaces (the parts of a joint) have boxes touching all the way down, though: after
+/// `budget` pairs of nodes the test gives up ([`Touch::Undecided`]).
+fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32), budget: usize) -> Touch {
+    let triangles = |(i, j): (u32, u32)| {
+        DefaultQueryDispatcher
+            .distance(pos12, &m1.triangle(i), &m2.triangle(j))
+            .expect("parry supports triangle pairs")
+            .distance
+    };
+    let seeded = triangles(*closest);
+    if seeded <= 0.0 {
+        return Touch::Crossing;
+    }
+    let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
+    let slack = ROUND_OFF * ROUND_OFF;
+    let opened = Cell::new(0);
+    let boxes_touch = |n1: &BvhNode, n2: &BvhNode| {
+        opened.set(opened.get() + 1);
+        let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
+        opened.get() <= budget
+            && two_in_one.squared_gap(box1, box2) < slack
+            && one_in_two.squared_gap(box2, box1) < slack
+    };
+    for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_touch) {
+        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) < ROUND_OFF && triangles(pair) <= 0.0 {
+            *closest = pair;
+            return Touch::Crossing;
+        }
+    }
+    if opened.get() > budget {
+        Touch::Undecided
+    } else {
+        Touch::Apart(seeded)
+    }
+}
+
 /// An upper bound of how far a point of b's bounding sphere (`centre`, `radius`, in b's frame)
 /// has moved relative to a between the relative poses `then` and `now` (`a_T_b`): a point
 /// `c + u` (`|u| ≤ radius`) moves by `(now·c − then·c) + (R_now − R_then) u`, at most
@@ -836,12 +1018,12 @@ fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
     (*now * centre - *then * centre).length() + 2.0 * half_sine * radius
 }
 
-/// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `pos12`,
+/// A lower bound of the distance between triangle `t1` and triangle `t2` placed by `two_in_one`,
 /// cheaper than the distance itself: the larger of the gap between their exact bounding boxes
 /// (in `t1`'s frame) and the gap between their projections on the line through their
 /// centroids (any direction separates by the gap of the projections).
-fn triangle_gap(t1: &Triangle, t2: &Triangle, pos12: &PPose) -> f64 {
-    let (a, b, c) = (pos12 * t2.a, pos12 * t2.b, pos12 * t2.c);
+fn triangle_gap(t1: &Triangle, t2: &Triangle, two_in_one: &Rebox) -> f64 {
+    let (a, b, c) = (two_in_one.point(t2.a), two_in_one.point(t2.b), two_in_one.point(t2.c));
     let (lo1, hi1) = (t1.a.min(t1.b).min(t1.c), t1.a.max(t1.b).max(t1.c));
     let (lo2, hi2) = (a.min(b).min(c), a.max(b).max(c));
     let boxes = (lo1 - hi2).max(lo2 - hi1).max(PVector::ZERO).length();
