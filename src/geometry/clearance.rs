@@ -56,6 +56,7 @@ use parry3d_f64::query::{
     self, ClosestPoints, DefaultQueryDispatcher, PointQueryWithLocation, QueryDispatcher, details,
 };
 use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap, TriMesh, Triangle};
+use parry3d_f64::transformation::try_convex_hull;
 use rayon::prelude::*;
 
 use super::hull::{Adjacency, Climber};
@@ -150,17 +151,20 @@ impl Object {
             Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
             Vec3::zeros(),
         );
-        let (convex, triangles, placement): (Box<dyn Shape>, Option<TriMesh>, Pose) = match &g.geometry {
+        type Loaded = (Box<dyn Shape>, Option<TriMesh>, Pose, Option<Adjacency>);
+        let (convex, triangles, placement, climb): Loaded = match &g.geometry {
             Geometry::Box { size } => (
                 Box::new(Cuboid::new(PVector::new(size.x, size.y, size.z) / 2.0)),
                 None,
                 g.placement,
+                None,
             ),
-            Geometry::Sphere { radius } => (Box::new(Ball::new(*radius)), None, g.placement),
+            Geometry::Sphere { radius } => (Box::new(Ball::new(*radius)), None, g.placement, None),
             Geometry::Cylinder { radius, length } => (
                 Box::new(Cylinder::new(length / 2.0, *radius)),
                 None,
                 g.placement.compose(&axis_fix),
+                None,
             ),
             Geometry::Mesh { uri, path, scale } => {
                 let Some(mesh) = load(uri, path.as_deref()) else {
@@ -171,10 +175,15 @@ impl Object {
                 let points: Vec<PVector> = (mesh.vertices.iter())
                     .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))
                     .collect();
-                let hull = ConvexPolyhedron::from_convex_hull(&points).ok_or_else(|| Error::InvalidData {
+                // parry's ConvexPolyhedron::from_convex_hull, keeping the hull's triangles for
+                // the climb's edges
+                let no_hull = || Error::InvalidData {
                     path: path.clone(),
                     message: "the mesh spans no volume (no convex hull)".into(),
-                })?;
+                };
+                let (corners, faces) = try_convex_hull(&points).map_err(|_| no_hull())?;
+                let climb = Adjacency::of(corners.len(), &faces);
+                let hull = ConvexPolyhedron::from_convex_mesh(corners, &faces).ok_or_else(no_hull)?;
                 let triangles = match kind {
                     ClearanceGeometry::Hull => None,
                     ClearanceGeometry::Mesh => {
@@ -184,11 +193,10 @@ impl Object {
                         })?)
                     }
                 };
-                (Box::new(hull), triangles, g.placement)
+                (Box::new(hull), triangles, g.placement, Some(climb))
             }
         };
         let sphere = convex.compute_local_bounding_sphere();
-        let climb = convex.as_convex_polyhedron().map(Adjacency::of);
         Ok(Some(Object {
             source,
             link: g.link.clone(),
