@@ -495,6 +495,32 @@ fn pruned_accumulation_sees_every_intersection_of_the_faze4_meshes() {
         .collect();
     let crossings = accumulation_matches_every_sample(&real(), PairFilter::NonAdjacent, &qs);
     assert!(crossings > 50, "{crossings} intersections");
+    // the arm's own motion in `faze4 wave --amp-deg 60` (J2 cannot hold it and it falls),
+    // from 2 s to 6 s: rotary_base–lakat's minimum (5.24 s) was once skipped there by its
+    // hulls' gap along their last GJK axis, the climbs on lakat's hull stopping short
+    let dir = temp_dir("clearance-wave-60");
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--amp-deg",
+            "60",
+            "--no-collisions",
+            "--trail",
+            "t.csv",
+            "--quiet",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    let (header, rows) = read_csv(&dir.join("t.csv"));
+    let q_at = |row: &Vec<f64>| {
+        (1..=6)
+            .map(|i| row[header.iter().position(|h| *h == format!("q{i}")).unwrap()])
+            .collect()
+    };
+    let fall: Vec<Vec<f64>> = rows[100..=300].iter().map(q_at).collect();
+    accumulation_matches_every_sample(&real(), PairFilter::NonAdjacent, &fall);
+    std::fs::remove_dir_all(&dir).unwrap();
     // with the pairs a joint connects, whose meshes come within a fraction of a millimetre
     // all along a joint's parts (too close for the crossing test: searched at each sample)
     let crossings = accumulation_matches_every_sample(&real(), PairFilter::All, &qs[..40]);
