@@ -1,5 +1,6 @@
 //! Files written whole or not at all: a temporary file beside the target, renamed over it
-//! only when complete.
+//! only when complete. A target that already exists and is not a file (`/dev/null`, a FIFO, a
+//! terminal) is written straight into: a rename would put a file in its place.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -12,23 +13,31 @@ use crate::error::{Error, Result};
 /// temporary file.
 pub struct AtomicFile {
     target: PathBuf,
-    temp: PathBuf,
+    /// The temporary file renamed over the target (`None`: the target is a device or a
+    /// FIFO, written straight into).
+    temp: Option<PathBuf>,
     writer: Option<BufWriter<File>>,
 }
 
 impl AtomicFile {
     /// Starts writing `target` (through a hidden temporary file in the same directory, so
-    /// the final rename never crosses file systems).
+    /// the final rename never crosses file systems; straight into a target that exists and is
+    /// neither a file nor a directory).
     pub fn create(target: &Path) -> Result<Self> {
-        let name = target.file_name().ok_or_else(|| Error::Io {
-            path: target.to_path_buf(),
-            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"),
-        })?;
-        let temp = target.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-        let file = File::create(&temp).map_err(|source| Error::Io {
+        let io = |source| Error::Io {
             path: target.to_path_buf(),
             source,
-        })?;
+        };
+        let name = (target.file_name())
+            .ok_or_else(|| io(std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name")))?;
+        let special = std::fs::metadata(target).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        let (temp, file) = if special {
+            (None, std::fs::OpenOptions::new().write(true).open(target).map_err(io)?)
+        } else {
+            let temp = target.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+            let file = File::create(&temp).map_err(io)?;
+            (Some(temp), file)
+        };
         Ok(Self {
             target: target.to_path_buf(),
             temp,
@@ -62,14 +71,19 @@ impl AtomicFile {
             source: e.into_error(),
         })?;
         drop(file);
-        std::fs::rename(&self.temp, &self.target).map_err(|e| self.error(e))
+        match &self.temp {
+            Some(temp) => std::fs::rename(temp, &self.target).map_err(|e| self.error(e)),
+            None => Ok(()),
+        }
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        if self.writer.take().is_some() {
-            let _ = std::fs::remove_file(&self.temp);
+        if self.writer.take().is_some()
+            && let Some(temp) = &self.temp
+        {
+            let _ = std::fs::remove_file(temp);
         }
     }
 }
@@ -103,6 +117,28 @@ pub fn check_output_path(path: &Path, option: &str) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A FIFO as the target (as `/dev/null` is a device): the bytes go through it, and it is
+    /// still a FIFO afterwards, not a file renamed over it.
+    #[test]
+    fn a_fifo_is_written_into_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = std::env::temp_dir().join(format!("faze4-atomic-fifo-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fifo = dir.join("out.csv");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success());
+        // read and write: on Linux opening a FIFO so does not wait for a writer
+        let mut reader = std::fs::OpenOptions::new().read(true).write(true).open(&fifo).unwrap();
+        let bytes = b"t,q1\n0,0.5\n";
+        write_atomically(&fifo, bytes).unwrap();
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        let mut got = [0; 11];
+        std::io::Read::read_exact(&mut reader, &mut got).unwrap();
+        assert_eq!(&got, bytes);
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn output_paths_are_checked_before_the_run() {
