@@ -875,12 +875,7 @@ impl SupportMap for Support<'_> {
 /// frame in `m1`'s), if below `bound`; `closest` seeds the search with a pair of triangles and
 /// receives the closest pair found. 0 as soon as two triangles touch.
 fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32), bound: f64) -> Option<f64> {
-    let triangles = |(i, j): (u32, u32)| {
-        DefaultQueryDispatcher
-            .distance(pos12, &m1.triangle(i), &m2.triangle(j))
-            .expect("parry supports triangle pairs")
-            .distance
-    };
+    let triangles = |pair| triangle_distance(m1, m2, pos12, pair);
     let seeded = triangles(*closest);
     let best = Cell::new(if seeded < bound { seeded } else { bound });
     let found = Cell::new((seeded < bound).then_some(*closest));
@@ -896,9 +891,7 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
             // triangle_gap's exact boxes of the two triangles do better
             return true;
         }
-        let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
-        let reach = reach() * reach();
-        two_in_one.squared_gap(box1, box2) < reach && one_in_two.squared_gap(box2, box1) < reach
+        nodes_within(&two_in_one, &one_in_two, n1, n2, reach() * reach())
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
         if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) >= reach() {
@@ -916,6 +909,24 @@ fn mesh_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, 
     let pair = found.get()?;
     *closest = pair;
     Some(best.get())
+}
+
+/// The distance between triangle `i` of `m1` and triangle `j` of `m2` (`pos12`: `m2`'s frame
+/// in `m1`'s), parry's GJK; 0 when they touch or cross.
+fn triangle_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, (i, j): (u32, u32)) -> f64 {
+    DefaultQueryDispatcher
+        .distance(pos12, &m1.triangle(i), &m2.triangle(j))
+        .expect("parry supports triangle pairs")
+        .distance
+}
+
+/// Whether the boxes of node `n1` (of m1) and node `n2` (of m2) may be closer than
+/// `√squared_reach`: each box re-boxed in the other's frame (`two_in_one`: m2's in m1's,
+/// `one_in_two` the inverse) bounds the distance of the triangles inside from below, and both
+/// bounds must be below.
+fn nodes_within(two_in_one: &Rebox, one_in_two: &Rebox, n1: &BvhNode, n2: &BvhNode, squared_reach: f64) -> bool {
+    let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
+    two_in_one.squared_gap(box1, box2) < squared_reach && one_in_two.squared_gap(box2, box1) < squared_reach
 }
 
 /// A relative pose `a_T_b` ready to re-box boxes of b in a's frame: its rotation matrix `R`,
@@ -980,12 +991,7 @@ enum Touch {
 /// large surfaces (the parts of a joint) have boxes touching all the way down, though: after
 /// `budget` pairs of nodes the test gives up ([`Touch::Undecided`]).
 fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u32), budget: usize) -> Touch {
-    let triangles = |(i, j): (u32, u32)| {
-        DefaultQueryDispatcher
-            .distance(pos12, &m1.triangle(i), &m2.triangle(j))
-            .expect("parry supports triangle pairs")
-            .distance
-    };
+    let triangles = |pair| triangle_distance(m1, m2, pos12, pair);
     let seeded = triangles(*closest);
     if seeded <= 0.0 {
         return Touch::Crossing;
@@ -995,10 +1001,7 @@ fn meshes_touch(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, closest: &mut (u32, u
     let opened = Cell::new(0);
     let boxes_touch = |n1: &BvhNode, n2: &BvhNode| {
         opened.set(opened.get() + 1);
-        let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
-        opened.get() <= budget
-            && two_in_one.squared_gap(box1, box2) < slack
-            && one_in_two.squared_gap(box2, box1) < slack
+        opened.get() <= budget && nodes_within(&two_in_one, &one_in_two, n1, n2, slack)
     };
     for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_touch) {
         if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) < ROUND_OFF && triangles(pair) <= 0.0 {
