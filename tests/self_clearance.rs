@@ -16,12 +16,8 @@ use faze4::model::PackagePaths;
 use serde_json::Value;
 
 /// The library's report for `robot` over the samples of a trail CSV (t and the joint
-/// positions q1…qn of every row, exact decimals), as `kind` and `filter` measure it.
-fn library_report(robot: &Robot, kind: ClearanceGeometry, filter: PairFilter, trail: &Path) -> ClearanceReport {
-    library_run(robot, kind, filter, trail).0
-}
-
-/// [`library_report`], and the time of the first sample at which any pair intersects.
+/// positions q1…qn of every row, exact decimals), as `kind` and `filter` measure it, and the
+/// time of the first sample at which any pair intersects.
 fn library_run(
     robot: &Robot,
     kind: ClearanceGeometry,
@@ -47,6 +43,34 @@ fn library_run(
     }
     set.finish(&mut geometry_data, &mut report);
     (report, first)
+}
+
+/// A run of the binary whose clearance was checked against the library's.
+struct Checked {
+    run: Run,
+    /// Its summary.
+    summary: Value,
+    /// The library's report over its trail.
+    report: ClearanceReport,
+    /// The library's first sample with an intersecting pair.
+    first: Option<f64>,
+}
+
+/// Runs faze4 with `args` in `dir` (they write the trail to t.csv and the summary to s.json),
+/// checks that it succeeded and that the summary's `"clearance"` equals the library's report
+/// for `robot` over the run's trail samples, as `kind` and `filter` measure them.
+fn run_as_library(dir: &Path, args: &[&str], robot: &Robot, kind: ClearanceGeometry, filter: PairFilter) -> Checked {
+    let run = faze4(dir, args);
+    assert!(run.status.success(), "{}", run.stderr);
+    let summary = summary(dir);
+    let (report, first) = library_run(robot, kind, filter, &dir.join("t.csv"));
+    assert_eq!(summary["clearance"], serde_json::to_value(&report).unwrap());
+    Checked {
+        run,
+        summary,
+        report,
+        first,
+    }
 }
 
 fn summary(dir: &Path) -> Value {
@@ -84,30 +108,25 @@ fn collision_arm() -> String {
 #[test]
 fn the_faze4_circle_with_exact_meshes_clears_itself() {
     let dir = temp_dir("clearance-exact");
-    let run = faze4(
+    let args = [
+        "shape",
+        "--shape",
+        "circle",
+        "--duration",
+        "5",
+        "--trail",
+        "t.csv",
+        "--summary",
+        "s.json",
+    ];
+    let Checked { run, summary: s, .. } = run_as_library(
         &dir,
-        &[
-            "shape",
-            "--shape",
-            "circle",
-            "--duration",
-            "5",
-            "--trail",
-            "t.csv",
-            "--summary",
-            "s.json",
-        ],
-    );
-    assert!(run.status.success(), "{}", run.stderr);
-    let s = summary(&dir);
-    let c = &s["clearance"];
-    let expected = library_report(
+        &args,
         &Robot::faze4(),
         ClearanceGeometry::Mesh,
         PairFilter::NonAdjacent,
-        &dir.join("t.csv"),
     );
-    assert_eq!(*c, serde_json::to_value(&expected).unwrap());
+    let c = &s["clearance"];
     assert_eq!(c["geometry"], "mesh");
     assert_eq!(c["links"], serde_json::json!(["podlaktica", "hvataljka"]));
     let min = c["min_m"].as_f64().unwrap();
@@ -153,17 +172,14 @@ fn the_faze4_circle_with_hulls_collides() {
         "--summary",
         "s.json",
     ];
-    let run = faze4(&dir, &args);
-    assert!(run.status.success(), "{}", run.stderr);
-    let s = summary(&dir);
-    let c = &s["clearance"];
-    let expected = library_report(
+    let Checked { run, summary: s, .. } = run_as_library(
+        &dir,
+        &args,
         &Robot::faze4(),
         ClearanceGeometry::Hull,
         PairFilter::NonAdjacent,
-        &dir.join("t.csv"),
     );
-    assert_eq!(*c, serde_json::to_value(&expected).unwrap());
+    let c = &s["clearance"];
     assert_eq!(c["geometry"], "hull");
     assert_eq!(c["links"], serde_json::json!(["nadlaktica", "podlaktica"]));
     let overlap = pair(c, "nadlaktica", "podlaktica");
@@ -218,25 +234,17 @@ fn collision_pairs_all_checks_the_pairs_a_joint_connects() {
     ];
     let robot = Robot::from_urdf_file(Path::new(&urdf), &PackagePaths::default()).unwrap();
 
-    let run = faze4(&dir, &base);
-    assert!(run.status.success(), "{}", run.stderr);
-    let s = summary(&dir);
-    let expected = library_report(
-        &robot,
-        ClearanceGeometry::Mesh,
-        PairFilter::NonAdjacent,
-        &dir.join("t.csv"),
-    );
-    assert_eq!(s["clearance"], serde_json::to_value(&expected).unwrap());
+    let Checked {
+        summary: s,
+        report: expected,
+        ..
+    } = run_as_library(&dir, &base, &robot, ClearanceGeometry::Mesh, PairFilter::NonAdjacent);
     let default_pairs = s["clearance"]["pairs"].as_array().unwrap().len();
     assert!(!expected.any_intersecting(), "{}", s["clearance"]);
     assert_eq!(s["verdict"]["collides"], false);
 
-    let run = faze4(&dir, &[&base[..], &["--collision-pairs", "all"]].concat());
-    assert!(run.status.success(), "{}", run.stderr);
-    let s = summary(&dir);
-    let expected = library_report(&robot, ClearanceGeometry::Mesh, PairFilter::All, &dir.join("t.csv"));
-    assert_eq!(s["clearance"], serde_json::to_value(&expected).unwrap());
+    let all = [&base[..], &["--collision-pairs", "all"]].concat();
+    let Checked { run, summary: s, .. } = run_as_library(&dir, &all, &robot, ClearanceGeometry::Mesh, PairFilter::All);
     assert!(s["clearance"]["pairs"].as_array().unwrap().len() > default_pairs);
     assert_eq!(pair(&s["clearance"], "base", "turret")["intersecting"], true);
     assert_eq!(s["verdict"]["collides"], true);
@@ -290,17 +298,10 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
         "--summary",
         "s.json",
     ];
-    let run = faze4(&dir, &args);
-    assert!(run.status.success(), "{}", run.stderr);
-    let s = summary(&dir);
     let robot = Robot::from_urdf_file(Path::new(&urdf), &PackagePaths::default()).unwrap();
-    let (expected, first) = library_run(
-        &robot,
-        ClearanceGeometry::Mesh,
-        PairFilter::NonAdjacent,
-        &dir.join("t.csv"),
-    );
-    assert_eq!(s["clearance"], serde_json::to_value(&expected).unwrap());
+    let Checked {
+        run, summary: s, first, ..
+    } = run_as_library(&dir, &args, &robot, ClearanceGeometry::Mesh, PairFilter::NonAdjacent);
     let clash = pair(&s["clearance"], "base", "forearm");
     assert_eq!(clash["intersecting"], true, "{}", s["clearance"]);
     assert!(clash["min_m"].as_f64().unwrap() < 0.0, "primitives: signed distances");
