@@ -54,7 +54,7 @@ use nalgebra::DVector;
 
 use super::Data;
 use super::cholesky::cholesky_solve;
-use super::step::{change_active_set, free_velocity, land, solve_clamped};
+use super::step::{advance, change_active_set, free_velocity, land, leaves_limits, solve_clamped};
 use crate::error::{Error, Result};
 use crate::model::Model;
 
@@ -288,7 +288,7 @@ pub fn integrate_discrete_with_contacts(
         land(model, data, q, v, dt);
         return Ok(());
     }
-    let (n, rows) = (s.n, 3 * s.points.len());
+    let rows = 3 * s.points.len();
     prepare(s, data, v, dt);
     operators(s, data, |_| false);
     seed(s, v, rows, dt);
@@ -296,13 +296,10 @@ pub fn integrate_discrete_with_contacts(
     newton(s, data, rows, dt, 1)?;
     // v⁺ = v* + Y λ
     add_y_lambda(s, data);
-    if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
+    if leaves_limits(model, data, q, dt) {
         solve_with_limits(model, data, q, dt, s)?;
     }
-    for i in 0..n {
-        v[i] = data.rhs[i];
-        q[i] += dt * v[i];
-    }
+    advance(data, q, v, dt);
     Ok(())
 }
 

@@ -69,14 +69,22 @@ pub(super) fn free_velocity(model: &Model, data: &mut Data, v: &[f64], tau: &[f6
 /// q + Δt v⁺ would leave a joint's limits, the box-constrained solution instead; then
 /// `v = v⁺`, `q += Δt v⁺`.
 pub(super) fn land(model: &Model, data: &mut Data, q: &mut [f64], v: &mut [f64], dt: f64) {
-    let n = model.dof();
-    if (0..n).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i])) {
+    if leaves_limits(model, data, q, dt) {
         solve_with_limits(model, data, q, dt);
     }
-    // q⁺ = q + Δt v⁺
-    for i in 0..n {
-        v[i] = data.rhs[i];
-        q[i] += dt * v[i];
+    advance(data, q, v, dt);
+}
+
+/// Whether q + Δt v⁺ (v⁺ in `data.rhs`) would leave a joint's limits.
+pub(super) fn leaves_limits(model: &Model, data: &Data, q: &[f64], dt: f64) -> bool {
+    (0..model.dof()).any(|i| !model.joints[i].within_limits(q[i] + dt * data.rhs[i]))
+}
+
+/// `v = v⁺` (in `data.rhs`), `q⁺ = q + Δt v⁺`.
+pub(super) fn advance(data: &Data, q: &mut [f64], v: &mut [f64], dt: f64) {
+    for ((q, v), &v_plus) in q.iter_mut().zip(v.iter_mut()).zip(data.rhs.iter()) {
+        *v = v_plus;
+        *q += dt * v_plus;
     }
 }
 
