@@ -89,6 +89,15 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     run_and_report(&scenario, run, save_q)
 }
 
+/// Prints `warnings` on stderr, one line each, unless `quiet`.
+fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
+    if !quiet {
+        for warning in warnings {
+            eprintln!("faze4: {warning}");
+        }
+    }
+}
+
 /// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
 /// command's joint samples there). The last line says whether the arm follows its command; the
 /// exit status says whether the run diverged (1), was interrupted (130), or, with `--strict`,
@@ -96,11 +105,7 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let mut outputs = Outputs::open(scenario, run, save_q)?;
-    if !run.quiet {
-        for warning in &scenario.warnings {
-            eprintln!("faze4: {warning}");
-        }
-    }
+    warn(&scenario.warnings, run.quiet);
     if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
         let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
         npy::write_samples(path, &rows)?;

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 
 use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, SweepArgs, SweepCommand, WaveArgs};
-use super::{EXIT_INTERRUPTED, scenario};
+use super::{EXIT_INTERRUPTED, scenario, warn};
 use crate::atomic::check_output_path;
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
@@ -231,15 +231,6 @@ impl Base {
         })
     }
 
-    /// Prints the base's warnings on stderr, unless `quiet`.
-    fn warn(&self, quiet: bool) {
-        if !quiet {
-            for warning in &self.warnings {
-                eprintln!("faze4: {warning}");
-            }
-        }
-    }
-
     /// The scenario of one point: `knobs[i]` set to `values[i]`.
     fn build(&self, knobs: &[Knob], values: &[f64]) -> Result<Scenario> {
         let mut command = self.command.clone();
@@ -372,7 +363,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let replan = grid.axes.iter().any(|a| a.name == "shape-points");
     let base = Base::load(&args.base, replan)?;
     let knobs = knobs(&base.command, &grid.axes)?;
-    base.warn(args.quiet);
+    warn(&base.warnings, args.quiet);
     let indices = shard.map_or(0..total, |s| s.range(total));
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -512,7 +503,7 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         Error::InvalidArgument { message, .. } => Error::argument(option, message),
         other => other,
     })?;
-    base.warn(args.quiet);
+    warn(&base.warnings, args.quiet);
     if let [Knob::Option(Field::Count(_))] = knobs[..] {
         return Err(Error::argument(
             option,
