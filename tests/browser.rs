@@ -591,6 +591,12 @@ fn colliding_links_are_drawn_red() {
             break;
         }
     }
+    // Ctrl-C once the run is over and the view holds (the run is paced to the wall clock, and
+    // a screenshot can come back before its 2 s are up)
+    assert!(
+        stderr.any(|line| line.starts_with("viz: serving ")),
+        "no 'serving … until Ctrl-C' line after the run"
+    );
     interrupt(child.id());
     assert_eq!(
         child.wait().unwrap().code(),
