@@ -12,7 +12,7 @@ use clap::Parser;
 
 use self::args::{Cli, Command, RunArgs};
 use crate::atomic::Outputs;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, escape_controls, quoted};
 use crate::output::format::number;
 use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
 use crate::sim::scenario::positive;
@@ -38,7 +38,7 @@ pub fn main() -> ExitCode {
     match execute(&cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("faze4: error: {e}");
+            eprintln!("faze4: error: {}", escape_controls(&e.to_string()));
             ExitCode::from(EXIT_INPUT)
         }
     }
@@ -93,7 +93,7 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
     if !quiet {
         for warning in warnings {
-            eprintln!("faze4: {warning}");
+            eprintln!("faze4: {}", escape_controls(&warning.to_string()));
         }
     }
 }
@@ -188,12 +188,6 @@ fn print_stdout(text: &str) -> Result<()> {
 /// `--summary`, unless absent or `none`.
 fn summary_path(run: &RunArgs) -> Option<&Path> {
     run.summary.as_deref().filter(|p| !is_none(p))
-}
-
-/// `name` in quotes, its control characters escaped (a link name with a newline stays on
-/// its line).
-pub fn quoted(name: &str) -> String {
-    format!("'{}'", name.escape_debug())
 }
 
 /// The recorders a run writes to, opened (and every output path and the port checked) before
@@ -354,7 +348,14 @@ fn stiffest_joints(scenario: &Scenario, b: &[f64]) -> String {
     let named: Vec<String> = order
         .iter()
         .take(STIFFEST_NAMED)
-        .map(|&i| format!("J{} ({}) {}", i + 1, scenario.model.joints[i].name, number(b[i], 0)))
+        .map(|&i| {
+            format!(
+                "J{} ({}) {}",
+                i + 1,
+                quoted(&scenario.model.joints[i].name),
+                number(b[i], 0)
+            )
+        })
         .collect();
     let more = if b.len() > STIFFEST_NAMED {
         format!(" and {} more", b.len() - STIFFEST_NAMED)

@@ -16,6 +16,7 @@ use super::{interrupted_status, print_stdout, scenario, stopped_by, warn};
 use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
+use crate::output::format::{distinct, exact};
 use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
 use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
@@ -491,11 +492,17 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         return Err(Error::argument(option, format!("'{spec}' is not NAME=LO:HI")));
     };
     if hi <= lo {
-        return Err(Error::argument(option, format!("{spec}: empty range ({hi} ≤ {lo})")));
+        return Err(Error::argument(
+            option,
+            format!("{spec}: empty range ({} ≤ {})", exact(hi), exact(lo)),
+        ));
     }
     let resolution = args.resolution.unwrap_or((hi - lo) / 100.0);
     if !resolution.is_finite() || resolution <= 0.0 {
-        return Err(Error::argument("--resolution", format!("{resolution} must be > 0")));
+        return Err(Error::argument(
+            "--resolution",
+            format!("{resolution}: give a finite width > 0 (default: 1 % of the range)"),
+        ));
     }
     let name = name.trim().trim_start_matches("--");
     let axis = Axis {
@@ -515,40 +522,53 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
             format!("{name} takes whole numbers: list them with --vary {name}=v1,v2,…"),
         ));
     }
+    // each end is a value the option takes, as the command would check it
+    for x in [lo, hi] {
+        base.build(&knobs, &[x]).map_err(|e| {
+            let e = crate::error::one_line(&e.to_string());
+            Error::argument(option, format!("{name}={}: {e}", exact(x)))
+        })?;
+    }
     let build = |values: &[f64]| base.build(&knobs, values);
     let runner = Runner::new(&build, args.jobs)?;
-    let decimals = (-resolution.log10()).ceil().max(0.0) as usize;
-    let value = |row: &Row| format!("{:.decimals$}", row.values[0]);
+    let (lo_text, hi_text) = (exact(lo), exact(hi));
     let line = match sweep::find(&runner, lo, hi, resolution, seek) {
         Found::Boundary { follows, fails } => {
             let which = match seek {
                 Seek::Largest => "largest",
                 Seek::Smallest => "smallest",
             };
+            let (follows_at, fails_at) = distinct(follows.values[0], fails.values[0], resolution);
             format!(
-                "{which} {name} that follows: {} (at {}: {})",
-                value(&follows),
-                value(&fails),
+                "{which} {name} that follows: {follows_at} (at {fails_at}: {})",
                 fails.reasons()
             )
         }
-        Found::NoneFollows(row) => format!(
-            "no {name} in [{lo}, {hi}] follows: already at {}: {}",
-            value(&row),
-            row.reasons()
-        ),
+        Found::NoneFollows(row) => {
+            if let sweep::Outcome::Failed(reason) = &row.outcome {
+                return Err(Error::argument(
+                    option,
+                    format!("the run at {name}={} could not run: {reason}", exact(row.values[0])),
+                ));
+            }
+            format!(
+                "no {name} in [{lo_text}, {hi_text}] follows: already at {}: {}",
+                exact(row.values[0]),
+                row.reasons()
+            )
+        }
         Found::AllFollow(row) => {
             let (end, widen) = match seek {
                 Seek::Largest => ("largest", "raise HI"),
                 Seek::Smallest => ("smallest", "lower LO"),
             };
             format!(
-                "every {name} in [{lo}, {hi}] follows, {} too: the {end} that follows is beyond the range ({widen})",
-                value(&row)
+                "every {name} in [{lo_text}, {hi_text}] follows, {} too: the {end} that follows is beyond the range ({widen})",
+                exact(row.values[0])
             )
         }
     };
-    let _ = writeln!(std::io::stdout().lock(), "{line}");
+    print_stdout(&format!("{line}\n"))?;
     Ok(ExitCode::SUCCESS)
 }
 
