@@ -261,7 +261,7 @@ impl FromStr for JointValues {
 #[derive(Clone, Debug, Args)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct SweepArgs {
-    /// Join the CSV tables of a sweep's shards.
+    /// Join the tables of a sweep's parts (--shard K/N).
     #[command(subcommand)]
     pub merge: Option<SweepCommand>,
     /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
@@ -323,17 +323,22 @@ fn jobs(text: &str) -> Result<usize, String> {
 /// `faze4 sweep merge`.
 #[derive(Clone, Debug, Subcommand)]
 pub enum SweepCommand {
-    /// Join the CSV tables of a sweep's shards (same columns) into one, ordered by run.
+    /// Join the tables of a sweep's parts into one, ordered by run; refuses a set that is not
+    /// the whole sweep (a part missing, twice, partial, truncated or of another sweep).
     Merge(MergeArgs),
 }
 
 /// `faze4 sweep merge a.csv b.csv … --out all.csv`.
 #[derive(Clone, Debug, Args)]
 pub struct MergeArgs {
-    /// The shards' tables.
-    #[arg(required = true, value_name = "F.csv")]
+    /// The parts' tables (.csv or .json, each with its .meta beside it).
+    #[arg(required = true, value_name = "F.csv|F.json")]
     pub tables: Vec<PathBuf>,
-    /// The joined table.
-    #[arg(long, required = true, value_name = "F.csv")]
+    /// The joined table, .csv or .json.
+    #[arg(long, required = true, value_name = "F.csv|F.json")]
     pub out: PathBuf,
+    /// Merge the parts there are, even if runs are missing or a part is partial (the output
+    /// says which runs are absent).
+    #[arg(long = "allow-partial")]
+    pub allow_partial: bool,
 }
