@@ -113,9 +113,12 @@ pub struct RunArgs {
     /// Derivative gains per joint ('auto' keeps the tuned value).
     #[arg(long, value_name = "KD1,KD2,…", allow_hyphen_values = true)]
     pub kd: Option<JointValues>,
-    /// Motors behind the joints: 'faze4' (NEMA17 steppers and the Faze4's reducers; torque limits become 0.315 N·m × ratio).
-    #[arg(long, value_name = "SET", value_parser = crate::faze4::motors::MOTOR_SETS)]
+    /// Motors behind the joints, whose torque–speed envelope clips each joint's torque at its speed: a preset (faze4: 17HS16-2004S1 steppers and the Faze4's reducers; faze4-bom: the motors the Faze4 is built with; sts3215: Feetech STS3215 servos, the SO-100's; xm540-w270: Dynamixel XM540-W270) or a FILE.toml (docs/motors.md).
+    #[arg(long, value_name = "PRESET|FILE.toml")]
     pub motors: Option<String>,
+    /// Supply voltage of the --motors presets' drives, V (default: the preset's, 24 V for the Faze4's steppers).
+    #[arg(long = "supply-voltage", value_name = "V")]
+    pub supply_voltage: Option<f64>,
     /// Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or --motors'); overrides the URDF.
     #[arg(long = "rotor-inertia", value_name = "I1,I2,…", allow_hyphen_values = true)]
     pub rotor_inertia: Option<JointValues>,
