@@ -489,7 +489,9 @@ fn probe(base: &Base, knobs: &[Knob], grid: &Grid, total: usize) -> Option<Row> 
 
 /// A run for people: `payload-kg=0.5 dt=0.0002: follows` or `…: cannot follow — reasons`.
 fn row_line(axes: &[String], row: &Row) -> String {
-    let values: Vec<String> = axes.iter().zip(&row.values).map(|(n, v)| format!("{n}={v}")).collect();
+    let values: Vec<String> = (axes.iter().zip(&row.values))
+        .map(|(n, &v)| format!("{n}={}", exact(v)))
+        .collect();
     let answer = match row.follows() {
         true => "follows".to_string(),
         false => format!("cannot follow — {}", row.reasons()),
@@ -544,7 +546,10 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
     if !resolution.is_finite() || resolution <= 0.0 {
         return Err(Error::argument(
             "--resolution",
-            format!("{resolution}: give a finite width > 0 (default: 1 % of the range)"),
+            format!(
+                "{}: give a finite width > 0 (default: 1 % of the range)",
+                exact(resolution)
+            ),
         ));
     }
     let name = name.trim().trim_start_matches("--");
