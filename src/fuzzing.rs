@@ -45,11 +45,25 @@ pub fn urdf_model(data: &[u8]) -> Option<Result<Robot>> {
 /// The name the fuzzed STL goes by in error messages.
 pub const STL_LABEL: &str = "fuzz.stl";
 
-/// `stl_mesh`: bytes → [`parse_mesh`]. Checks: an error is one line naming the file; an
-/// accepted mesh has at least one triangle, finite vertices, distinct in-range indices in every
-/// triangle, and no two bit-identical vertices.
+/// `stl_mesh`: bytes → [`parse_mesh`] as an STL. Checks: see [`check_mesh`].
 pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
-    let result = parse_mesh(data, Path::new(STL_LABEL));
+    check_mesh(parse_mesh(data, Path::new(STL_LABEL)), STL_LABEL)
+}
+
+/// The names the fuzzed mesh file goes by in `mesh_file`, which give its format.
+pub const MESH_LABELS: [&str; 3] = ["fuzz.stl", "fuzz.dae", "fuzz.obj"];
+
+/// `mesh_file`: the first byte picks the format (its value mod 3: STL, COLLADA, OBJ), the rest
+/// is the file → [`parse_mesh`]. Checks: see [`check_mesh`]. `None` for no bytes.
+pub fn mesh_file(data: &[u8]) -> Option<Result<Mesh>> {
+    let (&first, bytes) = data.split_first()?;
+    let label = MESH_LABELS[first as usize % 3];
+    Some(check_mesh(parse_mesh(bytes, Path::new(label)), label))
+}
+
+/// An error is one line naming the file; an accepted mesh has at least one triangle, finite
+/// vertices, distinct in-range indices in every triangle, and no two bit-identical vertices.
+fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
     match &result {
         Ok(mesh) => {
             assert!(!mesh.triangles.is_empty(), "a mesh without triangles accepted");
@@ -67,7 +81,7 @@ pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
             keys.dedup();
             assert_eq!(keys.len(), mesh.vertices.len(), "vertices not welded");
         }
-        Err(e) => check_error(e, STL_LABEL),
+        Err(e) => check_error(e, label),
     }
     result
 }
