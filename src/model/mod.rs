@@ -295,6 +295,19 @@ impl Model {
         }
     }
 
+    /// The joints that mimic coordinate i, for messages about its limits: empty, or
+    /// `" (which include those of its mimic follower(s) F, …)"`.
+    pub fn mimic_note(&self, i: usize) -> String {
+        let followers: Vec<&str> = (self.bodies.iter())
+            .filter(|b| b.follower && b.coordinate == i)
+            .map(|b| b.joint.as_str())
+            .collect();
+        match followers.as_slice() {
+            [] => String::new(),
+            names => format!(" (which include those of its mimic followers: {})", names.join(", ")),
+        }
+    }
+
     /// The motor's reflected inertia on body i's diagonal of the bodies' M: its coordinate's
     /// motor on the body its joint moves, 0 on a follower (a follower carries no motor).
     #[inline]
