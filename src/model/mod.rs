@@ -285,12 +285,21 @@ impl Model {
         }
     }
 
-    /// A bodies' matrix (nb×nb) → the coordinates', `M_r = Gᵀ M G` (n×n).
+    /// A symmetric bodies' matrix (nb×nb) → the coordinates', `M_r = Gᵀ M G` (n×n), exactly
+    /// symmetric: the upper triangle is summed, the lower copied from it.
     pub fn reduce_matrix(&self, m_body: &nalgebra::DMatrix<f64>, m: &mut nalgebra::DMatrix<f64>) {
         m.fill(0.0);
         for (a, ba) in self.bodies.iter().enumerate() {
             for (b, bb) in self.bodies.iter().enumerate() {
-                m[(ba.coordinate, bb.coordinate)] += ba.multiplier * bb.multiplier * m_body[(a, b)];
+                let (i, j) = (ba.coordinate, bb.coordinate);
+                if i <= j {
+                    m[(i, j)] += ba.multiplier * bb.multiplier * m_body[(a, b)];
+                }
+            }
+        }
+        for j in 0..m.ncols() {
+            for i in j + 1..m.nrows() {
+                m[(i, j)] = m[(j, i)];
             }
         }
     }
