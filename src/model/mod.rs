@@ -200,7 +200,7 @@ impl Body {
 pub struct Frame {
     /// The URDF link name.
     pub name: String,
-    /// The body it is fixed to (body i is moved by joint i); `None` for frames welded to the
+    /// The body it is fixed to (body i is moved by `Model::bodies[i]`); `None` for frames welded to the
     /// world.
     pub body: Option<JointId>,
     /// Its placement `body_T_frame` in that body's frame (or in the world).
