@@ -742,12 +742,13 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
             return Err(Error::argument(
                 "--amp-deg",
                 format!(
-                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]",
+                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]{}",
                     i + 1,
                     j.name,
                     q[i],
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }
