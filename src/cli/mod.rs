@@ -1,6 +1,7 @@
 //! The command line: clap arguments → a validated scenario → the run → its outputs.
 
 pub mod args;
+pub mod call;
 pub mod scenario;
 pub mod sweep;
 
@@ -54,6 +55,13 @@ fn usage_error(e: clap::Error) -> ExitCode {
         let _ = e.print();
         return ExitCode::from(e.exit_code() as u8);
     }
+    eprintln!("faze4: error: {}", usage_line(&e));
+    ExitCode::from(EXIT_INPUT)
+}
+
+/// A clap usage error as the one line the binary prints after `faze4: error: `: clap's first
+/// paragraph, and its closest match for a mistyped subcommand, option or value.
+pub fn usage_line(e: &clap::Error) -> String {
     // clap's first paragraph (the error and its indented details) joined into one line
     let text = e.to_string();
     let first: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
@@ -73,10 +81,9 @@ fn usage_error(e: clap::Error) -> ExitCode {
         _ => None,
     });
     match suggestion {
-        Some(s) => eprintln!("faze4: error: {first}; did you mean '{s}'? (faze4 --help lists the options)"),
-        None => eprintln!("faze4: error: {first} (faze4 --help lists the options)"),
+        Some(s) => format!("{first}; did you mean '{s}'? (faze4 --help lists the options)"),
+        None => format!("{first} (faze4 --help lists the options)"),
     }
-    ExitCode::from(EXIT_INPUT)
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
@@ -104,16 +111,7 @@ fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
 /// cannot follow or collides (3).
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
-    let mut outputs = Outputs::open(scenario, run, save_q)?;
-    warn(&scenario.warnings, run.quiet);
-    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
-        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
-        npy::write_samples(path, &rows)?;
-    }
-    let summary = sim::run(scenario, &mut outputs.recorders(), &stop)?;
-    if let Some(path) = &run.summary {
-        write_summary(path, &summary)?;
-    }
+    let (summary, outputs) = run_with_outputs(scenario, run, save_q, &mut [], &stop)?;
     if !run.quiet {
         report_files(&outputs, run, save_q, &summary);
     }
@@ -147,6 +145,32 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
         l.hold_until(|| stop.is_raised());
     }
     Ok(code)
+}
+
+/// The part of a run every caller shares (the binary, [`call::run`]): opens the outputs `run`
+/// asks for, says the scenario's warnings (unless quiet), writes `save_q`, runs with those
+/// recorders and `extra`, and writes the summary file. The outputs are returned for the report
+/// and the live view's hold.
+fn run_with_outputs(
+    scenario: &Scenario,
+    run: &RunArgs,
+    save_q: Option<&Path>,
+    extra: &mut [&mut dyn Recorder],
+    stop: &StopFlag,
+) -> Result<(Summary, Outputs)> {
+    let mut outputs = Outputs::open(scenario, run, save_q)?;
+    warn(&scenario.warnings, run.quiet);
+    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
+        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
+        npy::write_samples(path, &rows)?;
+    }
+    let mut recorders = outputs.recorders();
+    recorders.extend(extra.iter_mut().map(|r| &mut **r as &mut dyn Recorder));
+    let summary = sim::run(scenario, &mut recorders, stop)?;
+    if let Some(path) = &run.summary {
+        write_summary(path, &summary)?;
+    }
+    Ok((summary, outputs))
 }
 
 /// The recorders a run writes to, opened (and every output path and the port checked) before

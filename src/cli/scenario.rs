@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::faze4::motors::{motor_effort, with_faze4_motors};
 use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
 use crate::model::{FrameId, Joint, Model, PackagePaths};
-use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
+use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
@@ -258,6 +258,16 @@ pub fn collisions(run: &RunArgs) -> Option<Collisions> {
             _ => PairFilter::NonAdjacent,
         },
     })
+}
+
+/// The torque limits a run of `run` on `model` uses: `--effort`, else the motors' under
+/// `--motors`, else the model's default ([`default_effort`]).
+pub fn effort_limits(model: &Model, run: &RunArgs) -> Result<Vec<f64>> {
+    match (&run.effort, &run.motors) {
+        (Some(effort), _) => all_given("--effort", effort, model.dof()),
+        (None, Some(_)) => Ok(motor_effort(model)),
+        (None, None) => Ok(default_effort(model)),
+    }
 }
 
 /// Every joint's value, `auto` refused (it is for gains).
