@@ -156,15 +156,17 @@ class Run:
     (every ``record_period``, t = 0 and the last step included); ``warnings``: what the binary
     would have said on stderr. A run that diverged returns too: ``summary["diverged"]``."""
 
-    __slots__ = ("summary", "follows", "verdict", "reasons", "t", "q", "q_cmd", "tool_xyz", "warnings")
+    __slots__ = ("summary", "follows", "verdict", "reasons", "t", "q", "q_cmd", "tool_xyz", "warnings", "_engine_s")
 
-    def __init__(self, summary_json, verdict, t, q, q_cmd, tool_xyz, warnings):
+    def __init__(self, summary_json, verdict, t, q, q_cmd, tool_xyz, warnings, engine_s):
         self.summary = json.loads(summary_json)
         self.follows = bool(self.summary["verdict"]["follows"])
         self.reasons = list(self.summary["verdict"]["reasons"])
         self.verdict = verdict
         self.t, self.q, self.q_cmd, self.tool_xyz = t, q, q_cmd, tool_xyz
         self.warnings = warnings
+        # seconds the binary's own scenario-run-outputs code took (tools/bench/python_api.py)
+        self._engine_s = engine_s
 
     def __repr__(self) -> str:
         return f"<faze4.Run {self.verdict!r}, {len(self.t)} samples>"

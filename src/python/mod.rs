@@ -16,7 +16,7 @@
 
 use std::sync::Mutex;
 use std::sync::mpsc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use numpy::{
     PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods,
@@ -315,7 +315,9 @@ fn summary_json(summary: &crate::sim::Summary) -> String {
 }
 
 /// A run (`words`: the subcommand and its options): (summary JSON, verdict line, t, q, q_cmd,
-/// tool_xyz, warnings).
+/// tool_xyz, warnings, the seconds [`call::run`] took: scenario, run and outputs, what the
+/// binary does too; the rest of the call is the binding's, which tools/bench/python_api.py
+/// measures).
 #[pyfunction]
 #[pyo3(signature = (words, q_traj=None))]
 #[allow(clippy::type_complexity)]
@@ -331,11 +333,17 @@ fn _run<'py>(
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray2<f64>>,
     Vec<String>,
+    f64,
 )> {
     let command = call::parse(&words).map_err(error)?;
     let frames = frames("q_traj", q_traj)?;
     let stop = StopFlag::new();
-    let finished = interruptible(py, &stop, || call::run(&command, frames, &stop))?.map_err(error)?;
+    let run = || {
+        let started = Instant::now();
+        (call::run(&command, frames, &stop), started.elapsed())
+    };
+    let (finished, engine) = interruptible(py, &stop, run)?;
+    let finished = finished.map_err(error)?;
     let trail = finished.trail;
     let rows = trail.rows();
     let table = |v: Vec<f64>, columns: usize| PyArray1::from_vec(py, v).reshape([rows, columns]);
@@ -347,6 +355,7 @@ fn _run<'py>(
         table(trail.q_cmd, trail.dof)?,
         table(trail.tool_xyz, 3)?,
         finished.warnings,
+        engine.as_secs_f64(),
     ))
 }
 
