@@ -10,7 +10,8 @@ use std::path::PathBuf;
 use clap::{ArgAction, Args, CommandFactory, Parser};
 
 use super::args::{Cli, Command, JointValues, RunArgs, SweepArgs};
-use super::{run_with_outputs, scenario, usage_line};
+use super::{is_none, run_into, scenario, usage_line};
+use crate::atomic::Outputs;
 use crate::error::{Error, Result};
 use crate::output::Capture;
 use crate::sim::{StopFlag, Summary};
@@ -160,8 +161,11 @@ pub fn run(command: &Command, frames: Option<Vec<Vec<f64>>>, stop: &StopFlag) ->
         }
     };
     let mut trail = Capture::new(run.record_period);
-    let (summary, outputs) = run_with_outputs(&scenario, run, save_q, &mut [&mut trail], stop)?;
-    if let (Some(live), true) = (&outputs.live, run.hold) {
+    let files = Outputs::new();
+    let save_q = save_q.filter(|p| !is_none(p));
+    let (summary, recorders) = run_into(&scenario, run, save_q, &files, &mut [&mut trail], stop)?;
+    files.commit()?;
+    if let (Some(live), true) = (&recorders.live, run.hold) {
         live.hold_until(|| stop.is_raised());
     }
     Ok(Finished {

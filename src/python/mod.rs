@@ -37,8 +37,10 @@ create_exception!(faze4, Error, PyValueError, "Bad input: the binary's one-line 
 /// How often a waiting call looks for Ctrl-C.
 const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
+/// `faze4.Error` with the line the binary prints after `faze4: error: ` (control characters
+/// escaped as there).
 fn error(message: impl std::fmt::Display) -> PyErr {
-    Error::new_err(message.to_string())
+    Error::new_err(crate::error::escape_controls(&message.to_string()))
 }
 
 /// Runs `work` on a worker thread with the GIL released, looking for signals every
