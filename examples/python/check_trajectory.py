@@ -2,10 +2,12 @@
 """Can the Faze4's motors follow a trajectory planned in numpy? Check it, plot it, and find how
 much payload it takes before they cannot.
 
-    python3 -m venv v && v/bin/pip install . matplotlib && v/bin/python examples/python/check_trajectory.py
+    python3 -m venv v && v/bin/pip install . && v/bin/python examples/python/check_trajectory.py
 
-Writes trajectory.png (joint angles commanded and followed, tool path) and prints the verdict and
-a payload sweep. `--out DIR` puts the figure elsewhere; `--quick` runs shorter (the test does).
+Prints the verdict, the plan's torques by inverse dynamics and a payload sweep, and with
+matplotlib installed (`v/bin/pip install matplotlib`) writes trajectory.png: joint angles
+commanded and followed, and the tool's path. `--out DIR` puts the figure elsewhere; `--quick`
+runs shorter (the test does).
 """
 
 from __future__ import annotations
@@ -50,9 +52,27 @@ def main() -> None:
     print("peak |τ| of the plan by RNEA (N·m):", np.round(np.abs(tau).max(axis=0), 3))
     print("motor limits (N·m):               ", robot.effort)
 
-    import matplotlib
+    try:
+        import matplotlib
 
-    matplotlib.use("Agg")
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        plt = None
+        print("no figure: matplotlib is not installed (pip install matplotlib)")
+    if plt is not None:
+        plot(robot, run, args.out)
+
+    # how much payload before the motors cannot follow? all runs on every core
+    payloads = np.linspace(0.0, 1.4, 8)
+    rows = faze4.sweep(robot, "replay", vary={"payload_kg": payloads}, q_traj=q_traj, traj_period=3.0, duration=duration)
+    for row in rows:
+        reasons = "; ".join(row["verdict"]["reasons"]) if "verdict" in row else row["failed"]
+        answer = "follows" if row.get("verdict", {}).get("follows") else f"cannot follow — {reasons}"
+        print(f"payload {row['payload_kg']:.2f} kg: {answer}")
+
+
+def plot(robot: faze4.Robot, run: faze4.Run, out: pathlib.Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, (joints, tool) = plt.subplots(1, 2, figsize=(11, 4))
@@ -64,18 +84,10 @@ def main() -> None:
     tool.plot(run.tool_xyz[:, 0], run.tool_xyz[:, 2])
     tool.set(xlabel="x (m)", ylabel="z (m)", title="tool path", aspect="equal")
     fig.tight_layout()
-    args.out.mkdir(parents=True, exist_ok=True)
-    figure = args.out / "trajectory.png"
+    out.mkdir(parents=True, exist_ok=True)
+    figure = out / "trajectory.png"
     fig.savefig(figure, dpi=100)
     print(f"figure -> {figure}")
-
-    # how much payload before the motors cannot follow? all runs on every core
-    payloads = np.linspace(0.0, 1.4, 8)
-    rows = faze4.sweep(robot, "replay", vary={"payload_kg": payloads}, q_traj=q_traj, traj_period=3.0, duration=duration)
-    for row in rows:
-        reasons = "; ".join(row["verdict"]["reasons"]) if "verdict" in row else row["failed"]
-        answer = "follows" if row.get("verdict", {}).get("follows") else f"cannot follow — {reasons}"
-        print(f"payload {row['payload_kg']:.2f} kg: {answer}")
 
 
 if __name__ == "__main__":
