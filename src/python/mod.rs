@@ -9,13 +9,14 @@
 //!   `--no-gravity` applied as a run applies them) and one `Data` workspace for the dynamics
 //!   calls.
 //!
-//! Long calls run on a worker thread while the calling thread, the GIL released, waits and
-//! looks for signals every [`SIGNAL_POLL`]: Ctrl-C raises the run's stop flag and the call
-//! raises `KeyboardInterrupt`. A panic on the worker is re-raised on the caller, where PyO3
-//! turns it into a Python exception.
+//! A run releases the GIL and looks for signals at every look at its stop flag (every 1,024
+//! steps); sweeps and searches run on a worker thread while the calling thread, the GIL
+//! released, waits and looks for signals every [`SIGNAL_POLL`]. Either way Ctrl-C raises the
+//! stop flag and the call raises `KeyboardInterrupt`. A panic on the worker is re-raised on the
+//! caller, where PyO3 turns it into a Python exception.
 
-use std::sync::Mutex;
 use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use numpy::{
@@ -339,12 +340,32 @@ fn _run<'py>(
 )> {
     let command = call::parse(&words).map_err(error)?;
     let frames = frames("q_traj", q_traj)?;
-    let stop = StopFlag::new();
-    let run = || {
+    // the run stays on this thread, the GIL released; at every look at the stop flag (every
+    // 1,024 steps) it takes the GIL back for a moment and runs Python's signal handlers
+    let caller = std::thread::current().id();
+    let caught: Arc<Mutex<Option<PyErr>>> = Arc::default();
+    let stop = {
+        let caught = caught.clone();
+        StopFlag::with_poll(move || {
+            std::thread::current().id() == caller
+                && Python::attach(|py| match py.check_signals() {
+                    Ok(()) => false,
+                    Err(e) => {
+                        *caught.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+                        true
+                    }
+                })
+        })
+    };
+    let (finished, engine) = py.detach(|| {
         let started = Instant::now();
         (call::run(&command, frames, &stop), started.elapsed())
-    };
-    let (finished, engine) = interruptible(py, &stop, run)?;
+    });
+    if let Some(interrupt) = caught.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        return Err(interrupt);
+    }
+    // a signal that came while the run was being built or its files written
+    py.check_signals()?;
     let finished = finished.map_err(error)?;
     let trail = finished.trail;
     let rows = trail.rows();

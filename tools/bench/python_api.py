@@ -11,10 +11,12 @@
 * `faze4.sweep` against the binary's `faze4 sweep` on the same grid: runs per second (wall
   clock, the binary's process start included).
 
-Pinocchio's part runs in the interpreter given by --pin-python (a second process when it is not
-this one), so faze4 need not be installed next to Pinocchio. Usage (repository root):
+Pinocchio's part runs in the interpreter given by --pin-python, a second process (default: the
+oracle's environment, tools/oracle/setup.sh, which pins pin==4.1.0), so faze4 need not be
+installed next to Pinocchio. Usage (repository root, with faze4 installed in this interpreter and
+`cargo build --release` done):
 
-    python tools/bench/python_api.py [--pin-python /work/venv/bin/python] [--faze4-bin target/release/faze4]
+    python tools/bench/python_api.py [--pin-python PYTHON] [--faze4-bin target/release/faze4]
 """
 
 from __future__ import annotations
@@ -116,7 +118,8 @@ def sweep_rates(binary: str, runs: int, duration: float) -> tuple[float, float]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--part", choices=["faze4", "pin"], help=argparse.SUPPRESS)
-    parser.add_argument("--pin-python", default=sys.executable)
+    oracle = os.path.join(ROOT, "tools", "oracle", ".venv", "bin", "python")
+    parser.add_argument("--pin-python", default=oracle if os.path.exists(oracle) else sys.executable)
     parser.add_argument("--faze4-bin", default=os.environ.get("FAZE4_BIN", os.path.join(ROOT, "target", "release", "faze4")))
     parser.add_argument("--runs", type=int, default=15, help="runs per overhead median")
     parser.add_argument("--sweep-runs", type=int, default=16)
