@@ -454,7 +454,7 @@ impl ScenarioBuilder {
                 }
                 effort
             }
-            None if faze4::is_faze4(&model) => faze4::EFFORT.to_vec(),
+            None if faze4::is_faze4(&model) => default_effort(&model),
             None => {
                 let unlimited: Vec<String> = (model.joints.iter())
                     .filter(|j| j.effort.is_none())
@@ -466,7 +466,7 @@ impl ScenarioBuilder {
                         joints: unlimited,
                     });
                 }
-                model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect()
+                default_effort(&model)
             }
         };
 
@@ -633,6 +633,15 @@ pub fn load_collisions(
 }
 
 /// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then
+/// The torque limits a run on `model` has when none are given: the Faze4 motors' for the
+/// bundled arm, else each joint's URDF effort (infinite where it has none).
+pub fn default_effort(model: &Model) -> Vec<f64> {
+    match faze4::is_faze4(model) {
+        true => faze4::EFFORT.to_vec(),
+        false => model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect(),
+    }
+}
+
 /// [`auto_tune`] with the torque limits `effort` at step `dt`, then [`stabilize`] for the
 /// coupled arm (the gains then carry their `stability`). Returns the gains and M(q_start).
 pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> (Gains, DMatrix<f64>) {
