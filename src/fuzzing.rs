@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use crate::algo::{
-    Data, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
+    Data, State, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
     frame_position, gravity, rnea,
 };
 use crate::atomic::Outputs;
@@ -305,15 +305,15 @@ fn exercise(model: &Model, data: &[u8]) {
 
     // One step from each joint's upper limit (or the small angle) moving fast outwards, so
     // that the limit solve runs.
-    let mut q: Vec<f64> = (0..n)
+    let q: Vec<f64> = (0..n)
         .map(|i| match model.joints[i].upper {
             u if u.is_finite() => u,
             _ => small[i],
         })
         .collect();
-    let mut v: Vec<f64> = velocity.iter().map(|v| v.abs() + 1.0).collect();
+    let v: Vec<f64> = velocity.iter().map(|v| v.abs() + 1.0).collect();
     let tau: Vec<f64> = (0..n).map(|i| (byte(data, i, 3) as f64 - 128.0) * 10.0).collect();
-    let _ = discrete_step(model, &mut d, &mut q, &mut v, &tau, 2e-4);
+    let _ = discrete_step(model, &mut d, &mut State::at(&q, &v, &tau, 2e-4));
     let _ = model.default_tool_frame();
 }
 

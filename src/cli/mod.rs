@@ -1,6 +1,7 @@
 //! The command line: clap arguments → a validated scenario → the run → its outputs.
 
 pub mod args;
+pub mod motors;
 pub mod scenario;
 pub mod sweep;
 

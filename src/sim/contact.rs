@@ -2,7 +2,7 @@
 //! geometry, solved inside the discrete step (docs/contact.md).
 
 use crate::algo::{
-    ContactPoint, ContactSolver, Data, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
+    ContactPoint, ContactSolver, Data, State, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
 use crate::error::Result;
 use std::sync::Arc;
@@ -100,25 +100,15 @@ impl ContactStep {
         &self.data.contacts
     }
 
-    /// One step at time `t` (s): the world poses, the contacts at q, their Jacobians, and
-    /// [`integrate_discrete_with_contacts`]. `data.xup`, `data.m` and `data.bias` must be at
-    /// (q, v) ([`crate::algo::compute_all_terms`]).
-    #[allow(clippy::too_many_arguments)]
-    pub fn step(
-        &mut self,
-        model: &Model,
-        data: &mut Data,
-        q: &mut [f64],
-        v: &mut [f64],
-        tau: &[f64],
-        dt: f64,
-        t: f64,
-    ) -> Result<()> {
+    /// One step of `state` at time `t` (s): the world poses, the contacts at q, their
+    /// Jacobians, and [`integrate_discrete_with_contacts`]. `data.xup`, `data.m` and `data.bias`
+    /// must be at (q, v) ([`crate::algo::compute_all_terms`]).
+    pub fn step(&mut self, model: &Model, data: &mut Data, state: &mut State, t: f64) -> Result<()> {
         forward_kinematics_from_transforms(model, data);
         if self.last_q.is_empty() {
-            self.last_q.extend_from_slice(q);
+            self.last_q.extend_from_slice(&state.q);
         }
-        for ((m, last), now) in self.joint_motion.iter_mut().zip(&mut self.last_q).zip(q.iter()) {
+        for ((m, last), now) in self.joint_motion.iter_mut().zip(&mut self.last_q).zip(state.q.iter()) {
             *m = (now - *last).abs();
             *last = *now;
         }
@@ -139,7 +129,7 @@ impl ContactStep {
             contact_jacobian(model, data, c, rows);
         }
         self.steps_in_contact += u64::from(!self.data.contacts.is_empty());
-        let stepped = integrate_discrete_with_contacts(model, data, q, v, tau, dt, &mut self.solver);
+        let stepped = integrate_discrete_with_contacts(model, data, state, &mut self.solver);
         self.newton_iterations += self.solver.iterations as u64;
         stepped
     }

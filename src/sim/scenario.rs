@@ -20,7 +20,7 @@ use nalgebra::DMatrix;
 
 use super::SelfContact;
 use crate::algo::{Data, crba};
-use crate::control::{Gains, Pd, Stability, auto_tune, stabilize};
+use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result, shortest};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
@@ -79,6 +79,10 @@ pub struct Scenario {
     pub warnings: Vec<Warning>,
     /// `--self-collisions`: contact between the arm's own collision geometry, if on.
     pub self_contact: Option<SelfContact>,
+    /// `--motors`: per joint the motor whose envelope clips its torque at its speed (`None`
+    /// for a joint without one: the constant limit alone); `None`: no motors, the constant
+    /// limits of the controller.
+    pub motors: Option<Vec<Option<Motor>>>,
 }
 
 /// Something a scenario runs with that the user should know about; the builder returns these
@@ -214,6 +218,7 @@ impl Scenario {
             shape: None,
             thresholds: Thresholds::default(),
             self_contact: None,
+            motors: None,
         }
     }
 }
@@ -242,6 +247,7 @@ pub struct ScenarioBuilder {
     shape: Option<ShapeRun>,
     thresholds: Thresholds,
     self_contact: Option<SelfContact>,
+    motors: Option<Vec<Option<JointMotor>>>,
 }
 
 impl ScenarioBuilder {
@@ -348,6 +354,15 @@ impl ScenarioBuilder {
         self
     }
 
+    /// A motor per joint (`--motors`; `None` for a joint without one): its ratio and rotor
+    /// inertia, where given, replace the model's; its envelope clips the joint's torque at the
+    /// joint's speed, every step; the constant limit E of a motored joint becomes
+    /// ratio × η × the motor's largest torque unless [`ScenarioBuilder::effort`] gives it.
+    pub fn motors(mut self, motors: Vec<Option<JointMotor>>) -> Self {
+        self.motors = Some(motors);
+        self
+    }
+
     /// Contact forces between the checked pairs of the collision geometry given by
     /// [`ScenarioBuilder::geometry`] (`--self-collisions`; off by default).
     pub fn self_contact(mut self, contact: SelfContact) -> Self {
@@ -411,6 +426,10 @@ impl ScenarioBuilder {
                 ),
             ));
         }
+        let motors = match self.motors {
+            Some(motors) => Some(fit_motors(&mut model, motors)?),
+            None => None,
+        };
         let steps = steps(self.duration, self.dt)?;
         check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
         if !self.gravity {
@@ -423,6 +442,7 @@ impl ScenarioBuilder {
         }
 
         let mut warnings = Vec::new();
+        let explicit_effort = self.effort.is_some();
         let effort = match self.effort {
             Some(effort) => {
                 count("--effort", effort.len(), n)?;
@@ -450,6 +470,12 @@ impl ScenarioBuilder {
             }
         };
 
+        let effort = match (&motors, explicit_effort) {
+            (Some(motors), false) => (effort.iter().zip(motors).zip(&model.joints))
+                .map(|((&e, m), j)| m.as_ref().map_or(e, |m| m.joint_limit(j.gear_ratio)))
+                .collect(),
+            _ => effort,
+        };
         let (mut gains, m) = tune(&model, &self.trajectory, &effort, self.dt);
         override_gains("--kp", &mut gains.kp, &self.kp)?;
         override_gains("--kd", &mut gains.kd, &self.kd)?;
@@ -496,6 +522,7 @@ impl ScenarioBuilder {
             thresholds: self.thresholds,
             warnings,
             self_contact: self.self_contact,
+            motors,
         })
     }
 }
@@ -553,6 +580,34 @@ fn overflow(
         joint,
         "its masses, rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF, --rotor-inertia, --gear-ratio)",
     )
+}
+
+/// The motors' ratios and rotors onto `model`, each checked; the motors themselves, checked.
+fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<Option<Motor>>> {
+    count("--motors", motors.len(), model.dof())?;
+    let bad = |i: usize, what: String| Error::argument("--motors", format!("J{} {what}", i + 1));
+    let mut out = Vec::with_capacity(motors.len());
+    for (i, (m, joint)) in motors.into_iter().zip(model.joints.iter_mut()).enumerate() {
+        let Some(m) = m else {
+            out.push(None);
+            continue;
+        };
+        if let Some(r) = m.gear_ratio {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(bad(i, format!("gear_ratio {r} must be > 0")));
+            }
+            joint.gear_ratio = r;
+        }
+        if let Some(inertia) = m.rotor_inertia {
+            if !(inertia.is_finite() && inertia >= 0.0) {
+                return Err(bad(i, format!("rotor_inertia {inertia} must be ≥ 0")));
+            }
+            joint.rotor_inertia = inertia;
+        }
+        m.motor.check().map_err(|e| bad(i, e))?;
+        out.push(Some(m.motor));
+    }
+    Ok(out)
 }
 
 /// The geometry a run of `model` keeps and its loaded collision set, as
