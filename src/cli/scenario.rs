@@ -181,11 +181,12 @@ pub fn wave_center(model: &Model, center: Option<&str>) -> Result<Vec<f64>> {
             return Err(Error::argument(
                 "--center",
                 format!(
-                    "J{} ({}) {c} is outside its limits [{}, {}]",
+                    "J{} ({}) {c} is outside its limits [{}, {}]{}",
                     i + 1,
                     j.name,
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }

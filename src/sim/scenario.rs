@@ -527,6 +527,34 @@ impl ScenarioBuilder {
     }
 }
 
+/// The motors' ratios and rotors onto `model`, each checked; the motors themselves, checked.
+fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<Option<Motor>>> {
+    count("--motors", motors.len(), model.dof())?;
+    let bad = |i: usize, what: String| Error::argument("--motors", format!("J{} {what}", i + 1));
+    let mut out = Vec::with_capacity(motors.len());
+    for (i, (m, joint)) in motors.into_iter().zip(model.joints.iter_mut()).enumerate() {
+        let Some(m) = m else {
+            out.push(None);
+            continue;
+        };
+        if let Some(r) = m.gear_ratio {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(bad(i, format!("gear_ratio {r} must be > 0")));
+            }
+            joint.gear_ratio = r;
+        }
+        if let Some(inertia) = m.rotor_inertia {
+            if !(inertia.is_finite() && inertia >= 0.0) {
+                return Err(bad(i, format!("rotor_inertia {inertia} must be ≥ 0")));
+            }
+            joint.rotor_inertia = inertia;
+        }
+        m.motor.check().map_err(|e| bad(i, e))?;
+        out.push(Some(m.motor));
+    }
+    Ok(out)
+}
+
 /// Largest Coulomb friction `--friction` takes. The contact step's products of μ overflow
 /// between 1e150 and 1e200 (μ = 1e200 gave the frictionless result); every μ from about 1e10
 /// gave the same sticking run as 1e100 (the circle shape with `--self-collisions`).
@@ -580,34 +608,6 @@ fn overflow(
         joint,
         "its masses, rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF, --rotor-inertia, --gear-ratio)",
     )
-}
-
-/// The motors' ratios and rotors onto `model`, each checked; the motors themselves, checked.
-fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<Option<Motor>>> {
-    count("--motors", motors.len(), model.dof())?;
-    let bad = |i: usize, what: String| Error::argument("--motors", format!("J{} {what}", i + 1));
-    let mut out = Vec::with_capacity(motors.len());
-    for (i, (m, joint)) in motors.into_iter().zip(model.joints.iter_mut()).enumerate() {
-        let Some(m) = m else {
-            out.push(None);
-            continue;
-        };
-        if let Some(r) = m.gear_ratio {
-            if !(r.is_finite() && r > 0.0) {
-                return Err(bad(i, format!("gear_ratio {r} must be > 0")));
-            }
-            joint.gear_ratio = r;
-        }
-        if let Some(inertia) = m.rotor_inertia {
-            if !(inertia.is_finite() && inertia >= 0.0) {
-                return Err(bad(i, format!("rotor_inertia {inertia} must be ≥ 0")));
-            }
-            joint.rotor_inertia = inertia;
-        }
-        m.motor.check().map_err(|e| bad(i, e))?;
-        out.push(Some(m.motor));
-    }
-    Ok(out)
 }
 
 /// The geometry a run of `model` keeps and its loaded collision set, as
@@ -742,12 +742,13 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
             return Err(Error::argument(
                 "--amp-deg",
                 format!(
-                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]",
+                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]{}",
                     i + 1,
                     j.name,
                     q[i],
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }
