@@ -14,7 +14,7 @@ use serde_json::Value;
 
 use super::table::{Cell, Cells, Format, TableWriter};
 use super::{Grid, Shard};
-use crate::atomic::write_atomically;
+use crate::atomic::Outputs;
 use crate::error::{Error, Result};
 
 /// The version of the metadata's layout.
@@ -164,25 +164,17 @@ impl PartMeta {
     }
 }
 
-/// Writes `meta` as `table`'s metadata, replacing any, once the table is in place: call
-/// [`remove_meta`] before the table is renamed into place, so that a table is never beside the
-/// metadata of another.
-pub fn write_meta(table: &Path, meta: &PartMeta) -> Result<()> {
+/// Writes `meta` as `table`'s metadata, replacing any, as a file of `outputs`: the table and
+/// its metadata are renamed into place together (the table first) when the set is committed,
+/// and neither if the sweep fails. A process killed between the two renames leaves the new table
+/// beside the old metadata, whose rows and bytes then do not match it: `merge` refuses it.
+pub fn write_meta(outputs: &Outputs, table: &Path, meta: &PartMeta) -> Result<()> {
     let mut text = serde_json::to_string_pretty(meta).map_err(|e| Error::Io {
         path: meta_path(table),
         source: std::io::Error::other(e),
     })?;
     text.push('\n');
-    write_atomically(&meta_path(table), text.as_bytes())
-}
-
-/// Removes `table`'s metadata if there is one.
-pub fn remove_meta(table: &Path) -> Result<()> {
-    let path = meta_path(table);
-    match std::fs::remove_file(&path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::Io { path, source: e }),
-        _ => Ok(()),
-    }
+    outputs.write(&meta_path(table), text.as_bytes())
 }
 
 /// `runs 4–6`, `run 4`, `runs 0–3, 8–9`: ranges of run indices for people (at most 8 listed).

@@ -15,7 +15,7 @@ use std::path::Path;
 
 use serde_json::{Map, Value};
 
-use super::part::{PartMeta, remove_meta, write_meta};
+use super::part::{PartMeta, write_meta};
 use super::{Outcome, Row};
 use crate::atomic::{AtomicFile, Outputs};
 use crate::error::{Error, Result};
@@ -136,6 +136,8 @@ impl Format {
 /// they have none.
 pub struct TableWriter {
     file: AtomicFile,
+    /// The set the table is a file of (its metadata goes there too).
+    outputs: Outputs,
     path: std::path::PathBuf,
     format: Format,
     header: Option<Vec<String>>,
@@ -156,6 +158,7 @@ impl TableWriter {
     pub fn within(outputs: &Outputs, path: &Path, format: Format) -> Result<TableWriter> {
         Ok(TableWriter {
             file: outputs.create(path)?,
+            outputs: outputs.clone(),
             path: path.to_path_buf(),
             format,
             header: None,
@@ -207,8 +210,8 @@ impl TableWriter {
 
     /// Writes the rows still waiting, closes the table and moves it into place. With `part`,
     /// the table is a part of a sweep: its metadata (filled here with the rows, bytes and
-    /// columns) is written beside it after it is in place, and any old metadata is removed
-    /// before, so a table is never beside another's metadata.
+    /// columns) is written beside it, a file of the same set: both appear together when the
+    /// set is committed (see [`write_meta`]).
     pub fn finish(mut self, part: Option<&mut PartMeta>) -> Result<()> {
         if self.header.is_none() {
             let header = match self.waiting.first() {
@@ -231,9 +234,8 @@ impl TableWriter {
         meta.rows = self.rows;
         meta.bytes = self.bytes;
         meta.columns = self.header.clone().unwrap_or_default();
-        remove_meta(&self.path)?;
         self.file.commit()?;
-        write_meta(&self.path, meta)
+        write_meta(&self.outputs, &self.path, meta)
     }
 
     fn put(&mut self, text: &str) -> Result<()> {
