@@ -424,6 +424,16 @@ fn merge_refuses_a_set_that_is_not_the_whole_sweep() {
         with(&parts(&[1, 2, 3, 5]), &["cut.csv"]),
         &["cut.csv: truncated", "rerun its task (--shard 4/5)"],
     );
+    // a table beside the metadata of another (same size, one digit changed)
+    let mut text = std::fs::read(dir.join("part5.csv")).unwrap();
+    let at = text.len() - 2;
+    text[at] = if text[at] == b'1' { b'2' } else { b'1' };
+    std::fs::write(dir.join("edited.csv"), &text).unwrap();
+    std::fs::copy(dir.join("part5.csv.meta"), dir.join("edited.csv.meta")).unwrap();
+    refuse(
+        with(&parts(&[1, 2, 3, 4]), &["edited.csv"]),
+        &["edited.csv: not the table its metadata describes", "(--shard 5/5)"],
+    );
     // a part without its metadata (its task stopped between the two, or not a --shard table)
     std::fs::copy(dir.join("part5.csv"), dir.join("bare.csv")).unwrap();
     refuse(
