@@ -2,6 +2,7 @@
 
 pub mod args;
 pub mod call;
+pub mod motors;
 pub mod scenario;
 pub mod sweep;
 

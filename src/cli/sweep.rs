@@ -19,7 +19,9 @@ use crate::geometry::{CollisionSet, Robot};
 use crate::output::format::{distinct, exact};
 use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
-use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
+use crate::sweep::{
+    self, Axis, Format, Found, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Scale, Seek, Shard, TableWriter,
+};
 use crate::traj::{Trajectory, npy};
 
 /// An option of the base command, if the command has it.
@@ -321,8 +323,17 @@ pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
     if let Some(SweepCommand::Merge(m)) = &args.merge {
         check_output_path(&m.out, "--out")?;
         let parts: Vec<&Path> = m.tables.iter().map(PathBuf::as_path).collect();
-        let rows = sweep::merge(&parts, &m.out)?;
-        println!("[done] {rows} runs from {} tables -> {}", parts.len(), m.out.display());
+        let merged = sweep::merge(&parts, &m.out, m.allow_partial)?;
+        let line = match &merged.absent {
+            None => format!("{} runs", merged.rows),
+            Some(absent) => format!("{} of {} runs (absent: {absent})", merged.rows, merged.total),
+        };
+        let _ = writeln!(
+            std::io::stdout().lock(),
+            "[done] {line} from {} tables -> {}",
+            parts.len(),
+            m.out.display()
+        );
         return Ok(ExitCode::SUCCESS);
     }
     match (&args.find, &args.find_min) {
@@ -397,8 +408,19 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let wall = started.elapsed().as_secs_f64();
     progress.clear();
     let mut written = Vec::new();
-    if let (Some(t), Some(path)) = (table, &args.out) {
-        t.finish()?;
+    if let (Some(mut t), Some(path)) = (table, &args.out) {
+        if !t.has_columns() {
+            // no run of this part ran (none, or all failed): the sweep's columns all the same
+            if let Some(row) = probe(&base, &knobs, &grid, total) {
+                t.set_columns(sweep::cells(&axes, &row).into_iter().map(|(name, _)| name).collect())?;
+            }
+        }
+        // a part of a sweep says what it is beside it (docs/sweep.md)
+        let mut part = shard.map(|s| {
+            let held = indices.start..indices.start + ran;
+            PartMeta::new(&args.base, &grid, total, Some(s), held)
+        });
+        t.finish(part.as_mut())?;
         written.push(format!("table -> {}", path.display()));
     }
     if let (Some(p), Some(path)) = (plot, &args.plot) {
@@ -486,9 +508,32 @@ fn threads(jobs: usize, runs: usize) -> usize {
     jobs.min(runs).max(1)
 }
 
+/// Most runs [`probe`] tries to build.
+const PROBES: usize = 100;
+
+/// A row with the sweep's columns, for a part none of whose runs ran: the first of the sweep's
+/// first [`PROBES`] runs that builds, run for one step (the columns depend on the model and the
+/// base command, not on the values; the same for every part). `None` when none builds: the
+/// table then has the base columns only.
+fn probe(base: &Base, knobs: &[Knob], grid: &Grid, total: usize) -> Option<Row> {
+    (0..total.min(PROBES)).find_map(|index| {
+        let values = grid.point(index);
+        let mut scenario = base.build(knobs, &values).ok()?;
+        scenario.steps = scenario.steps.min(1);
+        let summary = crate::sim::run(&scenario, &mut [], &StopFlag::new()).ok()?;
+        Some(Row {
+            index,
+            values,
+            outcome: Outcome::Ran(Box::new(summary)),
+        })
+    })
+}
+
 /// A run for people: `payload-kg=0.5 dt=0.0002: follows` or `…: cannot follow — reasons`.
 fn row_line(axes: &[String], row: &Row) -> String {
-    let values: Vec<String> = axes.iter().zip(&row.values).map(|(n, v)| format!("{n}={v}")).collect();
+    let values: Vec<String> = (axes.iter().zip(&row.values))
+        .map(|(n, &v)| format!("{n}={}", exact(v)))
+        .collect();
     let answer = match row.follows() {
         true => "follows".to_string(),
         false => format!("cannot follow — {}", row.reasons()),
@@ -573,7 +618,10 @@ fn search(
     if !resolution.is_finite() || resolution <= 0.0 {
         return Err(Error::argument(
             "--resolution",
-            format!("{resolution}: give a finite width > 0 (default: 1 % of the range)"),
+            format!(
+                "{}: give a finite width > 0 (default: 1 % of the range)",
+                exact(resolution)
+            ),
         ));
     }
     let name = name.trim().trim_start_matches("--");

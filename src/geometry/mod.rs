@@ -5,7 +5,7 @@
 //! | file | holds |
 //! |---|---|
 //! | `mod.rs` | [`GeometryModel`], [`GeometryObject`] |
-//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII) → exact f32 vertices, welded indices |
+//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII), COLLADA, OBJ (mesh-loader) → exact f32 vertices, welded indices |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `clearance.rs` | [`CollisionSet`] (parry shapes), [`GeometryData`] (workspace), distances at a pose |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |

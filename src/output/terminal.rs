@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use super::format::{joint_header, row, text_row};
 use crate::error::quoted;
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
-use crate::sim::{Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
+use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
 pub const PRINT_PERIOD: f64 = 0.5;
@@ -216,8 +216,45 @@ impl Recorder for Terminal {
         if let Some(c) = &s.clearance {
             out(&clearance_line(c, &s.verdict))?;
         }
+        if let Some(motors) = &s.motors {
+            for line in motor_table(motors) {
+                out(&line)?;
+            }
+        }
         Ok(())
     }
+}
+
+/// The `--motors` table, one column per joint (`-` where a joint has no motor or a figure does
+/// not apply): kind, share of steps beyond the envelope, fastest shaft speed, RMS torque
+/// against the continuous rating, when a stepper first lost steps. Torques and speeds at the
+/// motor shaft.
+pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
+    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| -> Vec<String> {
+        (motors.iter())
+            .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
+            .collect()
+    };
+    vec![
+        text_row("motor", cell(&|m| Some(m.kind.to_string()))),
+        text_row("beyond envelope", cell(&|m| Some(percent(m.envelope_pct)))),
+        text_row(
+            "max motor speed rad/s",
+            cell(&|m| Some(format!("{:.1}", m.max_motor_speed))),
+        ),
+        text_row("RMS torque (N·m)", cell(&|m| Some(format!("{:.4}", m.rms_torque)))),
+        text_row(
+            "continuous (N·m)",
+            cell(&|m| m.continuous_torque.map(|c| format!("{c:.4}"))),
+        ),
+        text_row(
+            "loses steps at (s)",
+            cell(&|m| {
+                m.loses_steps_at
+                    .map(|t| t.map_or("never".into(), |t| format!("{t:.3}")))
+            }),
+        ),
+    ]
 }
 
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the

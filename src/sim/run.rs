@@ -4,6 +4,7 @@ use std::time::{Duration, Instant};
 
 use super::{ContactStep, ContactSummary};
 use crate::algo::{Data, State, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
+use crate::control::Envelope;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceReport, CollisionSet, GeometryData};
 use crate::model::{FrameId, JointId, JointKind};
@@ -12,8 +13,8 @@ use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, Intersection, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, Verdict,
-    steps_per_record,
+    Diverged, Intersection, MotorSummary, PathDeviation, Recorder, RunInfo, Sample, Scenario, StepLoss, StopFlag,
+    Summary, ToolRange, Verdict, steps_per_record,
 };
 
 /// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
@@ -85,6 +86,9 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         }
         if !last {
             rec.steps.add(sc, &p.state, &p.q_cmd, &p.tau_raw);
+            if let Some(m) = rec.motors.as_mut() {
+                m.add(&p, t);
+            }
         }
         if diverged.is_none() {
             rec.record(recorders, &mut p, k, t, last)?;
@@ -106,6 +110,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         steps,
         samples,
         mut clearance,
+        motors,
         ..
     } = rec;
     if let Some(c) = clearance.as_mut() {
@@ -148,6 +153,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 geometry_queries: c.geometry_queries(),
                 newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
             }),
+        motors: motors.map(|m| m.summary(sc, done)),
         ..Summary::default()
     };
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
@@ -176,6 +182,8 @@ struct Pipeline<'a> {
     tau_raw: Vec<f64>,
     /// `--self-collisions`: the step with contact.
     contact: Option<ContactStep>,
+    /// `--motors`: the joint torque range [lo, hi] each joint's actuation allowed this step.
+    bounds: Vec<(f64, f64)>,
 }
 
 impl<'a> Pipeline<'a> {
@@ -195,6 +203,7 @@ impl<'a> Pipeline<'a> {
             v_cmd: vec![0.0; n],
             tau_raw: vec![0.0; n],
             contact,
+            bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
         }
     }
 
@@ -224,10 +233,27 @@ impl<'a> Pipeline<'a> {
         );
     }
 
-    /// The torque the joints get, held over the step: τ_raw clipped to the limits.
+    /// The torque the joints get, held over the step: τ_raw clipped to the limits, and under
+    /// `--motors` to each motor's envelope at the joint's speed, `r·η·bounds(r·q̇)`.
     #[inline]
     fn actuation(&mut self) {
-        self.sc.controller.clip(&self.tau_raw, &mut self.state.tau);
+        let Some(motors) = &self.sc.motors else {
+            self.sc.controller.clip(&self.tau_raw, &mut self.state.tau);
+            return;
+        };
+        let effort = &self.sc.controller.gains.effort;
+        for (i, motor) in motors.iter().enumerate() {
+            let e = effort[i];
+            let (lo, hi) = match motor {
+                Some(m) => {
+                    let (lo, hi) = m.joint_bounds(self.sc.model.joints[i].gear_ratio, self.state.v[i]);
+                    (lo.max(-e), hi.min(e))
+                }
+                None => (-e, e),
+            };
+            self.bounds[i] = (lo, hi);
+            self.state.tau[i] = self.tau_raw[i].max(lo).min(hi);
+        }
     }
 
     /// The discrete step at time `t` (s), with contact under `--self-collisions`.
@@ -245,6 +271,8 @@ impl<'a> Pipeline<'a> {
 /// due.
 struct Records<'a> {
     steps: StepMetrics,
+    /// `--motors`: the motors' figures over the steps.
+    motors: Option<MotorMetrics>,
     samples: SampleMetrics,
     clearance: Option<ClearanceMetrics<'a>>,
     schedule: Schedule,
@@ -257,6 +285,7 @@ impl<'a> Records<'a> {
     fn new(sc: &'a Scenario, recorders: &[&mut dyn Recorder]) -> Self {
         Records {
             steps: StepMetrics::new(sc.model.dof()),
+            motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc.model.dof())),
             samples: SampleMetrics::new(),
             clearance: sc.collision_set.as_deref().map(ClearanceMetrics::new),
             schedule: Schedule::new(recorders, sc.dt, sc.record_every),
@@ -410,6 +439,78 @@ impl StepMetrics {
             self.max_speed[i] = self.max_speed[i].max(v[i].abs());
             self.over_speed[i] += u64::from(v[i].abs() > sc.speed_limit[i]);
         }
+    }
+}
+
+/// The motors' figures over the steps (`--motors`).
+struct MotorMetrics {
+    /// Steps with τ_raw outside the actuation's range, per joint.
+    envelope: Vec<u64>,
+    /// max |ω_m| (rad/s).
+    max_speed: Vec<f64>,
+    /// Σ τ_m² over the steps (N²·m²).
+    sum_sq: Vec<f64>,
+    /// A stepper's first step beyond its pull-out torque.
+    lost: Vec<Option<StepLoss>>,
+}
+
+impl MotorMetrics {
+    fn new(n: usize) -> Self {
+        MotorMetrics {
+            envelope: vec![0; n],
+            max_speed: vec![0.0; n],
+            sum_sq: vec![0.0; n],
+            lost: vec![None; n],
+        }
+    }
+
+    /// Step `p`'s actuation at time `t` (s).
+    #[inline]
+    fn add(&mut self, p: &Pipeline, t: f64) {
+        let Some(motors) = &p.sc.motors else { return };
+        for (i, m) in motors.iter().enumerate() {
+            let Some(m) = m else { continue };
+            let ratio = p.sc.model.joints[i].gear_ratio;
+            let k = ratio * m.efficiency;
+            let (lo, hi) = p.bounds[i];
+            let raw = p.tau_raw[i];
+            let beyond = raw > hi || raw < lo;
+            self.envelope[i] += u64::from(beyond);
+            let speed = (ratio * p.state.v[i]).abs();
+            self.max_speed[i] = self.max_speed[i].max(speed);
+            let tau_m = p.state.tau[i] / k;
+            self.sum_sq[i] += tau_m * tau_m;
+            if beyond && self.lost[i].is_none() && matches!(m.envelope, Envelope::Stepper { .. }) {
+                self.lost[i] = Some(StepLoss {
+                    t,
+                    needs: raw.abs() / k,
+                    speed,
+                    gives: m.envelope.bounds(speed).1,
+                });
+            }
+        }
+    }
+
+    /// The summary's `motors` over `done` steps.
+    fn summary(self, sc: &Scenario, done: usize) -> Vec<Option<MotorSummary>> {
+        let steps = done.max(1) as f64;
+        (sc.motors.iter().flatten().enumerate())
+            .map(|(i, m)| {
+                m.as_ref().map(|m| {
+                    let stepper = matches!(m.envelope, Envelope::Stepper { .. });
+                    MotorSummary {
+                        label: m.label.clone(),
+                        kind: m.envelope.kind(),
+                        envelope_pct: 100.0 * self.envelope[i] as f64 / steps,
+                        max_motor_speed: self.max_speed[i],
+                        rms_torque: (self.sum_sq[i] / steps).sqrt(),
+                        continuous_torque: m.continuous_torque,
+                        loses_steps_at: stepper.then(|| self.lost[i].map(|l| l.t)),
+                        step_loss: self.lost[i],
+                    }
+                })
+            })
+            .collect()
     }
 }
 

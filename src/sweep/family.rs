@@ -7,8 +7,10 @@ use rayon::prelude::*;
 
 use super::Grid;
 use crate::atomic::Outputs;
-use crate::error::{Error, Result};
+use crate::control::Stability;
+use crate::error::{Error, Result, shortest};
 use crate::output::TrailCsv;
+use crate::sim::scenario::arithmetic_holds;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 
 /// A multiplier of a built scenario: the controller's gains and limits (as tuned, or as
@@ -54,7 +56,7 @@ impl Scale {
             let bound = if zero_allowed { "≥ 0" } else { "> 0" };
             return Err(Error::argument(
                 self.name(),
-                format!("{factor} must be finite and {bound}"),
+                format!("{} must be finite and {bound}", shortest(factor)),
             ));
         }
         let gains = &mut scenario.controller.gains;
@@ -68,15 +70,46 @@ impl Scale {
                     inertia.h *= factor;
                     inertia.rot *= factor;
                 }
-                return Ok(());
+                return self.holds(scenario, factor);
             }
             Scale::RotorInertia => {
                 scenario.model.joints.iter_mut().for_each(|j| j.rotor_inertia *= factor);
-                return Ok(());
+                return self.holds(scenario, factor);
             }
         };
         values.iter_mut().for_each(|x| *x *= factor);
-        Ok(())
+        match self {
+            Scale::Kp | Scale::Kd if values.iter().any(|x| !x.is_finite()) => Err(self.overflows(factor)),
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether the scaled arm's mass matrix at the start pose and the stability figures of the
+    /// gains on it are finite (a factor of 1e300 makes them overflow).
+    fn holds(self, scenario: &Scenario, factor: f64) -> Result<()> {
+        let model = &scenario.model;
+        let n = model.dof();
+        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+        scenario.trajectory.eval(0.0, &mut q, &mut v);
+        let m = crate::algo::crba(model, &mut crate::algo::Data::new(model), &q).clone();
+        let gains = &scenario.controller.gains;
+        let damping: Vec<f64> = model.damping().collect();
+        let mut scaled = gains.clone();
+        scaled.stability = Some(Stability::assess(&m, &damping, &gains.kp, &gains.kd, scenario.dt));
+        match arithmetic_holds(&m, &scaled) {
+            true => Ok(()),
+            false => Err(self.overflows(factor)),
+        }
+    }
+
+    fn overflows(self, factor: f64) -> Error {
+        Error::argument(
+            self.name(),
+            format!(
+                "{}: too large to simulate (the scaled arm's arithmetic overflows)",
+                shortest(factor)
+            ),
+        )
     }
 }
 
