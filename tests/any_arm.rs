@@ -69,3 +69,104 @@ fn the_views_use_the_files_colours_where_the_urdf_gives_none() {
     // an STL has no material: the default colour
     assert_ne!(colour("stl"), [0.9, 0.5, 0.1, 1.0]);
 }
+
+/// Runs `faze4 wave` on `tests/urdf/<arm>.urdf` for 0.2 s, quiet, with `extra` options.
+fn wave_quiet(arm: &str, extra: &[&str]) -> Run {
+    let dir = temp_dir(&format!("any-arm-{arm}-{}", extra.len()));
+    let urdf = repo_path(&format!("tests/urdf/{arm}.urdf"));
+    let mut args = vec![
+        "wave",
+        "--urdf",
+        urdf.to_str().unwrap(),
+        "--duration",
+        "0.2",
+        "-q",
+        "--trail",
+        "none",
+    ];
+    args.extend(extra);
+    let run = faze4(&dir, &args);
+    std::fs::remove_dir_all(&dir).unwrap();
+    run
+}
+
+#[test]
+fn zero_mass_links_load_as_drake_and_pinocchio_load_them() {
+    // a zero-mass base with rotational inertia welded to the world, a zero-mass link with
+    // rotational inertia welded to a moving body, a 1e-9 kg dummy with zero inertia
+    for arm in ["zero_mass_welded_arm", "dummy_leaf_arm"] {
+        let run = wave_quiet(arm, &[]);
+        assert!(run.status.success(), "{arm}: {}", run.stderr);
+        assert_eq!(run.stderr, "", "{arm}: nothing to warn about");
+    }
+}
+
+#[test]
+fn a_transmission_on_a_fixed_joint_is_skipped_with_a_warning_even_when_quiet() {
+    let run = wave_quiet("fixed_transmission_arm", &[]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{}", run.stderr);
+    for part in [
+        "warning",
+        "transmission 'tool_trans' skipped",
+        "joint 'tool_weld' is fixed",
+    ] {
+        assert!(lines[0].contains(part), "{part:?} in {}", lines[0]);
+    }
+}
+
+#[test]
+fn an_impossible_inertia_is_refused_or_balanced() {
+    let dir = temp_dir("any-arm-inertia");
+    let urdf = repo_path("tests/urdf/invalid_inertia_arm.urdf");
+    refuses(
+        &dir,
+        &[
+            "wave",
+            "--urdf",
+            urdf.to_str().unwrap(),
+            "--duration",
+            "0.2",
+            "--trail",
+            "none",
+        ],
+        &[
+            "link 'hand' <inertial>",
+            "triangle inequality",
+            "5e-4",
+            "--balance-inertia",
+        ],
+    );
+    let run = wave_quiet("invalid_inertia_arm", &["--balance-inertia"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{}", run.stderr);
+    // (1e-4 + 1e-4 + 5e-4) / 3
+    for part in [
+        "warning",
+        "link 'hand'",
+        "set to their mean 2.333333333333333",
+        "--balance-inertia",
+    ] {
+        assert!(lines[0].contains(part), "{part:?} in {}", lines[0]);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_mesh_not_found_is_said_even_when_quiet_with_ros_advice() {
+    // no --package-path: package://mesh_arms/... is found nowhere
+    let run = wave_quiet("mesh_arm_stl", &[]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 4, "one per collision mesh: {}", run.stderr);
+    for part in [
+        "mesh 'package://mesh_arms/meshes/",
+        "not found",
+        "package 'mesh_arms'",
+        "the folder that contains the package folder 'mesh_arms'",
+    ] {
+        assert!(lines[0].contains(part), "{part:?} in {}", lines[0]);
+    }
+}

@@ -101,6 +101,11 @@ pub struct RunArgs {
     /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
     #[arg(long = "package-path", value_name = "DIR")]
     pub package_path: Vec<PathBuf>,
+    /// A moving body whose inertia no rigid body has (not positive definite, or its principal
+    /// moments break the triangle inequality) gets its principal moments set to their mean, as
+    /// MuJoCo's balanceinertia does (a warning per body), instead of the model being refused.
+    #[arg(long = "balance-inertia")]
+    pub balance_inertia: bool,
     /// The link traced as the tool (default: tool_link, else the last link of the chain).
     #[arg(long = "tool-link", value_name = "NAME")]
     pub tool_link: Option<String>,

@@ -8,7 +8,7 @@ use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::control::JointMotor;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
-use crate::model::{FrameId, Joint, Model, PackagePaths};
+use crate::model::{FrameId, Joint, LoadOptions, Model, PackagePaths};
 use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
@@ -21,7 +21,14 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
 }
 
 /// `faze4 wave` → scenario, on a model already loaded (a sweep loads it once).
-pub fn wave_with(args: &WaveArgs, Robot { model, geometry }: Robot) -> Result<Scenario> {
+pub fn wave_with(
+    args: &WaveArgs,
+    Robot {
+        model,
+        geometry,
+        warnings,
+    }: Robot,
+) -> Result<Scenario> {
     check_wave(args)?;
     let trajectory = Trajectory::Wave(Wave {
         amplitude: args.amp_deg.to_radians(),
@@ -30,6 +37,7 @@ pub fn wave_with(args: &WaveArgs, Robot { model, geometry }: Robot) -> Result<Sc
     });
     builder(model, trajectory, &args.run)?
         .geometry(geometry)
+        .load_warnings(warnings)
         .command("wave")
         .duration(args.duration)
         .build()
@@ -51,13 +59,22 @@ pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
 }
 
 /// `faze4 replay` → scenario, on a model and frames (`--q-traj`) already read.
-pub fn replay_with(args: &ReplayArgs, Robot { model, geometry }: Robot, frames: &[Vec<f64>]) -> Result<Scenario> {
+pub fn replay_with(
+    args: &ReplayArgs,
+    Robot {
+        model,
+        geometry,
+        warnings,
+    }: Robot,
+    frames: &[Vec<f64>],
+) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     positive("--traj-period", args.traj_period)?;
     check_samples(&model, frames, &args.q_traj)?;
     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, args.traj_period, Wrap::Repeat));
     builder(model, trajectory, &args.run)?
         .geometry(geometry)
+        .load_warnings(warnings)
         .command("replay")
         .duration(args.duration)
         .build()
@@ -84,13 +101,18 @@ pub fn shape_plan(args: &ShapeArgs, model: &Model) -> Result<(Trajectory, ShapeR
 /// once unless it varies `shape-points`).
 pub fn shape_with(
     args: &ShapeArgs,
-    Robot { model, geometry }: Robot,
+    Robot {
+        model,
+        geometry,
+        warnings,
+    }: Robot,
     (trajectory, run): (Trajectory, ShapeRun),
 ) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     let shape = shape_of(args)?;
     builder(model, trajectory, &args.run)?
         .geometry(geometry)
+        .load_warnings(warnings)
         .command(format!("shape {} ({} points)", shape.name(), args.shape_points))
         .duration(args.duration)
         .shape(run)
@@ -109,8 +131,19 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     positive("--dt", run.dt)?;
     positive("--record-period", run.record_period)?;
     non_negative("--payload-kg", run.payload_kg)?;
-    let Robot { mut model, geometry } = match &run.urdf {
-        Some(path) => Robot::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
+    let options = LoadOptions {
+        balance_inertia: run.balance_inertia,
+    };
+    let Robot {
+        mut model,
+        geometry,
+        warnings,
+    } = match &run.urdf {
+        Some(path) => Robot::from_urdf_file_with(
+            path,
+            &PackagePaths::with_ros_package_path(run.package_path.clone()),
+            &options,
+        )?,
         None => Robot::faze4(),
     };
     // the motors' ratios and rotors, then the command line's overrides of them
@@ -126,7 +159,11 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j| {
         &mut j.gear_ratio
     })?;
-    Ok(Robot { model, geometry })
+    Ok(Robot {
+        model,
+        geometry,
+        warnings,
+    })
 }
 
 /// Sets each joint's motor value that `values` gives (> 0; 'auto' keeps the model's).

@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::ik::{IkTask, solve_path};
-use crate::model::{FrameId, JointId, Model};
+use crate::model::{FrameId, JointId, LoadWarning, Model};
 use crate::spatial::Vec3;
 use crate::traj::shape::{Board, Shape};
 use crate::traj::{Interpolated, Trajectory, Wrap};
@@ -106,6 +106,17 @@ pub enum Warning {
     },
     /// Part of the collision geometry is left out of the clearance (a mesh not found).
     Clearance(geometry::Warning),
+    /// Reading the model skipped or changed something (a transmission, an inertia).
+    Model(LoadWarning),
+}
+
+impl Warning {
+    /// Whether the run's result differs from what the input says because of it (a mesh left
+    /// out, a transmission skipped, an inertia balanced): such a warning is printed even under
+    /// `-q`.
+    pub fn changes_result(&self) -> bool {
+        matches!(self, Warning::Clearance(_) | Warning::Model(_))
+    }
 }
 
 impl fmt::Display for Warning {
@@ -129,6 +140,7 @@ impl fmt::Display for Warning {
                 s.b_kd
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
+            Warning::Model(w) => write!(f, "warning: {w}"),
         }
     }
 }
@@ -197,6 +209,7 @@ impl Scenario {
     pub fn builder(model: Model, trajectory: Trajectory) -> ScenarioBuilder {
         ScenarioBuilder {
             geometry: GeometryModel::default(),
+            load_warnings: Vec::new(),
             collisions: Some(Collisions::default()),
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
@@ -231,6 +244,7 @@ pub struct ScenarioBuilder {
     command: String,
     model: Model,
     geometry: GeometryModel,
+    load_warnings: Vec<LoadWarning>,
     collisions: Option<Collisions>,
     trajectory: Trajectory,
     dt: f64,
@@ -254,6 +268,13 @@ impl ScenarioBuilder {
     /// What runs, for people (the banner's first word): `wave`, `replay`, `shape circle …`.
     pub fn command(mut self, command: impl Into<String>) -> Self {
         self.command = command.into();
+        self
+    }
+
+    /// What reading the model skipped or changed (see [`crate::geometry::Robot::warnings`]): the
+    /// scenario's warnings start with these.
+    pub fn load_warnings(mut self, warnings: Vec<LoadWarning>) -> Self {
+        self.load_warnings = warnings;
         self
     }
 
@@ -430,7 +451,7 @@ impl ScenarioBuilder {
             model = model.with_point_mass(tool_frame, self.payload_kg);
         }
 
-        let mut warnings = Vec::new();
+        let mut warnings: Vec<Warning> = self.load_warnings.iter().cloned().map(Warning::Model).collect();
         let explicit_effort = self.effort.is_some();
         let effort = match self.effort {
             Some(effort) => {
