@@ -170,3 +170,95 @@ fn a_mesh_not_found_is_said_even_when_quiet_with_ros_advice() {
         assert!(lines[0].contains(part), "{part:?} in {}", lines[0]);
     }
 }
+
+#[test]
+fn prismatic_joints_wave_in_metres_and_say_so() {
+    // arm_prismatic's J2 'reach' slides in [-0.1, 0.2] m: by default a quarter of that, 0.075 m
+    let dir = temp_dir("any-arm-prismatic");
+    let urdf = repo_path("tests/urdf/arm_prismatic.urdf");
+    let trail = dir.join("trail.csv");
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--urdf",
+            urdf.to_str().unwrap(),
+            "--duration",
+            "0.2",
+            "--trail",
+            trail.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    assert!(run.stdout.contains("start pose (deg | mm)"), "{}", run.stdout);
+    let units = run.stdout.lines().find(|l| l.starts_with("unit of rad rows")).unwrap();
+    assert_eq!(
+        units.split_whitespace().skip(4).collect::<Vec<_>>(),
+        ["rad", "m", "rad", "rad", "rad", "rad"]
+    );
+    // q2(0) = 0.075 sin(π/3)
+    let (_, rows) = read_csv(&trail);
+    let expected = 0.075 * std::f64::consts::FRAC_PI_3.sin();
+    assert!((rows[0][5] - expected).abs() < 1e-12, "{} vs {expected}", rows[0][5]);
+    std::fs::remove_file(&trail).unwrap();
+    // too much: the error names the joint, its unit, what fits and the option
+    refuses(
+        &dir,
+        &["wave", "--urdf", urdf.to_str().unwrap(), "--amp-m", "1"],
+        &[
+            "--amp-m",
+            "J2 (reach)",
+            " m at t = ",
+            "[-0.1, 0.2] m",
+            "at most 0.1 m fits",
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_wave_about_an_illegal_zero_pose_points_to_center_mid() {
+    let dir = temp_dir("any-arm-mid");
+    let text = std::fs::read_to_string(repo_path("tests/urdf/dummy_leaf_arm.urdf")).unwrap();
+    // j2 limited to [0.2, 1.8] rad: the zero pose is outside
+    let urdf = dir.join("offset.urdf");
+    std::fs::write(
+        &urdf,
+        text.replace(
+            r#"lower="-2" upper="2" effort="20""#,
+            r#"lower="0.2" upper="1.8" effort="20""#,
+        ),
+    )
+    .unwrap();
+    refuses(
+        &dir,
+        &["wave", "--urdf", urdf.to_str().unwrap(), "--amp-deg", "10"],
+        &[
+            "--amp-deg",
+            "J2 (j2)",
+            "rad",
+            "[0.2, 1.8] rad",
+            "centre 0 rad is itself outside them",
+            "--center mid",
+        ],
+    );
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--urdf",
+            urdf.to_str().unwrap(),
+            "--amp-deg",
+            "10",
+            "--center",
+            "mid",
+            "--duration",
+            "0.2",
+            "--trail",
+            "none",
+            "-q",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

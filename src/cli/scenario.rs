@@ -8,7 +8,7 @@ use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::control::JointMotor;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
-use crate::model::{FrameId, Joint, LoadOptions, Model, PackagePaths};
+use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
 use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
@@ -31,7 +31,7 @@ pub fn wave_with(
 ) -> Result<Scenario> {
     check_wave(args)?;
     let trajectory = Trajectory::Wave(Wave {
-        amplitude: args.amp_deg.to_radians(),
+        amplitude: wave_amplitudes(&model, args.amp_deg, args.amp_m),
         omega: args.freq,
         center: wave_center(&model, args.center.as_deref())?,
     });
@@ -46,7 +46,28 @@ pub fn wave_with(
 fn check_wave(args: &WaveArgs) -> Result<()> {
     positive("--duration", args.duration)?;
     finite("--freq", args.freq)?;
+    if let Some(a) = args.amp_m {
+        non_negative("--amp-m", a)?;
+    }
     non_negative("--amp-deg", args.amp_deg)
+}
+
+/// Default amplitude of a prismatic joint without `--amp-m` and without limits (m).
+pub const DEFAULT_AMP_M: f64 = 0.05;
+
+/// Each joint's wave amplitude in its own unit: `amp_deg` in radians for a revolute or
+/// continuous joint; for a prismatic one `amp_m`, else a quarter of its range where both
+/// limits are finite, else [`DEFAULT_AMP_M`] (docs/model.md, 4.1).
+pub fn wave_amplitudes(model: &Model, amp_deg: f64, amp_m: Option<f64>) -> Vec<f64> {
+    (model.joints.iter())
+        .map(|j| match j.kind {
+            JointKind::Prismatic => amp_m.unwrap_or(match (j.lower.is_finite(), j.upper.is_finite()) {
+                (true, true) => 0.25 * (j.upper - j.lower),
+                _ => DEFAULT_AMP_M,
+            }),
+            _ => amp_deg.to_radians(),
+        })
+        .collect()
 }
 
 /// `faze4 replay` → scenario.

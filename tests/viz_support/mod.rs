@@ -39,7 +39,7 @@ impl SyntheticRun {
     /// Every joint follows `amp_deg`·sin(ω t + i·π/3) for `duration` s.
     pub fn wave(Robot { model, geometry, .. }: Robot, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
         let wave = Trajectory::Wave(Wave {
-            amplitude: amp_deg.to_radians(),
+            amplitude: vec![amp_deg.to_radians(); model.dof()],
             omega,
             center: vec![0.0; model.dof()],
         });
