@@ -262,3 +262,45 @@ fn a_wave_about_an_illegal_zero_pose_points_to_center_mid() {
     assert!(run.status.success(), "{}", run.stderr);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Each arm of tools/oracle/any_arm_fixtures.py: faze4's closed loop equals Pinocchio's run
+/// with faze4's gains (pin_closed_loop.py) to 1e-9 (m for the tool, rad or m for the joints).
+#[test]
+fn the_arms_agree_with_pinocchio_closed_loop() {
+    let dir = temp_dir("any-arm-pin");
+    for arm in [
+        "zero_mass_welded_arm",
+        "dummy_leaf_arm",
+        "fixed_transmission_arm",
+        "invalid_inertia_arm",
+        "mesh_arm_dae",
+        "mesh_arm_obj",
+        "arm_prismatic",
+    ] {
+        let fx = fixture(&format!("any_arm_{arm}.json"));
+        let mut args: Vec<String> = (fx["faze4_args"].as_array().unwrap().iter())
+            .map(|a| a.as_str().unwrap().to_string())
+            .collect();
+        // paths in the fixture are relative to the repository
+        for a in args.iter_mut() {
+            if a.starts_with("tests/urdf") {
+                *a = repo_path(a).to_str().unwrap().to_string();
+            }
+        }
+        let trail = dir.join(format!("{arm}.csv"));
+        args.extend(["-q", "--trail", trail.to_str().unwrap()].map(String::from));
+        let run = faze4(&dir, &args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(run.status.success(), "{arm}: {}", run.stderr);
+        let (header, rows) = read_csv(&trail);
+        let expected = mat_f64(&fx["trail"]["rows"]);
+        assert_eq!(rows.len(), expected.len(), "{arm}: rows");
+        assert_eq!(header.len(), expected[0].len(), "{arm}: columns");
+        let worst = rows
+            .iter()
+            .zip(&expected)
+            .map(|(a, b)| max_abs_diff(a, b))
+            .fold(0.0, f64::max);
+        assert!(worst <= 1e-9, "{arm}: faze4 vs Pinocchio {worst:e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
