@@ -118,39 +118,47 @@ fn check_error(e: &Error, label: &str) {
     );
 }
 
-/// The builder's promises: bodies numbered root to tip, one body per moving joint, unit axes,
-/// positive masses, and no number that is not finite (limits may be infinite, not NaN).
+/// The builder's promises: bodies numbered root to tip, one body per moving joint, each driven
+/// by a coordinate (its own, or a mimic leader's), unit axes, positive masses, and no number
+/// that is not finite (limits may be infinite, not NaN).
 fn check_model(model: &Model) {
-    let n = model.dof();
-    assert_eq!(model.parent.len(), n);
-    assert_eq!(model.tree_pose.len(), n);
-    assert_eq!(model.s.len(), n);
-    assert_eq!(model.inertia.len(), n);
+    let (n, nb) = (model.dof(), model.num_bodies());
+    assert!(n <= nb);
+    assert_eq!(model.parent.len(), nb);
+    assert_eq!(model.tree_pose.len(), nb);
+    assert_eq!(model.s.len(), nb);
+    assert_eq!(model.inertia.len(), nb);
     assert!(!model.frames.is_empty(), "a model without frames");
     for i in 0..n {
-        if let Some(p) = model.parent[i] {
-            assert!(p < i, "body {i} has parent {p}");
-        }
         let joint = &model.joints[i];
         assert!((joint.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", joint.axis);
         assert!(!joint.lower.is_nan() && !joint.upper.is_nan() && joint.lower <= joint.upper);
         assert!(joint.damping.is_finite() && joint.damping >= 0.0);
         assert!(joint.effort.is_none_or(|e| e > 0.0));
+    }
+    for i in 0..nb {
+        if let Some(p) = model.parent[i] {
+            assert!(p < i, "body {i} has parent {p}");
+        }
+        let body = &model.bodies[i];
+        assert!(body.coordinate < n && body.multiplier.is_finite() && body.offset.is_finite());
+        assert!(body.follower || (body.multiplier == 1.0 && body.offset == 0.0));
+        assert!((body.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", body.axis);
         let inertia = &model.inertia[i];
         assert!(
             inertia.is_finite() && inertia.mass > 0.0,
             "body {i} ({}): inertia {inertia:?}",
-            joint.child_link
+            body.joint
         );
         assert!(
             model.tree_pose[i].is_finite() && model.s[i].is_finite(),
             "joint {}: placement {:?}",
-            joint.name,
+            body.joint,
             model.tree_pose[i]
         );
     }
     for frame in &model.frames {
-        assert!(frame.body.is_none_or(|b| b.0 < n));
+        assert!(frame.body.is_none_or(|b| b.0 < nb));
         assert!(
             frame.placement.is_finite(),
             "frame {}: {:?}",

@@ -9,7 +9,7 @@ use crate::control::JointMotor;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
 use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
-use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
+use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
@@ -239,11 +239,12 @@ pub fn wave_center(model: &Model, center: Option<&str>) -> Result<Vec<f64>> {
             return Err(Error::argument(
                 "--center",
                 format!(
-                    "J{} ({}) {c} is outside its limits [{}, {}]",
+                    "J{} ({}) {c} is outside its limits [{}, {}]{}",
                     i + 1,
                     j.name,
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }
@@ -331,6 +332,24 @@ pub fn collisions(run: &RunArgs) -> Option<Collisions> {
             _ => PairFilter::NonAdjacent,
         },
     })
+}
+
+/// The torque limits a run of `run` on `model` uses: `--effort`, else the motors' under
+/// `--motors`, else the model's default ([`default_effort`]).
+pub fn effort_limits(model: &Model, run: &RunArgs) -> Result<Vec<f64>> {
+    match (&run.effort, &run.motors) {
+        (Some(effort), _) => all_given("--effort", effort, model.dof()),
+        (None, Some(_)) => {
+            let motors = super::motors::motors(run, model)?.unwrap_or_default();
+            Ok((default_effort(model).into_iter().zip(&model.joints).enumerate())
+                .map(|(i, (e, joint))| match motors.get(i) {
+                    Some(Some(m)) => m.motor.joint_limit(joint.gear_ratio),
+                    _ => e,
+                })
+                .collect())
+        }
+        (None, None) => Ok(default_effort(model)),
+    }
 }
 
 /// Every joint's value, `auto` refused (it is for gains).

@@ -33,7 +33,7 @@ pub fn push_exact(out: &mut String, x: f64) {
 
 /// `x` as its shortest decimal that reads back to the same `f64` (see [`push_exact`]).
 pub fn exact(x: f64) -> String {
-    ryu::Buffer::new().format(x).to_string()
+    crate::error::shortest(x)
 }
 
 /// A row: a left label, then one right-aligned number per joint.

@@ -21,7 +21,7 @@ use nalgebra::DMatrix;
 use super::SelfContact;
 use crate::algo::{Data, crba};
 use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::ik::{IkTask, solve_path};
@@ -403,6 +403,15 @@ impl ScenarioBuilder {
         non_negative("--payload-kg", self.payload_kg)?;
         if let Some(contact) = &self.self_contact {
             non_negative("--friction", contact.friction)?;
+            if contact.friction > MAX_FRICTION {
+                return Err(Error::argument(
+                    "--friction",
+                    format!(
+                        "{}: at most {MAX_FRICTION:e}: beyond it the contact solver's arithmetic overflows (any μ above about 1e10 already sticks)",
+                        shortest(contact.friction)
+                    ),
+                ));
+            }
             positive("--self-collisions: stiffness", contact.stiffness)?;
             non_negative("--self-collisions: dissipation", contact.dissipation)?;
             if self.collisions.is_none() {
@@ -447,6 +456,8 @@ impl ScenarioBuilder {
         if !self.gravity {
             model.gravity = Default::default();
         }
+        // the arm without its payload, kept only to say which input overflows
+        let bare = (self.payload_kg > 0.0).then(|| model.clone());
         if self.payload_kg > 0.0 {
             model = model.with_point_mass(tool_frame, self.payload_kg);
         }
@@ -457,11 +468,14 @@ impl ScenarioBuilder {
             Some(effort) => {
                 count("--effort", effort.len(), n)?;
                 if let Some((i, x)) = effort.iter().enumerate().find(|(_, x)| x.is_nan() || **x <= 0.0) {
-                    return Err(Error::argument("--effort", format!("J{} limit {x} must be > 0", i + 1)));
+                    return Err(Error::argument(
+                        "--effort",
+                        format!("J{} limit {} must be > 0", i + 1, shortest(*x)),
+                    ));
                 }
                 effort
             }
-            None if faze4::is_faze4(&model) => faze4::EFFORT.to_vec(),
+            None if faze4::is_faze4(&model) => default_effort(&model),
             None => {
                 let unlimited: Vec<String> = (model.joints.iter())
                     .filter(|j| j.effort.is_none())
@@ -473,7 +487,7 @@ impl ScenarioBuilder {
                         joints: unlimited,
                     });
                 }
-                model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect()
+                default_effort(&model)
             }
         };
 
@@ -494,6 +508,16 @@ impl ScenarioBuilder {
                 scaled: gains.stability.is_some_and(|s| s.scaled),
                 ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, self.dt)
             });
+        }
+        if !arithmetic_holds(&m, &gains) {
+            return Err(overflow(
+                &model,
+                bare.as_ref(),
+                self.payload_kg,
+                &self.trajectory,
+                &effort,
+                self.dt,
+            ));
         }
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
@@ -552,6 +576,61 @@ fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<
     Ok(out)
 }
 
+/// Largest Coulomb friction `--friction` takes. The contact step's products of μ overflow
+/// between 1e150 and 1e200 (μ = 1e200 gave the frictionless result); every μ from about 1e10
+/// gave the same sticking run as 1e100 (the circle shape with `--self-collisions`).
+pub const MAX_FRICTION: f64 = 1e100;
+
+/// Whether the mass matrix at the start pose, the gains and their stability figures are all
+/// finite: inputs too large for f64 (a payload of 1e300 kg, a gear ratio of 1e160) make one of
+/// them overflow, and the run would end as "diverged" with a NaN spectral radius.
+pub fn arithmetic_holds(m: &DMatrix<f64>, gains: &Gains) -> bool {
+    m.iter().chain(&gains.kp).chain(&gains.kd).all(|x| x.is_finite())
+        && gains
+            .stability
+            .is_none_or(|s| s.b_max.is_finite() && s.spectral_radius.is_finite())
+}
+
+/// The error of a scenario whose arithmetic overflows: the payload's (`--payload-kg`) when the
+/// arm without it (`bare`) holds, else the model's joint of largest inertia.
+fn overflow(
+    model: &Model,
+    bare: Option<&Model>,
+    payload_kg: f64,
+    trajectory: &Trajectory,
+    effort: &[f64],
+    dt: f64,
+) -> Error {
+    let holds = |m: &Model| {
+        let (gains, mass) = tune(m, trajectory, effort, dt);
+        arithmetic_holds(&mass, &gains)
+    };
+    if bare.is_some_and(holds) {
+        return Error::argument(
+            "--payload-kg",
+            format!(
+                "{} kg: too heavy to simulate (the mass matrix and the gains tuned for it overflow)",
+                shortest(payload_kg)
+            ),
+        );
+    }
+    let model = bare.unwrap_or(model);
+    let n = model.dof();
+    let mut q = vec![0.0; n];
+    trajectory.eval(0.0, &mut q, &mut vec![0.0; n]);
+    let m = crba(model, &mut Data::new(model), &q).clone();
+    let joint = (0..n)
+        .max_by(|&a, &b| m[(a, a)].abs().total_cmp(&m[(b, b)].abs()))
+        .map_or(String::new(), |i| {
+            format!("joint {}", crate::error::quoted(&model.joints[i].name))
+        });
+    Error::model(
+        &model.source,
+        joint,
+        "its masses, rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF, --rotor-inertia, --gear-ratio)",
+    )
+}
+
 /// The geometry a run of `model` keeps and its loaded collision set, as
 /// [`ScenarioBuilder::collisions`] says: none, and no collision elements, when `collisions` is
 /// `None`; none when the geometry has no collision element. Meshes not found become warnings
@@ -575,6 +654,15 @@ pub fn load_collisions(
 }
 
 /// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then
+/// The torque limits a run on `model` has when none are given: the Faze4 motors' for the
+/// bundled arm, else each joint's URDF effort (infinite where it has none).
+pub fn default_effort(model: &Model) -> Vec<f64> {
+    match faze4::is_faze4(model) {
+        true => faze4::EFFORT.to_vec(),
+        false => model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect(),
+    }
+}
+
 /// [`auto_tune`] with the torque limits `effort` at step `dt`, then [`stabilize`] for the
 /// coupled arm (the gains then carry their `stability`). Returns the gains and M(q_start).
 pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> (Gains, DMatrix<f64>) {
@@ -714,11 +802,12 @@ fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t
     Error::argument(
         option,
         format!(
-            "joint J{} ({}) would be commanded to {q} {joint_unit} at t = {t} s, beyond its limits [{}, {}] {joint_unit} (amplitude {} {unit}): {fits}{mid}",
+            "joint J{} ({}) would be commanded to {q} {joint_unit} at t = {t} s, beyond its limits [{}, {}] {joint_unit}{} (amplitude {} {unit}): {fits}{mid}",
             i + 1,
             j.name,
             j.lower,
             j.upper,
+            model.mimic_note(i),
             a * to_option,
         ),
     )
@@ -727,7 +816,10 @@ fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t
 /// `x` is a finite number, else an error for `option`.
 pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
     if !x.is_finite() {
-        return Err(Error::argument(option, format!("{x} is not a finite number")));
+        return Err(Error::argument(
+            option,
+            format!("{} is not a finite number", shortest(x)),
+        ));
     }
     Ok(())
 }
@@ -736,7 +828,7 @@ pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
 pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
     finite(option, x)?;
     if x <= 0.0 {
-        return Err(Error::argument(option, format!("{x} must be > 0")));
+        return Err(Error::argument(option, format!("{} must be > 0", shortest(x))));
     }
     Ok(())
 }
@@ -745,7 +837,7 @@ pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
 pub(crate) fn non_negative(option: &str, x: f64) -> Result<()> {
     finite(option, x)?;
     if x < 0.0 {
-        return Err(Error::argument(option, format!("{x} must be ≥ 0")));
+        return Err(Error::argument(option, format!("{} must be ≥ 0", shortest(x))));
     }
     Ok(())
 }

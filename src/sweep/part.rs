@@ -455,7 +455,7 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
                     "{} and {} both hold {} ({} and {}): one part twice",
                     p.path.display(),
                     q.path.display(),
-                    runs_text(&[both]),
+                    runs_text(std::slice::from_ref(&both)),
                     p.meta.what(),
                     q.meta.what()
                 )
@@ -463,7 +463,17 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             return Err(Error::argument(MERGE, message));
         }
     }
-    if !allow_partial && let Some(p) = parts.iter().find(|p| !p.meta.complete) {
+    let total = first.meta.runs_total;
+    let absent = gaps(0..total, held.iter().map(|(r, _)| r.clone()));
+    let overlaps = |runs: &[Range<usize>]| {
+        runs.iter()
+            .any(|r| absent.iter().any(|a| a.start < r.end && r.start < a.end))
+    };
+    // a part stopped early whose absent runs no other part holds
+    let partial = parts
+        .iter()
+        .find(|p| !p.meta.complete && overlaps(&gaps(p.meta.meant(), p.meta.held())));
+    if !allow_partial && let Some(p) = partial {
         let absent = gaps(p.meta.meant(), p.meta.held());
         return Err(Error::argument(
             MERGE,
@@ -476,8 +486,6 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             ),
         ));
     }
-    let total = first.meta.runs_total;
-    let absent = gaps(0..total, held.iter().map(|(r, _)| r.clone()));
     let which = describe_absent(&absent, &parts, total);
     if !allow_partial && !absent.is_empty() {
         let message = match &which {
@@ -506,14 +514,25 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             }
         }
     }
-    let mut order: Vec<usize> = (0..parts.len()).collect();
-    order.sort_by_key(|&i| parts[i].meta.runs.first().map_or(0, |r| r[0]));
     let mut table = TableWriter::create(out, out_format)?;
     table.set_columns(columns.clone())?;
-    for &i in &order {
-        for row in parts[i].rows()? {
+    // the held ranges in run order, each a slice of its part's rows (a merged table may hold
+    // several ranges, with another part's between them)
+    let mut loaded: Option<(usize, Vec<Vec<Cell>>)> = None;
+    for (range, i) in &held {
+        if loaded.as_ref().is_none_or(|(j, _)| j != i) {
+            loaded = Some((*i, parts[*i].rows()?));
+        }
+        let Some((_, rows)) = &loaded else {
+            unreachable!("loaded above")
+        };
+        let offset: usize = (parts[*i].meta.held())
+            .take_while(|r| r.start < range.start)
+            .map(|r| r.len())
+            .sum();
+        for row in &rows[offset..offset + range.len()] {
             let cells: Cells = (columns.iter().cloned())
-                .zip(row)
+                .zip(row.iter().cloned())
                 .enumerate()
                 .map(|(c, (name, cell))| match (cell, out_format) {
                     (Cell::Text(t), Format::Json) if !textual[c] => (name, typed(&t).unwrap_or(Cell::Text(t))),
@@ -527,7 +546,7 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
     let mut meta = PartMeta {
         shard: None,
         complete: absent.is_empty(),
-        runs: coalesce(held.into_iter().map(|(r, _)| r)),
+        runs: coalesce(held.iter().map(|(r, _)| r.clone())),
         ..first.meta.clone()
     };
     table.finish(Some(&mut meta))?;
@@ -612,9 +631,9 @@ mod tests {
     fn gaps_and_runs_for_people() {
         assert_eq!(gaps(0..10, [0..4, 7..10].into_iter()), vec![4..7]);
         assert_eq!(gaps(0..10, std::iter::empty()), vec![0..10]);
-        assert_eq!(gaps(2..6, [2..3].into_iter()), vec![3..6]);
+        assert_eq!(gaps(2..6, std::iter::once(2..3)), vec![3..6]);
         assert_eq!(runs_text(&[4..7, 9..10]), "runs 4–6, 9");
-        assert_eq!(runs_text(&[4..5]), "run 4");
+        assert_eq!(runs_text(std::slice::from_ref(&(4..5))), "run 4");
         assert_eq!(coalesce([0..3, 3..5, 7..8].into_iter()), vec![[0, 5], [7, 8]]);
     }
 

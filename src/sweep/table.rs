@@ -223,7 +223,9 @@ impl TableWriter {
             (Format::Json, _) => "\n]\n",
         };
         self.put(end)?;
-        let Some(meta) = part else {
+        // a device or FIFO (`--out /dev/null`) has no metadata beside it
+        let special = std::fs::metadata(&self.path).is_ok_and(|m| !m.is_file());
+        let Some(meta) = part.filter(|_| !special) else {
             return self.file.commit();
         };
         meta.rows = self.rows;

@@ -359,7 +359,7 @@ fn box_mesh(size: &Vec3) -> CompactMesh {
 fn fallback_boxes(model: &Model, FrameId(frame): FrameId) -> Vec<(Pose, Vec3)> {
     let f = &model.frames[frame];
     let inv = f.placement.inverse();
-    let mut ends: Vec<Vec3> = (0..model.dof())
+    let mut ends: Vec<Vec3> = (0..model.num_bodies())
         .filter(|&j| model.parent[j] == f.body.map(|b| b.0))
         .map(|j| inv.compose(&model.tree_pose[j]).pos)
         .collect();
