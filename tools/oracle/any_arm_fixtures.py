@@ -42,9 +42,10 @@ CASES = [
 ]
 
 
-def amplitudes(urdf):
+def amplitudes(urdf, skip_mimic=False):
     """faze4's per-joint amplitude (docs/model.md 4.1): 25° in rad, a prismatic joint a quarter
-    of its range (else 0.05 m); moving joints depth-first in document order."""
+    of its range (else 0.05 m); moving joints depth-first in document order (followers of a
+    <mimic> left out with skip_mimic)."""
     root = ET.parse(urdf).getroot()
     joints = root.findall("joint")
     children = {}
@@ -52,21 +53,18 @@ def amplitudes(urdf):
         children.setdefault(j.find("parent").get("link"), []).append(j)
     child_links = {j.find("child").get("link") for j in joints}
     top = [l.get("name") for l in root.findall("link") if l.get("name") not in child_links][0]
-    out, stack = [], [top]
+    out = []
     order = []
-    while stack:
-        link = stack.pop()
-        for j in reversed(children.get(link, [])):
-            stack.append((j,))
-        # flatten: joints are pushed as tuples
-        while stack and isinstance(stack[-1], tuple):
-            (j,) = stack.pop()
+
+    def visit(link):
+        for j in children.get(link, []):
             order.append(j)
-            stack.append(j.find("child").get("link"))
-            break
+            visit(j.find("child").get("link"))
+
+    visit(top)
     for j in order:
         kind = j.get("type")
-        if kind == "fixed":
+        if kind in ("fixed", "floating", "planar") or (skip_mimic and j.find("mimic") is not None):
             continue
         if kind == "prismatic":
             lim = j.find("limit")
