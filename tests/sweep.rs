@@ -703,10 +703,15 @@ fn find_answers_with_values_that_single_runs_confirm() {
     let line = run.stdout.trim();
     assert!(line.starts_with("largest payload-kg that follows: "), "{line}");
     let (follows, fails) = (number_after(line, "follows: "), number_after(line, "(at "));
+    // the values printed are the values run (shortest round-trip decimals, issue 21): printed
+    // with more digits they would read back the same
+    for (label, x) in [("follows: ", follows), ("(at ", fails)] {
+        assert!(line.contains(&format!("{label}{x}")), "{label}{x} in {line}");
+    }
     assert!(fails > follows && fails - follows <= 0.01 + 1e-9, "{line}");
     assert!(line.contains("saturates") || line.contains("tracking error"), "{line}");
     let verdict = |value: f64| {
-        let payload = value.to_string();
+        let payload = value.to_string(); // Rust's shortest round-trip, as the line
         let mut single: Vec<&str> = base.to_vec();
         single.extend(["--payload-kg", &payload, "--trail", "none", "-q"]);
         faze4(&dir, &single).stdout.trim().to_string()

@@ -97,12 +97,11 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     run_and_report(&scenario, run, save_q)
 }
 
-/// Prints `warnings` on stderr, one line each, unless `quiet`.
+/// Prints `warnings` on stderr, one line each; under `quiet`, only those that change the
+/// result ([`crate::sim::Warning::changes_result`]).
 fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
-    if !quiet {
-        for warning in warnings {
-            eprintln!("faze4: {}", escape_controls(&warning.to_string()));
-        }
+    for warning in warnings.iter().filter(|w| !quiet || w.changes_result()) {
+        eprintln!("faze4: {}", escape_controls(&warning.to_string()));
     }
 }
 

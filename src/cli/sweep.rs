@@ -16,7 +16,7 @@ use super::{interrupted_status, print_stdout, scenario, stopped_by, warn};
 use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
-use crate::output::format::{distinct, exact};
+use crate::output::format::exact;
 use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
 use crate::sweep::{
@@ -660,7 +660,9 @@ fn search(
                 Seek::Largest => "largest",
                 Seek::Smallest => "smallest",
             };
-            let (follows_at, fails_at) = distinct(follows.values[0], fails.values[0], resolution);
+            // the values run, each as its shortest round-trip decimal: rerunning either with
+            // the option gives the same row
+            let (follows_at, fails_at) = (exact(follows.values[0]), exact(fails.values[0]));
             format!(
                 "{which} {name} that follows: {follows_at} (at {fails_at}: {})",
                 fails.reasons()

@@ -290,7 +290,7 @@ mod tests {
     fn scenario() -> Scenario {
         let model = crate::faze4::model();
         let wave = Trajectory::Wave(Wave {
-            amplitude: 0.1,
+            amplitude: vec![0.1; model.dof()],
             omega: 0.5,
             center: vec![0.0; model.dof()],
         });
