@@ -288,8 +288,8 @@ pub struct SweepArgs {
     /// How close --find gets (default: 1 % of the range).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub resolution: Option<f64>,
-    /// Threads (default: one per core).
-    #[arg(long, short, default_value_t = 0, value_name = "N")]
+    /// Threads (default: one per core; never more than the runs).
+    #[arg(long, short, default_value_t = 0, value_name = "N", allow_hyphen_values = true, value_parser = jobs)]
     pub jobs: usize,
     /// The table, one row per run: .csv or .json (default: one line per run on stdout).
     #[arg(long, value_name = "F.csv|F.json")]
@@ -301,7 +301,7 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub trails: Option<PathBuf>,
     /// Run only part K of N of the sweep (deterministic; `faze4 sweep merge` joins the tables).
-    #[arg(long, value_name = "K/N")]
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub shard: Option<String>,
     /// No progress bar and no per-run lines.
     #[arg(long, short)]
@@ -309,6 +309,18 @@ pub struct SweepArgs {
     /// The base command and its options, after `--`: wave|replay|shape ….
     #[arg(last = true, value_name = "COMMAND")]
     pub base: Vec<String>,
+}
+
+/// `--jobs N`: a whole number of threads, 0 (one per core) to [`super::sweep::MAX_JOBS`].
+fn jobs(text: &str) -> Result<usize, String> {
+    let most = super::sweep::MAX_JOBS;
+    match text.trim().parse::<usize>() {
+        Ok(n) if n <= most => Ok(n),
+        Ok(_) => Err(format!("at most {most} threads")),
+        Err(_) => Err(format!(
+            "a number of threads is a whole number from 0 (one per core) to {most}"
+        )),
+    }
 }
 
 /// `faze4 sweep merge`.

@@ -12,10 +12,11 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 
 use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, SweepArgs, SweepCommand, WaveArgs};
-use super::{EXIT_INTERRUPTED, scenario, warn};
-use crate::atomic::check_output_path;
+use super::{interrupted_status, print_stdout, scenario, stopped_by, warn};
+use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
+use crate::output::format::{distinct, exact};
 use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
 use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
@@ -193,7 +194,7 @@ impl Base {
             Command::Sweep(_) => return Err(Error::argument("sweep", "the command to sweep cannot be a sweep")),
         };
         let run = run_args(&command);
-        if let Some(path) = &run.summary {
+        if let Some(path) = run.summary.as_ref().filter(|p| !super::is_none(p)) {
             return Err(Error::argument(
                 "--summary",
                 format!(
@@ -334,29 +335,21 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     if args.resolution.is_some() {
         return Err(Error::argument("--resolution", "is for --find and --find-min"));
     }
-    let grid = Grid::new(args.vary.iter().map(|s| Axis::parse(s)).collect::<Result<_>>()?)?;
     let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose()?;
-    let total = grid
-        .len()
-        .filter(|&n| n <= usize::MAX / 2)
-        .ok_or_else(|| Error::argument("--vary", "too many runs"))?;
-    if total > MAX_RUNS && shard.is_none() {
-        return Err(Error::argument(
-            "--vary",
-            format!(
-                "{total} runs: more than {MAX_RUNS} in one process; split them with --shard K/N (see docs/sweep.md)"
-            ),
-        ));
+    let (grid, indices) = Grid::parse(&args.vary, shard, MAX_RUNS)?;
+    let total = grid.len().expect("sized by Grid::parse");
+    let files = Outputs::new();
+    for (path, option) in [(&args.out, "--out"), (&args.plot, "--plot")] {
+        if let Some(path) = path {
+            files.claim(path, option)?;
+        }
     }
     let format = match &args.out {
-        Some(path) => {
-            check_output_path(path, "--out")?;
-            Some(Format::of(path, "--out")?)
-        }
+        Some(path) => Some(Format::of(path, "--out")?),
         None => None,
     };
     let plot = match &args.plot {
-        Some(path) => Some(crate::viz::SweepPlot::new(path, &grid)?),
+        Some(path) => Some(crate::viz::SweepPlot::new(path, &grid)?.within(&files)),
         None => None,
     };
     check_trails(args.trails.as_deref())?;
@@ -364,18 +357,17 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let base = Base::load(&args.base, replan)?;
     let knobs = knobs(&base.command, &grid.axes)?;
     warn(&base.warnings, args.quiet);
-    let indices = shard.map_or(0..total, |s| s.range(total));
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
     let build = |values: &[f64]| base.build(&knobs, values);
     let progress = Progress::new(indices.len(), args.quiet);
     let on_done = || progress.tick();
-    let mut runner = Runner::new(&build, args.jobs)?.with_progress(&on_done);
+    let mut runner = Runner::new(&build, threads(args.jobs, indices.len()))?.with_progress(&on_done);
     if let Some(dir) = &args.trails {
-        runner = runner.with_trails(dir);
+        runner = runner.with_trails(dir, &files);
     }
     let mut table = match (&args.out, format) {
-        (Some(path), Some(format)) => Some(TableWriter::create(path, format)?),
+        (Some(path), Some(format)) => Some(TableWriter::within(&files, path, format)?),
         _ => None,
     };
     let mut plot = plot;
@@ -393,7 +385,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         }
         if table.is_none() && !args.quiet {
             progress.clear();
-            let _ = writeln!(std::io::stdout().lock(), "{}", row_line(&axes, &row));
+            print_stdout(&format!("{}\n", row_line(&axes, &row)))?;
         }
         Ok(())
     })?;
@@ -427,15 +419,29 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
             ran as f64 / wall.max(1e-9)
         ),
     );
-    let _ = writeln!(std::io::stdout().lock(), "[done] {}", written.join(" · "));
+    print_stdout(&format!("[done] {}\n", written.join(" · ")))?;
+    files.commit()?;
     if ran < indices.len() {
         eprintln!(
-            "faze4: interrupted after {ran} of {} runs; the outputs hold those",
+            "faze4: {} after {ran} of {} runs; the outputs hold those",
+            stopped_by(&stop),
             indices.len()
         );
-        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Most threads `--jobs` takes.
+pub const MAX_JOBS: usize = 1024;
+
+/// The threads of a sweep of `runs` runs: `jobs` (0: one per core), never more than the runs.
+fn threads(jobs: usize, runs: usize) -> usize {
+    let jobs = match jobs {
+        0 => std::thread::available_parallelism().map_or(1, usize::from),
+        n => n,
+    };
+    jobs.min(runs).max(1)
 }
 
 /// A run for people: `payload-kg=0.5 dt=0.0002: follows` or `…: cannot follow — reasons`.
@@ -486,11 +492,17 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         return Err(Error::argument(option, format!("'{spec}' is not NAME=LO:HI")));
     };
     if hi <= lo {
-        return Err(Error::argument(option, format!("{spec}: empty range ({hi} ≤ {lo})")));
+        return Err(Error::argument(
+            option,
+            format!("{spec}: empty range ({} ≤ {})", exact(hi), exact(lo)),
+        ));
     }
     let resolution = args.resolution.unwrap_or((hi - lo) / 100.0);
     if !resolution.is_finite() || resolution <= 0.0 {
-        return Err(Error::argument("--resolution", format!("{resolution} must be > 0")));
+        return Err(Error::argument(
+            "--resolution",
+            format!("{resolution}: give a finite width > 0 (default: 1 % of the range)"),
+        ));
     }
     let name = name.trim().trim_start_matches("--");
     let axis = Axis {
@@ -510,40 +522,53 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
             format!("{name} takes whole numbers: list them with --vary {name}=v1,v2,…"),
         ));
     }
+    // each end is a value the option takes, as the command would check it
+    for x in [lo, hi] {
+        base.build(&knobs, &[x]).map_err(|e| {
+            let e = crate::error::one_line(&e.to_string());
+            Error::argument(option, format!("{name}={}: {e}", exact(x)))
+        })?;
+    }
     let build = |values: &[f64]| base.build(&knobs, values);
     let runner = Runner::new(&build, args.jobs)?;
-    let decimals = (-resolution.log10()).ceil().max(0.0) as usize;
-    let value = |row: &Row| format!("{:.decimals$}", row.values[0]);
+    let (lo_text, hi_text) = (exact(lo), exact(hi));
     let line = match sweep::find(&runner, lo, hi, resolution, seek) {
         Found::Boundary { follows, fails } => {
             let which = match seek {
                 Seek::Largest => "largest",
                 Seek::Smallest => "smallest",
             };
+            let (follows_at, fails_at) = distinct(follows.values[0], fails.values[0], resolution);
             format!(
-                "{which} {name} that follows: {} (at {}: {})",
-                value(&follows),
-                value(&fails),
+                "{which} {name} that follows: {follows_at} (at {fails_at}: {})",
                 fails.reasons()
             )
         }
-        Found::NoneFollows(row) => format!(
-            "no {name} in [{lo}, {hi}] follows: already at {}: {}",
-            value(&row),
-            row.reasons()
-        ),
+        Found::NoneFollows(row) => {
+            if let sweep::Outcome::Failed(reason) = &row.outcome {
+                return Err(Error::argument(
+                    option,
+                    format!("the run at {name}={} could not run: {reason}", exact(row.values[0])),
+                ));
+            }
+            format!(
+                "no {name} in [{lo_text}, {hi_text}] follows: already at {}: {}",
+                exact(row.values[0]),
+                row.reasons()
+            )
+        }
         Found::AllFollow(row) => {
             let (end, widen) = match seek {
                 Seek::Largest => ("largest", "raise HI"),
                 Seek::Smallest => ("smallest", "lower LO"),
             };
             format!(
-                "every {name} in [{lo}, {hi}] follows, {} too: the {end} that follows is beyond the range ({widen})",
-                value(&row)
+                "every {name} in [{lo_text}, {hi_text}] follows, {} too: the {end} that follows is beyond the range ({widen})",
+                exact(row.values[0])
             )
         }
     };
-    let _ = writeln!(std::io::stdout().lock(), "{line}");
+    print_stdout(&format!("{line}\n"))?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -468,6 +468,15 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
                 "has a NaN value",
             ));
         }
+        for (attribute, value) in [("effort", j.effort), ("velocity", j.velocity)] {
+            if let Some(x) = value.filter(|&x| x < 0.0) {
+                return Err(Error::model(
+                    file,
+                    format!("joint '{}' <limit>", j.name.escape_debug()),
+                    format!("{attribute}=\"{x}\" must be > 0 (or left out: no limit)"),
+                ));
+            }
+        }
     }
     Ok(())
 }

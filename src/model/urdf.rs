@@ -120,8 +120,10 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 rpy: j.origin.rpy.0,
                 axis: j.axis.xyz.0,
                 limits: (!no_limit_element).then_some((lim.lower, lim.upper)),
-                effort: (lim.effort.is_nan() || lim.effort > 0.0).then_some(lim.effort),
-                velocity: (lim.velocity.is_nan() || lim.velocity > 0.0).then_some(lim.velocity),
+                // 0 is urdf-rs's value for an absent attribute: no limit; a negative one is
+                // refused by the model's checks, not read as none
+                effort: (lim.effort != 0.0).then_some(lim.effort),
+                velocity: (lim.velocity != 0.0).then_some(lim.velocity),
                 damping: j.dynamics.as_ref().map_or(0.0, |d| d.damping),
             }
         })

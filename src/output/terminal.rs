@@ -6,6 +6,7 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
+use crate::error::quoted;
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
 
@@ -250,7 +251,7 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the
 /// hulls' penetration depth) and when; the pairs that intersect and from when (from the
 /// verdict's [`Reason::Collides`]); the links not checked. E.g. `self-clearance (exact
-/// meshes): podlaktica–hvataljka 18.85 mm at t = 4.56 s`.
+/// meshes): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s`.
 pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
     let what = match c.geometry {
         ClearanceGeometry::Mesh => "exact meshes",
@@ -258,14 +259,26 @@ pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
     };
     let mut line = match (&c.links, c.min_m, c.t) {
         (Some([a, b]), Some(m), Some(t)) => {
-            format!("self-clearance ({what}): {a}–{b} {:.2} mm at t = {t:.2} s", m * 1e3)
+            format!(
+                "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s",
+                quoted(a),
+                quoted(b),
+                m * 1e3
+            )
         }
         _ => format!("self-clearance ({what}): no pair checked"),
     };
     for reason in &verdict.reasons {
         if let Reason::Collides { pairs } = reason {
             let named: Vec<String> = (pairs.iter())
-                .map(|p| format!("{}–{} from t = {:.2} s", p.links[0], p.links[1], p.from_t))
+                .map(|p| {
+                    format!(
+                        "{}–{} from t = {:.2} s",
+                        quoted(&p.links[0]),
+                        quoted(&p.links[1]),
+                        p.from_t
+                    )
+                })
                 .collect();
             line += &format!(" · intersecting: {}", named.join(", "));
         }

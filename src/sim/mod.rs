@@ -15,6 +15,6 @@ pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
     Collisions, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
 };
-pub use stop::StopFlag;
+pub use stop::{StopFlag, exit_status};
 pub use summary::{ContactSummary, Diverged, MotorSummary, PathDeviation, StepLoss, Summary, ToolRange};
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

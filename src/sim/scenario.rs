@@ -114,7 +114,11 @@ impl fmt::Display for Warning {
             Warning::UnlimitedEffort { source, joints } => write!(
                 f,
                 "{source} gives no effort limit for {}: their torque is not clipped (set --effort)",
-                joints.join(", ")
+                joints
+                    .iter()
+                    .map(|j| crate::error::quoted(j))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             Warning::UnstableGains { stability: s, given } => write!(
                 f,
@@ -389,6 +393,13 @@ impl ScenarioBuilder {
         }
         let mut model = self.model;
         let n = model.dof();
+        if n == 0 {
+            return Err(Error::model(
+                &model.source,
+                format!("robot '{}'", model.name.escape_debug()),
+                "has no moving joint: there is nothing to simulate",
+            ));
+        }
         if self.trajectory.dof() != n {
             return Err(Error::argument(
                 "trajectory",

@@ -18,6 +18,7 @@ use std::fmt;
 use serde::{Serialize, Serializer};
 
 use super::{StepLoss, Summary};
+use crate::error::quoted;
 use crate::model::JointId;
 
 /// The limits a run must stay within to follow its command.
@@ -140,7 +141,14 @@ impl fmt::Display for Reason {
         match *self {
             Reason::Collides { ref pairs } => {
                 let named: Vec<String> = (pairs.iter().take(INTERSECTIONS_NAMED))
-                    .map(|p| format!("{}–{} intersect from t = {:.2} s", p.links[0], p.links[1], p.from_t))
+                    .map(|p| {
+                        format!(
+                            "{}–{} intersect from t = {:.2} s",
+                            quoted(&p.links[0]),
+                            quoted(&p.links[1]),
+                            p.from_t
+                        )
+                    })
                     .collect();
                 write!(f, "{}", named.join(", "))?;
                 match pairs.len().saturating_sub(INTERSECTIONS_NAMED) {
@@ -412,18 +420,18 @@ mod tests {
         assert!(!v.follows && v.collides);
         assert_eq!(
             v.to_string(),
-            "verdict: collides — nadlaktica–podlaktica intersect from t = 0.00 s"
+            "verdict: collides — 'nadlaktica'–'podlaktica' intersect from t = 0.00 s"
         );
         assert_eq!(
             serde_json::to_value(&v).unwrap(),
-            serde_json::json!({"follows": false, "collides": true, "reasons": ["nadlaktica–podlaktica intersect from t = 0.00 s"]})
+            serde_json::json!({"follows": false, "collides": true, "reasons": ["'nadlaktica'–'podlaktica' intersect from t = 0.00 s"]})
         );
         let saturated = summary([0.0, 99.04], [0.0, 0.0], None);
         let pairs = ["a", "b", "c", "d", "e"].map(|x| pair(x, "z", 1.5)).to_vec();
         let v = Verdict::judge(&saturated, &Thresholds::default(), &[false; 2]).with_intersections(pairs);
         assert_eq!(
             v.to_string(),
-            "verdict: collides — a–z intersect from t = 1.50 s, b–z intersect from t = 1.50 s, c–z intersect from t = 1.50 s (and 2 more pairs); cannot follow — J2 saturates 99.0 % of the steps (limit 5 %)"
+            "verdict: collides — 'a'–'z' intersect from t = 1.50 s, 'b'–'z' intersect from t = 1.50 s, 'c'–'z' intersect from t = 1.50 s (and 2 more pairs); cannot follow — J2 saturates 99.0 % of the steps (limit 5 %)"
         );
     }
 

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::Grid;
+use crate::atomic::Outputs;
 use crate::error::{Error, Result};
 use crate::output::TrailCsv;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
@@ -128,7 +129,8 @@ pub type Build<'a> = dyn Fn(&[f64]) -> Result<Scenario> + Sync + 'a;
 pub struct Runner<'a> {
     pool: rayon::ThreadPool,
     build: &'a Build<'a>,
-    trails: Option<PathBuf>,
+    /// `--trails`: the directory, and the set its files are written in.
+    trails: Option<(PathBuf, Outputs)>,
     on_done: Option<&'a (dyn Fn() + Sync)>,
 }
 
@@ -151,9 +153,10 @@ impl<'a> Runner<'a> {
         })
     }
 
-    /// Also write each run's trail CSV as `dir/run_INDEX.csv` (INDEX zero-padded to 7 digits).
-    pub fn with_trails(mut self, dir: &Path) -> Self {
-        self.trails = Some(dir.to_path_buf());
+    /// Also write each run's trail CSV as `dir/run_INDEX.csv` (INDEX zero-padded to 7 digits),
+    /// a file of `outputs` (they appear when the set is committed).
+    pub fn with_trails(mut self, dir: &Path, outputs: &Outputs) -> Self {
+        self.trails = Some((dir.to_path_buf(), outputs.clone()));
         self
     }
 
@@ -222,9 +225,10 @@ impl<'a> Runner<'a> {
         let never = StopFlag::new();
         match &self.trails {
             None => sim::run(&scenario, &mut [], &never),
-            Some(dir) => {
+            Some((dir, outputs)) => {
                 let period = scenario.record_every as f64 * scenario.dt;
-                let mut trail = TrailCsv::create(&dir.join(format!("run_{index:07}.csv")), period, false)?;
+                let path = dir.join(format!("run_{index:07}.csv"));
+                let mut trail = TrailCsv::within(outputs, &path, period, false)?;
                 let mut recorders: [&mut dyn Recorder; 1] = [&mut trail];
                 sim::run(&scenario, &mut recorders, &never)
             }

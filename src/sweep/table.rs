@@ -16,7 +16,7 @@ use std::path::Path;
 use serde_json::{Map, Value};
 
 use super::{Outcome, Row};
-use crate::atomic::AtomicFile;
+use crate::atomic::{AtomicFile, Outputs};
 use crate::error::{Error, Result};
 use crate::output::format::push_exact;
 
@@ -144,8 +144,13 @@ pub struct TableWriter {
 impl TableWriter {
     /// A table to `path` in `format`.
     pub fn create(path: &Path, format: Format) -> Result<TableWriter> {
+        Self::within(&Outputs::immediate(), path, format)
+    }
+
+    /// A table to `path` in `format`, a file of `outputs` (it appears when they are committed).
+    pub fn within(outputs: &Outputs, path: &Path, format: Format) -> Result<TableWriter> {
         Ok(TableWriter {
-            file: AtomicFile::create(path)?,
+            file: outputs.create(path)?,
             format,
             header: None,
             waiting: Vec::new(),

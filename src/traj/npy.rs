@@ -8,7 +8,7 @@ use ndarray::Array2;
 use ndarray_npy::npy::header::Header;
 use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
-use crate::atomic::AtomicFile;
+use crate::atomic::Outputs;
 use crate::error::{Error, Result, one_line};
 
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
@@ -137,12 +137,17 @@ fn bracket_depth(text: &[u8]) -> usize {
 
 /// Writes `rows` (N×C) as a float64 C-order `.npy` that NumPy loads, whole or not at all.
 pub fn write_samples(path: &Path, rows: &[Vec<f64>]) -> Result<()> {
+    write_samples_within(&Outputs::immediate(), path, rows)
+}
+
+/// [`write_samples`] as a file of `outputs` (it appears when they are committed).
+pub fn write_samples_within(outputs: &Outputs, path: &Path, rows: &[Vec<f64>]) -> Result<()> {
     let columns = rows.first().map_or(0, Vec::len);
     let array = Array2::from_shape_vec((rows.len(), columns), rows.concat()).map_err(|e| Error::InvalidData {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    let mut file = AtomicFile::create(path)?;
+    let mut file = outputs.create(path)?;
     array.write_npy(file.writer()).map_err(|e| Error::InvalidData {
         path: path.to_path_buf(),
         message: format!("writing .npy: {e}"),
