@@ -238,12 +238,21 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
     vec![
         text_row("motor", cell(&|m| Some(m.kind.to_string()))),
         text_row("beyond envelope", cell(&|m| Some(percent(m.envelope_pct)))),
-        text_row("max motor speed rad/s", cell(&|m| Some(format!("{:.1}", m.max_motor_speed)))),
+        text_row(
+            "max motor speed rad/s",
+            cell(&|m| Some(format!("{:.1}", m.max_motor_speed))),
+        ),
         text_row("RMS torque (N·m)", cell(&|m| Some(format!("{:.4}", m.rms_torque)))),
-        text_row("continuous (N·m)", cell(&|m| m.continuous_torque.map(|c| format!("{c:.4}")))),
+        text_row(
+            "continuous (N·m)",
+            cell(&|m| m.continuous_torque.map(|c| format!("{c:.4}"))),
+        ),
         text_row(
             "loses steps at (s)",
-            cell(&|m| m.loses_steps_at.map(|t| t.map_or("never".into(), |t| format!("{t:.3}")))),
+            cell(&|m| {
+                m.loses_steps_at
+                    .map(|t| t.map_or("never".into(), |t| format!("{t:.3}")))
+            }),
         ),
     ]
 }
