@@ -287,3 +287,62 @@ fn refuses_keeping(dir: &std::path::Path, args: &[&str], parts: &[&str]) {
         .collect();
     assert!(left.is_empty(), "{args:?} left files behind: {left:?}");
 }
+
+/// Sweeps vary the supply, the efficiency and the motors' torque; the table has the motors'
+/// figures per joint; the scales refuse a run without motors.
+#[test]
+fn sweeps_vary_supply_efficiency_and_stall_torque() {
+    let dir = temp_dir("motor-sweep");
+    let urdf = repo_path(URDF).display().to_string();
+    let stepper = repo_path("tests/motors/stepper_arm.toml").display().to_string();
+    let base = [
+        "wave",
+        "--urdf",
+        urdf.as_str(),
+        "--freq",
+        "3",
+        "--amp-deg",
+        "60",
+        "--duration",
+        "1.5",
+        "--no-collisions",
+    ];
+    let sweep = |vary: &[&str], extra: &[&str]| -> Vec<Value> {
+        let mut args = vec!["sweep"];
+        for v in vary {
+            args.extend(["--vary", v]);
+        }
+        args.extend(["--out", "t.json", "--"]);
+        args.extend(base);
+        args.extend(extra);
+        let run = faze4(&dir, &args);
+        assert!(run.status.success(), "{args:?}: {}", run.stderr);
+        let table: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("t.json")).unwrap()).unwrap();
+        table.as_array().unwrap().clone()
+    };
+    let num = |row: &Value, k: &str| row[k].as_f64().unwrap_or_else(|| panic!("{k}: {row}"));
+    // a stronger stepper on the shoulder: less beyond its curve
+    let rows = sweep(&["stall-torque-scale=1,3"], &["--motors", &stepper]);
+    assert!(
+        num(&rows[1], "motors_envelope_pct_2") < num(&rows[0], "motors_envelope_pct_2"),
+        "{rows:?}"
+    );
+    assert_eq!(rows[0]["motors_kind_2"], "stepper");
+    // a less efficient reducer: the shoulder's envelope clips more
+    let rows = sweep(&["efficiency-scale=0.5,1"], &["--motors", &stepper]);
+    assert!(
+        num(&rows[0], "motors_envelope_pct_2") > num(&rows[1], "motors_envelope_pct_2"),
+        "{rows:?}"
+    );
+    // a servo's stall torque and no-load speed follow its supply
+    let rows = sweep(&["supply-voltage=5,7.4"], &["--motors", "sts3215"]);
+    assert!(num(&rows[0], "effort_1") < num(&rows[1], "effort_1"));
+    // no motors to scale: each run fails, naming the scale
+    let rows = sweep(&["efficiency-scale=0.5"], &[]);
+    let reasons = rows[0]["reasons"].to_string();
+    assert!(
+        reasons.contains("efficiency-scale") && reasons.contains("--motors"),
+        "{rows:?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -75,6 +75,10 @@ const OPTIONS: &[(&str, Field)] = &[
     ("dt", Field::Number(|c| Some(&mut run(c).dt))),
     ("record-period", Field::Number(|c| Some(&mut run(c).record_period))),
     (
+        "supply-voltage",
+        Field::Number(|c| Some(run(c).supply_voltage.insert(0.0))),
+    ),
+    (
         "max-saturation-pct",
         Field::Number(|c| Some(&mut run(c).max_saturation_pct)),
     ),
