@@ -346,3 +346,48 @@ fn sweeps_vary_supply_efficiency_and_stall_torque() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--plot-motors` draws each motored joint's envelope, operating points and RMS point; it
+/// needs `--motors`. `--plot` draws the envelope on the torque panels.
+#[test]
+fn the_sizing_plot_draws_envelopes_and_needs_motors() {
+    let dir = temp_dir("motor-plot");
+    let urdf = repo_path(URDF).display().to_string();
+    let dc = repo_path("tests/motors/dc_arm.toml").display().to_string();
+    let args = [
+        "wave",
+        "--urdf",
+        urdf.as_str(),
+        "--duration",
+        "0.5",
+        "--no-collisions",
+        "--trail",
+        "none",
+    ];
+    let with = |extra: &[&'static str]| -> Vec<&str> { args.iter().copied().chain(extra.iter().copied()).collect() };
+    let mut run_args = with(&["--plot-motors", "m.svg", "--plot", "p.svg", "--motors"]);
+    run_args.push(&dc);
+    let run = faze4(&dir, &run_args);
+    assert!(run.status.success(), "{}", run.stderr);
+    let svg = std::fs::read_to_string(dir.join("m.svg")).unwrap();
+    for part in [
+        "J1 yaw",
+        "J2 shoulder",
+        "J3 elbow",
+        "envelope",
+        "operating points",
+        "RMS (",
+        "continuous 0.05 N·m",
+    ] {
+        assert!(svg.contains(part), "the sizing plot should show {part:?}");
+    }
+    let plot = std::fs::read_to_string(dir.join("p.svg")).unwrap();
+    assert!(
+        plot.contains("envelope at q̇ (grey)"),
+        "the torque panels should draw the envelope"
+    );
+    std::fs::remove_file(dir.join("m.svg")).unwrap();
+    std::fs::remove_file(dir.join("p.svg")).unwrap();
+    refuses(&dir, &with(&["--plot-motors", "m.svg"]), &["--plot-motors", "--motors"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

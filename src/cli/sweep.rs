@@ -211,6 +211,7 @@ impl Base {
         for (given, option) in [
             (run.html.is_some(), "--html"),
             (run.plot.is_some(), "--plot"),
+            (run.plot_motors.is_some(), "--plot-motors"),
             (run.view || run.hold, "--view"),
             (save_q, "--save-q"),
         ] {
