@@ -110,6 +110,7 @@ fn bundled_model_is_the_box_arm_with_the_real_geometry() {
     let Robot {
         model: bundled,
         geometry,
+        ..
     } = Robot::faze4();
     let boxes = load("urdf/faze4_arm.urdf");
     let real = load_real(&PackagePaths::default());

@@ -39,9 +39,13 @@ pub struct WaveArgs {
     /// Angular frequency ω of the wave (rad/s, as the original).
     #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
     pub freq: f64,
-    /// Amplitude A (degrees).
+    /// Amplitude A of the revolute and continuous joints (degrees).
     #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
     pub amp_deg: f64,
+    /// Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it
+    /// has limits, else 0.05 m.
+    #[arg(long = "amp-m", allow_hyphen_values = true)]
+    pub amp_m: Option<f64>,
     /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
     #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
     pub center: Option<String>,
@@ -101,6 +105,11 @@ pub struct RunArgs {
     /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
     #[arg(long = "package-path", value_name = "DIR")]
     pub package_path: Vec<PathBuf>,
+    /// A moving body whose inertia no rigid body has (not positive definite, or its principal
+    /// moments break the triangle inequality) gets its principal moments set to their mean, as
+    /// MuJoCo's balanceinertia does (a warning per body), instead of the model being refused.
+    #[arg(long = "balance-inertia")]
+    pub balance_inertia: bool,
     /// The link traced as the tool (default: tool_link, else the last link of the chain).
     #[arg(long = "tool-link", value_name = "NAME")]
     pub tool_link: Option<String>,

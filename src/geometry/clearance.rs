@@ -87,7 +87,8 @@ impl std::fmt::Display for Warning {
         match self {
             Warning::MeshNotFound { file, link, uri } => write!(
                 f,
-                "{file}: link '{link}' <collision>: mesh '{uri}' not found, its clearance is not checked (give the folder holding it with --package-path)"
+                "{file}: link '{link}' <collision>: mesh '{uri}' not found, its clearance is not checked ({})",
+                crate::model::not_found_advice(uri)
             ),
         }
     }

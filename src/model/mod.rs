@@ -16,6 +16,7 @@
 //! [`RobotDescription`], and [`Model::from_description`] turns any description into a model.
 
 mod build;
+pub use build::{LoadOptions, LoadWarning};
 mod description;
 mod package;
 pub mod urdf;
@@ -24,7 +25,7 @@ pub use description::{
     Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
     Visual,
 };
-pub use package::PackagePaths;
+pub use package::{PackagePaths, not_found_advice};
 
 pub use crate::id::{FrameId, JointId};
 
@@ -378,7 +379,15 @@ impl Model {
 
     /// Builds a model from a format-free description (see [`urdf`] for files).
     pub fn from_description(desc: &RobotDescription) -> crate::Result<Model> {
-        build::build(desc)
+        build::build(desc, &LoadOptions::default()).map(|(model, _)| model)
+    }
+
+    /// [`Model::from_description`] with `options`, and what the reading skipped or changed.
+    pub fn from_description_with(
+        desc: &RobotDescription,
+        options: &LoadOptions,
+    ) -> crate::Result<(Model, Vec<LoadWarning>)> {
+        build::build(desc, options)
     }
 
     /// Reads a URDF file's dynamics (`crate::geometry::Robot::from_urdf_file` reads its

@@ -165,6 +165,8 @@ pub struct Runner<'a> {
     /// `--trails`: the directory, and the set its files are written in.
     trails: Option<(PathBuf, Outputs)>,
     on_done: Option<&'a (dyn Fn() + Sync)>,
+    /// Each run's stop flag (none: runs go to their end).
+    stop: StopFlag,
 }
 
 /// Runs handed to the pool at once by [`Runner::sweep`], per thread: enough to keep every core
@@ -183,6 +185,7 @@ impl<'a> Runner<'a> {
             build,
             trails: None,
             on_done: None,
+            stop: StopFlag::new(),
         })
     }
 
@@ -196,6 +199,13 @@ impl<'a> Runner<'a> {
     /// Call `on_done` after every run, from the thread that ran it (a progress bar).
     pub fn with_progress(mut self, on_done: &'a (dyn Fn() + Sync)) -> Self {
         self.on_done = Some(on_done);
+        self
+    }
+
+    /// Each run polls `stop` as a single run does (and ends there, `interrupted_at_s` in its
+    /// summary); runs not yet started when it is raised fail as interrupted.
+    pub fn with_stop(mut self, stop: &StopFlag) -> Self {
+        self.stop = stop.clone();
         self
     }
 
@@ -254,16 +264,19 @@ impl<'a> Runner<'a> {
     }
 
     fn build_and_run(&self, index: usize, values: &[f64]) -> Result<Summary> {
+        if self.stop.is_raised() {
+            return Err(Error::argument("sweep", "interrupted before this run started"));
+        }
         let scenario = (self.build)(values)?;
-        let never = StopFlag::new();
+        let stop = &self.stop;
         match &self.trails {
-            None => sim::run(&scenario, &mut [], &never),
+            None => sim::run(&scenario, &mut [], stop),
             Some((dir, outputs)) => {
                 let period = scenario.record_every as f64 * scenario.dt;
                 let path = dir.join(format!("run_{index:07}.csv"));
                 let mut trail = TrailCsv::within(outputs, &path, period, false)?;
                 let mut recorders: [&mut dyn Recorder; 1] = [&mut trail];
-                sim::run(&scenario, &mut recorders, &never)
+                sim::run(&scenario, &mut recorders, stop)
             }
         }
     }
@@ -277,7 +290,7 @@ mod tests {
     fn scenario() -> Scenario {
         let model = crate::faze4::model();
         let wave = Trajectory::Wave(Wave {
-            amplitude: 0.1,
+            amplitude: vec![0.1; model.dof()],
             omega: 0.5,
             center: vec![0.0; model.dof()],
         });

@@ -240,8 +240,9 @@ impl Scene {
         if !self.missing.is_empty() && !MISSING.swap(true, Ordering::Relaxed) {
             let names: Vec<&str> = self.missing.iter().map(|u| u.rsplit('/').next().unwrap_or(u)).collect();
             eprintln!(
-                "viz: meshes not found ({}); drawing boxes — pass --package-path",
-                names.join(", ")
+                "viz: meshes not found ({}); drawing boxes ({})",
+                names.join(", "),
+                crate::model::not_found_advice(&self.missing[0])
             );
         }
         if !self.unreadable.is_empty() && !UNREADABLE.swap(true, Ordering::Relaxed) {
