@@ -218,7 +218,7 @@ fn circle_clearance_report_names_the_closest_pair() {
     assert_eq!(json["geometry"], "hull");
     assert_eq!(json["links"], serde_json::json!(["nadlaktica", "podlaktica"]));
     assert_eq!(json["pairs"].as_array().unwrap().len(), 15);
-    assert!(report.line().contains("nadlaktica–podlaktica"), "{}", report.line());
+    assert!(report.line().contains("'nadlaktica'–'podlaktica'"), "{}", report.line());
 
     // exact meshes, on the samples where the mesh pair is closest per the oracle
     let mesh: Vec<f64> = circle.iter().map(|p| p["mesh"][pair].as_f64().unwrap()).collect();

@@ -145,7 +145,7 @@ fn the_faze4_circle_with_exact_meshes_clears_itself() {
     assert_eq!(
         line(&run.stdout, "self-clearance"),
         format!(
-            "self-clearance (exact meshes): podlaktica–hvataljka {:.2} mm at t = {t:.2} s",
+            "self-clearance (exact meshes): 'podlaktica'–'hvataljka' {:.2} mm at t = {t:.2} s",
             min * 1e3
         )
     );
@@ -192,12 +192,12 @@ fn the_faze4_circle_with_hulls_collides() {
     assert_eq!(intersecting.len(), 1, "{c}");
     assert_eq!(s["verdict"]["follows"], false);
     assert_eq!(s["verdict"]["collides"], true);
-    let verdict = "verdict: collides — nadlaktica–podlaktica intersect from t = 0.00 s";
+    let verdict = "verdict: collides — 'nadlaktica'–'podlaktica' intersect from t = 0.00 s";
     assert_eq!(s["verdict"]["reasons"][0], verdict["verdict: collides — ".len()..]);
     assert_eq!(run.stdout.lines().last(), Some(verdict));
     assert!(
         line(&run.stdout, "self-clearance").starts_with(&format!(
-            "self-clearance (convex hulls): nadlaktica–podlaktica {:.2} mm at t = ",
+            "self-clearance (convex hulls): 'nadlaktica'–'podlaktica' {:.2} mm at t = ",
             min * 1e3
         )),
         "{}",
@@ -205,7 +205,7 @@ fn the_faze4_circle_with_hulls_collides() {
     );
     assert!(
         run.stdout
-            .contains("· intersecting: nadlaktica–podlaktica from t = 0.00 s")
+            .contains("· intersecting: 'nadlaktica'–'podlaktica' from t = 0.00 s")
     );
 
     let quiet = faze4(&dir, &[&args[..], &["--quiet", "--strict"]].concat());
@@ -250,11 +250,11 @@ fn collision_pairs_all_checks_the_pairs_a_joint_connects() {
     assert_eq!(s["verdict"]["collides"], true);
     let verdict = run.stdout.lines().last().unwrap();
     assert!(
-        verdict.starts_with("verdict: collides — base–turret intersect from t = 0.00 s"),
+        verdict.starts_with("verdict: collides — 'base'–'turret' intersect from t = 0.00 s"),
         "{verdict}"
     );
     // upper and forearm intersect with two pairs of shapes: named once
-    assert_eq!(verdict.matches("upper–forearm").count(), 1, "{verdict}");
+    assert_eq!(verdict.matches("'upper'–'forearm'").count(), 1, "{verdict}");
 
     let run = faze4(&dir, &[&base[..], &["--no-collisions"]].concat());
     assert!(run.status.success(), "{}", run.stderr);
@@ -309,8 +309,8 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
     let q2 = header.iter().position(|h| h == "q2").unwrap();
     assert!(rows[0][q2].abs() < 1e-3, "the run starts folded out");
     let reason = s["verdict"]["reasons"][0].as_str().unwrap();
-    assert!(reason.starts_with("base–forearm intersect from t = "), "{reason}");
-    let from: f64 = reason["base–forearm intersect from t = ".len()..]
+    assert!(reason.starts_with("'base'–'forearm' intersect from t = "), "{reason}");
+    let from: f64 = reason["'base'–'forearm' intersect from t = ".len()..]
         .trim_end_matches(" s")
         .parse()
         .unwrap();
