@@ -200,11 +200,11 @@ pub fn quoted(name: &str) -> String {
     format!("'{}'", name.escape_debug())
 }
 
-/// `text` with its control characters escaped (`\n` as `\\n`): a message quoting a name read
-/// from a file stays on its one line.
+/// `text` with its control characters and line separators escaped (`\n` as `\\n`): a message
+/// quoting a name read from a file stays on its one line.
 pub fn escape_controls(text: &str) -> String {
     text.chars()
-        .map(|c| match c.is_control() {
+        .map(|c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
             true => c.escape_default().to_string(),
             false => c.to_string(),
         })

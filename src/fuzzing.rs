@@ -10,6 +10,7 @@ use crate::algo::{
     Data, State, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
     frame_position, gravity, rnea,
 };
+use crate::atomic::Outputs;
 use crate::error::{Error, Result};
 use crate::geometry::mesh::{Mesh, parse_mesh};
 use crate::geometry::{GeometryModel, Robot};
@@ -40,6 +41,126 @@ pub fn urdf_model(data: &[u8]) -> Option<Result<Robot>> {
         Err(e) => check_error(e, URDF_LABEL),
     }
     Some(result)
+}
+
+/// The names an `output_set` script writes to, in a directory holding a file `a`, a link `l` to
+/// it, a dangling link `m`, a directory `d` and nothing else.
+const OUTPUT_NAMES: [&str; 12] = [
+    "a",
+    "b",
+    "c",
+    "l",
+    "m",
+    "d",
+    "d/",
+    "./a",
+    "d/x",
+    "b/",
+    "d/../b",
+    "/dev/null",
+];
+
+/// `output_set`: bytes → a script of outputs written through one [`Outputs`] set, the command
+/// line's output layer. Each byte pair names an output (`OUTPUT_NAMES`) and whether its writing
+/// fails half-way; the last byte says whether the set is committed. Checks: a refused claim is
+/// one line naming its option; a set that is not committed (a claim refused, a write failed,
+/// abandoned) leaves the directory exactly as it was; a committed one leaves every output
+/// holding its bytes (links followed, links kept) and no temporary.
+pub fn output_set(data: &[u8]) -> Result<()> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static RUN: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "faze4-fuzz-outputs-{}-{}",
+        std::process::id(),
+        RUN.fetch_add(1, Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("d")).expect("a fresh directory");
+    std::fs::write(dir.join("a"), "old a").expect("a file");
+    #[cfg(unix)]
+    {
+        let _ = std::os::unix::fs::symlink("a", dir.join("l"));
+        let _ = std::os::unix::fs::symlink("n", dir.join("m"));
+    }
+    let before = snapshot(&dir);
+    let result = write_outputs(&dir, data);
+    let commit = data.last().is_some_and(|b| b % 2 == 0);
+    let after = snapshot(&dir);
+    match &result {
+        Ok(written) if commit => {
+            assert!(
+                !after.keys().any(|n| n.ends_with(".tmp") || n.ends_with(".bak")),
+                "temporary left: {after:?}"
+            );
+            for (name, bytes) in written {
+                if !name.starts_with('/') {
+                    assert_eq!(&std::fs::read(dir.join(name)).expect("written"), bytes, "{name}");
+                }
+            }
+            for link in ["l", "m"] {
+                assert!(after[link].starts_with("link"), "{link} replaced: {after:?}");
+            }
+        }
+        _ => assert_eq!(before, after, "an uncommitted set changed the directory"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    result.map(|_| ())
+}
+
+/// Claims and writes the outputs `data` names in `dir`; commits when its last byte is even.
+/// The outputs written, with their bytes.
+fn write_outputs(dir: &Path, data: &[u8]) -> Result<Vec<(String, Vec<u8>)>> {
+    let files = Outputs::new();
+    let mut written = Vec::new();
+    for (k, pair) in data.chunks_exact(2).enumerate().take(8) {
+        let name = OUTPUT_NAMES[pair[0] as usize % OUTPUT_NAMES.len()];
+        let path = match name.starts_with('/') {
+            true => std::path::PathBuf::from(name),
+            false => dir.join(name),
+        };
+        let option = format!("--out{k}");
+        if let Err(e) = files.claim(&path, &option) {
+            let message = e.to_string();
+            assert!(message.starts_with(&option) && !message.contains('\n'), "{message}");
+            return Err(e);
+        }
+        let bytes = format!("output {k} of {}", pair[1]).into_bytes();
+        let mut file = files.create(&path)?;
+        std::io::Write::write_all(file.writer(), &bytes).map_err(|e| file.error(e))?;
+        // an odd second byte: the writing fails half-way (the file is dropped uncommitted)
+        if pair[1] % 2 == 1 {
+            return Err(Error::argument(option, "failed half-way"));
+        }
+        file.commit()?;
+        written.push((name.to_string(), bytes));
+    }
+    if data.last().is_some_and(|b| b % 2 == 0) {
+        files.commit()?;
+    }
+    Ok(written)
+}
+
+/// Every entry of `dir` (one level below too): a file's bytes, a link's target, `dir`.
+fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, String> {
+    let mut out = std::collections::BTreeMap::new();
+    for sub in ["", "d"] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let name = path
+                .strip_prefix(dir)
+                .map_or(String::new(), |p| p.display().to_string());
+            let what = match std::fs::symlink_metadata(&path) {
+                Ok(m) if m.file_type().is_symlink() => format!("link {:?}", std::fs::read_link(&path).ok()),
+                Ok(m) if m.is_dir() => "dir".to_string(),
+                _ => format!("file {:?}", std::fs::read(&path).ok()),
+            };
+            out.insert(name, what);
+        }
+    }
+    out
 }
 
 /// The name the fuzzed STL goes by in error messages.

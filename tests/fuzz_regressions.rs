@@ -124,6 +124,13 @@ fn stl_mesh_inputs() {
 }
 
 #[test]
+fn output_set_inputs() {
+    check_all("output_set", |bytes| {
+        Some(fuzzing::output_set(bytes).map_err(|e| e.to_string()))
+    });
+}
+
+#[test]
 fn mesh_file_inputs() {
     check_all("mesh_file", |bytes| {
         fuzzing::mesh_file(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))

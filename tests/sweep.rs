@@ -424,6 +424,16 @@ fn merge_refuses_a_set_that_is_not_the_whole_sweep() {
         with(&parts(&[1, 2, 3, 5]), &["cut.csv"]),
         &["cut.csv: truncated", "rerun its task (--shard 4/5)"],
     );
+    // a table beside the metadata of another (same size, one digit changed)
+    let mut text = std::fs::read(dir.join("part5.csv")).unwrap();
+    let at = text.len() - 2;
+    text[at] = if text[at] == b'1' { b'2' } else { b'1' };
+    std::fs::write(dir.join("edited.csv"), &text).unwrap();
+    std::fs::copy(dir.join("part5.csv.meta"), dir.join("edited.csv.meta")).unwrap();
+    refuse(
+        with(&parts(&[1, 2, 3, 4]), &["edited.csv"]),
+        &["edited.csv: not the table its metadata describes", "(--shard 5/5)"],
+    );
     // a part without its metadata (its task stopped between the two, or not a --shard table)
     std::fs::copy(dir.join("part5.csv"), dir.join("bare.csv")).unwrap();
     refuse(
@@ -536,7 +546,7 @@ fn empty_and_all_failed_parts_have_the_sweeps_columns() {
 }
 
 /// A task killed (SIGKILL: no handler runs) leaves nothing a merge takes for its part; the
-/// rerun of the same part merges. A task stopped (Ctrl-C) writes a part marked partial.
+/// rerun of the same part merges. A task stopped (SIGTERM, as Ctrl-C) writes a part marked partial.
 #[test]
 fn killed_and_stopped_tasks_leave_no_part_a_merge_takes_whole() {
     use std::os::unix::process::ExitStatusExt;
@@ -615,7 +625,7 @@ fn killed_and_stopped_tasks_leave_no_part_a_merge_takes_whole() {
         (0..120).collect::<Vec<_>>()
     );
 
-    // part 2 of a sweep of hours, stopped by Ctrl-C: a partial part, refused as a whole one
+    // part 2 of a sweep of hours, stopped by a signal: a partial part, refused as a whole one
     let long = [
         "sweep",
         "--vary",
@@ -631,8 +641,19 @@ fn killed_and_stopped_tasks_leave_no_part_a_merge_takes_whole() {
         "1",
         "--no-collisions",
     ];
-    let out = interrupted(&dir, &long, std::time::Duration::from_millis(1500));
-    assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
+    // SIGTERM, what Slurm sends at the time limit (and Kubernetes when it stops a pod)
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(long)
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    // SAFETY: kill(2) only reads its arguments; the pid is our child's
+    assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) }, 0);
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(143), "{}", String::from_utf8_lossy(&out.stderr));
     let meta: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("long2.csv.meta")).unwrap()).unwrap();
     assert_eq!(meta["complete"], false);
     let held = meta["rows"].as_u64().unwrap();

@@ -353,6 +353,8 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     if args.resolution.is_some() {
         return Err(Error::argument("--resolution", "is for --find and --find-min"));
     }
+    // before any temporary exists: a signal from here on stops the sweep cleanly
+    let stop = StopFlag::ctrl_c();
     let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose()?;
     let (grid, indices) = Grid::parse(&args.vary, shard, MAX_RUNS)?;
     let total = grid.len().expect("sized by Grid::parse");
@@ -387,7 +389,6 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         _ => None,
     };
     let mut plot = plot;
-    let stop = StopFlag::ctrl_c();
     let started = Instant::now();
     let (mut cannot, mut failed) = (0, 0);
     let ran = runner.sweep(&grid, indices.clone(), &stop, |row| {

@@ -14,7 +14,6 @@ use serde_json::Value;
 
 use super::table::{Cell, Cells, Format, TableWriter};
 use super::{Grid, Shard};
-use crate::atomic::write_atomically;
 use crate::error::{Error, Result};
 
 /// The version of the metadata's layout.
@@ -61,6 +60,8 @@ pub struct PartMeta {
     pub rows: usize,
     /// Bytes of the table.
     pub bytes: u64,
+    /// The FNV-1a hash of the table's bytes (16 hex digits): binds this metadata to its table.
+    pub table_fnv1a: String,
     /// The table's columns, in order.
     pub columns: Vec<String>,
 }
@@ -72,15 +73,49 @@ pub fn meta_path(table: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
+/// A 64-bit FNV-1a hash, fed in pieces.
+#[derive(Clone, Copy, Debug)]
+pub struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    /// Feeds `bytes`.
+    pub fn eat(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    /// The hash as 16 hex digits.
+    pub fn hex(self) -> String {
+        format!("{:016x}", self.0)
+    }
+}
+
+/// The FNV-1a hash of the file at `path` (16 hex digits).
+fn hash_file(path: &Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut file = std::fs::File::open(path)?;
+    let mut hash = Fnv::default();
+    let mut buffer = vec![0u8; 1 << 16];
+    loop {
+        match file.read(&mut buffer)? {
+            0 => return Ok(hash.hex()),
+            n => hash.eat(&buffer[..n]),
+        }
+    }
+}
+
 /// The fingerprint of the sweep of `command` (the words after `--`) over `grid`.
 pub fn fingerprint(command: &[String], grid: &Grid) -> String {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |bytes: &[u8]| {
-        for &b in bytes {
-            hash ^= u64::from(b);
-            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    };
+    let mut hash = Fnv::default();
+    let mut eat = |bytes: &[u8]| hash.eat(bytes);
     eat(b"faze4 sweep\0");
     for word in command {
         eat(word.as_bytes());
@@ -94,7 +129,7 @@ pub fn fingerprint(command: &[String], grid: &Grid) -> String {
             eat(&x.to_bits().to_le_bytes());
         }
     }
-    format!("{hash:016x}")
+    hash.hex()
 }
 
 impl PartMeta {
@@ -125,6 +160,7 @@ impl PartMeta {
             },
             rows: 0,
             bytes: 0,
+            table_fnv1a: String::new(),
             columns: Vec::new(),
         }
     }
@@ -164,25 +200,11 @@ impl PartMeta {
     }
 }
 
-/// Writes `meta` as `table`'s metadata, replacing any, once the table is in place: call
-/// [`remove_meta`] before the table is renamed into place, so that a table is never beside the
-/// metadata of another.
-pub fn write_meta(table: &Path, meta: &PartMeta) -> Result<()> {
-    let mut text = serde_json::to_string_pretty(meta).map_err(|e| Error::Io {
-        path: meta_path(table),
-        source: std::io::Error::other(e),
-    })?;
+/// `meta` as the text of a `.meta` file.
+pub fn meta_text(meta: &PartMeta) -> String {
+    let mut text = serde_json::to_string_pretty(meta).unwrap_or_default();
     text.push('\n');
-    write_atomically(&meta_path(table), text.as_bytes())
-}
-
-/// Removes `table`'s metadata if there is one.
-pub fn remove_meta(table: &Path) -> Result<()> {
-    let path = meta_path(table);
-    match std::fs::remove_file(&path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::Io { path, source: e }),
-        _ => Ok(()),
-    }
+    text
 }
 
 /// `runs 4–6`, `run 4`, `runs 0–3, 8–9`: ranges of run indices for people (at most 8 listed).
@@ -263,11 +285,11 @@ impl<'a> Part<'a> {
                 source: e,
             })?
             .len();
+        let rerun = match meta.shard {
+            Some([k, n]) => format!("; rerun its task (--shard {k}/{n})"),
+            None => String::new(),
+        };
         if size != meta.bytes {
-            let rerun = match meta.shard {
-                Some([k, n]) => format!("; rerun its task (--shard {k}/{n})"),
-                None => String::new(),
-            };
             let what = if size < meta.bytes {
                 "truncated"
             } else {
@@ -276,6 +298,18 @@ impl<'a> Part<'a> {
             return Err(invalid(
                 path,
                 format!("{what}: {size} bytes where its metadata says {}{rerun}", meta.bytes),
+            ));
+        }
+        let io = |e| Error::Io {
+            path: path.to_path_buf(),
+            source: e,
+        };
+        if hash_file(path).map_err(io)? != meta.table_fnv1a {
+            return Err(invalid(
+                path,
+                format!(
+                    "not the table its metadata describes (the hash of its bytes differs: changed, or its task stopped between the two){rerun}"
+                ),
             ));
         }
         Ok(Part { path, format, meta })

@@ -15,7 +15,7 @@ use std::path::Path;
 
 use serde_json::{Map, Value};
 
-use super::part::{PartMeta, remove_meta, write_meta};
+use super::part::{Fnv, PartMeta, meta_path, meta_text};
 use super::{Outcome, Row};
 use crate::atomic::{AtomicFile, Outputs};
 use crate::error::{Error, Result};
@@ -144,6 +144,10 @@ pub struct TableWriter {
     rows: usize,
     /// Bytes written.
     bytes: u64,
+    /// Their hash.
+    hash: Fnv,
+    /// The set the table is a file of (its metadata too).
+    outputs: Outputs,
 }
 
 impl TableWriter {
@@ -162,6 +166,8 @@ impl TableWriter {
             waiting: Vec::new(),
             rows: 0,
             bytes: 0,
+            hash: Fnv::default(),
+            outputs: outputs.clone(),
         })
     }
 
@@ -205,10 +211,11 @@ impl TableWriter {
         self.rows + self.waiting.len()
     }
 
-    /// Writes the rows still waiting, closes the table and moves it into place. With `part`,
-    /// the table is a part of a sweep: its metadata (filled here with the rows, bytes and
-    /// columns) is written beside it after it is in place, and any old metadata is removed
-    /// before, so a table is never beside another's metadata.
+    /// Writes the rows still waiting, closes the table and moves it into place (or stages it,
+    /// in a set of outputs). With `part`, the table is a part of a sweep: its metadata (filled
+    /// here with the rows, bytes, hash and columns) follows it as `TABLE.meta`, renamed into
+    /// place after it; the hash of the table's bytes binds the two, so a table beside another's
+    /// metadata (a task killed between the two renames) is refused by `merge`.
     pub fn finish(mut self, part: Option<&mut PartMeta>) -> Result<()> {
         if self.header.is_none() {
             let header = match self.waiting.first() {
@@ -230,10 +237,10 @@ impl TableWriter {
         };
         meta.rows = self.rows;
         meta.bytes = self.bytes;
+        meta.table_fnv1a = self.hash.hex();
         meta.columns = self.header.clone().unwrap_or_default();
-        remove_meta(&self.path)?;
         self.file.commit()?;
-        write_meta(&self.path, meta)
+        self.outputs.write(&meta_path(&self.path), meta_text(meta).as_bytes())
     }
 
     fn put(&mut self, text: &str) -> Result<()> {
@@ -242,6 +249,7 @@ impl TableWriter {
             .write_all(text.as_bytes())
             .map_err(|e| self.file.error(e))?;
         self.bytes += text.len() as u64;
+        self.hash.eat(text.as_bytes());
         Ok(())
     }
 
