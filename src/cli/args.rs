@@ -246,6 +246,9 @@ pub struct RunArgs {
     /// deviation for shapes), as .svg or .png.
     #[arg(long, value_name = "F.svg|F.png")]
     pub plot: Option<PathBuf>,
+    /// The motors' sizing plot (with --motors): per joint the operating points (|ω_m|, |τ_m|) over the torque–speed envelope, the continuous torque line and the RMS point, as .svg or .png.
+    #[arg(long = "plot-motors", value_name = "F.svg|F.png")]
+    pub plot_motors: Option<PathBuf>,
 }
 
 /// A comma-separated value per joint; `auto` (or nothing) leaves a joint's value alone.

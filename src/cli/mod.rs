@@ -20,7 +20,7 @@ use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
 use crate::sim::scenario::positive;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 use crate::traj::{Trajectory, npy};
-use crate::viz::{HtmlExport, LiveView, PlotRecorder};
+use crate::viz::{HtmlExport, LiveView, MotorPlot, PlotRecorder};
 
 /// Exit status of a run that diverged.
 pub const EXIT_DIVERGED: u8 = 1;
@@ -222,6 +222,7 @@ struct Recorders {
     trail: Option<TrailCsv>,
     html: Option<HtmlExport>,
     plot: Option<PlotRecorder>,
+    motor_plot: Option<MotorPlot>,
     live: Option<LiveView>,
 }
 
@@ -232,12 +233,17 @@ impl Recorders {
         let trail = Some(run.trail.as_path()).filter(|p| !is_none(p));
         let html = run.html.as_deref().filter(|p| !is_none(p));
         let plot = run.plot.as_deref().filter(|p| !is_none(p));
+        let motor_plot = run.plot_motors.as_deref().filter(|p| !is_none(p));
+        if motor_plot.is_some() && scenario.motors.is_none() {
+            return Err(Error::argument("--plot-motors", "draws the motors: add --motors"));
+        }
         for (path, option) in [
             (trail, "--trail"),
             (summary_path(run), "--summary"),
             (save_q, "--save-q"),
             (html, "--html"),
             (plot, "--plot"),
+            (motor_plot, "--plot-motors"),
         ] {
             if let Some(path) = path {
                 files.claim(path, option)?;
@@ -262,6 +268,10 @@ impl Recorders {
             Some(path) => Some(PlotRecorder::new(path)?.with_period(run.record_period).within(files)),
             None => None,
         };
+        let motor_plot = match motor_plot {
+            Some(path) => Some(MotorPlot::new(path)?.within(files)),
+            None => None,
+        };
         let trail = match trail {
             Some(path) => Some(TrailCsv::within(files, path, run.record_period, run.debug)?),
             None => None,
@@ -271,6 +281,7 @@ impl Recorders {
             trail,
             html,
             plot,
+            motor_plot,
             live,
         })
     }
@@ -287,6 +298,9 @@ impl Recorders {
             recorders.push(h);
         }
         if let Some(p) = self.plot.as_mut() {
+            recorders.push(p);
+        }
+        if let Some(p) = self.motor_plot.as_mut() {
             recorders.push(p);
         }
         if let Some(l) = self.live.as_mut() {
@@ -332,6 +346,9 @@ fn report_files(outputs: &Recorders, run: &RunArgs, save_q: Option<&Path>, summa
     }
     if let Some(p) = &outputs.plot {
         written.push(format!("plot -> {}", p.path().display()));
+    }
+    if let Some(path) = run.plot_motors.as_deref().filter(|_| outputs.motor_plot.is_some()) {
+        written.push(format!("motor plot -> {}", path.display()));
     }
     let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
     let clearance = match summary.clearance_wall_time_s {

@@ -77,6 +77,10 @@ const OPTIONS: &[(&str, Field)] = &[
     ("dt", Field::Number(|c| Some(&mut run(c).dt))),
     ("record-period", Field::Number(|c| Some(&mut run(c).record_period))),
     (
+        "supply-voltage",
+        Field::Number(|c| Some(run(c).supply_voltage.insert(0.0))),
+    ),
+    (
         "max-saturation-pct",
         Field::Number(|c| Some(&mut run(c).max_saturation_pct)),
     ),
@@ -216,6 +220,7 @@ impl Base {
         for (given, option) in [
             (run.html.is_some(), "--html"),
             (run.plot.is_some(), "--plot"),
+            (run.plot_motors.is_some(), "--plot-motors"),
             (run.view || run.hold, "--view"),
             (save_q, "--save-q"),
         ] {

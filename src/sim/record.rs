@@ -38,6 +38,8 @@ pub struct RunInfo<'a> {
     /// The link frames of each pair whose self-clearance is checked, in the order of
     /// [`Sample::intersecting`] (empty when the run checks none).
     pub collision_pairs: &'a [[FrameId; 2]],
+    /// `--motors`: per joint its motor (`None` without one); `None`: no motors.
+    pub motors: Option<&'a [Option<crate::control::Motor>]>,
 }
 
 /// The state of the run after `step` steps (t = step·Δt), with the torque computed from it.

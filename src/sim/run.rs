@@ -62,6 +62,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         board: sc.shape.as_ref().map(|s| &s.board),
         reference_path: sc.shape.as_ref().map(|s| s.reference.as_slice()),
         collision_pairs: &collision_pairs,
+        motors: sc.motors.as_deref(),
     };
     for r in recorders.iter_mut() {
         r.begin(&info)?;

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::Grid;
 use crate::atomic::Outputs;
-use crate::control::Stability;
+use crate::control::{Envelope, Stability};
 use crate::error::{Error, Result, shortest};
 use crate::output::TrailCsv;
 use crate::sim::scenario::arithmetic_holds;
@@ -32,16 +32,25 @@ pub enum Scale {
     /// inertia r²·I_rotor too (a joint without a motor has none to scale). Like `mass-scale`,
     /// after tuning: the gains are those of the nominal motors.
     RotorInertia,
+    /// `efficiency-scale`: every motor's reducer efficiency η × factor (> 0; `--motors` only),
+    /// and with it the constant limit E of each motored joint. After tuning, as `mass-scale`.
+    Efficiency,
+    /// `stall-torque-scale`: every motor's torques × factor (> 0; `--motors` only): a DC
+    /// motor's stall and peak torque, a stepper's whole pull-out curve; and the constant limit
+    /// E of each motored joint. After tuning.
+    StallTorque,
 }
 
 impl Scale {
     /// Every scale, by its option name.
-    pub const ALL: [(&'static str, Scale); 5] = [
+    pub const ALL: [(&'static str, Scale); 7] = [
         ("kp-scale", Scale::Kp),
         ("kd-scale", Scale::Kd),
         ("effort-scale", Scale::Effort),
         ("mass-scale", Scale::Mass),
         ("rotor-inertia-scale", Scale::RotorInertia),
+        ("efficiency-scale", Scale::Efficiency),
+        ("stall-torque-scale", Scale::StallTorque),
     ];
 
     /// The option name (`kp-scale`, …).
@@ -75,6 +84,31 @@ impl Scale {
             Scale::RotorInertia => {
                 scenario.model.joints.iter_mut().for_each(|j| j.rotor_inertia *= factor);
                 return self.holds(scenario, factor);
+            }
+            Scale::Efficiency | Scale::StallTorque => {
+                let Some(motors) = scenario.motors.as_mut() else {
+                    return Err(Error::argument(self.name(), "scales the motors: add --motors"));
+                };
+                for (m, e) in motors.iter_mut().zip(gains.effort.iter_mut()) {
+                    let Some(m) = m else { continue };
+                    *e *= factor;
+                    if self == Scale::Efficiency {
+                        m.efficiency *= factor;
+                        continue;
+                    }
+                    match &mut m.envelope {
+                        Envelope::Dc {
+                            stall_torque,
+                            peak_torque,
+                            ..
+                        } => {
+                            *stall_torque *= factor;
+                            *peak_torque *= factor;
+                        }
+                        Envelope::Stepper { curve } => curve.iter_mut().for_each(|p| p[1] *= factor),
+                    }
+                }
+                return Ok(());
             }
         };
         values.iter_mut().for_each(|x| *x *= factor);

@@ -76,6 +76,16 @@ fn flatten_into(cells: &mut Cells, prefix: &str, fields: &Map<String, Value>) {
         let name = format!("{prefix}{key}");
         match value {
             Value::Object(inner) => flatten_into(cells, &format!("{name}_"), inner),
+            // `--motors`: per joint the same figures in every row, `motors_<figure>_<joint>`
+            Value::Array(items) if name == "motors" => {
+                for (i, item) in items.iter().enumerate() {
+                    for (figure, v) in item.as_object().into_iter().flatten() {
+                        if !v.is_object() {
+                            cells.push((format!("motors_{figure}_{}", i + 1), scalar(v)));
+                        }
+                    }
+                }
+            }
             // per-pair records: their fields vary from row to row (`intersecting`)
             Value::Array(items) if items.iter().any(Value::is_object) => {}
             Value::Array(items) => {

@@ -52,6 +52,7 @@ mod figure;
 mod html;
 mod live;
 pub mod mesh;
+mod motor_plot;
 mod page;
 mod plot;
 pub mod scene;
@@ -61,6 +62,7 @@ mod util;
 
 pub use html::HtmlExport;
 pub use live::{LiveHandle, LiveView};
+pub use motor_plot::MotorPlot;
 pub use plot::PlotRecorder;
 pub use sweep_plot::SweepPlot;
 pub use util::base64;

@@ -13,6 +13,7 @@ use plotters::prelude::*;
 
 use super::figure::{Chart, FAMILY, Figure, PALETTE, chart, range, write_figure};
 use crate::atomic::{Outputs, check_output_path};
+use crate::control::Motor;
 use crate::error::{Error, Result};
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample};
@@ -49,6 +50,9 @@ pub struct PlotRecorder {
     q_cmd: Vec<Vec<f64>>,
     tau: Vec<Vec<f64>>,
     tool: Vec<Vec3>,
+    /// `--motors`: per joint its motor and ratio, and per sample v (its envelope's speed).
+    motors: Vec<Option<(Motor, f64)>>,
+    v: Vec<Vec<f64>>,
 }
 
 impl PlotRecorder {
@@ -85,6 +89,8 @@ impl PlotRecorder {
             q_cmd: Vec::new(),
             tau: Vec::new(),
             tool: Vec::new(),
+            motors: Vec::new(),
+            v: Vec::new(),
         })
     }
 
@@ -124,6 +130,9 @@ impl Recorder for PlotRecorder {
         self.joints = run.model.joints.iter().map(|j| j.name.clone()).collect();
         self.effort = run.gains.effort.clone();
         self.reference = run.reference_path.map(|p| p.to_vec());
+        self.motors = (run.motors.into_iter().flatten().zip(&run.model.joints))
+            .map(|(m, j)| m.clone().map(|m| (m, j.gear_ratio)))
+            .collect();
         Ok(())
     }
 
@@ -132,6 +141,9 @@ impl Recorder for PlotRecorder {
         self.q.push(s.q.to_vec());
         self.q_cmd.push(s.q_cmd.to_vec());
         self.tau.push(s.tau.to_vec());
+        if !self.motors.is_empty() {
+            self.v.push(s.v.to_vec());
+        }
         self.tool.push(s.tool);
         Ok(())
     }
@@ -221,13 +233,35 @@ impl PlotRecorder {
     ) -> std::result::Result<(), String> {
         let tau = self.column(j, &self.tau);
         let limit = self.effort.get(j).copied().filter(|x| x.is_finite());
+        // under --motors: the envelope at the joint's speed, r·η·bounds(r·q̇), within ±E
+        let envelope: Option<Vec<(f64, f64)>> = self.motors.get(j).and_then(Option::as_ref).map(|(m, ratio)| {
+            let e = limit.unwrap_or(f64::INFINITY);
+            (self.v.iter())
+                .map(|v| {
+                    let (lo, hi) = m.joint_bounds(*ratio, v[j]);
+                    (lo.max(-e), hi.min(e))
+                })
+                .collect()
+        });
         let y = range(tau.iter().copied().chain(limit.into_iter().flat_map(|l| [l, -l])));
-        let caption = match limit {
-            Some(l) => format!("{}: τ (N·m), limit ±{l} (grey)", self.joint_name(j)),
-            None => format!("{}: τ (N·m), unlimited", self.joint_name(j)),
+        let caption = match (&envelope, limit) {
+            (Some(_), _) => format!("{}: τ (N·m), its motor's envelope at q̇ (grey)", self.joint_name(j)),
+            (None, Some(l)) => format!("{}: τ (N·m), limit ±{l} (grey)", self.joint_name(j)),
+            (None, None) => format!("{}: τ (N·m), unlimited", self.joint_name(j)),
         };
         let mut chart = new_chart(area, &caption, t_end, y)?;
-        if let Some(l) = limit {
+        if let Some(bounds) = &envelope {
+            for side in [0, 1] {
+                let line = self
+                    .t
+                    .iter()
+                    .zip(bounds)
+                    .map(|(&t, b)| (t, if side == 0 { b.0 } else { b.1 }));
+                chart
+                    .draw_series(LineSeries::new(line, LIMIT.stroke_width(1)))
+                    .map_err(err)?;
+            }
+        } else if let Some(l) = limit {
             for level in [l, -l] {
                 chart
                     .draw_series(LineSeries::new([(0.0, level), (t_end, level)], LIMIT.stroke_width(1)))

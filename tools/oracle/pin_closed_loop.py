@@ -297,8 +297,101 @@ def auto_tune(arm, q_start, dt, effort):
     return inertia, kp, kd
 
 
+# --------------------------------------------------------------------------------------------
+# --motors F.toml: the torque-speed envelopes of docs/motors.md, as faze4 applies them.
+# --------------------------------------------------------------------------------------------
+
+def _clamp(x, lo, hi):
+    """Rust's f64::clamp: lo if x < lo, hi if x > hi, else x."""
+    return lo if x < lo else (hi if x > hi else x)
+
+
+class Motor:
+    """One [[joint]] of a motors file: ratio r, efficiency eta, rotor inertia, and its envelope at
+    the shaft (dc: stall torque, no-load speed, peak; stepper: the pull-out curve)."""
+
+    def __init__(self, entry):
+        self.kind = entry["kind"]
+        self.ratio = entry.get("gear_ratio")
+        self.rotor = entry.get("rotor_inertia")
+        self.efficiency = entry.get("efficiency", 1.0)
+        if self.kind == "dc":
+            self.stall = entry["stall_torque"]
+            self.no_load = entry["no_load_speed"]
+            self.peak = entry.get("peak_torque", self.stall)
+        else:
+            self.curve = [(float(w), float(t)) for w, t in entry["curve"]]
+
+    def bounds(self, omega):
+        """Motor torque [lo, hi] at shaft speed omega."""
+        if self.kind == "dc":
+            back = omega / self.no_load
+            return (_clamp(self.stall * (-1.0 - back), -self.peak, self.peak),
+                    _clamp(self.stall * (1.0 - back), -self.peak, self.peak))
+        t = self.pull_out(abs(omega))
+        return -t, t
+
+    def pull_out(self, w):
+        c = self.curve
+        if w > c[-1][0]:
+            return 0.0
+        if w <= c[0][0]:
+            return c[0][1]
+        for (w0, t0), (w1, t1) in zip(c, c[1:]):
+            if w == w1:
+                return t1
+            if w < w1:
+                return t0 + (t1 - t0) * (w - w0) / (w1 - w0)
+        return c[-1][1]
+
+    def max_torque(self):
+        return self.peak if self.kind == "dc" else max(t for _, t in self.curve)
+
+
+def read_motors(path, urdf):
+    """[Motor or None] per coordinate from a motors TOML (by name, or one per coordinate in order);
+    each motor's ratio and rotor replace the joint's, and its reflected inertia r^2 I goes on M."""
+    import tomllib
+    with open(path, "rb") as f:
+        entries = tomllib.load(f)["joint"]
+    names = [j.name for j in urdf.coords]
+    motors = [None] * len(names)
+    if all("name" in e for e in entries):
+        for e in entries:
+            motors[names.index(e["name"])] = Motor(e)
+    else:
+        assert len(entries) == len(names), (len(entries), names)
+        motors = [Motor(e) for e in entries]
+    ratios = np.ones(len(names))
+    for i, (m, j) in enumerate(zip(motors, urdf.coords)):
+        if m is None:
+            continue
+        r = m.ratio if m.ratio is not None else 1.0
+        ratios[i] = r
+        if m.rotor is not None:
+            urdf.reflected[i, i] = r * r * m.rotor
+    return motors, ratios
+
+
+def envelope_of(motors, ratios, effort):
+    """The actuation of docs/motors.md: tau_i = min(max(tau_raw_i, lo_i), hi_i) with
+    [lo_i, hi_i] = [r eta lo_m, r eta hi_m](r v_i) intersected with [-E_i, E_i]."""
+    def bounds(v):
+        lo, hi = -np.asarray(effort, dtype=float), np.asarray(effort, dtype=float)
+        lo, hi = lo.copy(), hi.copy()
+        for i, m in enumerate(motors):
+            if m is None:
+                continue
+            k = ratios[i] * m.efficiency
+            l, h = m.bounds(ratios[i] * v[i])
+            lo[i], hi[i] = max(k * l, -effort[i]), min(k * h, effort[i])
+        return lo, hi
+    return bounds
+
+
 def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_forward=True,
-                    record_period=0.02, tool="tool_link", verbose=True, step_hook=None):
+                    record_period=0.02, tool="tool_link", verbose=True, step_hook=None,
+                    envelope=None):
     """Run the closed loop on a PinArm; returns (summary dict, trail ndarray)."""
     kp, kd = np.asarray(kp, dtype=float), np.asarray(kd, dtype=float)
     effort = np.asarray(effort, dtype=float)
@@ -310,6 +403,7 @@ def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_fo
     r = max(1, int(round(record_period / dt)))
     max_err = np.zeros(dof)
     sat_steps = np.zeros(dof, dtype=np.int64)
+    env_steps = np.zeros(dof, dtype=np.int64)
     trail = []
     diverged = None
     lo, hi = arm.urdf.lower, arm.urdf.upper
@@ -326,7 +420,12 @@ def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_fo
         tau_raw = kp * err + kd * (v_cmd - v)
         if feed_forward:
             tau_raw = tau_raw + arm.gravity(q)
-        tau = np.clip(tau_raw, -effort, effort)
+        if envelope is None:
+            tau = np.clip(tau_raw, -effort, effort)
+        else:
+            t_lo, t_hi = envelope(v)
+            tau = np.minimum(np.maximum(tau_raw, t_lo), t_hi)
+            env_steps += (tau_raw > t_hi) | (tau_raw < t_lo)
         np.maximum(max_err, np.abs(err), out=max_err)
         sat_steps += np.abs(tau_raw) >= effort
         if step_hook is not None:
@@ -360,6 +459,7 @@ def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_fo
                          for ax, c in (("x", 1), ("y", 2), ("z", 3))},
         "diverged": diverged,
         "wall_time_s": wall,
+        "envelope_pct": (100.0 * env_steps / max(done, 1)).tolist() if envelope else None,
     }
     if verbose:
         rng = summary["tool_range_m"]
@@ -423,6 +523,7 @@ def main(argv=None):
     ap.add_argument("--trail", metavar="F.csv")
     ap.add_argument("--summary", metavar="F.json")
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--motors", metavar="F.toml", help="torque-speed envelopes (docs/motors.md)")
     args = ap.parse_args(argv)
 
     arm = PinArm(args.urdf, mimic=args.mimic, gravity=not args.no_gravity)
@@ -438,9 +539,17 @@ def main(argv=None):
         effort = arm.urdf.effort
         _, kp, kd = auto_tune(arm, command(0.0)[0], dt, effort)
     tool = args.tool_link or (gains or {}).get("tool_link") or "tool_link"
+    envelope = None
+    if args.motors:
+        motors, ratios = read_motors(args.motors, arm.urdf)
+        if not gains:
+            effort = [ratios[i] * m.efficiency * m.max_torque() if m else e
+                      for i, (m, e) in enumerate(zip(motors, effort))]
+            _, kp, kd = auto_tune(arm, command(0.0)[0], dt, np.asarray(effort))
+        envelope = envelope_of(motors, ratios, np.asarray(effort, dtype=float))
     summary, trail = run_closed_loop(arm, command, kp, kd, effort, duration=args.duration, dt=dt,
                                      feed_forward=not args.no_ff, record_period=args.record_period,
-                                     tool=tool, verbose=not args.quiet)
+                                     tool=tool, verbose=not args.quiet, envelope=envelope)
     if args.trail:
         with open(args.trail, "w") as f:
             f.write(",".join(trail_columns(summary["dof"])) + "\n")
