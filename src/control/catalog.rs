@@ -4,7 +4,7 @@
 use super::motor::{Envelope, JointMotor, Motor, StepperWinding};
 
 /// Points of a preset's pull-out curve (evenly spaced speeds).
-pub const CURVE_POINTS: usize = 64;
+pub const CURVE_POINTS: usize = 256;
 /// A preset's pull-out curve ends where the model's torque has fallen to this share of its
 /// standstill value; past it the envelope is zero.
 pub const CURVE_TAIL: f64 = 0.05;

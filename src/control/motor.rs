@@ -82,17 +82,13 @@ fn pull_out(curve: &[[f64; 2]], w: f64) -> f64 {
     if w <= curve[0][0] {
         return curve[0][1];
     }
-    // the segment holding w (curves are short: a linear scan)
-    for p in curve.windows(2) {
-        let ([w0, t0], [w1, t1]) = (p[0], p[1]);
-        if w == w1 {
-            return t1;
-        }
-        if w < w1 {
-            return t0 + (t1 - t0) * (w - w0) / (w1 - w0);
-        }
+    // the segment [k−1, k] holding w: the first point at or past w (speeds ascend)
+    let k = curve.partition_point(|p| p[0] < w);
+    let ([w0, t0], [w1, t1]) = (curve[k - 1], curve[k]);
+    if w == w1 {
+        return t1;
     }
-    last[1]
+    t0 + (t1 - t0) * (w - w0) / (w1 - w0)
 }
 
 /// One joint's motor: its envelope at the shaft, the reducer's efficiency and the continuous
