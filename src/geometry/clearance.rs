@@ -27,6 +27,9 @@ use super::report::{ClearanceReport, PairDistance};
 use super::search::Touch;
 use crate::spatial::Pose;
 
+/// The share of the tolerance a search of a waiting sample may use (the rest raises the other waiting samples' lower bounds)
+const SEARCH_SHARE: f64 = 0.25;
+
 /// How many samples a pair may leave for [`Clearance::finish`] before they are searched at
 /// once: about 0.1 MB a pair (a relative pose and three numbers a sample).
 const BATCH: usize = 1024;
@@ -237,12 +240,13 @@ impl PairMemory {
             let lower = if tolerance > 0.0 {
                 // an actual distance within the tolerance of the sample's, or none closer
                 // than best − tolerance
-                match set.pair_distance(k, pose, &mut self.closest, best, Some(hull), tolerance) {
+                let search = tolerance * SEARCH_SHARE;
+                match set.pair_distance(k, pose, &mut self.closest, best, Some(hull), search) {
                     Some(d) => {
                         (best, found) = (d.distance, Some((d, p.t)));
-                        d.distance - tolerance
+                        d.distance - search
                     }
-                    None => best - tolerance,
+                    None => best - search,
                 }
             } else {
                 let d = (set.pair_distance(k, pose, &mut self.closest, f64::INFINITY, Some(hull), 0.0))
