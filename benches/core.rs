@@ -6,7 +6,7 @@ use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use faze4::algo::{
-    Data, compute_all_terms, crba, discrete_step, forward_kinematics, gravity, integrate_discrete, rnea,
+    Data, State, compute_all_terms, crba, discrete_step, forward_kinematics, gravity, integrate_discrete, rnea,
 };
 use faze4::model::{Model, PackagePaths};
 use faze4::sim::Scenario;
@@ -35,12 +35,12 @@ fn core(c: &mut Criterion) {
         b.iter(|| compute_all_terms(&model, &mut data, black_box(&q), &v))
     });
     c.bench_function("step", |b| {
-        let (mut qs, mut vs) = (q, v);
+        let mut state = State::at(&q, &v, black_box(&tau), 2e-4);
         b.iter(|| {
             // restart from the same state so the bench measures a fixed workload
-            qs = q;
-            vs = v;
-            discrete_step(&model, &mut data, &mut qs, &mut vs, black_box(&tau), 2e-4).unwrap();
+            state.q.copy_from_slice(&q);
+            state.v.copy_from_slice(&v);
+            discrete_step(&model, &mut data, &mut state).unwrap();
         })
     });
 }
@@ -63,20 +63,22 @@ fn closed_loop_step(c: &mut Criterion) {
         .build()
         .unwrap()
         .controller;
-    let (mut q, mut v) = (q0, v0);
-    let (mut q_cmd, mut v_cmd, mut tau_raw, mut tau) = ([0.0; 6], [0.0; 6], [0.0; 6], [0.0; 6]);
+    let mut state = State::at(&q0, &v0, &[0.0; 6], dt);
+    let (mut q_cmd, mut v_cmd, mut tau_raw) = ([0.0; 6], [0.0; 6], [0.0; 6]);
     let mut k = 0usize;
     c.bench_function("closed_loop_step", |b| {
         b.iter(|| {
             let t = k as f64 * dt;
-            compute_all_terms(&model, &mut data, &q, &v);
+            compute_all_terms(&model, &mut data, &state.q, &state.v);
             wave.eval(t, &mut q_cmd, &mut v_cmd);
-            pd.torque(&q, &v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw, &mut tau);
-            integrate_discrete(&model, &mut data, &mut q, &mut v, &tau, dt).unwrap();
+            pd.torque(&state.q, &state.v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw);
+            pd.clip(&tau_raw, &mut state.tau);
+            integrate_discrete(&model, &mut data, &mut state).unwrap();
             // the wave is periodic; restart every 8 s so the state stays on the trajectory
             k = (k + 1) % 40_000;
             if k == 0 {
-                (q, v) = (q0, v0);
+                state.q.copy_from_slice(&q0);
+                state.v.copy_from_slice(&v0);
             }
         })
     });

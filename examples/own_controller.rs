@@ -7,7 +7,7 @@
 //!
 //!     cargo run --release --example own_controller
 
-use faze4::algo::{Data, compute_all_terms, integrate_discrete};
+use faze4::algo::{Data, State, compute_all_terms, integrate_discrete};
 use faze4::traj::Wave;
 
 fn main() -> faze4::Result<()> {
@@ -22,14 +22,15 @@ fn main() -> faze4::Result<()> {
     let (dt, steps) = (2e-4, 40_000);
     let (kp, kd) = (400.0, 40.0); // per unit inertia: a critically damped 20 rad/s loop
 
-    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-    wave.eval(0.0, &mut q, &mut v);
-    let (mut q_cmd, mut v_cmd, mut tau) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut state = State::new(&model, dt);
+    wave.eval(0.0, &mut state.q, &mut state.v);
+    let (mut q_cmd, mut v_cmd) = (vec![0.0; n], vec![0.0; n]);
     let (mut max_error, mut max_tau) = (vec![0.0f64; n], vec![0.0f64; n]);
     for k in 0..steps {
         let t = k as f64 * dt;
         // M, g and C v + g at (q, v) from one kinematics pass
-        compute_all_terms(&model, &mut data, &q, &v);
+        compute_all_terms(&model, &mut data, &state.q, &state.v);
+        let State { q, v, tau, .. } = &mut state;
         wave.eval(t, &mut q_cmd, &mut v_cmd);
         // q̈_cmd = −ω² q_cmd for a sine
         let a: Vec<f64> = (0..n)
@@ -40,7 +41,7 @@ fn main() -> faze4::Result<()> {
             max_tau[i] = max_tau[i].max(tau[i].abs());
             max_error[i] = max_error[i].max((q_cmd[i] - q[i]).abs());
         }
-        integrate_discrete(&model, &mut data, &mut q, &mut v, &tau, dt)?;
+        integrate_discrete(&model, &mut data, &mut state)?;
     }
     println!("joint  max error (rad)  max |τ| (N·m)  Faze4 limit (N·m)");
     for i in 0..n {

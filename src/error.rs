@@ -138,7 +138,7 @@ pub enum Error {
     /// triangle meshes is not modelled (only between convex shapes).
     #[error(
         "--self-collisions: the exact meshes of '{}' and '{}' intersect at t = {t:.4} s; contact is modelled between convex shapes only: use --collision-geometry hull",
-        links[0], links[1]
+        links[0].escape_debug(), links[1].escape_debug()
     )]
     MeshContact {
         /// The two URDF link names.
@@ -182,6 +182,33 @@ impl Error {
             message: message.into(),
         }
     }
+}
+
+/// `x` as its shortest decimal that reads back to the same `f64` (Ryū): positional from 1e-5
+/// to 1e16, scientific outside (`1e-300`, not 300 digits), `1` rather than `1.0`.
+pub fn shortest(x: f64) -> String {
+    let text = ryu::Buffer::new().format(x).to_string();
+    match text.strip_suffix(".0") {
+        Some(whole) => whole.to_string(),
+        None => text,
+    }
+}
+
+/// A link's or joint's `name` in quotes, its control characters escaped (`'a\\nb'`): a name
+/// read from a URDF never breaks the one line it is printed on.
+pub fn quoted(name: &str) -> String {
+    format!("'{}'", name.escape_debug())
+}
+
+/// `text` with its control characters escaped (`\n` as `\\n`): a message quoting a name read
+/// from a file stays on its one line.
+pub fn escape_controls(text: &str) -> String {
+    text.chars()
+        .map(|c| match c.is_control() {
+            true => c.escape_default().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
 }
 
 /// `text` on one line (errors are one line on stderr): every run of whitespace, line breaks

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use crate::algo::{
-    Data, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
+    Data, State, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
     frame_position, gravity, rnea,
 };
 use crate::error::{Error, Result};
@@ -45,11 +45,25 @@ pub fn urdf_model(data: &[u8]) -> Option<Result<Robot>> {
 /// The name the fuzzed STL goes by in error messages.
 pub const STL_LABEL: &str = "fuzz.stl";
 
-/// `stl_mesh`: bytes → [`parse_mesh`]. Checks: an error is one line naming the file; an
-/// accepted mesh has at least one triangle, finite vertices, distinct in-range indices in every
-/// triangle, and no two bit-identical vertices.
+/// `stl_mesh`: bytes → [`parse_mesh`] as an STL. Checks: see [`check_mesh`].
 pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
-    let result = parse_mesh(data, Path::new(STL_LABEL));
+    check_mesh(parse_mesh(data, Path::new(STL_LABEL)), STL_LABEL)
+}
+
+/// The names the fuzzed mesh file goes by in `mesh_file`, which give its format.
+pub const MESH_LABELS: [&str; 3] = ["fuzz.stl", "fuzz.dae", "fuzz.obj"];
+
+/// `mesh_file`: the first byte picks the format (its value mod 3: STL, COLLADA, OBJ), the rest
+/// is the file → [`parse_mesh`]. Checks: see [`check_mesh`]. `None` for no bytes.
+pub fn mesh_file(data: &[u8]) -> Option<Result<Mesh>> {
+    let (&first, bytes) = data.split_first()?;
+    let label = MESH_LABELS[first as usize % 3];
+    Some(check_mesh(parse_mesh(bytes, Path::new(label)), label))
+}
+
+/// An error is one line naming the file; an accepted mesh has at least one triangle, finite
+/// vertices, distinct in-range indices in every triangle, and no two bit-identical vertices.
+fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
     match &result {
         Ok(mesh) => {
             assert!(!mesh.triangles.is_empty(), "a mesh without triangles accepted");
@@ -67,7 +81,7 @@ pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
             keys.dedup();
             assert_eq!(keys.len(), mesh.vertices.len(), "vertices not welded");
         }
-        Err(e) => check_error(e, STL_LABEL),
+        Err(e) => check_error(e, label),
     }
     result
 }
@@ -104,39 +118,47 @@ fn check_error(e: &Error, label: &str) {
     );
 }
 
-/// The builder's promises: bodies numbered root to tip, one body per moving joint, unit axes,
-/// positive masses, and no number that is not finite (limits may be infinite, not NaN).
+/// The builder's promises: bodies numbered root to tip, one body per moving joint, each driven
+/// by a coordinate (its own, or a mimic leader's), unit axes, positive masses, and no number
+/// that is not finite (limits may be infinite, not NaN).
 fn check_model(model: &Model) {
-    let n = model.dof();
-    assert_eq!(model.parent.len(), n);
-    assert_eq!(model.tree_pose.len(), n);
-    assert_eq!(model.s.len(), n);
-    assert_eq!(model.inertia.len(), n);
+    let (n, nb) = (model.dof(), model.num_bodies());
+    assert!(n <= nb);
+    assert_eq!(model.parent.len(), nb);
+    assert_eq!(model.tree_pose.len(), nb);
+    assert_eq!(model.s.len(), nb);
+    assert_eq!(model.inertia.len(), nb);
     assert!(!model.frames.is_empty(), "a model without frames");
     for i in 0..n {
-        if let Some(p) = model.parent[i] {
-            assert!(p < i, "body {i} has parent {p}");
-        }
         let joint = &model.joints[i];
         assert!((joint.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", joint.axis);
         assert!(!joint.lower.is_nan() && !joint.upper.is_nan() && joint.lower <= joint.upper);
         assert!(joint.damping.is_finite() && joint.damping >= 0.0);
         assert!(joint.effort.is_none_or(|e| e > 0.0));
+    }
+    for i in 0..nb {
+        if let Some(p) = model.parent[i] {
+            assert!(p < i, "body {i} has parent {p}");
+        }
+        let body = &model.bodies[i];
+        assert!(body.coordinate < n && body.multiplier.is_finite() && body.offset.is_finite());
+        assert!(body.follower || (body.multiplier == 1.0 && body.offset == 0.0));
+        assert!((body.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", body.axis);
         let inertia = &model.inertia[i];
         assert!(
             inertia.is_finite() && inertia.mass > 0.0,
             "body {i} ({}): inertia {inertia:?}",
-            joint.child_link
+            body.joint
         );
         assert!(
             model.tree_pose[i].is_finite() && model.s[i].is_finite(),
             "joint {}: placement {:?}",
-            joint.name,
+            body.joint,
             model.tree_pose[i]
         );
     }
     for frame in &model.frames {
-        assert!(frame.body.is_none_or(|b| b.0 < n));
+        assert!(frame.body.is_none_or(|b| b.0 < nb));
         assert!(
             frame.placement.is_finite(),
             "frame {}: {:?}",
@@ -184,15 +206,15 @@ fn exercise(model: &Model, data: &[u8]) {
 
     // One step from each joint's upper limit (or the small angle) moving fast outwards, so
     // that the limit solve runs.
-    let mut q: Vec<f64> = (0..n)
+    let q: Vec<f64> = (0..n)
         .map(|i| match model.joints[i].upper {
             u if u.is_finite() => u,
             _ => small[i],
         })
         .collect();
-    let mut v: Vec<f64> = velocity.iter().map(|v| v.abs() + 1.0).collect();
+    let v: Vec<f64> = velocity.iter().map(|v| v.abs() + 1.0).collect();
     let tau: Vec<f64> = (0..n).map(|i| (byte(data, i, 3) as f64 - 128.0) * 10.0).collect();
-    let _ = discrete_step(model, &mut d, &mut q, &mut v, &tau, 2e-4);
+    let _ = discrete_step(model, &mut d, &mut State::at(&q, &v, &tau, 2e-4));
     let _ = model.default_tool_frame();
 }
 

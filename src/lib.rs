@@ -38,6 +38,8 @@ pub mod id;
 pub mod ik;
 pub mod model;
 pub mod output;
+#[cfg(feature = "python")]
+mod python;
 pub mod sim;
 pub mod spatial;
 pub mod sweep;

@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use faze4::algo::{
-    ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, compute_all_terms, forward_kinematics,
+    ContactPoint, ContactSolver, Data, STICTION_TOLERANCE, State, compute_all_terms, forward_kinematics,
     forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
 use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, GeometryData, PairFilter, Robot};
@@ -288,10 +288,10 @@ fn slide_on(model: &Model, push: f64, drag: f64, friction: f64, steps: usize) ->
     let (dt, k) = (2e-4, 5e5);
     let mut data = Data::new(model);
     let mut solver = ContactSolver::new(model);
-    let (mut q, mut v) = (vec![0.0, 0.0], vec![0.0, 0.0]);
-    let tau = [-push, drag];
+    let mut state = State::at(&[0.0, 0.0], &[0.0, 0.0], &[-push, drag], dt);
     for _ in 0..steps {
-        compute_all_terms(model, &mut data, &q, &v);
+        let q = &state.q;
+        compute_all_terms(model, &mut data, q, &state.v);
         solver.clear();
         if q[0] < 0.0 {
             let point = ContactPoint {
@@ -303,10 +303,10 @@ fn slide_on(model: &Model, push: f64, drag: f64, friction: f64, steps: usize) ->
             // rows: tangent y, tangent z, normal x (wall → block)
             solver.push(point).copy_from_slice(&[0.0, 1.0, 0.0, 0.0, 1.0, 0.0]);
         }
-        integrate_discrete_with_contacts(model, &mut data, &mut q, &mut v, &tau, dt, &mut solver).unwrap();
+        integrate_discrete_with_contacts(model, &mut data, &mut state, &mut solver).unwrap();
     }
     let gamma = if solver.is_empty() { [0.0; 3] } else { solver.impulse(0) };
-    (q[0], v[1], gamma[2] / dt, gamma[0] / dt)
+    (state.q[0], state.v[1], gamma[2] / dt, gamma[0] / dt)
 }
 
 #[test]

@@ -7,7 +7,8 @@ mod common;
 
 use common::*;
 use faze4::algo::{
-    ContactPoint, ContactSolver, Data, SIGMA, STICTION_TOLERANCE, compute_all_terms, integrate_discrete_with_contacts,
+    ContactPoint, ContactSolver, Data, SIGMA, STICTION_TOLERANCE, State, compute_all_terms,
+    integrate_discrete_with_contacts,
 };
 use faze4::error::Error;
 use faze4::model::Model;
@@ -95,15 +96,17 @@ fn solve_and_check(model: &Model, problem: &Problem) -> f64 {
     let n = model.dof();
     let mut data = Data::new(model);
     let mut solver = ContactSolver::new(model);
-    let (mut q, mut v) = (problem.q.clone(), problem.v.clone());
-    compute_all_terms(model, &mut data, &q, &v);
+    let mut state = State::at(&problem.q, &problem.v, &problem.tau, DT);
+    compute_all_terms(model, &mut data, &state.q, &state.v);
     let mut a = data.m.clone();
     for (i, joint) in model.joints.iter().enumerate() {
         a[(i, i)] += DT * joint.damping;
     }
-    let b = &data.m * DVector::from_column_slice(&v) + DT * (DVector::from_column_slice(&problem.tau) - &data.bias);
+    let b =
+        &data.m * DVector::from_column_slice(&problem.v) + DT * (DVector::from_column_slice(&problem.tau) - &data.bias);
     problem.load(&mut solver, n);
-    integrate_discrete_with_contacts(model, &mut data, &mut q, &mut v, &problem.tau, DT, &mut solver).unwrap();
+    integrate_discrete_with_contacts(model, &mut data, &mut state, &mut solver).unwrap();
+    let State { q, v, .. } = state;
     for (j, (&qj, joint)) in q.iter().zip(&model.joints).enumerate() {
         assert!(
             qj > joint.lower && qj < joint.upper,
@@ -182,13 +185,13 @@ fn a_poisoned_contact_fails_the_step_and_leaves_the_state() {
     problem.jacobian[3 * n + 4] = f64::NAN;
     let mut data = Data::new(&model);
     let mut solver = ContactSolver::new(&model);
-    let (mut q, mut v) = (problem.q.clone(), problem.v.clone());
-    compute_all_terms(&model, &mut data, &q, &v);
+    let mut state = State::at(&problem.q, &problem.v, &problem.tau, DT);
+    compute_all_terms(&model, &mut data, &state.q, &state.v);
     problem.load(&mut solver, n);
-    let result = integrate_discrete_with_contacts(&model, &mut data, &mut q, &mut v, &problem.tau, DT, &mut solver);
+    let result = integrate_discrete_with_contacts(&model, &mut data, &mut state, &mut solver);
     match result {
         Err(Error::ContactNotConverged { iterations, .. }) => assert!(iterations >= 10, "{iterations}"),
         other => panic!("expected ContactNotConverged, got {other:?}"),
     }
-    assert_eq!((q, v), (problem.q.clone(), problem.v.clone()));
+    assert_eq!((state.q, state.v), (problem.q.clone(), problem.v.clone()));
 }

@@ -7,7 +7,7 @@
 mod common;
 
 use common::*;
-use faze4::algo::{Data, bias, crba, discrete_step, forward_kinematics, frame_jacobian, gravity};
+use faze4::algo::{Data, State, bias, crba, discrete_step, forward_kinematics, frame_jacobian, gravity};
 use faze4::model::Model;
 
 const FK_TOL: f64 = 1e-12;
@@ -100,10 +100,11 @@ fn check_model(fixture_name: &str) {
         let step = &s["step"];
         let tau = ours(&order, &vec_f64(&step["tau"]));
         let dt = step["dt"].as_f64().unwrap();
-        let (mut qs, mut vs) = (q.clone(), v.clone());
+        let mut state = State::at(&q, &v, &tau, dt);
         for _ in 0..step["steps"].as_u64().unwrap() {
-            discrete_step(&model, &mut data, &mut qs, &mut vs, &tau, dt).unwrap();
+            discrete_step(&model, &mut data, &mut state).unwrap();
         }
+        let (qs, vs) = (state.q, state.v);
         let e = max_abs_diff(&qs, &ours(&order, &vec_f64(&step["q"])))
             .max(max_abs_diff(&vs, &ours(&order, &vec_f64(&step["v"]))));
         worst[5] = worst[5].max(e);

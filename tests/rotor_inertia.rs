@@ -195,8 +195,9 @@ fn bad_motors_are_refused_in_one_line() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `--motors faze4`: limits 0.315 N·m × ratio and the rotors on M's diagonal; `--gear-ratio`
-/// moves a joint's limit and its reflected inertia together.
+/// `--motors faze4`: limits K·I × ratio (the 17HS16-2004S1's standstill torque at its rated
+/// current, 0.45/√2 N·m) and the rotors on M's diagonal; `--gear-ratio` moves a joint's limit
+/// and its reflected inertia together.
 #[test]
 fn faze4_motors_set_limits_and_inertia_from_the_ratios() {
     let dir = temp_dir("rotor-faze4");
@@ -223,12 +224,18 @@ fn faze4_motors_set_limits_and_inertia_from_the_ratios() {
         vec_f64(&geared["effective_inertia"]),
     );
     assert_eq!(e0, [7.9, 8.5, 4.7, 3.7, 3.5, 6.0]);
+    let standstill = 0.45 / 2f64.sqrt();
     for j in 0..6 {
-        assert!((e1[j] - 0.315 * ratios[j]).abs() < 1e-12, "J{} limit {}", j + 1, e1[j]);
+        assert!(
+            (e1[j] - standstill * ratios[j]).abs() < 1e-12,
+            "J{} limit {}",
+            j + 1,
+            e1[j]
+        );
         let reflected = ratios[j] * ratios[j] * rotor;
         assert!((i1[j] - i0[j] - reflected).abs() < 1e-12, "J{} inertia", j + 1);
     }
-    assert!((e2[0] - 0.315 * 50.0).abs() < 1e-12);
+    assert!((e2[0] - standstill * 50.0).abs() < 1e-12);
     assert!((i2[0] - i0[0] - 2500.0 * rotor).abs() < 1e-12);
     assert_eq!(e2[1..], e1[1..]);
     std::fs::remove_dir_all(&dir).unwrap();

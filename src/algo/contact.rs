@@ -52,9 +52,9 @@
 
 use nalgebra::DVector;
 
-use super::Data;
 use super::cholesky::cholesky_solve;
 use super::step::{advance, change_active_set, free_velocity, land, leaves_limits, solve_clamped};
+use super::{Data, State};
 use crate::error::{Error, Result};
 use crate::model::Model;
 
@@ -274,20 +274,18 @@ fn scaled_norm(x: &DVector<f64>, inverse_diagonal: &DVector<f64>) -> f64 {
 pub fn integrate_discrete_with_contacts(
     model: &Model,
     data: &mut Data,
-    q: &mut [f64],
-    v: &mut [f64],
-    tau: &[f64],
-    dt: f64,
+    state: &mut State,
     solver: &mut ContactSolver,
 ) -> Result<()> {
-    free_velocity(model, data, v, tau, dt)?;
+    free_velocity(model, data, state)?;
     let s = solver;
     s.iterations = 0;
     if s.is_empty() {
         s.response.clear();
-        land(model, data, q, v, dt);
+        land(model, data, state);
         return Ok(());
     }
+    let (v, dt) = (&state.v, state.dt);
     let rows = 3 * s.points.len();
     prepare(s, data, v, dt);
     operators(s, data, |_| false);
@@ -296,10 +294,10 @@ pub fn integrate_discrete_with_contacts(
     newton(s, data, rows, dt, 1)?;
     // v⁺ = v* + Y λ
     add_y_lambda(s, data);
-    if leaves_limits(model, data, q, dt) {
-        solve_with_limits(model, data, q, dt, s)?;
+    if leaves_limits(model, data, state) {
+        solve_with_limits(model, data, state, s)?;
     }
-    advance(data, q, v, dt);
+    advance(data, state);
     Ok(())
 }
 
@@ -308,15 +306,15 @@ pub fn integrate_discrete_with_contacts(
 /// problem over the free joints, `A` and `v*` those of the clamped step (identity rows for the
 /// clamped joints, `A_FF v*_F = b_F − A_FC v_C`) and J's clamped columns set aside in `Y`,
 /// Newton starting from the last λ. Leaves v⁺ in `data.rhs` and `b` in `data.limit_rhs`.
-fn solve_with_limits(model: &Model, data: &mut Data, q: &[f64], dt: f64, s: &mut ContactSolver) -> Result<()> {
-    let (n, rows) = (s.n, 3 * s.points.len());
+fn solve_with_limits(model: &Model, data: &mut Data, state: &State, s: &mut ContactSolver) -> Result<()> {
+    let (n, rows, dt) = (s.n, 3 * s.points.len(), state.dt);
     s.momentum.copy_from(&data.limit_rhs);
     data.limit_at.fill(None);
     for _ in 0..4 * n {
         // the multiplier's b + Jᵀγ
         impulses_into(s, &mut data.limit_rhs);
         data.limit_rhs += &s.momentum;
-        let changed = change_active_set(model, data, q, dt);
+        let changed = change_active_set(model, data, state);
         data.limit_rhs.copy_from(&s.momentum);
         if !changed {
             break;

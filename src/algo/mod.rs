@@ -17,6 +17,7 @@ mod data;
 mod forward_dynamics;
 mod jacobian;
 mod kinematics;
+mod mimic;
 mod rnea;
 mod step;
 
@@ -29,4 +30,4 @@ pub use forward_dynamics::forward_dynamics;
 pub use jacobian::frame_jacobian;
 pub use kinematics::{forward_kinematics, forward_kinematics_from_transforms, frame_position, update_joint_transforms};
 pub use rnea::{bias, gravity, rnea};
-pub use step::{discrete_step, integrate_discrete};
+pub use step::{State, discrete_step, integrate_discrete};

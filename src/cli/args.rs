@@ -113,9 +113,12 @@ pub struct RunArgs {
     /// Derivative gains per joint ('auto' keeps the tuned value).
     #[arg(long, value_name = "KD1,KD2,…", allow_hyphen_values = true)]
     pub kd: Option<JointValues>,
-    /// Motors behind the joints: 'faze4' (NEMA17 steppers and the Faze4's reducers; torque limits become 0.315 N·m × ratio).
-    #[arg(long, value_name = "SET", value_parser = crate::faze4::motors::MOTOR_SETS)]
+    /// Motors behind the joints, whose torque–speed envelope clips each joint's torque at its speed: a preset (faze4: 17HS16-2004S1 steppers and the Faze4's reducers; faze4-bom: the motors the Faze4 is built with; sts3215: Feetech STS3215 servos, the SO-100's; xm540-w270: Dynamixel XM540-W270) or a FILE.toml (docs/motors.md).
+    #[arg(long, value_name = "PRESET|FILE.toml")]
     pub motors: Option<String>,
+    /// Supply voltage of the --motors presets' drives, V (default: the preset's, 24 V for the Faze4's steppers).
+    #[arg(long = "supply-voltage", value_name = "V")]
+    pub supply_voltage: Option<f64>,
     /// Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or --motors'); overrides the URDF.
     #[arg(long = "rotor-inertia", value_name = "I1,I2,…", allow_hyphen_values = true)]
     pub rotor_inertia: Option<JointValues>,
@@ -266,7 +269,7 @@ impl FromStr for JointValues {
 #[derive(Clone, Debug, Args)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct SweepArgs {
-    /// Join the CSV tables of a sweep's shards.
+    /// Join the tables of a sweep's parts (--shard K/N).
     #[command(subcommand)]
     pub merge: Option<SweepCommand>,
     /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
@@ -290,8 +293,8 @@ pub struct SweepArgs {
     /// How close --find gets (default: 1 % of the range).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub resolution: Option<f64>,
-    /// Threads (default: one per core).
-    #[arg(long, short, default_value_t = 0, value_name = "N")]
+    /// Threads (default: one per core; never more than the runs).
+    #[arg(long, short, default_value_t = 0, value_name = "N", allow_hyphen_values = true, value_parser = jobs)]
     pub jobs: usize,
     /// The table, one row per run: .csv or .json (default: one line per run on stdout).
     #[arg(long, value_name = "F.csv|F.json")]
@@ -303,7 +306,7 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub trails: Option<PathBuf>,
     /// Run only part K of N of the sweep (deterministic; `faze4 sweep merge` joins the tables).
-    #[arg(long, value_name = "K/N")]
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub shard: Option<String>,
     /// No progress bar and no per-run lines.
     #[arg(long, short)]
@@ -313,20 +316,37 @@ pub struct SweepArgs {
     pub base: Vec<String>,
 }
 
+/// `--jobs N`: a whole number of threads, 0 (one per core) to [`super::sweep::MAX_JOBS`].
+fn jobs(text: &str) -> Result<usize, String> {
+    let most = super::sweep::MAX_JOBS;
+    match text.trim().parse::<usize>() {
+        Ok(n) if n <= most => Ok(n),
+        Ok(_) => Err(format!("at most {most} threads")),
+        Err(_) => Err(format!(
+            "a number of threads is a whole number from 0 (one per core) to {most}"
+        )),
+    }
+}
+
 /// `faze4 sweep merge`.
 #[derive(Clone, Debug, Subcommand)]
 pub enum SweepCommand {
-    /// Join the CSV tables of a sweep's shards (same columns) into one, ordered by run.
+    /// Join the tables of a sweep's parts into one, ordered by run; refuses a set that is not
+    /// the whole sweep (a part missing, twice, partial, truncated or of another sweep).
     Merge(MergeArgs),
 }
 
 /// `faze4 sweep merge a.csv b.csv … --out all.csv`.
 #[derive(Clone, Debug, Args)]
 pub struct MergeArgs {
-    /// The shards' tables.
-    #[arg(required = true, value_name = "F.csv")]
+    /// The parts' tables (.csv or .json, each with its .meta beside it).
+    #[arg(required = true, value_name = "F.csv|F.json")]
     pub tables: Vec<PathBuf>,
-    /// The joined table.
-    #[arg(long, required = true, value_name = "F.csv")]
+    /// The joined table, .csv or .json.
+    #[arg(long, required = true, value_name = "F.csv|F.json")]
     pub out: PathBuf,
+    /// Merge the parts there are, even if runs are missing or a part is partial (the output
+    /// says which runs are absent).
+    #[arg(long = "allow-partial")]
+    pub allow_partial: bool,
 }

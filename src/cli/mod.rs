@@ -1,6 +1,8 @@
 //! The command line: clap arguments → a validated scenario → the run → its outputs.
 
 pub mod args;
+pub mod call;
+pub mod motors;
 pub mod scenario;
 pub mod sweep;
 
@@ -11,8 +13,8 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use self::args::{Cli, Command, RunArgs};
-use crate::atomic::{check_output_path, write_atomically};
-use crate::error::{Error, Result};
+use crate::atomic::Outputs;
+use crate::error::{Error, Result, escape_controls, quoted};
 use crate::output::format::number;
 use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
 use crate::sim::scenario::positive;
@@ -38,7 +40,7 @@ pub fn main() -> ExitCode {
     match execute(&cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("faze4: error: {e}");
+            eprintln!("faze4: error: {}", escape_controls(&e.to_string()));
             ExitCode::from(EXIT_INPUT)
         }
     }
@@ -54,6 +56,13 @@ fn usage_error(e: clap::Error) -> ExitCode {
         let _ = e.print();
         return ExitCode::from(e.exit_code() as u8);
     }
+    eprintln!("faze4: error: {}", usage_line(&e));
+    ExitCode::from(EXIT_INPUT)
+}
+
+/// A clap usage error as the one line the binary prints after `faze4: error: `: clap's first
+/// paragraph, and its closest match for a mistyped subcommand, option or value.
+pub fn usage_line(e: &clap::Error) -> String {
     // clap's first paragraph (the error and its indented details) joined into one line
     let text = e.to_string();
     let first: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
@@ -73,10 +82,9 @@ fn usage_error(e: clap::Error) -> ExitCode {
         _ => None,
     });
     match suggestion {
-        Some(s) => eprintln!("faze4: error: {first}; did you mean '{s}'? (faze4 --help lists the options)"),
-        None => eprintln!("faze4: error: {first} (faze4 --help lists the options)"),
+        Some(s) => format!("{first}; did you mean '{s}'? (faze4 --help lists the options)"),
+        None => format!("{first} (faze4 --help lists the options)"),
     }
-    ExitCode::from(EXIT_INPUT)
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
@@ -93,47 +101,47 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
     if !quiet {
         for warning in warnings {
-            eprintln!("faze4: {warning}");
+            eprintln!("faze4: {}", escape_controls(&warning.to_string()));
         }
     }
 }
 
 /// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
 /// command's joint samples there). The last line says whether the arm follows its command; the
-/// exit status says whether the run diverged (1), was interrupted (130), or, with `--strict`,
-/// cannot follow or collides (3).
+/// exit status says whether the run diverged (1), was stopped by a signal (128 + its number:
+/// 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP), or, with `--strict`, cannot follow or collides (3).
+///
+/// Every file is written into one [`Outputs`] set and appears only once the run, every other
+/// file and the lines on stdout are complete: an error anywhere leaves every file as it was.
 fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
-    let mut outputs = Outputs::open(scenario, run, save_q)?;
-    warn(&scenario.warnings, run.quiet);
-    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
-        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
-        npy::write_samples(path, &rows)?;
-    }
-    let summary = sim::run(scenario, &mut outputs.recorders(), &stop)?;
-    if let Some(path) = &run.summary {
-        write_summary(path, &summary)?;
-    }
+    let files = Outputs::new();
+    let save_q = save_q.filter(|p| !is_none(p));
+    let (summary, recorders) = run_into(scenario, run, save_q, &files, &mut [], &stop)?;
+    let mut stdout = String::new();
     if !run.quiet {
-        report_files(&outputs, run, save_q, &summary);
+        stdout = report_files(&recorders, run, save_q, &summary);
     }
+    // the answer, always the last line on stdout
+    stdout.push_str(&format!("{}\n", summary.verdict));
+    print_stdout(&stdout)?;
+    files.commit()?;
     if let Some(d) = &summary.diverged {
         let joint = scenario.model.joint(d.joint);
         eprintln!(
             "faze4: diverged at t = {:.4} s on joint {} ({}): {} (the tuning rule keeps b ≤ 0.4: lower --dt or --kp); the outputs keep the steps before it",
             d.t,
             d.joint,
-            joint.name,
+            quoted(&joint.name),
             stiffest_joints(scenario, &d.stiffness_b)
         );
     }
     if let Some(t) = summary.interrupted_at_s {
-        eprintln!("faze4: interrupted at t = {t:.3} s; the outputs are complete up to there");
-    }
-    // the answer, always the last line on stdout
-    let _ = writeln!(std::io::stdout().lock(), "{}", summary.verdict);
-    if summary.interrupted_at_s.is_some() {
-        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        eprintln!(
+            "faze4: {} at t = {t:.3} s; the outputs are complete up to there",
+            stopped_by(&stop)
+        );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     let code = if summary.diverged.is_some() {
         ExitCode::from(EXIT_DIVERGED)
@@ -142,16 +150,75 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
     } else {
         ExitCode::SUCCESS
     };
-    // the run's files are written: Ctrl-C now only ends the serving
-    if let (Some(l), true) = (&outputs.live, run.hold) {
+    // the run's files are written: a signal now only ends the serving
+    if let (Some(l), true) = (&recorders.live, run.hold) {
         l.hold_until(|| stop.is_raised());
     }
     Ok(code)
 }
 
+/// The part of a run every caller shares (the binary, [`call::run`]): opens the recorders
+/// `run` asks for in `files`, says the scenario's warnings (unless quiet), writes `save_q`,
+/// runs with those recorders and `extra`, and writes the summary file, all into `files` (the
+/// caller commits them). The recorders are returned for the report and the live view's hold.
+fn run_into(
+    scenario: &Scenario,
+    run: &RunArgs,
+    save_q: Option<&Path>,
+    files: &Outputs,
+    extra: &mut [&mut dyn Recorder],
+    stop: &StopFlag,
+) -> Result<(Summary, Recorders)> {
+    let mut recorders = Recorders::open(scenario, run, save_q, files)?;
+    warn(&scenario.warnings, run.quiet);
+    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
+        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
+        npy::write_samples_within(files, path, &rows)?;
+    }
+    let mut all = recorders.recorders();
+    all.extend(extra.iter_mut().map(|r| &mut **r as &mut dyn Recorder));
+    let summary = sim::run(scenario, &mut all, stop)?;
+    if let Some(path) = summary_path(run) {
+        write_summary(files, path, &summary)?;
+    }
+    Ok((summary, recorders))
+}
+
+/// The exit status of a run or sweep `stop` ended: 128 + the signal's number.
+fn interrupted_status(stop: &StopFlag) -> u8 {
+    stop.signal().map_or(EXIT_INTERRUPTED, sim::exit_status)
+}
+
+/// What stopped a run, for its message: "interrupted" (Ctrl-C), "stopped by SIGTERM"…
+fn stopped_by(stop: &StopFlag) -> &'static str {
+    match stop.signal() {
+        Some(15) => "stopped by SIGTERM",
+        Some(1) => "stopped by SIGHUP",
+        _ => "interrupted",
+    }
+}
+
+/// Writes `text` on stdout. A failed write (a full disk) is an error; a closed pipe
+/// (`faze4 … | head`) is not the run's failure.
+fn print_stdout(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io {
+            path: "stdout".into(),
+            source: e,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// `--summary`, unless absent or `none`.
+fn summary_path(run: &RunArgs) -> Option<&Path> {
+    run.summary.as_deref().filter(|p| !is_none(p))
+}
+
 /// The recorders a run writes to, opened (and every output path and the port checked) before
 /// it starts.
-struct Outputs {
+struct Recorders {
     terminal: Option<Terminal>,
     trail: Option<TrailCsv>,
     html: Option<HtmlExport>,
@@ -159,13 +226,23 @@ struct Outputs {
     live: Option<LiveView>,
 }
 
-impl Outputs {
-    fn open(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<Outputs> {
-        if let Some(path) = &run.summary {
-            check_output_path(path, "--summary")?;
-        }
-        if let Some(path) = save_q {
-            check_output_path(path, "--save-q")?;
+impl Recorders {
+    /// Claims every output path in `files` (two options naming one file are refused) and
+    /// opens the recorders, their files in `files`.
+    fn open(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>, files: &Outputs) -> Result<Recorders> {
+        let trail = Some(run.trail.as_path()).filter(|p| !is_none(p));
+        let html = run.html.as_deref().filter(|p| !is_none(p));
+        let plot = run.plot.as_deref().filter(|p| !is_none(p));
+        for (path, option) in [
+            (trail, "--trail"),
+            (summary_path(run), "--summary"),
+            (save_q, "--save-q"),
+            (html, "--html"),
+            (plot, "--plot"),
+        ] {
+            if let Some(path) = path {
+                files.claim(path, option)?;
+            }
         }
         let print_period = match run.print_period {
             Some(p) => {
@@ -178,22 +255,19 @@ impl Outputs {
             true => Some(LiveView::start(run.port)?.with_period(run.record_period)),
             false => None,
         };
-        let html = match run.html.as_deref().filter(|p| !is_none(p)) {
-            Some(path) => Some(HtmlExport::new(path)?.with_period(run.record_period)),
+        let html = match html {
+            Some(path) => Some(HtmlExport::new(path)?.with_period(run.record_period).within(files)),
             None => None,
         };
-        let plot = match run.plot.as_deref() {
-            Some(path) => Some(PlotRecorder::new(path)?.with_period(run.record_period)),
+        let plot = match plot {
+            Some(path) => Some(PlotRecorder::new(path)?.with_period(run.record_period).within(files)),
             None => None,
         };
-        let trail = match is_none(&run.trail) {
-            true => None,
-            false => {
-                check_output_path(&run.trail, "--trail")?;
-                Some(TrailCsv::create(&run.trail, run.record_period, run.debug)?)
-            }
+        let trail = match trail {
+            Some(path) => Some(TrailCsv::within(files, path, run.record_period, run.debug)?),
+            None => None,
         };
-        Ok(Outputs {
+        Ok(Recorders {
             terminal: (!run.quiet).then(|| Terminal::new(run.debug, print_period)),
             trail,
             html,
@@ -242,12 +316,13 @@ fn default_print_period(duration: f64) -> f64 {
     }
 }
 
-fn report_files(outputs: &Outputs, run: &RunArgs, save_q: Option<&Path>, summary: &Summary) {
+/// The `[done]` line: the files written and the run's speed.
+fn report_files(outputs: &Recorders, run: &RunArgs, save_q: Option<&Path>, summary: &Summary) -> String {
     let mut written = Vec::new();
     if let Some(t) = &outputs.trail {
         written.push(format!("trail -> {} ({} rows)", run.trail.display(), t.rows()));
     }
-    if let Some(path) = &run.summary {
+    if let Some(path) = summary_path(run) {
         written.push(format!("summary -> {}", path.display()));
     }
     if let Some(path) = save_q {
@@ -270,18 +345,17 @@ fn report_files(outputs: &Outputs, run: &RunArgs, save_q: Option<&Path>, summary
         summary.wall_time_s,
         per_step * 1e6
     ));
-    // a closed stdout (`faze4 … | head`) is not the run's failure
-    let _ = writeln!(std::io::stdout().lock(), "[done] {}", written.join(" · "));
+    format!("[done] {}\n", written.join(" · "))
 }
 
-/// Writes the summary JSON (whole or not at all).
-pub fn write_summary(path: &Path, summary: &Summary) -> Result<()> {
+/// Writes the summary JSON to `path`, a file of `files`.
+pub fn write_summary(files: &Outputs, path: &Path, summary: &Summary) -> Result<()> {
     let mut json = serde_json::to_vec_pretty(summary).map_err(|e| Error::Io {
         path: path.to_path_buf(),
         source: std::io::Error::other(e),
     })?;
     json.push(b'\n');
-    write_atomically(path, &json)
+    files.write(path, &json)
 }
 
 /// Whether an output path means "do not write it".
@@ -300,7 +374,14 @@ fn stiffest_joints(scenario: &Scenario, b: &[f64]) -> String {
     let named: Vec<String> = order
         .iter()
         .take(STIFFEST_NAMED)
-        .map(|&i| format!("J{} ({}) {}", i + 1, scenario.model.joints[i].name, number(b[i], 0)))
+        .map(|&i| {
+            format!(
+                "J{} ({}) {}",
+                i + 1,
+                quoted(&scenario.model.joints[i].name),
+                number(b[i], 0)
+            )
+        })
         .collect();
     let more = if b.len() > STIFFEST_NAMED {
         format!(" and {} more", b.len() - STIFFEST_NAMED)

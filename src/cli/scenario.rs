@@ -6,11 +6,11 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
+use crate::control::JointMotor;
 use crate::error::{Error, Result};
-use crate::faze4::motors::{motor_effort, with_faze4_motors};
 use crate::geometry::{ClearanceGeometry, CollisionSet, PairFilter, Robot};
 use crate::model::{FrameId, Joint, Model, PackagePaths};
-use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
+use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
@@ -127,8 +127,12 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
         Some(path) => Robot::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
         None => Robot::faze4(),
     };
-    if run.motors.is_some() {
-        model = with_faze4_motors(&model)?;
+    // the motors' ratios and rotors, then the command line's overrides of them
+    if let Some(motors) = super::motors::motors(run, &model)? {
+        for (joint, m) in model.joints.iter_mut().zip(motors.iter().flatten()) {
+            joint.gear_ratio = m.gear_ratio.unwrap_or(joint.gear_ratio);
+            joint.rotor_inertia = m.rotor_inertia.unwrap_or(joint.rotor_inertia);
+        }
     }
     set_rotors("--rotor-inertia", &mut model, run.rotor_inertia.as_ref(), |j| {
         &mut j.rotor_inertia
@@ -191,11 +195,12 @@ pub fn wave_center(model: &Model, center: Option<&str>) -> Result<Vec<f64>> {
             return Err(Error::argument(
                 "--center",
                 format!(
-                    "J{} ({}) {c} is outside its limits [{}, {}]",
+                    "J{} ({}) {c} is outside its limits [{}, {}]{}",
                     i + 1,
                     j.name,
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }
@@ -226,8 +231,18 @@ fn builder(
     set: Option<Arc<CollisionSet>>,
 ) -> Result<ScenarioBuilder> {
     let n = model.dof();
-    // under --motors the limits are the motors' torque times the (possibly given) ratios
-    let motor_limits = run.motors.is_some().then(|| motor_effort(&model));
+    // the motors' ratios and rotors are on the model already (load_model, with the overrides)
+    let motors = super::motors::motors(run, &model)?.map(|motors| {
+        (motors.into_iter())
+            .map(|m| {
+                m.map(|m| JointMotor {
+                    gear_ratio: None,
+                    rotor_inertia: None,
+                    ..m
+                })
+            })
+            .collect::<Vec<_>>()
+    });
     let tool = tool_frame(&model, run.tool_link.as_deref())?;
     let mut builder = Scenario::builder(model, trajectory)
         .tool_frame(tool)
@@ -254,8 +269,9 @@ fn builder(
     }
     if let Some(effort) = &run.effort {
         builder = builder.effort(all_given("--effort", effort, n)?);
-    } else if let Some(limits) = motor_limits {
-        builder = builder.effort(limits);
+    }
+    if let Some(motors) = motors {
+        builder = builder.motors(motors);
     }
     if let Some(limits) = &run.max_speed {
         builder = builder.max_speed(limits.0.clone());
@@ -282,6 +298,24 @@ pub fn collisions(run: &RunArgs) -> Option<Collisions> {
             _ => PairFilter::NonAdjacent,
         },
     })
+}
+
+/// The torque limits a run of `run` on `model` uses: `--effort`, else the motors' under
+/// `--motors`, else the model's default ([`default_effort`]).
+pub fn effort_limits(model: &Model, run: &RunArgs) -> Result<Vec<f64>> {
+    match (&run.effort, &run.motors) {
+        (Some(effort), _) => all_given("--effort", effort, model.dof()),
+        (None, Some(_)) => {
+            let motors = super::motors::motors(run, model)?.unwrap_or_default();
+            Ok((default_effort(model).into_iter().zip(&model.joints).enumerate())
+                .map(|(i, (e, joint))| match motors.get(i) {
+                    Some(Some(m)) => m.motor.joint_limit(joint.gear_ratio),
+                    _ => e,
+                })
+                .collect())
+        }
+        (None, None) => Ok(default_effort(model)),
+    }
 }
 
 /// Every joint's value, `auto` refused (it is for gains).

@@ -1,9 +1,14 @@
-//! The joint controller: the digital PD with gravity feed-forward, and its auto-tuning.
+//! The joint controller: the digital PD with gravity feed-forward, and its auto-tuning; the
+//! motors behind it, their torque–speed envelopes (`motor.rs`) and the published figures of
+//! the presets' motors (`catalog.rs`).
 
+pub mod catalog;
+mod motor;
 mod pd;
 mod stability;
 mod tuning;
 
+pub use motor::{Envelope, JointMotor, Motor, StepperWinding};
 pub use pd::Pd;
 pub use stability::{Stability, lambda_max, spectral_radius, stabilize};
 pub use tuning::{Gains, auto_tune};

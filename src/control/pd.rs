@@ -12,33 +12,29 @@ pub struct Pd {
 }
 
 impl Pd {
-    /// The torque for one zero-order-hold period, into `tau` (clipped) and `tau_raw`
-    /// (unclipped); joint i is saturated when `|τ_raw,i| ≥ E_i` (see [`Pd::saturated`]):
+    /// The controller's torque for one zero-order-hold period, unclipped, into `tau_raw`:
     ///
     /// ```text
     ///   τ_raw = kp∘(q_cmd − q) + kd∘(v_cmd − v) + g(q)      (g only with feed-forward)
-    ///   τ     = clip(τ_raw, −E, E)
     /// ```
-    #[allow(clippy::too_many_arguments)] // the law's seven vectors, named as in docs/model.md
     #[inline]
-    pub fn torque(
-        &self,
-        q: &[f64],
-        v: &[f64],
-        q_cmd: &[f64],
-        v_cmd: &[f64],
-        g: &[f64],
-        tau_raw: &mut [f64],
-        tau: &mut [f64],
-    ) {
-        let Gains { kp, kd, effort, .. } = &self.gains;
+    pub fn torque(&self, q: &[f64], v: &[f64], q_cmd: &[f64], v_cmd: &[f64], g: &[f64], tau_raw: &mut [f64]) {
+        let Gains { kp, kd, .. } = &self.gains;
         for i in 0..q.len() {
             let mut t = kp[i] * (q_cmd[i] - q[i]) + kd[i] * (v_cmd[i] - v[i]);
             if self.feedforward {
                 t += g[i];
             }
             tau_raw[i] = t;
-            tau[i] = t.clamp(-effort[i], effort[i]);
+        }
+    }
+
+    /// The torque the joints get, `τ = clip(τ_raw, −E, E)`, into `tau`; joint i is saturated
+    /// when `|τ_raw,i| ≥ E_i` (see [`Pd::saturated`]).
+    #[inline]
+    pub fn clip(&self, tau_raw: &[f64], tau: &mut [f64]) {
+        for ((t, &raw), &e) in tau.iter_mut().zip(tau_raw).zip(&self.gains.effort) {
+            *t = raw.clamp(-e, e);
         }
     }
 

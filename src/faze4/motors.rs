@@ -1,53 +1,86 @@
-//! The Faze4's motors: a NEMA17 stepper behind a reducer at every joint (`--motors faze4`).
+//! The Faze4's motors (`--motors faze4`, `--motors faze4-bom`; docs/motors.md).
 //!
-//! The seed's torque limits [7.9, 8.5, 4.7, 3.7, 3.5, 6.0] N·m are [`MOTOR_TORQUE`] times
-//! [`GEAR_RATIO`], rounded: 70 % of a 0.45 N·m NEMA17's holding torque at the motor. Each rotor,
-//! spinning `r` times faster than its joint, adds `r²·I_rotor` to that joint's diagonal of the
-//! mass matrix (see [`crate::model::Joint::reflected_inertia`]).
+//! `faze4` is the original's assumption made physical: a StepperOnline 17HS16-2004S1 behind
+//! every reducer, driven at its rated 2.0 A, its pull-out curve from the stepper model at the
+//! supply voltage. At standstill it gives K·I = 0.45/√2 = 0.318 N·m, which the original rounded
+//! to 0.315 N·m (its seed limits [7.9, 8.5, 4.7, 3.7, 3.5, 6.0] N·m are 0.315 N·m × the ratios).
+//!
+//! `faze4-bom` is the motors the Faze4 is built with (its repository's `BOM_7_11_2023.xlsx`),
+//! at the currents and voltages of its electronics guide (`FAZE4 Robotic arm electronics
+//! setup.pdf`): J1 23HM22-2804S at 2.7 A, J2 23HS33-4008D at 2.7 A and 36 V, J3 23HS22-1504S
+//! at 2.2 A, J4 and J5 17HS16-2004S1 at 1.2 A, J6 14HS13-0804S-PG19 at 0.7 A, 24 V but J2. No
+//! winding figures of the 23HS33-4008D were found: J2 keeps the constant limit.
 
-use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::control::catalog::{
+    NEMA14_14HS13_0804S, NEMA14_14HS13_0804S_ROTOR, NEMA17_17HS16_2004S1, NEMA17_17HS16_2004S1_ROTOR,
+    NEMA23_23HM22_2804S, NEMA23_23HS22_1504S, stepper,
+};
+use crate::control::{JointMotor, StepperWinding};
 
 /// Reducer ratio of each joint, J1..J6 (motor turns per joint turn): the Faze4's published
 /// ratios.
 pub const GEAR_RATIO: [f64; 6] = [25.0, 27.0, 15.0, 11.846, 11.0, 19.19];
 
-/// Torque each motor is driven to (N·m at the motor shaft): 70 % of the 0.45 N·m holding
-/// torque of a StepperOnline 17HS16-2004S1 (NEMA17, 40 mm body, 2.0 A).
-pub const MOTOR_TORQUE: f64 = 0.315;
+/// Rotor inertia of the 17HS16-2004S1 (kg·m² at the motor shaft): its datasheet lists 54 g·cm².
+pub const ROTOR_INERTIA: f64 = NEMA17_17HS16_2004S1_ROTOR;
 
-/// Rotor inertia of that motor (kg·m² at the motor shaft): its datasheet lists 54 g·cm².
-pub const ROTOR_INERTIA: f64 = 54e-7;
+/// The supply of the Faze4's drivers (V), its electronics guide's (J2's is 36 V).
+pub const SUPPLY_VOLTS: f64 = 24.0;
 
-/// The motor sets `--motors` knows, by name.
-pub const MOTOR_SETS: [&str; 1] = ["faze4"];
-
-/// `model` with the Faze4's motors on its six joints: rotor inertia [`ROTOR_INERTIA`] and
-/// ratios [`GEAR_RATIO`]. Fails if the model does not have six joints.
-pub fn with_faze4_motors(model: &Model) -> Result<Model> {
-    if model.dof() != GEAR_RATIO.len() {
-        return Err(Error::argument(
-            "--motors",
-            format!(
-                "faze4's motors are for a 6-joint arm; {} has {} joints",
-                model.source,
-                model.dof()
-            ),
-        ));
-    }
-    let mut model = model.clone();
-    for (joint, &ratio) in model.joints.iter_mut().zip(&GEAR_RATIO) {
-        joint.rotor_inertia = ROTOR_INERTIA;
-        joint.gear_ratio = ratio;
-    }
-    Ok(model)
+/// `--motors faze4`: a 17HS16-2004S1 at its rated 2.0 A on every joint, at `supply` volts
+/// (`None`: 24 V), with the published ratios and the motor's rotor.
+pub fn faze4(supply: Option<f64>) -> Vec<Option<JointMotor>> {
+    let v = supply.unwrap_or(SUPPLY_VOLTS);
+    (GEAR_RATIO.iter())
+        .map(|&ratio| {
+            Some(JointMotor {
+                gear_ratio: Some(ratio),
+                rotor_inertia: Some(ROTOR_INERTIA),
+                motor: stepper(format!("17HS16-2004S1, 2.0 A, {v} V"), &NEMA17_17HS16_2004S1, 2.0, v),
+            })
+        })
+        .collect()
 }
 
-/// The torque limit each joint gets from its motor (N·m): [`MOTOR_TORQUE`] times the
-/// joint's gear ratio, so that changing a ratio changes the limit and the reflected inertia
-/// together.
-pub fn motor_effort(model: &Model) -> Vec<f64> {
-    model.joints.iter().map(|j| MOTOR_TORQUE * j.gear_ratio).collect()
+/// `--motors faze4-bom`: the built arm's motors at the electronics guide's driver currents, at
+/// `supply` volts for every stepper (`None`: the guide's 24 V). J2 (a 23HS33-4008D, no winding
+/// figures found) has no motor model: it keeps the constant limit. Rotors not found (J1, J3)
+/// are left at the model's.
+pub fn faze4_bom(supply: Option<f64>) -> Vec<Option<JointMotor>> {
+    let v = supply.unwrap_or(SUPPLY_VOLTS);
+    let joint = |name: &str, winding: &StepperWinding, amps: f64, ratio: f64, rotor: Option<f64>| {
+        Some(JointMotor {
+            gear_ratio: Some(ratio),
+            rotor_inertia: rotor,
+            motor: stepper(format!("{name}, {amps} A, {v} V"), winding, amps, v),
+        })
+    };
+    vec![
+        joint("23HM22-2804S", &NEMA23_23HM22_2804S, 2.7, GEAR_RATIO[0], None),
+        None,
+        joint("23HS22-1504S", &NEMA23_23HS22_1504S, 2.2, GEAR_RATIO[2], None),
+        joint(
+            "17HS16-2004S1",
+            &NEMA17_17HS16_2004S1,
+            1.2,
+            GEAR_RATIO[3],
+            Some(NEMA17_17HS16_2004S1_ROTOR),
+        ),
+        joint(
+            "17HS16-2004S1",
+            &NEMA17_17HS16_2004S1,
+            1.2,
+            GEAR_RATIO[4],
+            Some(NEMA17_17HS16_2004S1_ROTOR),
+        ),
+        joint(
+            "14HS13-0804S-PG19",
+            &NEMA14_14HS13_0804S,
+            0.7,
+            GEAR_RATIO[5],
+            Some(NEMA14_14HS13_0804S_ROTOR),
+        ),
+    ]
 }
 
 #[cfg(test)]
@@ -55,12 +88,14 @@ mod tests {
     use super::*;
     use crate::faze4::EFFORT as FAZE4_EFFORT;
 
-    /// The seed's limits are the motors' torque times the ratios, to their rounding.
+    /// The seed's limits are the motors' standstill torque times the ratios, to their rounding
+    /// (0.315 N·m against the model's 0.318), within 2 %.
     #[test]
     fn the_seed_limits_are_motor_torque_times_ratio() {
-        let model = with_faze4_motors(&crate::faze4::model()).unwrap();
-        for (e, seed) in motor_effort(&model).iter().zip(FAZE4_EFFORT) {
-            assert!((e - seed).abs() <= 0.05, "{e} vs {seed}");
+        for (m, seed) in faze4(None).iter().zip(FAZE4_EFFORT) {
+            let m = m.as_ref().unwrap();
+            let e = m.motor.joint_limit(m.gear_ratio.unwrap());
+            assert!((e - seed).abs() <= 0.02 * seed, "{e} vs {seed}");
         }
     }
 
@@ -71,7 +106,9 @@ mod tests {
         let mut data = crate::algo::Data::new(&arm);
         let q = [0.0; 6];
         let bare = crate::algo::crba(&arm, &mut data, &q)[(5, 5)];
-        let motors = with_faze4_motors(&arm).unwrap();
+        let mut motors = arm.clone();
+        motors.joints[5].rotor_inertia = ROTOR_INERTIA;
+        motors.joints[5].gear_ratio = GEAR_RATIO[5];
         let with = crate::algo::crba(&motors, &mut data, &q)[(5, 5)];
         let reflected = GEAR_RATIO[5] * GEAR_RATIO[5] * ROTOR_INERTIA;
         assert!(
@@ -79,5 +116,20 @@ mod tests {
             "{with} − {bare} vs {reflected}"
         );
         assert!(reflected > 200.0 * bare);
+    }
+
+    /// The built arm's NEMA23s give far more than the original's uniform limit at J1 and J3,
+    /// its NEMA14 through the PG19 less at J6.
+    #[test]
+    fn the_bill_of_materials_against_the_uniform_assumption() {
+        let bom = faze4_bom(None);
+        let limit = |j: usize| {
+            let m = bom[j].as_ref().unwrap();
+            m.motor.joint_limit(m.gear_ratio.unwrap())
+        };
+        assert!(limit(0) > 2.0 * FAZE4_EFFORT[0], "J1 {}", limit(0));
+        assert!(limit(2) > 2.0 * FAZE4_EFFORT[2], "J3 {}", limit(2));
+        assert!(limit(5) < FAZE4_EFFORT[5], "J6 {}", limit(5));
+        assert!(bom[1].is_none());
     }
 }

@@ -156,7 +156,7 @@ impl Object {
                 let Some(mesh) = load(uri, path.as_deref()) else {
                     return Ok(None);
                 };
-                let mesh = mesh?;
+                let mesh = mesh?.mesh;
                 let path = path.clone().unwrap_or_else(|| uri.into());
                 let points: Vec<PVector> = (mesh.vertices.iter())
                     .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))

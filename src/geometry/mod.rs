@@ -5,7 +5,7 @@
 //! | file | holds |
 //! |---|---|
 //! | `mod.rs` | [`GeometryModel`], [`GeometryObject`] |
-//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII) → exact f32 vertices, welded indices |
+//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII), COLLADA, OBJ (mesh-loader) → exact f32 vertices, welded indices |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |

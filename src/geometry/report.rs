@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::error::quoted;
+
 /// How meshes are read for distances (primitives are exact either way).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -122,7 +124,9 @@ impl ClearanceReport {
         };
         match (&self.links, self.min_m, self.t) {
             (Some([a, b]), Some(m), Some(t)) => format!(
-                "self-clearance ({what}): {a}–{b} {:.2} mm at t = {t:.2} s{}{unchecked}",
+                "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s{}{unchecked}",
+                quoted(a),
+                quoted(b),
                 m * 1e3,
                 if self.any_intersecting() { ", intersecting" } else { "" },
             ),

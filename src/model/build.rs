@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
-use super::{AxisSplit, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
+use super::{AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result, one_line};
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
@@ -21,6 +21,7 @@ pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
     let mut model = walk(desc, &tree)?;
     apply_transmissions(desc, &mut model)?;
     check_masses(desc, &model)?;
+    apply_mimics(desc, &mut model)?;
     Ok(model)
 }
 
@@ -146,6 +147,7 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
         name: desc.name.clone(),
         source: desc.file.clone(),
         joints: Vec::new(),
+        bodies: Vec::new(),
         parent: Vec::new(),
         tree_pose: Vec::new(),
         axis_split: Vec::new(),
@@ -234,6 +236,15 @@ fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model)
             model.tree_pose.push(origin);
             model.s.push(moving.motion_subspace());
             model.inertia.push(Inertia::ZERO);
+            model.bodies.push(Body {
+                joint: moving.name.clone(),
+                kind: moving.kind,
+                axis: moving.axis,
+                coordinate: body,
+                multiplier: 1.0,
+                offset: 0.0,
+                follower: false,
+            });
             model.joints.push(moving);
             Frame {
                 name: joint.child.clone(),
@@ -293,6 +304,131 @@ fn check_masses(desc: &RobotDescription, model: &Model) -> Result<()> {
             ));
         }
     }
+    Ok(())
+}
+
+/// Each `<mimic>`: the follower's body is driven by its leader's coordinate
+/// (`q_f = m·q_l + o`) and the follower stops being a degree of freedom. Its limits constrain
+/// the leader through the map, its damping adds m²·d to the leader's (`Gᵀ D G`), its velocity
+/// limit bounds the leader's by v/|m|. Refused: a mimic of a missing, fixed or following joint
+/// (no chains), of itself, a fixed joint with `<mimic>`, a motor on a follower, limits that
+/// leave the leader no position.
+fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
+    let file = desc.file.as_str();
+    let body_of = |name: &str| model.bodies.iter().position(|b| b.joint == name);
+    // (follower body, leader body, multiplier, offset)
+    let mut follows = Vec::new();
+    for joint in &desc.joints {
+        let Some(mimic) = &joint.mimic else { continue };
+        let element = || format!("joint '{}' <mimic>", joint.name);
+        let Some(follower) = body_of(&joint.name) else {
+            return Err(Error::model(
+                file,
+                element(),
+                "is on a fixed joint: only a moving joint can mimic another",
+            ));
+        };
+        if mimic.joint == joint.name {
+            return Err(Error::model(file, element(), "names the joint itself"));
+        }
+        let Some(leader_desc) = desc.joints.iter().find(|j| j.name == mimic.joint) else {
+            return Err(Error::model(
+                file,
+                element(),
+                format!("names joint '{}', which does not exist", mimic.joint),
+            ));
+        };
+        let Some(leader) = body_of(&mimic.joint) else {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "names joint '{}', which is fixed: a mimic needs a moving leader",
+                    mimic.joint
+                ),
+            ));
+        };
+        if let Some(next) = &leader_desc.mimic {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "names joint '{}', which itself mimics '{}': mimic chains are not supported (make '{}' mimic '{}' directly)",
+                    mimic.joint, next.joint, joint.name, next.joint
+                ),
+            ));
+        }
+        if !(mimic.multiplier.is_finite() && mimic.offset.is_finite()) {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "multiplier {} and offset {} must be finite",
+                    mimic.multiplier, mimic.offset
+                ),
+            ));
+        }
+        let f = &model.joints[follower];
+        if f.rotor_inertia != 0.0 || f.gear_ratio != 1.0 {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "joint '{}' has a <transmission>, but a follower is driven by its leader: put the motor on '{}'",
+                    joint.name, mimic.joint
+                ),
+            ));
+        }
+        follows.push((follower, leader, mimic.multiplier, mimic.offset));
+    }
+    if follows.is_empty() {
+        return Ok(());
+    }
+    // the leaders take their followers' limits, damping and speed limits
+    for &(f, l, m, o) in &follows {
+        let follower = model.joints[f].clone();
+        let leader = &mut model.joints[l];
+        if m != 0.0 {
+            let (a, b) = ((follower.lower - o) / m, (follower.upper - o) / m);
+            leader.lower = leader.lower.max(a.min(b));
+            leader.upper = leader.upper.min(a.max(b));
+            if let Some(v) = follower.velocity {
+                leader.velocity = Some(leader.velocity.map_or(v / m.abs(), |u| u.min(v / m.abs())));
+            }
+        }
+        leader.damping += m * m * follower.damping;
+        if leader.lower > leader.upper {
+            return Err(Error::model(
+                file,
+                format!("joint '{}' <mimic>", follower.name),
+                format!(
+                    "its limits [{}, {}] through q = {m}·q_{} + {o} leave joint '{}' no position within its own",
+                    follower.lower, follower.upper, leader.name, leader.name
+                ),
+            ));
+        }
+    }
+    // coordinates: the bodies that follow nobody, in body order
+    let mut coordinate = vec![usize::MAX; model.bodies.len()];
+    let mut n = 0;
+    for (i, c) in coordinate.iter_mut().enumerate() {
+        if !follows.iter().any(|&(f, ..)| f == i) {
+            *c = n;
+            n += 1;
+        }
+    }
+    for (i, body) in model.bodies.iter_mut().enumerate() {
+        body.coordinate = coordinate[i];
+    }
+    for &(f, l, m, o) in &follows {
+        let body = &mut model.bodies[f];
+        (body.coordinate, body.multiplier, body.offset, body.follower) = (coordinate[l], m, o, true);
+    }
+    let mut i = 0;
+    model.joints.retain(|_| {
+        i += 1;
+        coordinate[i - 1] != usize::MAX
+    });
     Ok(())
 }
 
@@ -467,6 +603,15 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
                 format!("joint '{}' <limit>", j.name),
                 "has a NaN value",
             ));
+        }
+        for (attribute, value) in [("effort", j.effort), ("velocity", j.velocity)] {
+            if let Some(x) = value.filter(|&x| x < 0.0) {
+                return Err(Error::model(
+                    file,
+                    format!("joint '{}' <limit>", j.name.escape_debug()),
+                    format!("{attribute}=\"{x}\" must be > 0 (or left out: no limit)"),
+                ));
+            }
         }
     }
     Ok(())

@@ -12,7 +12,8 @@ use std::path::Path;
 use std::sync::Once;
 
 use super::description::{
-    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
+    Visual,
 };
 use super::{Model, PackagePaths};
 use crate::error::{Error, Result, one_line};
@@ -120,9 +121,16 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 rpy: j.origin.rpy.0,
                 axis: j.axis.xyz.0,
                 limits: (!no_limit_element).then_some((lim.lower, lim.upper)),
-                effort: (lim.effort.is_nan() || lim.effort > 0.0).then_some(lim.effort),
-                velocity: (lim.velocity.is_nan() || lim.velocity > 0.0).then_some(lim.velocity),
+                // 0 is urdf-rs's value for an absent attribute: no limit; a negative one is
+                // refused by the model's checks, not read as none
+                effort: (lim.effort != 0.0).then_some(lim.effort),
+                velocity: (lim.velocity != 0.0).then_some(lim.velocity),
                 damping: j.dynamics.as_ref().map_or(0.0, |d| d.damping),
+                mimic: j.mimic.as_ref().map(|m| MimicDesc {
+                    joint: m.joint.clone(),
+                    multiplier: m.multiplier.unwrap_or(1.0),
+                    offset: m.offset.unwrap_or(0.0),
+                }),
             }
         })
         .collect();

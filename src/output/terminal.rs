@@ -6,8 +6,9 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
+use crate::error::quoted;
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
-use crate::sim::{Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
+use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
 pub const PRINT_PERIOD: f64 = 0.5;
@@ -215,16 +216,54 @@ impl Recorder for Terminal {
         if let Some(c) = &s.clearance {
             out(&clearance_line(c, &s.verdict))?;
         }
+        if let Some(motors) = &s.motors {
+            for line in motor_table(motors) {
+                out(&line)?;
+            }
+        }
         Ok(())
     }
+}
+
+/// The `--motors` table, one column per joint (`-` where a joint has no motor or a figure does
+/// not apply): kind, share of steps beyond the envelope, fastest shaft speed, RMS torque
+/// against the continuous rating, when a stepper first lost steps. Torques and speeds at the
+/// motor shaft.
+pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
+    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| -> Vec<String> {
+        (motors.iter())
+            .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
+            .collect()
+    };
+    vec![
+        text_row("motor", cell(&|m| Some(m.kind.to_string()))),
+        text_row("beyond envelope", cell(&|m| Some(percent(m.envelope_pct)))),
+        text_row(
+            "max motor speed rad/s",
+            cell(&|m| Some(format!("{:.1}", m.max_motor_speed))),
+        ),
+        text_row("RMS torque (N·m)", cell(&|m| Some(format!("{:.4}", m.rms_torque)))),
+        text_row(
+            "continuous (N·m)",
+            cell(&|m| m.continuous_torque.map(|c| format!("{c:.4}"))),
+        ),
+        text_row(
+            "loses steps at (s)",
+            cell(&|m| {
+                m.loses_steps_at
+                    .map(|t| t.map_or("never".into(), |t| format!("{t:.3}")))
+            }),
+        ),
+    ]
 }
 
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the
 /// hulls' penetration depth) and when; the pairs that intersect and from when (from the
 /// verdict's [`Reason::Collides`]); the links not checked. E.g. `self-clearance (exact
-/// meshes): podlaktica–hvataljka 18.85 mm at t = 4.56 s`. With a tolerance, the reading says
-/// it and the line ends with the bound it gives the true minimum: `self-clearance (meshes,
-/// tolerance 1.00 mm): podlaktica–hvataljka 18.85 mm at t = 4.56 s (true minimum ≥ 17.85 mm)`.
+/// meshes): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s`. With a tolerance, the reading
+/// says it and the line ends with the bound it gives the true minimum: `self-clearance (meshes,
+/// tolerance 1.00 mm): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s (true minimum ≥ 17.85
+/// mm)`.
 pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
     let what = match (c.geometry, c.tolerance_m > 0.0) {
         (ClearanceGeometry::Mesh, false) => "exact meshes".to_string(),
@@ -234,19 +273,33 @@ pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
     };
     let mut line = match (&c.links, c.min_m, c.t) {
         (Some([a, b]), Some(m), Some(t)) if c.tolerance_m > 0.0 => format!(
-            "self-clearance ({what}): {a}–{b} {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
+            "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
+            quoted(a),
+            quoted(b),
             m * 1e3,
             (m - c.tolerance_m) * 1e3
         ),
         (Some([a, b]), Some(m), Some(t)) => {
-            format!("self-clearance ({what}): {a}–{b} {:.2} mm at t = {t:.2} s", m * 1e3)
+            format!(
+                "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s",
+                quoted(a),
+                quoted(b),
+                m * 1e3
+            )
         }
         _ => format!("self-clearance ({what}): no pair checked"),
     };
     for reason in &verdict.reasons {
         if let Reason::Collides { pairs } = reason {
             let named: Vec<String> = (pairs.iter())
-                .map(|p| format!("{}–{} from t = {:.2} s", p.links[0], p.links[1], p.from_t))
+                .map(|p| {
+                    format!(
+                        "{}–{} from t = {:.2} s",
+                        quoted(&p.links[0]),
+                        quoted(&p.links[1]),
+                        p.from_t
+                    )
+                })
                 .collect();
             line += &format!(" · intersecting: {}", named.join(", "));
         }

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::format::push_exact;
-use crate::atomic::AtomicFile;
+use crate::atomic::{AtomicFile, Outputs};
 use crate::sim::{Recorder, RunInfo, Sample, Summary};
 
 /// Streams rows into a temporary file and renames it into place at the end, so memory does
@@ -19,10 +19,15 @@ pub struct TrailCsv {
 }
 
 impl TrailCsv {
-    /// A trail written to `path`, a row every `record_period` seconds.
+    /// A trail written to `path` on its own, a row every `record_period` seconds.
     pub fn create(path: &Path, record_period: f64, debug: bool) -> crate::Result<Self> {
+        Self::within(&Outputs::immediate(), path, record_period, debug)
+    }
+
+    /// A trail written to `path` as a file of `outputs` (it appears when they are committed).
+    pub fn within(outputs: &Outputs, path: &Path, record_period: f64, debug: bool) -> crate::Result<Self> {
         Ok(Self {
-            file: Some(AtomicFile::create(path)?),
+            file: Some(outputs.create(path)?),
             record_period,
             debug,
             rows: 0,

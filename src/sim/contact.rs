@@ -2,7 +2,7 @@
 //! geometry, solved inside the discrete step (docs/contact.md).
 
 use crate::algo::{
-    ContactPoint, ContactSolver, Data, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
+    ContactPoint, ContactSolver, Data, State, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
 use crate::error::Result;
 use std::sync::Arc;
@@ -100,25 +100,15 @@ impl ContactStep {
         &self.data.contacts
     }
 
-    /// One step at time `t` (s): the world poses, the contacts at q, their Jacobians, and
-    /// [`integrate_discrete_with_contacts`]. `data.xup`, `data.m` and `data.bias` must be at
-    /// (q, v) ([`crate::algo::compute_all_terms`]).
-    #[allow(clippy::too_many_arguments)]
-    pub fn step(
-        &mut self,
-        model: &Model,
-        data: &mut Data,
-        q: &mut [f64],
-        v: &mut [f64],
-        tau: &[f64],
-        dt: f64,
-        t: f64,
-    ) -> Result<()> {
+    /// One step of `state` at time `t` (s): the world poses, the contacts at q, their
+    /// Jacobians, and [`integrate_discrete_with_contacts`]. `data.xup`, `data.m` and `data.bias`
+    /// must be at (q, v) ([`crate::algo::compute_all_terms`]).
+    pub fn step(&mut self, model: &Model, data: &mut Data, state: &mut State, t: f64) -> Result<()> {
         forward_kinematics_from_transforms(model, data);
         if self.last_q.is_empty() {
-            self.last_q.extend_from_slice(q);
+            self.last_q.extend_from_slice(&state.q);
         }
-        for ((m, last), now) in self.joint_motion.iter_mut().zip(&mut self.last_q).zip(q.iter()) {
+        for ((m, last), now) in self.joint_motion.iter_mut().zip(&mut self.last_q).zip(state.q.iter()) {
             *m = (now - *last).abs();
             *last = *now;
         }
@@ -139,7 +129,7 @@ impl ContactStep {
             contact_jacobian(model, data, c, rows);
         }
         self.steps_in_contact += u64::from(!self.data.contacts.is_empty());
-        let stepped = integrate_discrete_with_contacts(model, data, q, v, tau, dt, &mut self.solver);
+        let stepped = integrate_discrete_with_contacts(model, data, state, &mut self.solver);
         self.newton_iterations += self.solver.iterations as u64;
         stepped
     }
@@ -149,7 +139,8 @@ impl ContactStep {
 /// first at the contact point p, in the contact frame (t₁, t₂, n̂): for each joint j on the
 /// path of body B (sign +1) or body A (−1) to the root, world axis a and origin o, the column
 /// `±(a × (p − o))` (revolute) or `±a` (prismatic), then rotated into the frame. Joints both
-/// paths share cancel. Requires the world poses at q.
+/// paths share cancel; a mimic follower's column goes to its leader's, times m. Requires the
+/// world poses at q.
 fn contact_jacobian(model: &Model, data: &Data, c: &crate::geometry::Contact, rows: &mut [f64]) {
     let n = model.dof();
     let normal = c.normal;
@@ -161,14 +152,20 @@ fn contact_jacobian(model: &Model, data: &Data, c: &crate::geometry::Contact, ro
         let mut joint = body.map(|JointId(j)| j);
         while let Some(j) = joint {
             let pose = &data.body_pose[j];
-            let axis = pose.rot * model.joints[j].axis;
-            let column = match model.joints[j].kind {
+            let moved = &model.bodies[j];
+            let axis = pose.rot * moved.axis;
+            let column = match moved.kind {
                 JointKind::Revolute | JointKind::Continuous => axis.cross(&(c.point - pose.pos)),
                 JointKind::Prismatic => axis,
             } * sign;
-            rows[j] += t1.dot(&column);
-            rows[n + j] += t2.dot(&column);
-            rows[2 * n + j] += normal.dot(&column);
+            // a follower's body moves with m times its leader's coordinate (J G)
+            let (i, column) = match moved.follower {
+                false => (moved.coordinate, column),
+                true => (moved.coordinate, column * moved.multiplier),
+            };
+            rows[i] += t1.dot(&column);
+            rows[n + i] += t2.dot(&column);
+            rows[2 * n + i] += normal.dot(&column);
             joint = model.parent[j];
         }
     }

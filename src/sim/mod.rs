@@ -16,6 +16,6 @@ pub use scenario::{
     Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
     ScenarioBuilder, ShapeRun, Warning, tune,
 };
-pub use stop::StopFlag;
-pub use summary::{ContactSummary, Diverged, PathDeviation, Summary, ToolRange};
+pub use stop::{StopFlag, exit_status};
+pub use summary::{ContactSummary, Diverged, MotorSummary, PathDeviation, StepLoss, Summary, ToolRange};
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

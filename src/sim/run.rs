@@ -3,7 +3,8 @@
 use std::time::{Duration, Instant};
 
 use super::{ContactStep, ContactSummary};
-use crate::algo::{Data, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
+use crate::algo::{Data, State, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
+use crate::control::Envelope;
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet};
 use crate::model::{FrameId, JointId, JointKind};
@@ -12,8 +13,8 @@ use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, Intersection, PathDeviation, Recorder, RunInfo, Sample, Scenario, StopFlag, Summary, ToolRange, Verdict,
-    steps_per_record,
+    Diverged, Intersection, MotorSummary, PathDeviation, Recorder, RunInfo, Sample, Scenario, StepLoss, StopFlag,
+    Summary, ToolRange, Verdict, steps_per_record,
 };
 
 /// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
@@ -25,37 +26,29 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 
 /// Runs `scenario` to the end (or until it diverges), reporting to `recorders`.
 ///
-/// Each step k = 0..steps−1, at t_k = k·Δt: g(q_k), C v + g and M(q_k) from one kinematics
-/// pass; the command at t_k; the PD torque, held over the step; the discrete step. The summary's
-/// tracking error, saturation, speed and time over the speed limit are over those steps; tool
-/// range and path deviation over the
-/// samples every `record_every` steps and after the last, where the self-clearance of the
-/// scenario's collision set is measured too (every frame's pose by forward kinematics, then
-/// [`Clearance::add`], completed by [`Clearance::finish`]): the summary's `clearance`, and a verdict that *collides* when
-/// any pair intersects at a sample. A diverged run stops at once; its
-/// summary says where (`diverged`), and covers the steps that completed. A raised `stop` flag
-/// ends the run at the next poll the same way, as if that step were the last
-/// (`interrupted_at_s` in the summary).
+/// Each step k = 0..steps−1, at t_k = k·Δt, runs the stages of [`Pipeline`] in the order
+/// MuJoCo's `mj_step` does: *dynamics* (g(q_k), C v + g and M(q_k) from one kinematics pass),
+/// *command* (q_cmd, v_cmd at t_k), *controller* (the PD torque τ_raw), *actuation* (what the
+/// actuators give of it, τ, held over the step), *record* (metrics and recorders), *integrate*
+/// (the discrete step). The summary's tracking error, saturation, speed and time over the
+/// speed limit are over those steps; tool range and path deviation over the samples every
+/// `record_every` steps and after the last, where the self-clearance of the scenario's
+/// collision set is measured too (every frame's pose by forward kinematics, then
+/// [`Clearance::add`], completed by [`Clearance::finish`]): the summary's
+/// `clearance`, and a verdict that *collides* when any pair intersects at a sample. A diverged
+/// run stops at once; its summary says where (`diverged`), and covers the steps that
+/// completed. A raised `stop` flag ends the run at the next poll the same way, as if that step
+/// were the last (`interrupted_at_s` in the summary).
 pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) -> Result<Summary> {
     let model = &sc.model;
     let n = model.dof();
     let dt = sc.dt;
-    let mut data = Data::new(model);
-    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-    sc.trajectory.eval(0.0, &mut q, &mut v);
-    let start_q = q.clone();
-    let (mut q_cmd, mut v_cmd) = (vec![0.0; n], vec![0.0; n]);
-    let (mut tau_raw, mut tau) = (vec![0.0; n], vec![0.0; n]);
-    let mut steps = StepMetrics::new(n);
-    let mut samples = SampleMetrics::new();
-    let mut clearance = (sc.collision_set.as_deref()).map(|set| ClearanceMetrics::new(set, sc.clearance_tolerance));
+    let mut p = Pipeline::new(sc);
+    let start_q = p.state.q.clone();
     let collision_pairs: Vec<[FrameId; 2]> = (sc.collision_set.iter())
         .flat_map(|set| set.pairs())
         .map(|(a, b)| [sc.geometry.collisions[a].frame, sc.geometry.collisions[b].frame])
         .collect();
-    let mut contact =
-        (sc.self_contact.zip(sc.collision_set.clone())).map(|(settings, set)| ContactStep::new(model, set, settings));
-
     let info = RunInfo {
         command: &sc.command,
         model,
@@ -73,9 +66,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     for r in recorders.iter_mut() {
         r.begin(&info)?;
     }
-    let mut schedule = Schedule::new(recorders, dt, sc.record_every);
-    let mut target = [0.0; 3];
-    let mut target_rate = [0.0; 3];
+    let mut rec = Records::new(sc, recorders);
 
     let wall = Instant::now();
     let mut done = 0;
@@ -88,55 +79,26 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         }
         let last = k == sc.steps || diverged.is_some() || interrupted_at_s.is_some();
         if diverged.is_none() {
-            // g, bias and M at (q_k, v_k); the command at t_k; the held torque
-            compute_all_terms(model, &mut data, &q, &v);
-            sc.trajectory.eval(t, &mut q_cmd, &mut v_cmd);
-            sc.controller
-                .torque(&q, &v, &q_cmd, &v_cmd, data.g.as_slice(), &mut tau_raw, &mut tau);
+            p.dynamics();
+            p.command(t);
+            p.controller();
+            p.actuation();
         }
         if !last {
-            steps.add(sc, &q, &v, &q_cmd, &tau_raw);
-        }
-
-        let (record_metrics, recorders_due) = schedule.due(k, last);
-        if (record_metrics || recorders_due) && diverged.is_none() {
-            let tool = frame_position(model, &q, sc.tool_frame);
-            let target = sc.shape.as_ref().map(|s| {
-                s.target.eval(t, &mut target, &mut target_rate);
-                Vec3::from(target)
-            });
-            if record_metrics {
-                samples.add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
-                if let Some(c) = clearance.as_mut() {
-                    forward_kinematics(model, &mut data, &q);
-                    c.add(&data.frame_pose, t);
-                }
+            rec.steps.add(sc, &p.state, &p.q_cmd, &p.tau_raw);
+            if let Some(m) = rec.motors.as_mut() {
+                m.add(&p, t);
             }
-            let sample = Sample {
-                step: k,
-                t,
-                q: &q,
-                v: &v,
-                q_cmd: &q_cmd,
-                v_cmd: &v_cmd,
-                tau: &tau,
-                g: data.g.as_slice(),
-                tool,
-                target,
-                intersecting: clearance.as_ref().map_or(&[], |c| c.clearance.intersecting()),
-            };
-            schedule.record(recorders, k, last, &sample)?;
+        }
+        if diverged.is_none() {
+            rec.record(recorders, &mut p, k, t, last)?;
         }
         if last {
             break;
         }
-
-        let stepped = match &mut contact {
-            Some(contact) => contact.step(model, &mut data, &mut q, &mut v, &tau, dt, t),
-            None => integrate_discrete(model, &mut data, &mut q, &mut v, &tau, dt),
-        };
+        let stepped = p.integrate(t);
         done = k + 1;
-        if let Some(joint) = runaway_joint(&q, &v, stepped)? {
+        if let Some(joint) = runaway_joint(&p.state.q, &p.state.v, stepped)? {
             diverged = Some(Diverged {
                 t: done as f64 * dt,
                 joint,
@@ -144,11 +106,19 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             });
         }
     }
+    let Records {
+        steps,
+        samples,
+        mut clearance,
+        motors,
+        ..
+    } = rec;
     if let Some(c) = clearance.as_mut() {
         c.finish();
     }
     let wall_time_s = wall.elapsed().as_secs_f64();
 
+    let contact = &p.contact;
     let mut summary = Summary {
         dof: n,
         dt,
@@ -183,6 +153,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
                 geometry_queries: c.geometry_queries(),
                 newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
             }),
+        motors: motors.map(|m| m.summary(sc, done)),
         ..Summary::default()
     };
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
@@ -194,6 +165,178 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         r.finish(&summary)?;
     }
     Ok(summary)
+}
+
+/// The closed loop's state and workspaces, one method per stage of a step (see [`run`]).
+/// Nothing is allocated after [`Pipeline::new`].
+struct Pipeline<'a> {
+    sc: &'a Scenario,
+    /// The rigid-body workspace: after [`Pipeline::dynamics`], M, C v + g and g at (q, v).
+    data: Data,
+    /// q, v, the joint torques held over the step, Δt.
+    state: State,
+    /// The command at the step's time.
+    q_cmd: Vec<f64>,
+    v_cmd: Vec<f64>,
+    /// The controller's torque before actuation (N·m or N).
+    tau_raw: Vec<f64>,
+    /// `--self-collisions`: the step with contact.
+    contact: Option<ContactStep>,
+    /// `--motors`: the joint torque range [lo, hi] each joint's actuation allowed this step.
+    bounds: Vec<(f64, f64)>,
+}
+
+impl<'a> Pipeline<'a> {
+    /// At the command's start (q, v), at rest in every other respect.
+    fn new(sc: &'a Scenario) -> Self {
+        let model = &sc.model;
+        let n = model.dof();
+        let mut state = State::new(model, sc.dt);
+        sc.trajectory.eval(0.0, &mut state.q, &mut state.v);
+        let contact = (sc.self_contact.zip(sc.collision_set.clone()))
+            .map(|(settings, set)| ContactStep::new(model, set, settings));
+        Pipeline {
+            sc,
+            data: Data::new(model),
+            state,
+            q_cmd: vec![0.0; n],
+            v_cmd: vec![0.0; n],
+            tau_raw: vec![0.0; n],
+            contact,
+            bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
+        }
+    }
+
+    /// g, C v + g and M at (q, v), from one kinematics pass.
+    #[inline]
+    fn dynamics(&mut self) {
+        compute_all_terms(&self.sc.model, &mut self.data, &self.state.q, &self.state.v);
+    }
+
+    /// The command at time `t` (s).
+    #[inline]
+    fn command(&mut self, t: f64) {
+        self.sc.trajectory.eval(t, &mut self.q_cmd, &mut self.v_cmd);
+    }
+
+    /// The PD torque τ_raw.
+    #[inline]
+    fn controller(&mut self) {
+        let State { q, v, .. } = &self.state;
+        (self.sc.controller).torque(
+            q,
+            v,
+            &self.q_cmd,
+            &self.v_cmd,
+            self.data.g.as_slice(),
+            &mut self.tau_raw,
+        );
+    }
+
+    /// The torque the joints get, held over the step: τ_raw clipped to the limits, and under
+    /// `--motors` to each motor's envelope at the joint's speed, `r·η·bounds(r·q̇)`.
+    #[inline]
+    fn actuation(&mut self) {
+        let Some(motors) = &self.sc.motors else {
+            self.sc.controller.clip(&self.tau_raw, &mut self.state.tau);
+            return;
+        };
+        let effort = &self.sc.controller.gains.effort;
+        for (i, motor) in motors.iter().enumerate() {
+            let e = effort[i];
+            let (lo, hi) = match motor {
+                Some(m) => {
+                    let (lo, hi) = m.joint_bounds(self.sc.model.joints[i].gear_ratio, self.state.v[i]);
+                    (lo.max(-e), hi.min(e))
+                }
+                None => (-e, e),
+            };
+            self.bounds[i] = (lo, hi);
+            self.state.tau[i] = self.tau_raw[i].max(lo).min(hi);
+        }
+    }
+
+    /// The discrete step at time `t` (s), with contact under `--self-collisions`.
+    #[inline]
+    fn integrate(&mut self, t: f64) -> Result<()> {
+        let model = &self.sc.model;
+        match &mut self.contact {
+            Some(contact) => contact.step(model, &mut self.data, &mut self.state, t),
+            None => integrate_discrete(model, &mut self.data, &mut self.state),
+        }
+    }
+}
+
+/// The record stage: the metrics over the steps and the samples, and when the recorders are
+/// due.
+struct Records<'a> {
+    steps: StepMetrics,
+    /// `--motors`: the motors' figures over the steps.
+    motors: Option<MotorMetrics>,
+    samples: SampleMetrics,
+    clearance: Option<ClearanceMetrics<'a>>,
+    schedule: Schedule,
+    /// The shape's target at the sample (buffers).
+    target: [f64; 3],
+    target_rate: [f64; 3],
+}
+
+impl<'a> Records<'a> {
+    fn new(sc: &'a Scenario, recorders: &[&mut dyn Recorder]) -> Self {
+        Records {
+            steps: StepMetrics::new(sc.model.dof()),
+            motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc.model.dof())),
+            samples: SampleMetrics::new(),
+            clearance: (sc.collision_set.as_deref()).map(|set| ClearanceMetrics::new(set, sc.clearance_tolerance)),
+            schedule: Schedule::new(recorders, sc.dt, sc.record_every),
+            target: [0.0; 3],
+            target_rate: [0.0; 3],
+        }
+    }
+
+    /// Step k's sample at time `t` (s), when the metrics or a recorder are due (the last step
+    /// always is): tool position, shape target, path deviation, self-clearance.
+    fn record(
+        &mut self,
+        recorders: &mut [&mut dyn Recorder],
+        p: &mut Pipeline,
+        k: usize,
+        t: f64,
+        last: bool,
+    ) -> Result<()> {
+        let (record_metrics, recorders_due) = self.schedule.due(k, last);
+        if !(record_metrics || recorders_due) {
+            return Ok(());
+        }
+        let sc = p.sc;
+        let model = &sc.model;
+        let tool = frame_position(model, &p.state.q, sc.tool_frame);
+        let target = sc.shape.as_ref().map(|s| {
+            s.target.eval(t, &mut self.target, &mut self.target_rate);
+            Vec3::from(self.target)
+        });
+        if record_metrics {
+            (self.samples).add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
+            if let Some(c) = self.clearance.as_mut() {
+                forward_kinematics(model, &mut p.data, &p.state.q);
+                c.add(&p.data.frame_pose, t);
+            }
+        }
+        let sample = Sample {
+            step: k,
+            t,
+            q: &p.state.q,
+            v: &p.state.v,
+            q_cmd: &p.q_cmd,
+            v_cmd: &p.v_cmd,
+            tau: &p.state.tau,
+            g: p.data.g.as_slice(),
+            tool,
+            target,
+            intersecting: self.clearance.as_ref().map_or(&[], |c| c.clearance.intersecting()),
+        };
+        self.schedule.record(recorders, k, last, &sample)
+    }
 }
 
 /// After a step: the joint that has gone bad, if any — a non-finite state, the fastest joint
@@ -288,13 +431,86 @@ impl StepMetrics {
     }
 
     #[inline]
-    fn add(&mut self, sc: &Scenario, q: &[f64], v: &[f64], q_cmd: &[f64], tau_raw: &[f64]) {
+    fn add(&mut self, sc: &Scenario, state: &State, q_cmd: &[f64], tau_raw: &[f64]) {
+        let State { q, v, .. } = state;
         for i in 0..q.len() {
             self.max_error[i] = self.max_error[i].max((q_cmd[i] - q[i]).abs());
             self.saturated[i] += u64::from(sc.controller.saturated(i, tau_raw[i]));
             self.max_speed[i] = self.max_speed[i].max(v[i].abs());
             self.over_speed[i] += u64::from(v[i].abs() > sc.speed_limit[i]);
         }
+    }
+}
+
+/// The motors' figures over the steps (`--motors`).
+struct MotorMetrics {
+    /// Steps with τ_raw outside the actuation's range, per joint.
+    envelope: Vec<u64>,
+    /// max |ω_m| (rad/s).
+    max_speed: Vec<f64>,
+    /// Σ τ_m² over the steps (N²·m²).
+    sum_sq: Vec<f64>,
+    /// A stepper's first step beyond its pull-out torque.
+    lost: Vec<Option<StepLoss>>,
+}
+
+impl MotorMetrics {
+    fn new(n: usize) -> Self {
+        MotorMetrics {
+            envelope: vec![0; n],
+            max_speed: vec![0.0; n],
+            sum_sq: vec![0.0; n],
+            lost: vec![None; n],
+        }
+    }
+
+    /// Step `p`'s actuation at time `t` (s).
+    #[inline]
+    fn add(&mut self, p: &Pipeline, t: f64) {
+        let Some(motors) = &p.sc.motors else { return };
+        for (i, m) in motors.iter().enumerate() {
+            let Some(m) = m else { continue };
+            let ratio = p.sc.model.joints[i].gear_ratio;
+            let k = ratio * m.efficiency;
+            let (lo, hi) = p.bounds[i];
+            let raw = p.tau_raw[i];
+            let beyond = raw > hi || raw < lo;
+            self.envelope[i] += u64::from(beyond);
+            let speed = (ratio * p.state.v[i]).abs();
+            self.max_speed[i] = self.max_speed[i].max(speed);
+            let tau_m = p.state.tau[i] / k;
+            self.sum_sq[i] += tau_m * tau_m;
+            if beyond && self.lost[i].is_none() && matches!(m.envelope, Envelope::Stepper { .. }) {
+                self.lost[i] = Some(StepLoss {
+                    t,
+                    needs: raw.abs() / k,
+                    speed,
+                    gives: m.envelope.bounds(speed).1,
+                });
+            }
+        }
+    }
+
+    /// The summary's `motors` over `done` steps.
+    fn summary(self, sc: &Scenario, done: usize) -> Vec<Option<MotorSummary>> {
+        let steps = done.max(1) as f64;
+        (sc.motors.iter().flatten().enumerate())
+            .map(|(i, m)| {
+                m.as_ref().map(|m| {
+                    let stepper = matches!(m.envelope, Envelope::Stepper { .. });
+                    MotorSummary {
+                        label: m.label.clone(),
+                        kind: m.envelope.kind(),
+                        envelope_pct: 100.0 * self.envelope[i] as f64 / steps,
+                        max_motor_speed: self.max_speed[i],
+                        rms_torque: (self.sum_sq[i] / steps).sqrt(),
+                        continuous_torque: m.continuous_torque,
+                        loses_steps_at: stepper.then(|| self.lost[i].map(|l| l.t)),
+                        step_loss: self.lost[i],
+                    }
+                })
+            })
+            .collect()
     }
 }
 

@@ -20,8 +20,8 @@ use nalgebra::DMatrix;
 
 use super::SelfContact;
 use crate::algo::{Data, crba};
-use crate::control::{Gains, Pd, Stability, auto_tune, stabilize};
-use crate::error::{Error, Result};
+use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
+use crate::error::{Error, Result, shortest};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::ik::{IkTask, solve_path};
@@ -85,6 +85,10 @@ pub struct Scenario {
     pub warnings: Vec<Warning>,
     /// `--self-collisions`: contact between the arm's own collision geometry, if on.
     pub self_contact: Option<SelfContact>,
+    /// `--motors`: per joint the motor whose envelope clips its torque at its speed (`None`
+    /// for a joint without one: the constant limit alone); `None`: no motors, the constant
+    /// limits of the controller.
+    pub motors: Option<Vec<Option<Motor>>>,
 }
 
 /// Something a scenario runs with that the user should know about; the builder returns these
@@ -116,7 +120,11 @@ impl fmt::Display for Warning {
             Warning::UnlimitedEffort { source, joints } => write!(
                 f,
                 "{source} gives no effort limit for {}: their torque is not clipped (set --effort)",
-                joints.join(", ")
+                joints
+                    .iter()
+                    .map(|j| crate::error::quoted(j))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             Warning::UnstableGains { stability: s, given } => write!(
                 f,
@@ -218,6 +226,7 @@ impl Scenario {
             shape: None,
             thresholds: Thresholds::default(),
             self_contact: None,
+            motors: None,
         }
     }
 }
@@ -248,6 +257,7 @@ pub struct ScenarioBuilder {
     shape: Option<ShapeRun>,
     thresholds: Thresholds,
     self_contact: Option<SelfContact>,
+    motors: Option<Vec<Option<JointMotor>>>,
 }
 
 impl ScenarioBuilder {
@@ -373,6 +383,15 @@ impl ScenarioBuilder {
         self
     }
 
+    /// A motor per joint (`--motors`; `None` for a joint without one): its ratio and rotor
+    /// inertia, where given, replace the model's; its envelope clips the joint's torque at the
+    /// joint's speed, every step; the constant limit E of a motored joint becomes
+    /// ratio × η × the motor's largest torque unless [`ScenarioBuilder::effort`] gives it.
+    pub fn motors(mut self, motors: Vec<Option<JointMotor>>) -> Self {
+        self.motors = Some(motors);
+        self
+    }
+
     /// Contact forces between the checked pairs of the collision geometry given by
     /// [`ScenarioBuilder::geometry`] (`--self-collisions`; off by default).
     pub fn self_contact(mut self, contact: SelfContact) -> Self {
@@ -393,6 +412,15 @@ impl ScenarioBuilder {
         non_negative("--clearance-tolerance", self.clearance_tolerance)?;
         if let Some(contact) = &self.self_contact {
             non_negative("--friction", contact.friction)?;
+            if contact.friction > MAX_FRICTION {
+                return Err(Error::argument(
+                    "--friction",
+                    format!(
+                        "{}: at most {MAX_FRICTION:e}: beyond it the contact solver's arithmetic overflows (any μ above about 1e10 already sticks)",
+                        shortest(contact.friction)
+                    ),
+                ));
+            }
             positive("--self-collisions: stiffness", contact.stiffness)?;
             non_negative("--self-collisions: dissipation", contact.dissipation)?;
             if self.collisions.is_none() {
@@ -404,6 +432,13 @@ impl ScenarioBuilder {
         }
         let mut model = self.model;
         let n = model.dof();
+        if n == 0 {
+            return Err(Error::model(
+                &model.source,
+                format!("robot '{}'", model.name.escape_debug()),
+                "has no moving joint: there is nothing to simulate",
+            ));
+        }
         if self.trajectory.dof() != n {
             return Err(Error::argument(
                 "trajectory",
@@ -421,25 +456,35 @@ impl ScenarioBuilder {
                 ),
             ));
         }
+        let motors = match self.motors {
+            Some(motors) => Some(fit_motors(&mut model, motors)?),
+            None => None,
+        };
         let steps = steps(self.duration, self.dt)?;
         check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
         if !self.gravity {
             model.gravity = Default::default();
         }
+        // the arm without its payload, kept only to say which input overflows
+        let bare = (self.payload_kg > 0.0).then(|| model.clone());
         if self.payload_kg > 0.0 {
             model = model.with_point_mass(tool_frame, self.payload_kg);
         }
 
         let mut warnings = Vec::new();
+        let explicit_effort = self.effort.is_some();
         let effort = match self.effort {
             Some(effort) => {
                 count("--effort", effort.len(), n)?;
                 if let Some((i, x)) = effort.iter().enumerate().find(|(_, x)| x.is_nan() || **x <= 0.0) {
-                    return Err(Error::argument("--effort", format!("J{} limit {x} must be > 0", i + 1)));
+                    return Err(Error::argument(
+                        "--effort",
+                        format!("J{} limit {} must be > 0", i + 1, shortest(*x)),
+                    ));
                 }
                 effort
             }
-            None if faze4::is_faze4(&model) => faze4::EFFORT.to_vec(),
+            None if faze4::is_faze4(&model) => default_effort(&model),
             None => {
                 let unlimited: Vec<String> = (model.joints.iter())
                     .filter(|j| j.effort.is_none())
@@ -451,10 +496,16 @@ impl ScenarioBuilder {
                         joints: unlimited,
                     });
                 }
-                model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect()
+                default_effort(&model)
             }
         };
 
+        let effort = match (&motors, explicit_effort) {
+            (Some(motors), false) => (effort.iter().zip(motors).zip(&model.joints))
+                .map(|((&e, m), j)| m.as_ref().map_or(e, |m| m.joint_limit(j.gear_ratio)))
+                .collect(),
+            _ => effort,
+        };
         let (mut gains, m) = tune(&model, &self.trajectory, &effort, self.dt);
         override_gains("--kp", &mut gains.kp, &self.kp)?;
         override_gains("--kd", &mut gains.kd, &self.kd)?;
@@ -466,6 +517,16 @@ impl ScenarioBuilder {
                 scaled: gains.stability.is_some_and(|s| s.scaled),
                 ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, self.dt)
             });
+        }
+        if !arithmetic_holds(&m, &gains) {
+            return Err(overflow(
+                &model,
+                bare.as_ref(),
+                self.payload_kg,
+                &self.trajectory,
+                &effort,
+                self.dt,
+            ));
         }
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
@@ -495,8 +556,92 @@ impl ScenarioBuilder {
             thresholds: self.thresholds,
             warnings,
             self_contact: self.self_contact,
+            motors,
         })
     }
+}
+
+/// The motors' ratios and rotors onto `model`, each checked; the motors themselves, checked.
+fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<Option<Motor>>> {
+    count("--motors", motors.len(), model.dof())?;
+    let bad = |i: usize, what: String| Error::argument("--motors", format!("J{} {what}", i + 1));
+    let mut out = Vec::with_capacity(motors.len());
+    for (i, (m, joint)) in motors.into_iter().zip(model.joints.iter_mut()).enumerate() {
+        let Some(m) = m else {
+            out.push(None);
+            continue;
+        };
+        if let Some(r) = m.gear_ratio {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(bad(i, format!("gear_ratio {r} must be > 0")));
+            }
+            joint.gear_ratio = r;
+        }
+        if let Some(inertia) = m.rotor_inertia {
+            if !(inertia.is_finite() && inertia >= 0.0) {
+                return Err(bad(i, format!("rotor_inertia {inertia} must be ≥ 0")));
+            }
+            joint.rotor_inertia = inertia;
+        }
+        m.motor.check().map_err(|e| bad(i, e))?;
+        out.push(Some(m.motor));
+    }
+    Ok(out)
+}
+
+/// Largest Coulomb friction `--friction` takes. The contact step's products of μ overflow
+/// between 1e150 and 1e200 (μ = 1e200 gave the frictionless result); every μ from about 1e10
+/// gave the same sticking run as 1e100 (the circle shape with `--self-collisions`).
+pub const MAX_FRICTION: f64 = 1e100;
+
+/// Whether the mass matrix at the start pose, the gains and their stability figures are all
+/// finite: inputs too large for f64 (a payload of 1e300 kg, a gear ratio of 1e160) make one of
+/// them overflow, and the run would end as "diverged" with a NaN spectral radius.
+pub fn arithmetic_holds(m: &DMatrix<f64>, gains: &Gains) -> bool {
+    m.iter().chain(&gains.kp).chain(&gains.kd).all(|x| x.is_finite())
+        && gains
+            .stability
+            .is_none_or(|s| s.b_max.is_finite() && s.spectral_radius.is_finite())
+}
+
+/// The error of a scenario whose arithmetic overflows: the payload's (`--payload-kg`) when the
+/// arm without it (`bare`) holds, else the model's joint of largest inertia.
+fn overflow(
+    model: &Model,
+    bare: Option<&Model>,
+    payload_kg: f64,
+    trajectory: &Trajectory,
+    effort: &[f64],
+    dt: f64,
+) -> Error {
+    let holds = |m: &Model| {
+        let (gains, mass) = tune(m, trajectory, effort, dt);
+        arithmetic_holds(&mass, &gains)
+    };
+    if bare.is_some_and(holds) {
+        return Error::argument(
+            "--payload-kg",
+            format!(
+                "{} kg: too heavy to simulate (the mass matrix and the gains tuned for it overflow)",
+                shortest(payload_kg)
+            ),
+        );
+    }
+    let model = bare.unwrap_or(model);
+    let n = model.dof();
+    let mut q = vec![0.0; n];
+    trajectory.eval(0.0, &mut q, &mut vec![0.0; n]);
+    let m = crba(model, &mut Data::new(model), &q).clone();
+    let joint = (0..n)
+        .max_by(|&a, &b| m[(a, a)].abs().total_cmp(&m[(b, b)].abs()))
+        .map_or(String::new(), |i| {
+            format!("joint {}", crate::error::quoted(&model.joints[i].name))
+        });
+    Error::model(
+        &model.source,
+        joint,
+        "its masses, rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF, --rotor-inertia, --gear-ratio)",
+    )
 }
 
 /// The geometry a run of `model` keeps and its loaded collision set, as
@@ -522,6 +667,15 @@ pub fn load_collisions(
 }
 
 /// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then
+/// The torque limits a run on `model` has when none are given: the Faze4 motors' for the
+/// bundled arm, else each joint's URDF effort (infinite where it has none).
+pub fn default_effort(model: &Model) -> Vec<f64> {
+    match faze4::is_faze4(model) {
+        true => faze4::EFFORT.to_vec(),
+        false => model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect(),
+    }
+}
+
 /// [`auto_tune`] with the torque limits `effort` at step `dt`, then [`stabilize`] for the
 /// coupled arm (the gains then carry their `stability`). Returns the gains and M(q_start).
 pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> (Gains, DMatrix<f64>) {
@@ -631,12 +785,13 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
             return Err(Error::argument(
                 "--amp-deg",
                 format!(
-                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]",
+                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]{}",
                     i + 1,
                     j.name,
                     q[i],
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }
@@ -647,7 +802,10 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
 /// `x` is a finite number, else an error for `option`.
 pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
     if !x.is_finite() {
-        return Err(Error::argument(option, format!("{x} is not a finite number")));
+        return Err(Error::argument(
+            option,
+            format!("{} is not a finite number", shortest(x)),
+        ));
     }
     Ok(())
 }
@@ -656,7 +814,7 @@ pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
 pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
     finite(option, x)?;
     if x <= 0.0 {
-        return Err(Error::argument(option, format!("{x} must be > 0")));
+        return Err(Error::argument(option, format!("{} must be > 0", shortest(x))));
     }
     Ok(())
 }
@@ -665,7 +823,7 @@ pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
 pub(crate) fn non_negative(option: &str, x: f64) -> Result<()> {
     finite(option, x)?;
     if x < 0.0 {
-        return Err(Error::argument(option, format!("{x} must be ≥ 0")));
+        return Err(Error::argument(option, format!("{} must be ≥ 0", shortest(x))));
     }
     Ok(())
 }

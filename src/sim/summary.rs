@@ -98,6 +98,48 @@ pub struct Summary {
     /// Only under `--self-collisions`: what the contacts did.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub self_contact: Option<ContactSummary>,
+    /// Only under `--motors`: per joint what its motor did (`null` for a joint without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motors: Option<Vec<Option<MotorSummary>>>,
+}
+
+/// What one joint's motor did over the steps (the summary's `"motors"`); torques and speeds
+/// at the motor shaft.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MotorSummary {
+    /// The motor, for people.
+    pub label: String,
+    /// `"dc"` or `"stepper"`.
+    pub kind: &'static str,
+    /// Share of the steps where the controller asked for more than the envelope gave at the
+    /// joint's speed (%).
+    pub envelope_pct: f64,
+    /// max over steps of |ω_m| = |ratio · q̇| (rad/s).
+    pub max_motor_speed: f64,
+    /// √(mean over steps of τ_m²), τ_m = τ / (ratio · η) the torque the motor gave (N·m).
+    pub rms_torque: f64,
+    /// The motor's continuous rating (N·m RMS), `null` when unknown.
+    pub continuous_torque: Option<f64>,
+    /// Steppers only: the first time the controller asked for more than the pull-out torque
+    /// (s), or `null`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub loses_steps_at: Option<Option<f64>>,
+    /// Steppers that lose steps: what it needed, at what speed, and what the curve gave.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_loss: Option<StepLoss>,
+}
+
+/// The first step at which a stepper was asked for more than its pull-out torque.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct StepLoss {
+    /// Simulated time (s).
+    pub t: f64,
+    /// The torque the controller asked of the motor, |τ_raw| / (ratio · η) (N·m).
+    pub needs: f64,
+    /// The motor's speed |ω_m| (rad/s).
+    pub speed: f64,
+    /// The curve's torque at that speed (N·m).
+    pub gives: f64,
 }
 
 /// The contacts of a `--self-collisions` run (the summary's `"self_contact"`).

@@ -17,7 +17,8 @@ use std::fmt;
 
 use serde::{Serialize, Serializer};
 
-use super::Summary;
+use super::{StepLoss, Summary};
+use crate::error::quoted;
 use crate::model::JointId;
 
 /// The limits a run must stay within to follow its command.
@@ -100,6 +101,32 @@ pub enum Reason {
         /// Its share of steps above the limit (%).
         pct: f64,
     },
+    /// A joint asked its motor for more than its envelope gave at its speed in more than the
+    /// allowed share of the steps.
+    EnvelopeSaturates {
+        /// The joint.
+        joint: JointId,
+        /// Its share of steps beyond the envelope (%).
+        pct: f64,
+        /// The allowed share (%).
+        limit: f64,
+    },
+    /// A joint's stepper was asked for more than its pull-out torque: it loses steps.
+    LosesSteps {
+        /// The joint.
+        joint: JointId,
+        /// Where and by how much.
+        loss: StepLoss,
+    },
+    /// A joint's motor ran at an RMS torque above its continuous rating.
+    Overheats {
+        /// The joint.
+        joint: JointId,
+        /// Its RMS torque (N·m at the shaft).
+        rms: f64,
+        /// Its continuous rating (N·m).
+        continuous: f64,
+    },
     /// The tool left the shape's path by more than allowed.
     PathDeviation {
         /// The largest distance (mm).
@@ -114,7 +141,14 @@ impl fmt::Display for Reason {
         match *self {
             Reason::Collides { ref pairs } => {
                 let named: Vec<String> = (pairs.iter().take(INTERSECTIONS_NAMED))
-                    .map(|p| format!("{}–{} intersect from t = {:.2} s", p.links[0], p.links[1], p.from_t))
+                    .map(|p| {
+                        format!(
+                            "{}–{} intersect from t = {:.2} s",
+                            quoted(&p.links[0]),
+                            quoted(&p.links[1]),
+                            p.from_t
+                        )
+                    })
                     .collect();
                 write!(f, "{}", named.join(", "))?;
                 match pairs.len().saturating_sub(INTERSECTIONS_NAMED) {
@@ -144,6 +178,20 @@ impl fmt::Display for Reason {
                 f,
                 "{joint} exceeds its speed limit {limit} in {} of the steps (up to {max_speed:.3})",
                 percent(pct)
+            ),
+            Reason::EnvelopeSaturates { joint, pct, limit } => write!(
+                f,
+                "{joint} asks its motor for more than its torque–speed envelope in {} of the steps (limit {limit} %)",
+                percent(pct)
+            ),
+            Reason::LosesSteps { joint, loss } => write!(
+                f,
+                "{joint}'s stepper loses steps at t = {:.2} s: it needs {:.3} N·m at {:.0} rad/s, its curve gives {:.3}",
+                loss.t, loss.needs, loss.speed, loss.gives
+            ),
+            Reason::Overheats { joint, rms, continuous } => write!(
+                f,
+                "{joint}'s motor runs at {rms:.3} N·m RMS, above its continuous {continuous} N·m"
             ),
             Reason::PathDeviation { max_mm, limit } => {
                 write!(f, "path deviation {max_mm:.1} mm (limit {limit} mm)")
@@ -217,6 +265,27 @@ impl Verdict {
                 limit: summary.velocity_limit[joint.0],
                 pct,
             });
+        }
+        for (joint, m) in (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
+            .filter_map(|(j, m)| m.as_ref().map(|m| (j, m)))
+        {
+            if m.envelope_pct > thresholds.max_saturation_pct {
+                reasons.push(Reason::EnvelopeSaturates {
+                    joint,
+                    pct: m.envelope_pct,
+                    limit: thresholds.max_saturation_pct,
+                });
+            }
+            if let Some(loss) = m.step_loss {
+                reasons.push(Reason::LosesSteps { joint, loss });
+            }
+            if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {
+                reasons.push(Reason::Overheats {
+                    joint,
+                    rms: m.rms_torque,
+                    continuous,
+                });
+            }
         }
         if let Some(d) = &summary.path_deviation_mm
             && (d.max > thresholds.max_deviation_mm || d.max.is_nan())
@@ -351,18 +420,18 @@ mod tests {
         assert!(!v.follows && v.collides);
         assert_eq!(
             v.to_string(),
-            "verdict: collides — nadlaktica–podlaktica intersect from t = 0.00 s"
+            "verdict: collides — 'nadlaktica'–'podlaktica' intersect from t = 0.00 s"
         );
         assert_eq!(
             serde_json::to_value(&v).unwrap(),
-            serde_json::json!({"follows": false, "collides": true, "reasons": ["nadlaktica–podlaktica intersect from t = 0.00 s"]})
+            serde_json::json!({"follows": false, "collides": true, "reasons": ["'nadlaktica'–'podlaktica' intersect from t = 0.00 s"]})
         );
         let saturated = summary([0.0, 99.04], [0.0, 0.0], None);
         let pairs = ["a", "b", "c", "d", "e"].map(|x| pair(x, "z", 1.5)).to_vec();
         let v = Verdict::judge(&saturated, &Thresholds::default(), &[false; 2]).with_intersections(pairs);
         assert_eq!(
             v.to_string(),
-            "verdict: collides — a–z intersect from t = 1.50 s, b–z intersect from t = 1.50 s, c–z intersect from t = 1.50 s (and 2 more pairs); cannot follow — J2 saturates 99.0 % of the steps (limit 5 %)"
+            "verdict: collides — 'a'–'z' intersect from t = 1.50 s, 'b'–'z' intersect from t = 1.50 s, 'c'–'z' intersect from t = 1.50 s (and 2 more pairs); cannot follow — J2 saturates 99.0 % of the steps (limit 5 %)"
         );
     }
 

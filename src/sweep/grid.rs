@@ -4,7 +4,7 @@
 use std::ops::Range;
 use std::str::FromStr;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 
 /// Most values one option takes (80 MB of them); a bigger sweep is a product of options.
 pub const MAX_AXIS_VALUES: usize = 10_000_000;
@@ -35,7 +35,7 @@ impl Axis {
             return Err(Error::argument(VARY, format!("'{spec}' names no option")));
         }
         let values = if values.contains(':') {
-            range_values(&name, values)?
+            Steps::parse(&name, values)?.values()
         } else {
             values
                 .split(',')
@@ -44,46 +44,81 @@ impl Axis {
         };
         Ok(Axis { name, values })
     }
+
+    /// How many values `spec` gives, checked as [`Axis::parse`] checks it but without making
+    /// the list (so that the size of a product is known before any list is made).
+    pub fn count(spec: &str) -> Result<usize> {
+        let (name, values) = spec
+            .split_once('=')
+            .ok_or_else(|| Error::argument(VARY, format!("'{spec}' is not NAME=LO:HI:STEP or NAME=v1,v2,…")))?;
+        let name = name.trim().trim_start_matches("--");
+        match values.contains(':') {
+            true => Ok(Steps::parse(name, values)?.count),
+            false => values.split(',').try_fold(0, |n, v| number(name, v).map(|_| n + 1)),
+        }
+    }
 }
 
-/// `LO:HI:STEP` → its values.
-fn range_values(name: &str, text: &str) -> Result<Vec<f64>> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let [lo_text, hi_text, step_text] = parts[..] else {
-        return Err(Error::argument(VARY, format!("{name}={text}: a range is LO:HI:STEP")));
-    };
-    let (lo, hi, step) = (number(name, lo_text)?, number(name, hi_text)?, number(name, step_text)?);
-    if step <= 0.0 {
-        return Err(Error::argument(
-            VARY,
-            format!("{name}={text}: the step {step} must be > 0"),
-        ));
-    }
-    if hi < lo {
-        return Err(Error::argument(
-            VARY,
-            format!("{name}={text}: empty range ({hi} < {lo})"),
-        ));
-    }
-    let count = ((hi - lo) / step + 1e-9).floor() + 1.0;
-    if count > MAX_AXIS_VALUES as f64 {
-        return Err(Error::argument(
-            VARY,
-            format!("{name}={text}: {count:e} values; one option takes at most {MAX_AXIS_VALUES:e}"),
-        ));
-    }
-    let decimals: Option<Vec<usize>> = [lo_text, hi_text, step_text].iter().map(|t| decimals(t)).collect();
-    let decimals = decimals.map(|d| d.into_iter().max().unwrap_or(0));
-    Ok((0..count as usize)
-        .map(|i| {
-            let x = lo + i as f64 * step;
-            let rounded = match decimals {
-                Some(d) => format!("{x:.d$}"),
-                None => format!("{x:.14e}"),
-            };
-            rounded.parse().unwrap_or(x)
+/// `LO:HI:STEP`, checked, before its values are made.
+struct Steps {
+    lo: f64,
+    step: f64,
+    count: usize,
+    /// The most decimals LO, HI and STEP are written with (`None`: one is in scientific
+    /// notation).
+    decimals: Option<usize>,
+}
+
+impl Steps {
+    fn parse(name: &str, text: &str) -> Result<Steps> {
+        let parts: Vec<&str> = text.split(':').collect();
+        let [lo_text, hi_text, step_text] = parts[..] else {
+            return Err(Error::argument(VARY, format!("{name}={text}: a range is LO:HI:STEP")));
+        };
+        let (lo, hi, step) = (number(name, lo_text)?, number(name, hi_text)?, number(name, step_text)?);
+        if step <= 0.0 {
+            return Err(Error::argument(
+                VARY,
+                format!("{name}={text}: the step {} must be > 0", shortest(step)),
+            ));
+        }
+        if hi < lo {
+            return Err(Error::argument(
+                VARY,
+                format!("{name}={text}: empty range ({} < {})", shortest(hi), shortest(lo)),
+            ));
+        }
+        let count = ((hi - lo) / step + 1e-9).floor() + 1.0;
+        if count > MAX_AXIS_VALUES as f64 {
+            return Err(Error::argument(
+                VARY,
+                format!("{name}={text}: {count:e} values; one option takes at most {MAX_AXIS_VALUES:e}"),
+            ));
+        }
+        let decimals: Option<Vec<usize>> = [lo_text, hi_text, step_text].iter().map(|t| decimals(t)).collect();
+        let decimals = decimals.map(|d| d.into_iter().max().unwrap_or(0));
+        Ok(Steps {
+            lo,
+            step,
+            count: count as usize,
+            decimals,
         })
-        .collect())
+    }
+
+    /// The values: LO, LO + STEP, … rounded to the decimals they are written with.
+    fn values(&self) -> Vec<f64> {
+        let (lo, step) = (self.lo, self.step);
+        (0..self.count)
+            .map(|i| {
+                let x = lo + i as f64 * step;
+                let rounded = match self.decimals {
+                    Some(d) => format!("{x:.d$}"),
+                    None => format!("{x:.14e}"),
+                };
+                rounded.parse().unwrap_or(x)
+            })
+            .collect()
+    }
 }
 
 /// Digits after the point of a number written positionally (`0.25` → 2); `None` for
@@ -102,7 +137,10 @@ fn number(name: &str, text: &str) -> Result<f64> {
         .parse()
         .map_err(|_| Error::argument(VARY, format!("{name}: '{}' is not a number", text.trim())))?;
     if !x.is_finite() {
-        return Err(Error::argument(VARY, format!("{name}: {x} is not a finite number")));
+        return Err(Error::argument(
+            VARY,
+            format!("{name}: {} is not a finite number", shortest(x)),
+        ));
     }
     Ok(x)
 }
@@ -125,6 +163,39 @@ impl Grid {
             }
         }
         Ok(Grid { axes })
+    }
+
+    /// The grid of `specs` (see [`Axis::parse`]) and the runs of it this process makes (those
+    /// of `shard`, or all), refused before any list of values is made when the product has
+    /// more than `usize::MAX / 2` runs or the process would make more than `max_runs`.
+    pub fn parse(specs: &[String], shard: Option<Shard>, max_runs: usize) -> Result<(Grid, Range<usize>)> {
+        let counts = specs.iter().map(|s| Axis::count(s)).collect::<Result<Vec<usize>>>()?;
+        let total = (counts.iter())
+            .try_fold(1usize, |n, &c| n.checked_mul(c))
+            .filter(|&n| n <= usize::MAX / 2)
+            .ok_or_else(|| {
+                let product: f64 = counts.iter().map(|&c| c as f64).product();
+                Error::argument(VARY, format!("{product:e} runs: too many for one sweep"))
+            })?;
+        let runs = shard.map_or(0..total, |s| s.range(total));
+        if runs.len() > max_runs {
+            let message = match shard {
+                None => format!(
+                    "{total} runs: more than {max_runs} in one process; split them with --shard K/N (see docs/sweep.md)"
+                ),
+                Some(s) => format!(
+                    "part {}/{} has {} of the {total} runs: more than {max_runs} in one process; split them into at least {} parts",
+                    s.k,
+                    s.n,
+                    runs.len(),
+                    total.div_ceil(max_runs)
+                ),
+            };
+            let option = if shard.is_some() { "--shard" } else { VARY };
+            return Err(Error::argument(option, message));
+        }
+        let grid = Grid::new(specs.iter().map(|s| Axis::parse(s)).collect::<Result<_>>()?)?;
+        Ok((grid, runs))
     }
 
     /// Number of runs (the product of the axis lengths; 1 with no axis), or `None` past

@@ -8,7 +8,7 @@ use ndarray::Array2;
 use ndarray_npy::npy::header::Header;
 use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
-use crate::atomic::AtomicFile;
+use crate::atomic::Outputs;
 use crate::error::{Error, Result, one_line};
 
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
@@ -77,6 +77,25 @@ pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
             .map_err(data)?
             .mapv(f64::from),
     };
+    check_frames(array.view(), bad, found)
+}
+
+/// An N×dof array of joint positions given in memory (the Python binding's `q_traj`), checked
+/// as [`read_samples`] checks a file's, `path` naming it in the messages.
+pub fn samples_from_array(path: &Path, array: ndarray::ArrayView2<f64>) -> Result<Vec<Vec<f64>>> {
+    let bad = |message: String| Error::InvalidData {
+        path: path.to_path_buf(),
+        message,
+    };
+    check_frames(array, bad, || format!("shape {:?}", array.shape()))
+}
+
+/// At least 2 rows, a column, every value finite: the rows.
+fn check_frames(
+    array: ndarray::ArrayView2<f64>,
+    bad: impl Fn(String) -> Error,
+    found: impl Fn() -> String,
+) -> Result<Vec<Vec<f64>>> {
     let (rows, columns) = array.dim();
     if rows < 2 {
         return Err(bad(format!("needs at least 2 frames (rows), found {}", found())));
@@ -137,12 +156,17 @@ fn bracket_depth(text: &[u8]) -> usize {
 
 /// Writes `rows` (N×C) as a float64 C-order `.npy` that NumPy loads, whole or not at all.
 pub fn write_samples(path: &Path, rows: &[Vec<f64>]) -> Result<()> {
+    write_samples_within(&Outputs::immediate(), path, rows)
+}
+
+/// [`write_samples`] as a file of `outputs` (it appears when they are committed).
+pub fn write_samples_within(outputs: &Outputs, path: &Path, rows: &[Vec<f64>]) -> Result<()> {
     let columns = rows.first().map_or(0, Vec::len);
     let array = Array2::from_shape_vec((rows.len(), columns), rows.concat()).map_err(|e| Error::InvalidData {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    let mut file = AtomicFile::create(path)?;
+    let mut file = outputs.create(path)?;
     array.write_npy(file.writer()).map_err(|e| Error::InvalidData {
         path: path.to_path_buf(),
         message: format!("writing .npy: {e}"),

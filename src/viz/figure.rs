@@ -7,7 +7,7 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::atomic::{AtomicFile, write_atomically};
+use crate::atomic::Outputs;
 use crate::error::{Error, Result};
 
 /// Something drawn on a plotters drawing area of any backend.
@@ -16,8 +16,15 @@ pub(super) trait Figure {
     fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String>;
 }
 
-/// Draws `figure` at `size` (pixels) and writes it to `path`: SVG when `svg`, else an RGB PNG.
-pub(super) fn write_figure(figure: &impl Figure, path: &Path, size: (u32, u32), svg: bool) -> Result<()> {
+/// Draws `figure` at `size` (pixels) and writes it to `path`, a file of `outputs`: SVG when
+/// `svg`, else an RGB PNG.
+pub(super) fn write_figure(
+    figure: &impl Figure,
+    outputs: &Outputs,
+    path: &Path,
+    size: (u32, u32),
+    svg: bool,
+) -> Result<()> {
     register_font();
     let failed = |e: String| Error::Io {
         path: path.to_path_buf(),
@@ -30,7 +37,7 @@ pub(super) fn write_figure(figure: &impl Figure, path: &Path, size: (u32, u32), 
             figure.draw_on(&root).map_err(failed)?;
             root.present().map_err(|e| failed(e.to_string()))?;
         }
-        return write_atomically(path, text.as_bytes());
+        return outputs.write(path, text.as_bytes());
     }
     let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
     {
@@ -38,7 +45,7 @@ pub(super) fn write_figure(figure: &impl Figure, path: &Path, size: (u32, u32), 
         figure.draw_on(&root).map_err(failed)?;
         root.present().map_err(|e| failed(e.to_string()))?;
     }
-    let mut file = AtomicFile::create(path)?;
+    let mut file = outputs.create(path)?;
     let encoded = (|| {
         let mut encoder = png::Encoder::new(file.writer(), size.0, size.1);
         encoder.set_color(png::ColorType::Rgb);

@@ -7,8 +7,7 @@ use serde_json::json;
 use super::scene::{SampleEncoder, Scene};
 use super::util::{base64, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
-use crate::atomic::AtomicFile;
-use crate::atomic::check_output_path;
+use crate::atomic::{Outputs, check_output_path};
 use crate::error::Result;
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample, steps_per_record};
@@ -18,6 +17,7 @@ use crate::sim::{Recorder, RunInfo, Sample, steps_per_record};
 #[derive(Debug)]
 pub struct HtmlExport {
     path: PathBuf,
+    outputs: Outputs,
     period: f64,
     scene: Option<Scene>,
     encoder: Option<SampleEncoder>,
@@ -32,6 +32,7 @@ impl HtmlExport {
         check_output_path(&path, "--html")?;
         Ok(HtmlExport {
             path,
+            outputs: Outputs::immediate(),
             period: DEFAULT_PERIOD,
             scene: None,
             encoder: None,
@@ -42,6 +43,13 @@ impl HtmlExport {
     /// Records every `period` seconds of simulated time instead.
     pub fn with_period(mut self, period: f64) -> HtmlExport {
         self.period = period;
+        self
+    }
+
+    /// Writes the page as a file of `outputs` (it appears when they are committed) instead of
+    /// on its own.
+    pub fn within(mut self, outputs: &Outputs) -> HtmlExport {
+        self.outputs = outputs.clone();
         self
     }
 
@@ -86,7 +94,7 @@ impl Recorder for HtmlExport {
         );
         let scene_b64 = base64(&scene.encode());
         let samples_b64 = base64(&f32_bytes(&self.records));
-        let mut file = AtomicFile::create(&self.path)?;
+        let mut file = self.outputs.create(&self.path)?;
         page::write(file.writer(), &title, &config, &scene_b64, &samples_b64).map_err(|e| file.error(e))?;
         file.commit()
     }

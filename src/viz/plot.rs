@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::figure::{Chart, FAMILY, Figure, PALETTE, chart, range, write_figure};
-use crate::atomic::check_output_path;
+use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample};
@@ -35,6 +35,7 @@ enum Format {
 #[derive(Debug)]
 pub struct PlotRecorder {
     path: PathBuf,
+    outputs: Outputs,
     format: Format,
     /// Sampling period (s of simulated time).
     period: f64,
@@ -72,6 +73,7 @@ impl PlotRecorder {
         };
         Ok(PlotRecorder {
             path,
+            outputs: Outputs::immediate(),
             format,
             period: PERIOD,
             title: String::new(),
@@ -90,6 +92,13 @@ impl PlotRecorder {
     /// line passes `--record-period`, so the figure's path deviation is the summary's).
     pub fn with_period(mut self, period: f64) -> PlotRecorder {
         self.period = period;
+        self
+    }
+
+    /// Writes the figure as a file of `outputs` (it appears when they are committed) instead
+    /// of on its own.
+    pub fn within(mut self, outputs: &Outputs) -> PlotRecorder {
+        self.outputs = outputs.clone();
         self
     }
 
@@ -130,7 +139,7 @@ impl Recorder for PlotRecorder {
     fn finish(&mut self, _summary: &Summary) -> Result<()> {
         let rows = self.joints.len() as u32 + 1;
         let size = (WIDTH, TITLE_HEIGHT + rows * ROW_HEIGHT);
-        write_figure(self, &self.path, size, self.format == Format::Svg)
+        write_figure(self, &self.outputs, &self.path, size, self.format == Format::Svg)
     }
 }
 

@@ -10,7 +10,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::figure::{FAMILY, Figure, PALETTE, chart, chart_area, range, write_figure};
-use crate::atomic::check_output_path;
+use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::sweep::{Grid, Outcome, Row};
 
@@ -40,6 +40,7 @@ struct Point {
 #[derive(Debug)]
 pub struct SweepPlot {
     path: PathBuf,
+    outputs: Outputs,
     svg: bool,
     grid: Grid,
     points: Vec<Point>,
@@ -78,10 +79,18 @@ impl SweepPlot {
         }
         Ok(SweepPlot {
             path: path.to_path_buf(),
+            outputs: Outputs::immediate(),
             svg,
             grid: grid.clone(),
             points: Vec::new(),
         })
+    }
+
+    /// Writes the figure as a file of `outputs` (it appears when they are committed) instead
+    /// of on its own.
+    pub fn within(mut self, outputs: &Outputs) -> SweepPlot {
+        self.outputs = outputs.clone();
+        self
     }
 
     /// Keeps `row`'s figures (a failed run has none).
@@ -102,7 +111,7 @@ impl SweepPlot {
     pub fn finish(self) -> Result<()> {
         let panels = self.panels();
         let size = (WIDTH, TITLE_HEIGHT + PANEL_HEIGHT * panels.div_ceil(2) as u32);
-        write_figure(&self, &self.path, size, self.svg)
+        write_figure(&self, &self.outputs, &self.path, size, self.svg)
     }
 
     fn has_deviation(&self) -> bool {

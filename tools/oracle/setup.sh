@@ -7,4 +7,4 @@ if [ ! -x "$here/.venv/bin/python" ]; then
   python3 -m venv "$here/.venv"
 fi
 "$here/.venv/bin/pip" install --quiet -r "$here/requirements.txt"
-"$here/.venv/bin/python" -c "import pydrake, numpy; print('oracle ready: drake', pydrake.__file__)"
+"$here/.venv/bin/python" -c "import pydrake, numpy, pinocchio; print('oracle ready: drake', pydrake.__file__)"

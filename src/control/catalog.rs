@@ -1,0 +1,132 @@
+//! Published figures of the motors the presets use, each with its source (docs/motors.md has
+//! the table and the links). A figure no source gives is left out, and the doc says so.
+
+use super::motor::{Envelope, JointMotor, Motor, StepperWinding};
+
+/// Points of a preset's pull-out curve (evenly spaced speeds).
+pub const CURVE_POINTS: usize = 64;
+/// A preset's pull-out curve ends where the model's torque has fallen to this share of its
+/// standstill value; past it the envelope is zero.
+pub const CURVE_TAIL: f64 = 0.05;
+
+/// StepperOnline 17HS16-2004S1 (NEMA17, 1.8°): 0.45 N·m holding torque, 2.0 A
+/// (StepperOnline's listing), 1.1 Ω and 2.6 mH per phase, 50 pole pairs (Source Robotics'
+/// STEPFOC "tested motors" table).
+pub const NEMA17_17HS16_2004S1: StepperWinding = StepperWinding {
+    holding_torque: 0.45,
+    rated_current: 2.0,
+    resistance: 1.1,
+    inductance: 2.6e-3,
+    rotor_teeth: 50.0,
+};
+/// Its rotor inertia, 54 g·cm² (kg·m²; StepperOnline's datasheet).
+pub const NEMA17_17HS16_2004S1_ROTOR: f64 = 54e-7;
+
+/// StepperOnline 23HM22-2804S (NEMA23, 0.9°): 1.26 N·m, 2.8 A (StepperOnline's listing, linked
+/// from the Faze4 BOM), 1.16 Ω and 4.2 mH per phase, 100 pole pairs (Source Robotics' STEPFOC
+/// table). Rotor inertia: not found.
+pub const NEMA23_23HM22_2804S: StepperWinding = StepperWinding {
+    holding_torque: 1.26,
+    rated_current: 2.8,
+    resistance: 1.16,
+    inductance: 4.2e-3,
+    rotor_teeth: 100.0,
+};
+
+/// StepperOnline 23HS22-1504S (NEMA23, 1.8°): 1.16 N·m, 1.5 A, 5.4 V (StepperOnline's listing,
+/// linked from the Faze4 BOM), 3.6 Ω and 13 mH per phase (a design note quoting that listing),
+/// 50 rotor teeth (a 1.8° hybrid). Rotor inertia: not found.
+pub const NEMA23_23HS22_1504S: StepperWinding = StepperWinding {
+    holding_torque: 1.16,
+    rated_current: 1.5,
+    resistance: 3.6,
+    inductance: 13e-3,
+    rotor_teeth: 50.0,
+};
+
+/// StepperOnline 14HS13-0804S (NEMA14, 1.8°, the motor of the 14HS13-0804S-PG19): 0.18 N·m,
+/// 0.8 A, 6.8 Ω, 10 mH, rotor 14 g·cm² (StepperOnline's figures as quoted by two public
+/// projects), 50 rotor teeth.
+pub const NEMA14_14HS13_0804S: StepperWinding = StepperWinding {
+    holding_torque: 0.18,
+    rated_current: 0.8,
+    resistance: 6.8,
+    inductance: 10e-3,
+    rotor_teeth: 50.0,
+};
+/// Its rotor inertia, 14 g·cm² (kg·m²).
+pub const NEMA14_14HS13_0804S_ROTOR: f64 = 14e-7;
+
+/// One kilogram-force centimetre in N·m.
+const KGF_CM: f64 = 9.80665e-2;
+
+/// A stepper's pull-out curve from the model at `current` (A) and `supply` (V).
+pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f64) -> Motor {
+    Motor {
+        label,
+        envelope: Envelope::Stepper {
+            curve: winding.pull_out_curve(current, supply, CURVE_POINTS, CURVE_TAIL),
+        },
+        efficiency: 1.0,
+        continuous_torque: None,
+    }
+}
+
+/// A servo given at its output (stall torque N·m and no-load speed rad/s at `datasheet_volts`)
+/// through a reducer of `ratio`, at `supply` volts: a DC motor's stall torque and no-load speed
+/// are both proportional to its voltage (τ_s = K V/R, ω₀ = V/K). Efficiency 1: the output
+/// figures already include the gears.
+fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64, supply: f64) -> JointMotor {
+    let scale = supply / datasheet_volts;
+    JointMotor {
+        gear_ratio: Some(ratio),
+        rotor_inertia: None,
+        motor: Motor {
+            label: format!("{label}, {supply} V"),
+            envelope: Envelope::Dc {
+                stall_torque: stall * scale / ratio,
+                no_load_speed: no_load * scale * ratio,
+                peak_torque: stall * scale / ratio,
+            },
+            efficiency: 1.0,
+            continuous_torque: None,
+        },
+    }
+}
+
+/// Feetech STS3215, the SO-100's servo (7.4 V version): 19.5 kg·cm stall torque and 0.192 s/60°
+/// no-load at 7.4 V, a 1:345 gear train (DFRobot SER0069 listing). Rotor inertia and continuous
+/// torque: not published. `supply` (V) scales both figures; `None`: 7.4 V.
+pub fn sts3215(supply: Option<f64>) -> JointMotor {
+    let v = supply.unwrap_or(7.4);
+    let no_load = (std::f64::consts::PI / 3.0) / 0.192;
+    servo("Feetech STS3215", 345.0, 19.5 * KGF_CM, no_load, 7.4, v)
+}
+
+/// ROBOTIS Dynamixel XM540-W270: 10.6 N·m stall torque and 30 rev/min no-load at 12 V, 272.5:1
+/// (ROBOTIS e-Manual). `supply` (V) scales both; `None`: 12 V.
+pub fn xm540_w270(supply: Option<f64>) -> JointMotor {
+    let v = supply.unwrap_or(12.0);
+    let no_load = 30.0 * 2.0 * std::f64::consts::PI / 60.0;
+    servo("Dynamixel XM540-W270", 272.5, 10.6, no_load, 12.0, v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The servo presets give their datasheet's output figures at the joint.
+    #[test]
+    fn servos_give_their_output_figures_at_the_joint() {
+        let s = sts3215(None);
+        let r = s.gear_ratio.unwrap();
+        let (_, hi) = s.motor.joint_bounds(r, 0.0);
+        assert!((hi - 19.5 * KGF_CM).abs() < 1e-12, "{hi}");
+        // zero torque at the no-load output speed, 60° in 0.192 s
+        let (_, hi) = s.motor.joint_bounds(r, (std::f64::consts::PI / 3.0) / 0.192);
+        assert!(hi.abs() < 1e-12, "{hi}");
+        let x = xm540_w270(Some(6.0));
+        let (_, hi) = x.motor.joint_bounds(272.5, 0.0);
+        assert!((hi - 5.3).abs() < 1e-12, "{hi}");
+    }
+}
