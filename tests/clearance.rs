@@ -218,7 +218,7 @@ fn circle_clearance_report_names_the_closest_pair() {
     assert_eq!(json["geometry"], "hull");
     assert_eq!(json["links"], serde_json::json!(["nadlaktica", "podlaktica"]));
     assert_eq!(json["pairs"].as_array().unwrap().len(), 15);
-    assert!(report.line().contains("nadlaktica–podlaktica"), "{}", report.line());
+    assert!(report.line().contains("'nadlaktica'–'podlaktica'"), "{}", report.line());
 
     // exact meshes, on the samples where the mesh pair is closest per the oracle
     let mesh: Vec<f64> = circle.iter().map(|p| p["mesh"][pair].as_f64().unwrap()).collect();
@@ -480,19 +480,25 @@ fn accumulation_matches_every_sample(robot: &Robot, filter: PairFilter, qs: &[Ve
     crossings
 }
 
-/// The Faze4's meshes through a wave of 90° amplitude (every joint `A sin(t + i π/3)`), which
-/// folds links into one another for many samples in a row, the crossing triangles changing
-/// from sample to sample; with the default pairs, and with every pair.
-#[test]
-fn pruned_accumulation_sees_every_intersection_of_the_faze4_meshes() {
-    let qs: Vec<Vec<f64>> = (0..150)
+/// `n` joint samples of the Faze4 folding into itself: every joint `90° sin(t + i π/3)`, one
+/// every 0.04 s.
+fn folding(n: usize) -> Vec<Vec<f64>> {
+    (0..n)
         .map(|k| {
             let t = k as f64 * 0.04;
             (0..6)
                 .map(|i| 90f64.to_radians() * (t + i as f64 * std::f64::consts::FRAC_PI_3).sin())
                 .collect()
         })
-        .collect();
+        .collect()
+}
+
+/// The Faze4's meshes through a wave of 90° amplitude (every joint `A sin(t + i π/3)`), which
+/// folds links into one another for many samples in a row, the crossing triangles changing
+/// from sample to sample; with the default pairs, and with every pair.
+#[test]
+fn pruned_accumulation_sees_every_intersection_of_the_faze4_meshes() {
+    let qs = folding(150);
     let crossings = accumulation_matches_every_sample(&real(), PairFilter::NonAdjacent, &qs);
     assert!(crossings > 50, "{crossings} intersections");
     // the arm's own motion in `faze4 wave --amp-deg 60` (J2 cannot hold it and it falls),
@@ -667,14 +673,7 @@ fn a_tolerance_reports_actual_distances_within_it_and_the_exact_intersections() 
         .iter()
         .map(|p| vec_f64(&p["q"]))
         .collect();
-    let folding: Vec<Vec<f64>> = (0..60)
-        .map(|k| {
-            let t = k as f64 * 0.04;
-            (0..6)
-                .map(|i| 90f64.to_radians() * (t + i as f64 * std::f64::consts::FRAC_PI_3).sin())
-                .collect()
-        })
-        .collect();
+    let folding = folding(60);
     let robot = real();
     for (tolerance, batch) in [(1e-3, 1024), (1e-4, 7)] {
         // mesh pairs

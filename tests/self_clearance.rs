@@ -150,7 +150,7 @@ fn the_faze4_circle_with_exact_meshes_clears_itself() {
     assert_eq!(
         line(&run.stdout, "self-clearance"),
         format!(
-            "self-clearance (meshes, tolerance {:.2} mm): podlaktica–hvataljka {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
+            "self-clearance (meshes, tolerance {:.2} mm): 'podlaktica'–'hvataljka' {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
             tolerance * 1e3,
             min * 1e3,
             (min - tolerance) * 1e3
@@ -204,7 +204,7 @@ fn the_faze4_circle_with_hulls_collides() {
     assert_eq!(run.stdout.lines().last(), Some(verdict));
     assert!(
         line(&run.stdout, "self-clearance").starts_with(&format!(
-            "self-clearance (convex hulls, tolerance 1.00 mm): nadlaktica–podlaktica {:.2} mm at t = ",
+            "self-clearance (convex hulls, tolerance 1.00 mm): 'nadlaktica'–'podlaktica' {:.2} mm at t = ",
             min * 1e3
         )),
         "{}",
