@@ -199,7 +199,7 @@ fn the_faze4_circle_with_hulls_collides() {
     assert_eq!(intersecting.len(), 1, "{c}");
     assert_eq!(s["verdict"]["follows"], false);
     assert_eq!(s["verdict"]["collides"], true);
-    let verdict = "verdict: collides — nadlaktica–podlaktica intersect from t = 0.00 s";
+    let verdict = "verdict: collides — 'nadlaktica'–'podlaktica' intersect from t = 0.00 s";
     assert_eq!(s["verdict"]["reasons"][0], verdict["verdict: collides — ".len()..]);
     assert_eq!(run.stdout.lines().last(), Some(verdict));
     assert!(
@@ -257,7 +257,7 @@ fn collision_pairs_all_checks_the_pairs_a_joint_connects() {
     assert_eq!(s["verdict"]["collides"], true);
     let verdict = run.stdout.lines().last().unwrap();
     assert!(
-        verdict.starts_with("verdict: collides — base–turret intersect from t = 0.00 s"),
+        verdict.starts_with("verdict: collides — 'base'–'turret' intersect from t = 0.00 s"),
         "{verdict}"
     );
     // upper and forearm intersect with two pairs of shapes: named once
@@ -316,8 +316,8 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
     let q2 = header.iter().position(|h| h == "q2").unwrap();
     assert!(rows[0][q2].abs() < 1e-3, "the run starts folded out");
     let reason = s["verdict"]["reasons"][0].as_str().unwrap();
-    assert!(reason.starts_with("base–forearm intersect from t = "), "{reason}");
-    let from: f64 = reason["base–forearm intersect from t = ".len()..]
+    assert!(reason.starts_with("'base'–'forearm' intersect from t = "), "{reason}");
+    let from: f64 = reason["'base'–'forearm' intersect from t = ".len()..]
         .trim_end_matches(" s")
         .parse()
         .unwrap();
