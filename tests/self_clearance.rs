@@ -212,7 +212,7 @@ fn the_faze4_circle_with_hulls_collides() {
     );
     assert!(
         run.stdout
-            .contains("· intersecting: nadlaktica–podlaktica from t = 0.00 s")
+            .contains("· intersecting: 'nadlaktica'–'podlaktica' from t = 0.00 s")
     );
 
     let quiet = faze4(&dir, &[&args[..], &["--quiet", "--strict"]].concat());
@@ -261,7 +261,7 @@ fn collision_pairs_all_checks_the_pairs_a_joint_connects() {
         "{verdict}"
     );
     // upper and forearm intersect with two pairs of shapes: named once
-    assert_eq!(verdict.matches("upper–forearm").count(), 1, "{verdict}");
+    assert_eq!(verdict.matches("'upper'–'forearm'").count(), 1, "{verdict}");
 
     let run = faze4(&dir, &[&base[..], &["--no-collisions"]].concat());
     assert!(run.status.success(), "{}", run.stderr);
