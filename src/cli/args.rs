@@ -110,7 +110,8 @@ pub struct RunArgs {
     /// MuJoCo's balanceinertia does (a warning per body), instead of the model being refused.
     #[arg(long = "balance-inertia")]
     pub balance_inertia: bool,
-    /// The link traced as the tool (default: tool_link, else the last link of the chain).
+    /// The link traced as the tool (default: tool_link, else the last link of a chain; on a
+    /// branched tree the deepest common ancestor of the deepest leaves, e.g. a hand).
     #[arg(long = "tool-link", value_name = "NAME")]
     pub tool_link: Option<String>,
     /// Torque limits per joint, N·m (default: the Faze4 motors' for the bundled arm, else the URDF's effort values).

@@ -7,6 +7,7 @@ use nalgebra::SymmetricEigen;
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
 use super::{AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result, one_line};
+use crate::id::FrameId;
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
 /// Relative tolerance on the triangle inequality of principal moments (rounding in exported
@@ -224,11 +225,15 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
                 name: desc.links[link].name.clone(),
                 body: None,
                 placement: Pose::IDENTITY,
+                parent: None,
             },
             Some(j) => {
                 let joint = &desc.joints[j];
-                let parent = model.frames[frame_of_link[link_index[joint.parent.as_str()]]].clone();
-                joint_frame(file, joint, &parent, &mut model)?
+                let parent_id = frame_of_link[link_index[joint.parent.as_str()]];
+                let parent = model.frames[parent_id].clone();
+                let mut frame = joint_frame(file, joint, &parent, &mut model)?;
+                frame.parent = Some(FrameId(parent_id));
+                frame
             }
         };
         frame_of_link[link] = model.frames.len();
@@ -286,6 +291,7 @@ fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model)
             name: joint.child.clone(),
             body: parent_body,
             placement: origin,
+            parent: None,
         },
         Some(moving) => {
             let body = model.joints.len();
@@ -310,6 +316,7 @@ fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model)
                 name: joint.child.clone(),
                 body: Some(JointId(body)),
                 placement: Pose::IDENTITY,
+                parent: None,
             }
         }
     })

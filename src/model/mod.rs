@@ -206,6 +206,20 @@ pub struct Frame {
     pub body: Option<JointId>,
     /// Its placement `body_T_frame` in that body's frame (or in the world).
     pub placement: Pose,
+    /// The frame of its parent link in the URDF tree (`None` for the root link).
+    pub parent: Option<FrameId>,
+}
+
+/// How [`Model::default_tool`] chose the tool frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolChoice {
+    /// The model has a link named `tool_link`.
+    Named,
+    /// A chain: its last link.
+    LastLink,
+    /// A branched tree: the deepest common ancestor of its deepest leaves (e.g. a hand, not
+    /// one of its fingers).
+    DeepestCommonAncestor,
 }
 
 /// The immutable model: kinematic tree, inertias, limits and frames. The shapes attached to
@@ -349,10 +363,55 @@ impl Model {
         &self.joints[id.0]
     }
 
-    /// The frame a tool is taken at by default: `tool_link` if the model has one, otherwise
-    /// the last link of the chain (the last frame in depth-first order).
+    /// The frame a tool is taken at by default (see [`Model::default_tool`]).
     pub fn default_tool_frame(&self) -> FrameId {
-        self.frame_index("tool_link").unwrap_or(FrameId(self.frames.len() - 1))
+        self.default_tool().0
+    }
+
+    /// The frame a tool is taken at by default, and how it was chosen: `tool_link` if the
+    /// model has one; otherwise on a chain its last link (the last frame in depth-first
+    /// order), on a branched tree the deepest common ancestor of its deepest leaves (depth:
+    /// the number of joints, fixed ones included, from the root link).
+    pub fn default_tool(&self) -> (FrameId, ToolChoice) {
+        if let Some(f) = self.frame_index("tool_link") {
+            return (f, ToolChoice::Named);
+        }
+        let n = self.frames.len();
+        let mut children = vec![0usize; n];
+        let mut depth = vec![0usize; n];
+        // frames are in depth-first order: a parent comes before its children
+        for (i, f) in self.frames.iter().enumerate() {
+            if let Some(FrameId(p)) = f.parent {
+                children[p] += 1;
+                depth[i] = depth[p] + 1;
+            }
+        }
+        if children.iter().all(|&c| c <= 1) {
+            return (FrameId(n - 1), ToolChoice::LastLink);
+        }
+        let deepest = (0..n).filter(|&i| children[i] == 0).map(|i| depth[i]).max();
+        let mut leaves = (0..n).filter(|&i| children[i] == 0 && Some(depth[i]) == deepest);
+        let Some(first) = leaves.next() else {
+            return (FrameId(n - 1), ToolChoice::LastLink);
+        };
+        // the ancestors of the first deepest leaf, root first; each further leaf cuts the
+        // common path at the last ancestor it shares
+        let mut path = vec![first];
+        while let Some(FrameId(p)) = self.frames[*path.last().unwrap_or(&0)].parent {
+            path.push(p);
+        }
+        path.reverse();
+        let mut common = path.len();
+        for leaf in leaves {
+            let mut up = vec![leaf];
+            while let Some(FrameId(p)) = self.frames[*up.last().unwrap_or(&0)].parent {
+                up.push(p);
+            }
+            up.reverse();
+            common = common.min(path.iter().zip(&up).take_while(|(a, b)| a == b).count());
+        }
+        let ancestor = path[common.max(1) - 1];
+        (FrameId(ancestor), ToolChoice::DeepestCommonAncestor)
     }
 
     /// Joint damping coefficients, one per joint.
@@ -394,5 +453,38 @@ impl Model {
     /// geometry too); `packages` resolves `package://` mesh references.
     pub fn from_urdf_file(path: &std::path::Path, packages: &PackagePaths) -> crate::Result<Model> {
         urdf::read_file(path, packages)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(file: &str) -> Model {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+        Model::from_urdf_file(&path, &PackagePaths::default()).unwrap()
+    }
+
+    #[test]
+    fn a_branched_tree_defaults_to_the_deepest_common_ancestor_of_its_deepest_leaves() {
+        // tree_arm: the deepest leaves are r_tool and l_forearm (6 joints from the root, fixed
+        // ones included); the head (4) is shallower; their deepest common ancestor is the chest
+        let model = load("tests/urdf/tree_arm.urdf");
+        let (tool, how) = model.default_tool();
+        assert_eq!(model.frame(tool).name, "chest");
+        assert_eq!(how, ToolChoice::DeepestCommonAncestor);
+        assert_eq!(model.default_tool_frame(), tool);
+    }
+
+    #[test]
+    fn a_chain_keeps_its_tool_link_or_last_link() {
+        let faze4 = crate::faze4::model();
+        assert_eq!(
+            faze4.default_tool(),
+            (faze4.frame_index("tool_link").unwrap(), ToolChoice::Named)
+        );
+        let model = load("tests/urdf/arm_prismatic.urdf");
+        let (tool, how) = model.default_tool();
+        assert_eq!((tool, how), (FrameId(model.frames.len() - 1), ToolChoice::LastLink));
     }
 }

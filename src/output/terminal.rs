@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use super::format::{joint_header, row, text_row};
 use crate::error::quoted;
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
-use crate::model::JointKind;
+use crate::model::{JointKind, ToolChoice};
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
@@ -148,8 +148,15 @@ impl Recorder for Terminal {
             run.steps as f64 * run.dt,
             run.steps
         ))?;
+        // how a default tool was chosen, said only where it is not the chain's obvious one
+        let how = match m.default_tool() {
+            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => {
+                " (deepest common ancestor of the deepest leaves; --tool-link to choose)"
+            }
+            _ => "",
+        };
         out(&format!(
-            "[faze4] tool {} · gravity feed-forward {}",
+            "[faze4] tool {}{how} · gravity feed-forward {}",
             m.frame(run.tool_frame).name,
             if run.feedforward { "on" } else { "off" }
         ))?;
