@@ -50,6 +50,7 @@ class Robot:
         *,
         urdf: str | os.PathLike[str] | None = None,
         package_path: Sequence[str | os.PathLike[str]] | None = None,
+        balance_inertia: bool = False,
         tool_link: str | None = None,
         effort: str | Sequence[float | None] | np.ndarray | None = None,
         kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -83,6 +84,7 @@ class Robot:
         hold: bool = False,
         html: str | os.PathLike[str] | None = None,
         plot: str | os.PathLike[str] | None = None,
+        plot_motors: str | os.PathLike[str] | None = None,
     ) -> Robot: ...
     @classmethod
     def from_urdf(
@@ -91,6 +93,7 @@ class Robot:
         package_path: Sequence[str | os.PathLike[str]] | None = None,
         tool_link: str | None = None,
         *,
+        balance_inertia: bool = False,
         effort: str | Sequence[float | None] | np.ndarray | None = None,
         kp: str | Sequence[float | None] | np.ndarray | None = None,
         kd: str | Sequence[float | None] | np.ndarray | None = None,
@@ -123,6 +126,7 @@ class Robot:
         hold: bool = False,
         html: str | os.PathLike[str] | None = None,
         plot: str | os.PathLike[str] | None = None,
+        plot_motors: str | os.PathLike[str] | None = None,
     ) -> Robot: ...
 
 
@@ -144,9 +148,11 @@ def wave(
     duration: float = 8.0,
     freq: float = 0.5,
     amp_deg: float = 25.0,
+    amp_m: float | None = None,
     center: str | Sequence[float] | None = None,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
     tool_link: str | None = None,
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -180,6 +186,7 @@ def wave(
     hold: bool = False,
     html: str | os.PathLike[str] | None = None,
     plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
 
 def replay(
@@ -190,6 +197,7 @@ def replay(
     duration: float = 8.0,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
     tool_link: str | None = None,
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -223,6 +231,7 @@ def replay(
     hold: bool = False,
     html: str | os.PathLike[str] | None = None,
     plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
 
 def shape(
@@ -234,6 +243,7 @@ def shape(
     save_q: str | os.PathLike[str] | None = None,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
     tool_link: str | None = None,
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -267,6 +277,7 @@ def shape(
     hold: bool = False,
     html: str | os.PathLike[str] | None = None,
     plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
 
 def sweep(
