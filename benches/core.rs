@@ -52,7 +52,7 @@ fn closed_loop_step(c: &mut Criterion) {
     let mut data = Data::new(&model);
     let dt = 2e-4;
     let wave = Wave {
-        amplitude: 25f64.to_radians(),
+        amplitude: vec![25f64.to_radians(); 6],
         omega: 0.5,
         center: vec![0.0; 6],
     };

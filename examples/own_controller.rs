@@ -15,7 +15,7 @@ fn main() -> faze4::Result<()> {
     let n = model.dof();
     let mut data = Data::new(&model);
     let wave = Wave {
-        amplitude: 25f64.to_radians(),
+        amplitude: vec![25f64.to_radians(); n],
         omega: 0.5,
         center: vec![0.0; n],
     };

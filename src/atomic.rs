@@ -29,7 +29,8 @@ pub struct Outputs {
 /// What an [`Outputs`] set holds.
 #[derive(Debug, Default)]
 struct Staged {
-    /// The targets claimed so far (resolved through links), with the option that names each.
+    /// The targets claimed so far (resolved through links), with the option that names each
+    /// (devices and FIFOs too, which may be claimed twice).
     claimed: Vec<(PathBuf, String)>,
     /// Complete temporaries waiting for the commit: (temporary, resolved target).
     files: Vec<(PathBuf, PathBuf)>,
@@ -71,11 +72,8 @@ impl Outputs {
             path: path.to_path_buf(),
             source,
         })?;
-        if is_special(&target) {
-            return Ok(());
-        }
         let mut staged = self.staged();
-        if let Some((_, other)) = staged.claimed.iter().find(|(t, _)| *t == target) {
+        if let Some((_, other)) = (staged.claimed.iter()).find(|(t, _)| *t == target && !is_special(&target)) {
             return Err(Error::argument(
                 option,
                 format!(
@@ -86,6 +84,16 @@ impl Outputs {
         }
         staged.claimed.push((target, option.to_string()));
         Ok(())
+    }
+
+    /// The option that claimed `resolved`, if any.
+    fn option_of(&self, resolved: &Path) -> Option<String> {
+        let staged = self.staged();
+        staged
+            .claimed
+            .iter()
+            .find(|(t, _)| t == resolved)
+            .map(|(_, o)| o.clone())
     }
 
     /// Starts writing `target` as a file of this set.
@@ -219,6 +227,8 @@ pub struct AtomicFile {
     temp: Option<PathBuf>,
     writer: Option<BufWriter<File>>,
     outputs: Outputs,
+    /// The option that claimed the target, which its errors name.
+    option: Option<String>,
 }
 
 impl AtomicFile {
@@ -230,10 +240,8 @@ impl AtomicFile {
     }
 
     fn within(outputs: &Outputs, target: &Path) -> Result<Self> {
-        let io = |source| Error::Io {
-            path: target.to_path_buf(),
-            source,
-        };
+        let option = resolve(target).ok().and_then(|r| outputs.option_of(&r));
+        let io = |source| io_error(option.as_deref(), target, source);
         if ends_in_slash(target) {
             return Err(io(std::io::Error::new(
                 std::io::ErrorKind::InvalidInput,
@@ -263,6 +271,7 @@ impl AtomicFile {
             temp,
             writer: Some(BufWriter::new(file)),
             outputs: outputs.clone(),
+            option,
         })
     }
 
@@ -271,12 +280,9 @@ impl AtomicFile {
         self.writer.as_mut().expect("not yet committed")
     }
 
-    /// An I/O error on this file, as the library's error.
+    /// An I/O error on this file, as the library's error (naming the option that claimed it).
     pub fn error(&self, source: std::io::Error) -> Error {
-        Error::Io {
-            path: self.target.clone(),
-            source,
-        }
+        io_error(self.option.as_deref(), &self.target, source)
     }
 
     /// Flushes the file and hands it to its set, which renames it into place (at once for a
@@ -308,6 +314,17 @@ impl Drop for AtomicFile {
             self.writer.take();
             let _ = std::fs::remove_file(temp);
         }
+    }
+}
+
+/// An I/O error on `path`: the option's error when an option claimed it, else the file's.
+fn io_error(option: Option<&str>, path: &Path, source: std::io::Error) -> Error {
+    match option {
+        Some(option) => Error::argument(option, format!("{}: {source}", path.display())),
+        None => Error::Io {
+            path: path.to_path_buf(),
+            source,
+        },
     }
 }
 

@@ -184,17 +184,27 @@ impl Error {
     }
 }
 
+/// `x` as its shortest decimal that reads back to the same `f64` (Ryū): positional from 1e-5
+/// to 1e16, scientific outside (`1e-300`, not 300 digits), `1` rather than `1.0`.
+pub fn shortest(x: f64) -> String {
+    let text = ryu::Buffer::new().format(x).to_string();
+    match text.strip_suffix(".0") {
+        Some(whole) => whole.to_string(),
+        None => text,
+    }
+}
+
 /// A link's or joint's `name` in quotes, its control characters escaped (`'a\\nb'`): a name
 /// read from a URDF never breaks the one line it is printed on.
 pub fn quoted(name: &str) -> String {
     format!("'{}'", name.escape_debug())
 }
 
-/// `text` with its control characters escaped (`\n` as `\\n`): a message quoting a name read
-/// from a file stays on its one line.
+/// `text` with its control characters and line separators escaped (`\n` as `\\n`): a message
+/// quoting a name read from a file stays on its one line.
 pub fn escape_controls(text: &str) -> String {
     text.chars()
-        .map(|c| match c.is_control() {
+        .map(|c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
             true => c.escape_default().to_string(),
             false => c.to_string(),
         })

@@ -10,6 +10,7 @@ use crate::algo::{
     Data, State, bias, compute_all_terms, crba, discrete_step, forward_dynamics, forward_kinematics, frame_jacobian,
     frame_position, gravity, rnea,
 };
+use crate::atomic::Outputs;
 use crate::error::{Error, Result};
 use crate::geometry::mesh::{Mesh, parse_mesh};
 use crate::geometry::{GeometryModel, Robot};
@@ -42,14 +43,148 @@ pub fn urdf_model(data: &[u8]) -> Option<Result<Robot>> {
     Some(result)
 }
 
+/// The names an `output_set` script writes to, in a directory holding a file `a`, a link `l` to
+/// it, a dangling link `m`, a directory `d` and nothing else.
+const OUTPUT_NAMES: [&str; 12] = [
+    "a",
+    "b",
+    "c",
+    "l",
+    "m",
+    "d",
+    "d/",
+    "./a",
+    "d/x",
+    "b/",
+    "d/../b",
+    "/dev/null",
+];
+
+/// `output_set`: bytes → a script of outputs written through one [`Outputs`] set, the command
+/// line's output layer. Each byte pair names an output (`OUTPUT_NAMES`) and whether its writing
+/// fails half-way; the last byte says whether the set is committed. Checks: a refused claim is
+/// one line naming its option; a set that is not committed (a claim refused, a write failed,
+/// abandoned) leaves the directory exactly as it was; a committed one leaves every output
+/// holding its bytes (links followed, links kept) and no temporary.
+pub fn output_set(data: &[u8]) -> Result<()> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static RUN: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "faze4-fuzz-outputs-{}-{}",
+        std::process::id(),
+        RUN.fetch_add(1, Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("d")).expect("a fresh directory");
+    std::fs::write(dir.join("a"), "old a").expect("a file");
+    #[cfg(unix)]
+    {
+        let _ = std::os::unix::fs::symlink("a", dir.join("l"));
+        let _ = std::os::unix::fs::symlink("n", dir.join("m"));
+    }
+    let before = snapshot(&dir);
+    let result = write_outputs(&dir, data);
+    let commit = data.last().is_some_and(|b| b % 2 == 0);
+    let after = snapshot(&dir);
+    match &result {
+        Ok(written) if commit => {
+            assert!(
+                !after.keys().any(|n| n.ends_with(".tmp") || n.ends_with(".bak")),
+                "temporary left: {after:?}"
+            );
+            for (name, bytes) in written {
+                if !name.starts_with('/') {
+                    assert_eq!(&std::fs::read(dir.join(name)).expect("written"), bytes, "{name}");
+                }
+            }
+            for link in ["l", "m"] {
+                assert!(after[link].starts_with("link"), "{link} replaced: {after:?}");
+            }
+        }
+        _ => assert_eq!(before, after, "an uncommitted set changed the directory"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    result.map(|_| ())
+}
+
+/// Claims and writes the outputs `data` names in `dir`; commits when its last byte is even.
+/// The outputs written, with their bytes.
+fn write_outputs(dir: &Path, data: &[u8]) -> Result<Vec<(String, Vec<u8>)>> {
+    let files = Outputs::new();
+    let mut written = Vec::new();
+    for (k, pair) in data.chunks_exact(2).enumerate().take(8) {
+        let name = OUTPUT_NAMES[pair[0] as usize % OUTPUT_NAMES.len()];
+        let path = match name.starts_with('/') {
+            true => std::path::PathBuf::from(name),
+            false => dir.join(name),
+        };
+        let option = format!("--out{k}");
+        if let Err(e) = files.claim(&path, &option) {
+            let message = e.to_string();
+            assert!(message.starts_with(&option) && !message.contains('\n'), "{message}");
+            return Err(e);
+        }
+        let bytes = format!("output {k} of {}", pair[1]).into_bytes();
+        let mut file = files.create(&path)?;
+        std::io::Write::write_all(file.writer(), &bytes).map_err(|e| file.error(e))?;
+        // an odd second byte: the writing fails half-way (the file is dropped uncommitted)
+        if pair[1] % 2 == 1 {
+            return Err(Error::argument(option, "failed half-way"));
+        }
+        file.commit()?;
+        written.push((name.to_string(), bytes));
+    }
+    if data.last().is_some_and(|b| b % 2 == 0) {
+        files.commit()?;
+    }
+    Ok(written)
+}
+
+/// Every entry of `dir` (one level below too): a file's bytes, a link's target, `dir`.
+fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, String> {
+    let mut out = std::collections::BTreeMap::new();
+    for sub in ["", "d"] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let name = path
+                .strip_prefix(dir)
+                .map_or(String::new(), |p| p.display().to_string());
+            let what = match std::fs::symlink_metadata(&path) {
+                Ok(m) if m.file_type().is_symlink() => format!("link {:?}", std::fs::read_link(&path).ok()),
+                Ok(m) if m.is_dir() => "dir".to_string(),
+                _ => format!("file {:?}", std::fs::read(&path).ok()),
+            };
+            out.insert(name, what);
+        }
+    }
+    out
+}
+
 /// The name the fuzzed STL goes by in error messages.
 pub const STL_LABEL: &str = "fuzz.stl";
 
-/// `stl_mesh`: bytes → [`parse_mesh`]. Checks: an error is one line naming the file; an
-/// accepted mesh has at least one triangle, finite vertices, distinct in-range indices in every
-/// triangle, and no two bit-identical vertices.
+/// `stl_mesh`: bytes → [`parse_mesh`] as an STL. Checks: see [`check_mesh`].
 pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
-    let result = parse_mesh(data, Path::new(STL_LABEL));
+    check_mesh(parse_mesh(data, Path::new(STL_LABEL)), STL_LABEL)
+}
+
+/// The names the fuzzed mesh file goes by in `mesh_file`, which give its format.
+pub const MESH_LABELS: [&str; 3] = ["fuzz.stl", "fuzz.dae", "fuzz.obj"];
+
+/// `mesh_file`: the first byte picks the format (its value mod 3: STL, COLLADA, OBJ), the rest
+/// is the file → [`parse_mesh`]. Checks: see [`check_mesh`]. `None` for no bytes.
+pub fn mesh_file(data: &[u8]) -> Option<Result<Mesh>> {
+    let (&first, bytes) = data.split_first()?;
+    let label = MESH_LABELS[first as usize % 3];
+    Some(check_mesh(parse_mesh(bytes, Path::new(label)), label))
+}
+
+/// An error is one line naming the file; an accepted mesh has at least one triangle, finite
+/// vertices, distinct in-range indices in every triangle, and no two bit-identical vertices.
+fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
     match &result {
         Ok(mesh) => {
             assert!(!mesh.triangles.is_empty(), "a mesh without triangles accepted");
@@ -67,7 +202,7 @@ pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
             keys.dedup();
             assert_eq!(keys.len(), mesh.vertices.len(), "vertices not welded");
         }
-        Err(e) => check_error(e, STL_LABEL),
+        Err(e) => check_error(e, label),
     }
     result
 }
@@ -104,39 +239,47 @@ fn check_error(e: &Error, label: &str) {
     );
 }
 
-/// The builder's promises: bodies numbered root to tip, one body per moving joint, unit axes,
-/// positive masses, and no number that is not finite (limits may be infinite, not NaN).
+/// The builder's promises: bodies numbered root to tip, one body per moving joint, each driven
+/// by a coordinate (its own, or a mimic leader's), unit axes, positive masses, and no number
+/// that is not finite (limits may be infinite, not NaN).
 fn check_model(model: &Model) {
-    let n = model.dof();
-    assert_eq!(model.parent.len(), n);
-    assert_eq!(model.tree_pose.len(), n);
-    assert_eq!(model.s.len(), n);
-    assert_eq!(model.inertia.len(), n);
+    let (n, nb) = (model.dof(), model.num_bodies());
+    assert!(n <= nb);
+    assert_eq!(model.parent.len(), nb);
+    assert_eq!(model.tree_pose.len(), nb);
+    assert_eq!(model.s.len(), nb);
+    assert_eq!(model.inertia.len(), nb);
     assert!(!model.frames.is_empty(), "a model without frames");
     for i in 0..n {
-        if let Some(p) = model.parent[i] {
-            assert!(p < i, "body {i} has parent {p}");
-        }
         let joint = &model.joints[i];
         assert!((joint.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", joint.axis);
         assert!(!joint.lower.is_nan() && !joint.upper.is_nan() && joint.lower <= joint.upper);
         assert!(joint.damping.is_finite() && joint.damping >= 0.0);
         assert!(joint.effort.is_none_or(|e| e > 0.0));
+    }
+    for i in 0..nb {
+        if let Some(p) = model.parent[i] {
+            assert!(p < i, "body {i} has parent {p}");
+        }
+        let body = &model.bodies[i];
+        assert!(body.coordinate < n && body.multiplier.is_finite() && body.offset.is_finite());
+        assert!(body.follower || (body.multiplier == 1.0 && body.offset == 0.0));
+        assert!((body.axis.norm() - 1.0).abs() < 1e-9, "axis {:?}", body.axis);
         let inertia = &model.inertia[i];
         assert!(
             inertia.is_finite() && inertia.mass > 0.0,
             "body {i} ({}): inertia {inertia:?}",
-            joint.child_link
+            body.joint
         );
         assert!(
             model.tree_pose[i].is_finite() && model.s[i].is_finite(),
             "joint {}: placement {:?}",
-            joint.name,
+            body.joint,
             model.tree_pose[i]
         );
     }
     for frame in &model.frames {
-        assert!(frame.body.is_none_or(|b| b.0 < n));
+        assert!(frame.body.is_none_or(|b| b.0 < nb));
         assert!(
             frame.placement.is_finite(),
             "frame {}: {:?}",

@@ -16,7 +16,7 @@
 //! use faze4::traj::{Trajectory, Wave};
 //! # fn main() -> faze4::Result<()> {
 //! let model = faze4::faze4::model();
-//! let wave = Trajectory::Wave(Wave { amplitude: 0.4, omega: 0.5, center: vec![0.0; model.dof()] });
+//! let wave = Trajectory::Wave(Wave { amplitude: vec![0.4; model.dof()], omega: 0.5, center: vec![0.0; model.dof()] });
 //! let scenario = Scenario::builder(model, wave).payload_kg(1.0).build()?;
 //! let summary = run(&scenario, &mut [], &StopFlag::new())?;
 //! println!("{}", summary.verdict);
@@ -38,6 +38,8 @@ pub mod id;
 pub mod ik;
 pub mod model;
 pub mod output;
+#[cfg(feature = "python")]
+mod python;
 pub mod sim;
 pub mod spatial;
 pub mod sweep;

@@ -489,7 +489,7 @@ fn default_arm_is_drawn_with_the_real_meshes() {
         .map(|m| m["indices"].as_u64().unwrap() / 3)
         .collect();
     for link in ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"] {
-        let stl = faze4::viz::mesh::read_stl(&shared_description().join(format!("meshes/{link}.STL"))).unwrap();
+        let stl = faze4::viz::mesh::read_trimesh(&shared_description().join(format!("meshes/{link}.STL"))).unwrap();
         assert!(
             triangles.contains(&(stl.triangles() as u64)),
             "{link}: no mesh of {} triangles in the scene ({triangles:?})",

@@ -311,7 +311,7 @@ fn a_diverging_run_stops_at_once_and_says_so() {
         .lines()
         .find(|l| l.contains("diverged"))
         .expect("a 'diverged' line");
-    for part in ["J6 (hvataljka)", "t = ", "b = Δt²·kp/I", "248", "spectral radius"] {
+    for part in ["J6 ('hvataljka')", "t = ", "b = Δt²·kp/I", "248", "spectral radius"] {
         assert!(line.contains(part), "{line:?} lacks {part:?}");
     }
     // the given gains were flagged before the run

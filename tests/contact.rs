@@ -462,7 +462,7 @@ fn exact_meshes_that_intersect_stop_the_run_with_one_line_naming_them() {
 /// The circle on the hulls through the library, with `settings`.
 fn circle_summary(settings: SelfContact) -> faze4::sim::Summary {
     let packages = PackagePaths::new(vec![repo_path("assets")]);
-    let Robot { model, geometry } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
+    let Robot { model, geometry, .. } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
     let tool = model.default_tool_frame();
     let (trajectory, shape) = ShapeRun::plan(&model, tool, Shape::Circle, 240).unwrap();
     let scenario = Scenario::builder(model, trajectory)
@@ -543,7 +543,7 @@ fn world_poses_from_the_joint_transforms_are_forward_kinematics() {
 #[test]
 fn contact_geometry_reads_the_faze4_hulls_and_drakes_pairs() {
     let packages = PackagePaths::new(vec![repo_path("assets")]);
-    let Robot { model, geometry } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
+    let Robot { model, geometry, .. } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
     let (set, missing) =
         CollisionSet::new(&model, &geometry, ClearanceGeometry::Hull, PairFilter::NonAdjacent).unwrap();
     assert!(missing.is_empty());

@@ -48,7 +48,7 @@ fn wave_run(model: &Model, amplitude: f64, dt: f64, duration: f64, gains: Gains)
 
 fn wave(model: &Model, amplitude: f64) -> Trajectory {
     Trajectory::Wave(Wave {
-        amplitude,
+        amplitude: vec![amplitude; model.dof()],
         omega: 2.0,
         center: vec![0.0; model.dof()],
     })
@@ -283,7 +283,7 @@ fn the_faze4_gains_do_not_move() {
     let model = faze4::faze4::model();
     for (dt, b_kd) in [(2e-4, 0.502), (1e-3, 0.525)] {
         let trajectory = Trajectory::Wave(Wave {
-            amplitude: 25f64.to_radians(),
+            amplitude: vec![25f64.to_radians(); 6],
             omega: 0.5,
             center: vec![0.0; 6],
         });

@@ -123,6 +123,20 @@ fn stl_mesh_inputs() {
     });
 }
 
+#[test]
+fn output_set_inputs() {
+    check_all("output_set", |bytes| {
+        Some(fuzzing::output_set(bytes).map_err(|e| e.to_string()))
+    });
+}
+
+#[test]
+fn mesh_file_inputs() {
+    check_all("mesh_file", |bytes| {
+        fuzzing::mesh_file(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))
+    });
+}
+
 /// Deep nesting overflowed the stack inside urdf-rs (an abort, not a panic): 4,000 levels
 /// under the fuzzer (AddressSanitizer), 20,000 in the CLI. Generated rather than stored.
 #[test]

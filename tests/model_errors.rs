@@ -174,3 +174,111 @@ fn non_unit_axes_are_normalised() {
     let a = model.joints[1].axis;
     assert!((a.norm() - 1.0).abs() < 1e-15 && (a.y - 0.6).abs() < 1e-15 && (a.z - 0.8).abs() < 1e-15);
 }
+
+/// `GOOD` with the elbow following `leader` through `<mimic>` (`extra` attributes), and the
+/// error that gives.
+fn mimic_error(leader: &str, extra: &str) -> String {
+    error_with(
+        r#"<axis xyz="0 1 0"/>"#,
+        &format!(r#"<axis xyz="0 1 0"/><mimic joint="{leader}"{extra}/>"#),
+    )
+}
+
+#[test]
+fn a_mimic_of_a_missing_fixed_or_same_joint_is_refused() {
+    assert_mentions(
+        &mimic_error("nope", ""),
+        &["joint 'elbow' <mimic>", "'nope'", "does not exist"],
+    );
+    assert_mentions(
+        &mimic_error("base_joint", ""),
+        &["joint 'elbow' <mimic>", "'base_joint'", "fixed"],
+    );
+    assert_mentions(&mimic_error("elbow", ""), &["joint 'elbow' <mimic>", "itself"]);
+    // a fixed joint cannot follow
+    assert_mentions(
+        &error_with(
+            r#"<child link="base"/></joint>"#,
+            r#"<child link="base"/><mimic joint="shoulder"/></joint>"#,
+        ),
+        &["joint 'base_joint' <mimic>", "fixed joint"],
+    );
+}
+
+#[test]
+fn a_mimic_chain_is_refused() {
+    // the shoulder follows the elbow, which follows the shoulder
+    let text = GOOD
+        .replacen(
+            r#"<axis xyz="0 0 1"/>"#,
+            r#"<axis xyz="0 0 1"/><mimic joint="elbow"/>"#,
+            1,
+        )
+        .replacen(
+            r#"<axis xyz="0 1 0"/>"#,
+            r#"<axis xyz="0 1 0"/><mimic joint="shoulder"/>"#,
+            1,
+        );
+    assert_mentions(
+        &load(&text).unwrap_err(),
+        &[
+            "joint 'shoulder' <mimic>",
+            "'elbow'",
+            "itself mimics 'shoulder'",
+            "chains",
+        ],
+    );
+}
+
+#[test]
+fn a_follower_whose_limits_leave_its_leader_no_position_is_refused() {
+    // elbow = shoulder + 5 within [-2, 2] needs shoulder in [-7, -3], outside its [-1, 1]
+    assert_mentions(
+        &mimic_error("shoulder", r#" offset="5""#),
+        &["joint 'elbow' <mimic>", "'shoulder' no position"],
+    );
+    // a multiplier that is not a number
+    assert_mentions(&mimic_error("shoulder", r#" multiplier="x""#), &["malformed URDF"]);
+}
+
+#[test]
+fn a_motor_on_a_follower_is_refused() {
+    let text = GOOD
+        .replacen(
+            r#"<axis xyz="0 1 0"/>"#,
+            r#"<axis xyz="0 1 0"/><mimic joint="shoulder" multiplier="0.5"/>"#,
+            1,
+        )
+        .replacen(
+            "</robot>",
+            r#"<transmission name="t"><joint name="elbow"/>
+                 <actuator name="m"><drake:rotor_inertia value="1e-5"/><drake:gear_ratio value="10"/></actuator>
+               </transmission></robot>"#,
+            1,
+        )
+        .replacen(
+            "<robot name=\"two\">",
+            "<robot name=\"two\" xmlns:drake=\"http://drake.mit.edu\">",
+            1,
+        );
+    assert_mentions(
+        &load(&text).unwrap_err(),
+        &["joint 'elbow' <mimic>", "<transmission>", "put the motor on 'shoulder'"],
+    );
+}
+
+#[test]
+fn a_follower_leaves_its_leader_the_only_coordinate() {
+    let text = GOOD.replacen(
+        r#"<axis xyz="0 1 0"/>"#,
+        r#"<axis xyz="0 1 0"/><mimic joint="shoulder" multiplier="-2" offset="0.5"/>"#,
+        1,
+    );
+    let model = load(&text).unwrap();
+    assert_eq!((model.dof(), model.num_bodies()), (1, 2));
+    assert_eq!(model.joints[0].name, "shoulder");
+    // elbow = 0.5 − 2·shoulder within [-2, 2]: shoulder in [-0.75, 1.25], and its own [-1, 1]
+    assert_eq!((model.joints[0].lower, model.joints[0].upper), (-0.75, 1.0));
+    // its damping 0.1, the elbow's none
+    assert_eq!(model.joints[0].damping, 0.1);
+}

@@ -1,5 +1,6 @@
-//! The algorithms checked against each other on seeded random states of three differently
-//! shaped models (the Faze4, a serial arm with a prismatic joint, a branched tree).
+//! The algorithms checked against each other on seeded random states of four differently
+//! shaped models (the Faze4, a serial arm with a prismatic joint, a branched tree, an arm whose
+//! wrist and second finger are mimic followers).
 
 mod common;
 
@@ -11,10 +12,11 @@ use faze4::algo::{
 use faze4::model::Model;
 use nalgebra::{DMatrix, DVector};
 
-const MODELS: [&str; 3] = [
+const MODELS: [&str; 4] = [
     "urdf/faze4_arm.urdf",
     "tests/urdf/arm_prismatic.urdf",
     "tests/urdf/tree_arm.urdf",
+    "tests/urdf/mimic_gripper_arm.urdf",
 ];
 const STATES: usize = 50;
 
@@ -36,10 +38,13 @@ fn for_each_state(mut check: impl FnMut(&str, &Model, &mut Data, &[f64], &[f64],
 fn joint_transforms_are_the_joint_motion_composed_with_the_tree_transform() {
     // the loop's shortcut (the axis split, no products by zero or one) against the definition
     for_each_state(|path, model, data, q, _, _| {
-        update_joint_transforms(model, data, q);
-        for i in 0..model.dof() {
-            let x = model.joints[i]
-                .motion_pose(q[i])
+        // the bodies' positions (q itself without mimic joints)
+        let mut qb = vec![0.0; model.num_bodies()];
+        model.expand_positions(q, &mut qb);
+        update_joint_transforms(model, data, &qb);
+        for i in 0..model.num_bodies() {
+            let x = model.bodies[i]
+                .motion_pose(qb[i])
                 .to_xform()
                 .compose(&model.tree_pose[i].to_xform());
             let (de, dr) = ((data.xup[i].e - x.e).amax(), (data.xup[i].r - x.r).amax());

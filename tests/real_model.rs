@@ -110,6 +110,7 @@ fn bundled_model_is_the_box_arm_with_the_real_geometry() {
     let Robot {
         model: bundled,
         geometry,
+        ..
     } = Robot::faze4();
     let boxes = load("urdf/faze4_arm.urdf");
     let real = load_real(&PackagePaths::default());
@@ -134,7 +135,7 @@ fn bundled_model_is_the_box_arm_with_the_real_geometry() {
     let description = shared_description();
     let mut drawn = Vec::new();
     for v in scene.visuals.iter().filter(|v| v.name != "base_link") {
-        let stl = faze4::viz::mesh::read_stl(&description.join(format!("meshes/{}.STL", v.name))).unwrap();
+        let stl = faze4::viz::mesh::read_trimesh(&description.join(format!("meshes/{}.STL", v.name))).unwrap();
         assert_eq!(
             scene.meshes[v.mesh].expand().indices,
             stl.indices,

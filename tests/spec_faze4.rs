@@ -69,6 +69,7 @@ fn official_description_loads_and_matches_the_bundled_arm() {
     let faze4::geometry::Robot {
         model: official,
         geometry,
+        ..
     } = faze4::geometry::Robot::from_urdf_file(
         &dir.join("urdf/Final_light_assembly_URDF.urdf"),
         &PackagePaths::new(vec![dir.clone()]),
@@ -128,7 +129,7 @@ fn official_description_loads_and_matches_the_bundled_arm() {
 #[test]
 fn missing_meshes_do_not_stop_dynamics() {
     let dir = shared_description();
-    let faze4::geometry::Robot { model, geometry } = faze4::geometry::Robot::from_urdf_file(
+    let faze4::geometry::Robot { model, geometry, .. } = faze4::geometry::Robot::from_urdf_file(
         &dir.join("urdf/Final_light_assembly_URDF.urdf"),
         &PackagePaths::default(),
     )

@@ -8,7 +8,7 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use faze4::viz::mesh::{Indices, read_stl};
+use faze4::viz::mesh::{Indices, read_trimesh};
 use faze4::viz::scene::{SampleEncoder, Scene};
 use faze4::viz::{HtmlExport, LiveView, PlotRecorder};
 use viz_support::*;
@@ -32,7 +32,7 @@ fn real_model_scene_uses_the_official_meshes() {
     for v in &scene.visuals[1..] {
         assert_eq!(scene.slot_names[v.slot.unwrap()], v.name);
         let mesh = &scene.meshes[v.mesh];
-        let stl = read_stl(&description().join(format!("meshes/{}.STL", v.name))).unwrap();
+        let stl = read_trimesh(&description().join(format!("meshes/{}.STL", v.name))).unwrap();
         // the compact mesh is the indexed STL: same triangles, same vertices
         assert_eq!(mesh.vertices(), stl.positions.len(), "{}", v.name);
         assert!(matches!(mesh.indices, Indices::U16(_)), "{}: 16-bit indices", v.name);

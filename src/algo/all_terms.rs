@@ -1,6 +1,7 @@
 //! Everything one simulation step needs, from one kinematics pass.
 
 use super::crba::crba_from_transforms;
+use super::mimic::{Terms, on_bodies};
 use super::rnea::velocity_bias_from_transforms;
 use super::{Data, update_joint_transforms};
 use crate::model::Model;
@@ -18,12 +19,32 @@ use crate::spatial::Motion;
 /// ```
 ///
 /// This replaces a second RNEA pass; [`crate::algo::gravity`] (RNEA) checks it in the tests.
+/// With mimic joints the terms are the bodies', reduced (`Gᵀ M_b G`, `Gᵀ g_b`, `Gᵀ bias_b`);
+/// `data.xup` is left at the bodies' q either way.
 pub fn compute_all_terms(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) {
+    match model.has_mimic() {
+        false => all_body_terms(model, data, q, qd),
+        true => {
+            let terms = Terms {
+                tau: false,
+                g: true,
+                bias: true,
+                m: true,
+            };
+            on_bodies(model, data, (q, Some(qd), None), terms, |model, data, q, qd, _| {
+                all_body_terms(model, data, q, qd.unwrap_or_default())
+            })
+        }
+    }
+}
+
+/// [`compute_all_terms`] on the bodies' q and qd.
+fn all_body_terms(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) {
     update_joint_transforms(model, data, q);
     crba_from_transforms(model, data);
     // forward: gravity seen from each body, root to tip
     let a0 = Motion::new(Default::default(), -model.gravity);
-    for i in 0..model.dof() {
+    for i in 0..model.num_bodies() {
         let a_parent = match model.parent[i] {
             Some(p) => data.a[p],
             None => a0,
@@ -35,7 +56,7 @@ pub fn compute_all_terms(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) 
     }
     // C(q, qd) qd by RNEA without gravity, then add g
     velocity_bias_from_transforms(model, data, qd);
-    for i in 0..model.dof() {
+    for i in 0..model.num_bodies() {
         data.bias[i] += data.g[i];
     }
 }

@@ -4,7 +4,8 @@ use super::Data;
 use crate::model::{FrameId, JointId, JointKind, Model};
 use crate::spatial::{Pose, Vec3, Xform};
 
-/// Computes `data.xup[i] = i_X_λ(i)(q)` for every joint: the joint's own motion composed with
+/// Computes `data.xup[i] = i_X_λ(i)(q)` for every body, `q` the bodies' positions (nb; the
+/// coordinates themselves without mimic joints, else [`Model::expand_positions`]): the joint's own motion composed with
 /// its fixed tree transform `X_T(i) = (E_T, r_T)` (`tree_pose[i]` = `(E_Tᵀ, r_T)`),
 /// `X_J(q_i) · X_T(i)`:
 ///
@@ -14,8 +15,8 @@ use crate::spatial::{Pose, Vec3, Xform};
 /// ```
 #[inline]
 pub fn update_joint_transforms(model: &Model, data: &mut Data, q: &[f64]) {
-    for i in 0..model.dof() {
-        let (joint, tree) = (&model.joints[i], &model.tree_pose[i]);
+    for i in 0..model.num_bodies() {
+        let (joint, tree) = (&model.bodies[i], &model.tree_pose[i]);
         data.xup[i] = match joint.kind {
             JointKind::Revolute | JointKind::Continuous => {
                 let (s, c) = q[i].sin_cos();
@@ -32,11 +33,13 @@ pub fn update_joint_transforms(model: &Model, data: &mut Data, q: &[f64]) {
     }
 }
 
-/// World placements of every body (`data.body_pose`) and every frame (`data.frame_pose`).
+/// World placements of every body (`data.body_pose`) and every frame (`data.frame_pose`) at
+/// the coordinates `q` (a mimic follower's body at `m·q_leader + o`).
 pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
     // o_T_i = o_T_λ · λ_T_joint · X_J(q_i)
-    for i in 0..model.dof() {
-        let local = model.tree_pose[i].compose(&model.joints[i].motion_pose(q[i]));
+    for i in 0..model.num_bodies() {
+        let body = &model.bodies[i];
+        let local = model.tree_pose[i].compose(&body.motion_pose(body.position(q)));
         data.body_pose[i] = match model.parent[i] {
             Some(p) => data.body_pose[p].compose(&local),
             None => local,
@@ -49,7 +52,7 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
 /// [`crate::algo::compute_all_terms`]), without trigonometry: `xup[i] = (E_i, r_i)` is the
 /// placement `λ_T_i = (E_iᵀ, r_i)`, so `o_T_i = o_T_λ · (E_iᵀ, r_i)`.
 pub fn forward_kinematics_from_transforms(model: &Model, data: &mut Data) {
-    for i in 0..model.dof() {
+    for i in 0..model.num_bodies() {
         let local = Pose::new(data.xup[i].e.transpose(), data.xup[i].r);
         data.body_pose[i] = match model.parent[i] {
             Some(p) => data.body_pose[p].compose(&local),
@@ -70,7 +73,7 @@ fn frame_poses(model: &Model, data: &mut Data) {
     }
 }
 
-/// World position of frame `frame`'s origin, computed along its own branch only, tip to root
+/// World position of frame `frame`'s origin at the coordinates `q`, computed along its own branch only, tip to root
 /// (cheap enough to call at every recorded sample; no workspace needed).
 pub fn frame_position(model: &Model, q: &[f64], frame: FrameId) -> Vec3 {
     let f = model.frame(frame);
@@ -81,7 +84,8 @@ pub fn frame_position(model: &Model, q: &[f64], frame: FrameId) -> Vec3 {
     let mut p = f.placement.pos;
     let mut i = body;
     loop {
-        let local = model.tree_pose[i].compose(&model.joints[i].motion_pose(q[i]));
+        let body = &model.bodies[i];
+        let local = model.tree_pose[i].compose(&body.motion_pose(body.position(q)));
         p = local.transform_point(&p);
         match model.parent[i] {
             Some(parent) => i = parent,

@@ -17,6 +17,7 @@ mod data;
 mod forward_dynamics;
 mod jacobian;
 mod kinematics;
+mod mimic;
 mod rnea;
 mod step;
 

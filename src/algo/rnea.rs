@@ -3,35 +3,75 @@
 
 use nalgebra::DVector;
 
+use super::mimic::{Terms, on_bodies};
 use super::{Data, update_joint_transforms};
 use crate::model::Model;
 use crate::spatial::Motion;
 
 /// Inverse dynamics: `data.tau = M(q) qdd + C(q, qd) qd + g(q)` (joint damping excluded; the
-/// motors' reflected inertia included, as in M).
+/// motors' reflected inertia included, as in M). With mimic joints `Gᵀ τ_b` at the bodies'
+/// `G q + o`, `G qd`, `G qdd`.
 pub fn rnea<'d>(model: &Model, data: &'d mut Data, q: &[f64], qd: &[f64], qdd: &[f64]) -> &'d DVector<f64> {
-    update_joint_transforms(model, data, q);
-    rnea_passes(model, data, Some(qd), Some(qdd), true);
+    let terms = Terms {
+        tau: true,
+        g: false,
+        bias: false,
+        m: false,
+    };
+    run(model, data, (q, Some(qd), Some(qdd)), terms, true, |_| {});
     &data.tau
 }
 
 /// Gravity forces: `data.g = g(q)`, the joint forces that hold the arm still at q.
 pub fn gravity<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> &'d DVector<f64> {
-    update_joint_transforms(model, data, q);
-    rnea_passes(model, data, None, None, true);
-    data.g.copy_from(&data.tau);
+    let terms = Terms {
+        tau: false,
+        g: true,
+        bias: false,
+        m: false,
+    };
+    run(model, data, (q, None, None), terms, true, |data| {
+        data.g.copy_from(&data.tau)
+    });
     &data.g
 }
 
 /// Bias forces: `data.bias = C(q, qd) qd + g(q)` (RNEA with zero acceleration).
 pub fn bias<'d>(model: &Model, data: &'d mut Data, q: &[f64], qd: &[f64]) -> &'d DVector<f64> {
-    update_joint_transforms(model, data, q);
-    rnea_passes(model, data, Some(qd), None, true);
-    data.bias.copy_from(&data.tau);
+    let terms = Terms {
+        tau: false,
+        g: false,
+        bias: true,
+        m: false,
+    };
+    run(model, data, (q, Some(qd), None), terms, true, |data| {
+        data.bias.copy_from(&data.tau)
+    });
     &data.bias
 }
 
-/// `data.bias = C(q, qd) qd` alone (no gravity) from the current `data.xup`.
+/// The joint transforms and the RNEA passes at the bodies' q, then `keep` (which copies `tau`
+/// where it belongs); with mimic joints on the bodies' twins, reduced to `terms`.
+fn run(
+    model: &Model,
+    data: &mut Data,
+    state: (&[f64], Option<&[f64]>, Option<&[f64]>),
+    terms: Terms,
+    with_gravity: bool,
+    keep: fn(&mut Data),
+) {
+    let pass = |model: &Model, data: &mut Data, q: &[f64], qd: Option<&[f64]>, qdd: Option<&[f64]>| {
+        update_joint_transforms(model, data, q);
+        rnea_passes(model, data, qd, qdd, with_gravity);
+        keep(data);
+    };
+    match model.has_mimic() {
+        false => pass(model, data, state.0, state.1, state.2),
+        true => on_bodies(model, data, state, terms, pass),
+    }
+}
+
+/// `data.bias = C(q, qd) qd` alone (no gravity) from the current `data.xup` (bodies' qd).
 pub(crate) fn velocity_bias_from_transforms(model: &Model, data: &mut Data, qd: &[f64]) {
     rnea_passes(model, data, Some(qd), None, false);
     data.bias.copy_from(&data.tau);
@@ -40,7 +80,7 @@ pub(crate) fn velocity_bias_from_transforms(model: &Model, data: &mut Data, qd: 
 /// The two RNEA passes on the current `data.xup`, into `data.tau`. `None` stands for a zero
 /// vector (and skips its terms); `with_gravity: false` leaves gravity out.
 fn rnea_passes(model: &Model, data: &mut Data, qd: Option<&[f64]>, qdd: Option<&[f64]>, with_gravity: bool) {
-    let n = model.dof();
+    let n = model.num_bodies();
     // The base accelerates upwards at −g instead of gravity pulling every body (RBDA §5.3).
     let a0 = if with_gravity {
         Motion::new(Default::default(), -model.gravity)
@@ -83,7 +123,7 @@ fn rnea_passes(model: &Model, data: &mut Data, qd: Option<&[f64]>, qdd: Option<&
     for i in (0..n).rev() {
         data.tau[i] = model.s[i].dot(&data.f[i]);
         if let Some(qdd) = qdd {
-            data.tau[i] += model.joints[i].reflected_inertia() * qdd[i];
+            data.tau[i] += model.body_reflected_inertia(i) * qdd[i];
         }
         if let Some(p) = model.parent[i] {
             let fp = data.xup[i].transpose_apply_force(&data.f[i]);

@@ -39,9 +39,13 @@ pub struct WaveArgs {
     /// Angular frequency ω of the wave (rad/s, as the original).
     #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
     pub freq: f64,
-    /// Amplitude A (degrees).
+    /// Amplitude A of the revolute and continuous joints (degrees).
     #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
     pub amp_deg: f64,
+    /// Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it
+    /// has limits, else 0.05 m.
+    #[arg(long = "amp-m", allow_hyphen_values = true)]
+    pub amp_m: Option<f64>,
     /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
     #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
     pub center: Option<String>,
@@ -101,6 +105,11 @@ pub struct RunArgs {
     /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
     #[arg(long = "package-path", value_name = "DIR")]
     pub package_path: Vec<PathBuf>,
+    /// A moving body whose inertia no rigid body has (not positive definite, or its principal
+    /// moments break the triangle inequality) gets its principal moments set to their mean, as
+    /// MuJoCo's balanceinertia does (a warning per body), instead of the model being refused.
+    #[arg(long = "balance-inertia")]
+    pub balance_inertia: bool,
     /// The link traced as the tool (default: tool_link, else the last link of the chain).
     #[arg(long = "tool-link", value_name = "NAME")]
     pub tool_link: Option<String>,
@@ -267,7 +276,7 @@ impl FromStr for JointValues {
 #[derive(Clone, Debug, Args)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct SweepArgs {
-    /// Join the CSV tables of a sweep's shards.
+    /// Join the tables of a sweep's parts (--shard K/N).
     #[command(subcommand)]
     pub merge: Option<SweepCommand>,
     /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
@@ -329,17 +338,22 @@ fn jobs(text: &str) -> Result<usize, String> {
 /// `faze4 sweep merge`.
 #[derive(Clone, Debug, Subcommand)]
 pub enum SweepCommand {
-    /// Join the CSV tables of a sweep's shards (same columns) into one, ordered by run.
+    /// Join the tables of a sweep's parts into one, ordered by run; refuses a set that is not
+    /// the whole sweep (a part missing, twice, partial, truncated or of another sweep).
     Merge(MergeArgs),
 }
 
 /// `faze4 sweep merge a.csv b.csv … --out all.csv`.
 #[derive(Clone, Debug, Args)]
 pub struct MergeArgs {
-    /// The shards' tables.
-    #[arg(required = true, value_name = "F.csv")]
+    /// The parts' tables (.csv or .json, each with its .meta beside it).
+    #[arg(required = true, value_name = "F.csv|F.json")]
     pub tables: Vec<PathBuf>,
-    /// The joined table.
-    #[arg(long, required = true, value_name = "F.csv")]
+    /// The joined table, .csv or .json.
+    #[arg(long, required = true, value_name = "F.csv|F.json")]
     pub out: PathBuf,
+    /// Merge the parts there are, even if runs are missing or a part is partial (the output
+    /// says which runs are absent).
+    #[arg(long = "allow-partial")]
+    pub allow_partial: bool,
 }

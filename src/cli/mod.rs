@@ -1,6 +1,7 @@
 //! The command line: clap arguments → a validated scenario → the run → its outputs.
 
 pub mod args;
+pub mod call;
 pub mod motors;
 pub mod scenario;
 pub mod sweep;
@@ -55,6 +56,13 @@ fn usage_error(e: clap::Error) -> ExitCode {
         let _ = e.print();
         return ExitCode::from(e.exit_code() as u8);
     }
+    eprintln!("faze4: error: {}", usage_line(&e));
+    ExitCode::from(EXIT_INPUT)
+}
+
+/// A clap usage error as the one line the binary prints after `faze4: error: `: clap's first
+/// paragraph, and its closest match for a mistyped subcommand, option or value.
+pub fn usage_line(e: &clap::Error) -> String {
     // clap's first paragraph (the error and its indented details) joined into one line
     let text = e.to_string();
     let first: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
@@ -74,10 +82,9 @@ fn usage_error(e: clap::Error) -> ExitCode {
         _ => None,
     });
     match suggestion {
-        Some(s) => eprintln!("faze4: error: {first}; did you mean '{s}'? (faze4 --help lists the options)"),
-        None => eprintln!("faze4: error: {first} (faze4 --help lists the options)"),
+        Some(s) => format!("{first}; did you mean '{s}'? (faze4 --help lists the options)"),
+        None => format!("{first} (faze4 --help lists the options)"),
     }
-    ExitCode::from(EXIT_INPUT)
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
@@ -90,12 +97,11 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     run_and_report(&scenario, run, save_q)
 }
 
-/// Prints `warnings` on stderr, one line each, unless `quiet`.
+/// Prints `warnings` on stderr, one line each; under `quiet`, only those that change the
+/// result ([`crate::sim::Warning::changes_result`]).
 fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
-    if !quiet {
-        for warning in warnings {
-            eprintln!("faze4: {}", escape_controls(&warning.to_string()));
-        }
+    for warning in warnings.iter().filter(|w| !quiet || w.changes_result()) {
+        eprintln!("faze4: {}", escape_controls(&warning.to_string()));
     }
 }
 
@@ -110,16 +116,7 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
     let save_q = save_q.filter(|p| !is_none(p));
-    let mut recorders = Recorders::open(scenario, run, save_q, &files)?;
-    warn(&scenario.warnings, run.quiet);
-    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
-        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
-        npy::write_samples_within(&files, path, &rows)?;
-    }
-    let summary = sim::run(scenario, &mut recorders.recorders(), &stop)?;
-    if let Some(path) = summary_path(run) {
-        write_summary(&files, path, &summary)?;
-    }
+    let (summary, recorders) = run_into(scenario, run, save_q, &files, &mut [], &stop)?;
     let mut stdout = String::new();
     if !run.quiet {
         stdout = report_files(&recorders, run, save_q, &summary);
@@ -157,6 +154,33 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
         l.hold_until(|| stop.is_raised());
     }
     Ok(code)
+}
+
+/// The part of a run every caller shares (the binary, [`call::run`]): opens the recorders
+/// `run` asks for in `files`, says the scenario's warnings (unless quiet), writes `save_q`,
+/// runs with those recorders and `extra`, and writes the summary file, all into `files` (the
+/// caller commits them). The recorders are returned for the report and the live view's hold.
+fn run_into(
+    scenario: &Scenario,
+    run: &RunArgs,
+    save_q: Option<&Path>,
+    files: &Outputs,
+    extra: &mut [&mut dyn Recorder],
+    stop: &StopFlag,
+) -> Result<(Summary, Recorders)> {
+    let mut recorders = Recorders::open(scenario, run, save_q, files)?;
+    warn(&scenario.warnings, run.quiet);
+    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
+        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
+        npy::write_samples_within(files, path, &rows)?;
+    }
+    let mut all = recorders.recorders();
+    all.extend(extra.iter_mut().map(|r| &mut **r as &mut dyn Recorder));
+    let summary = sim::run(scenario, &mut all, stop)?;
+    if let Some(path) = summary_path(run) {
+        write_summary(files, path, &summary)?;
+    }
+    Ok((summary, recorders))
 }
 
 /// The exit status of a run or sweep `stop` ended: 128 + the signal's number.

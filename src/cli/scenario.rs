@@ -8,8 +8,8 @@ use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::control::JointMotor;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
-use crate::model::{FrameId, Joint, Model, PackagePaths};
-use crate::sim::scenario::{count, finite, non_negative, override_per_joint, positive};
+use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
+use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
@@ -21,15 +21,23 @@ pub fn wave(args: &WaveArgs) -> Result<Scenario> {
 }
 
 /// `faze4 wave` → scenario, on a model already loaded (a sweep loads it once).
-pub fn wave_with(args: &WaveArgs, Robot { model, geometry }: Robot) -> Result<Scenario> {
+pub fn wave_with(
+    args: &WaveArgs,
+    Robot {
+        model,
+        geometry,
+        warnings,
+    }: Robot,
+) -> Result<Scenario> {
     check_wave(args)?;
     let trajectory = Trajectory::Wave(Wave {
-        amplitude: args.amp_deg.to_radians(),
+        amplitude: wave_amplitudes(&model, args.amp_deg, args.amp_m),
         omega: args.freq,
         center: wave_center(&model, args.center.as_deref())?,
     });
     builder(model, trajectory, &args.run)?
         .geometry(geometry)
+        .load_warnings(warnings)
         .command("wave")
         .duration(args.duration)
         .build()
@@ -38,7 +46,28 @@ pub fn wave_with(args: &WaveArgs, Robot { model, geometry }: Robot) -> Result<Sc
 fn check_wave(args: &WaveArgs) -> Result<()> {
     positive("--duration", args.duration)?;
     finite("--freq", args.freq)?;
+    if let Some(a) = args.amp_m {
+        non_negative("--amp-m", a)?;
+    }
     non_negative("--amp-deg", args.amp_deg)
+}
+
+/// Default amplitude of a prismatic joint without `--amp-m` and without limits (m).
+pub const DEFAULT_AMP_M: f64 = 0.05;
+
+/// Each joint's wave amplitude in its own unit: `amp_deg` in radians for a revolute or
+/// continuous joint; for a prismatic one `amp_m`, else a quarter of its range where both
+/// limits are finite, else [`DEFAULT_AMP_M`] (docs/model.md, 4.1).
+pub fn wave_amplitudes(model: &Model, amp_deg: f64, amp_m: Option<f64>) -> Vec<f64> {
+    (model.joints.iter())
+        .map(|j| match j.kind {
+            JointKind::Prismatic => amp_m.unwrap_or(match (j.lower.is_finite(), j.upper.is_finite()) {
+                (true, true) => 0.25 * (j.upper - j.lower),
+                _ => DEFAULT_AMP_M,
+            }),
+            _ => amp_deg.to_radians(),
+        })
+        .collect()
 }
 
 /// `faze4 replay` → scenario.
@@ -51,13 +80,22 @@ pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
 }
 
 /// `faze4 replay` → scenario, on a model and frames (`--q-traj`) already read.
-pub fn replay_with(args: &ReplayArgs, Robot { model, geometry }: Robot, frames: &[Vec<f64>]) -> Result<Scenario> {
+pub fn replay_with(
+    args: &ReplayArgs,
+    Robot {
+        model,
+        geometry,
+        warnings,
+    }: Robot,
+    frames: &[Vec<f64>],
+) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     positive("--traj-period", args.traj_period)?;
     check_samples(&model, frames, &args.q_traj)?;
     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, args.traj_period, Wrap::Repeat));
     builder(model, trajectory, &args.run)?
         .geometry(geometry)
+        .load_warnings(warnings)
         .command("replay")
         .duration(args.duration)
         .build()
@@ -84,13 +122,18 @@ pub fn shape_plan(args: &ShapeArgs, model: &Model) -> Result<(Trajectory, ShapeR
 /// once unless it varies `shape-points`).
 pub fn shape_with(
     args: &ShapeArgs,
-    Robot { model, geometry }: Robot,
+    Robot {
+        model,
+        geometry,
+        warnings,
+    }: Robot,
     (trajectory, run): (Trajectory, ShapeRun),
 ) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     let shape = shape_of(args)?;
     builder(model, trajectory, &args.run)?
         .geometry(geometry)
+        .load_warnings(warnings)
         .command(format!("shape {} ({} points)", shape.name(), args.shape_points))
         .duration(args.duration)
         .shape(run)
@@ -109,8 +152,19 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     positive("--dt", run.dt)?;
     positive("--record-period", run.record_period)?;
     non_negative("--payload-kg", run.payload_kg)?;
-    let Robot { mut model, geometry } = match &run.urdf {
-        Some(path) => Robot::from_urdf_file(path, &PackagePaths::with_ros_package_path(run.package_path.clone()))?,
+    let options = LoadOptions {
+        balance_inertia: run.balance_inertia,
+    };
+    let Robot {
+        mut model,
+        geometry,
+        warnings,
+    } = match &run.urdf {
+        Some(path) => Robot::from_urdf_file_with(
+            path,
+            &PackagePaths::with_ros_package_path(run.package_path.clone()),
+            &options,
+        )?,
         None => Robot::faze4(),
     };
     // the motors' ratios and rotors, then the command line's overrides of them
@@ -126,7 +180,11 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     set_rotors("--gear-ratio", &mut model, run.gear_ratio.as_ref(), |j| {
         &mut j.gear_ratio
     })?;
-    Ok(Robot { model, geometry })
+    Ok(Robot {
+        model,
+        geometry,
+        warnings,
+    })
 }
 
 /// Sets each joint's motor value that `values` gives (> 0; 'auto' keeps the model's).
@@ -181,11 +239,12 @@ pub fn wave_center(model: &Model, center: Option<&str>) -> Result<Vec<f64>> {
             return Err(Error::argument(
                 "--center",
                 format!(
-                    "J{} ({}) {c} is outside its limits [{}, {}]",
+                    "J{} ({}) {c} is outside its limits [{}, {}]{}",
                     i + 1,
                     j.name,
                     j.lower,
-                    j.upper
+                    j.upper,
+                    model.mimic_note(i)
                 ),
             ));
         }
@@ -273,6 +332,24 @@ pub fn collisions(run: &RunArgs) -> Option<Collisions> {
             _ => PairFilter::NonAdjacent,
         },
     })
+}
+
+/// The torque limits a run of `run` on `model` uses: `--effort`, else the motors' under
+/// `--motors`, else the model's default ([`default_effort`]).
+pub fn effort_limits(model: &Model, run: &RunArgs) -> Result<Vec<f64>> {
+    match (&run.effort, &run.motors) {
+        (Some(effort), _) => all_given("--effort", effort, model.dof()),
+        (None, Some(_)) => {
+            let motors = super::motors::motors(run, model)?.unwrap_or_default();
+            Ok((default_effort(model).into_iter().zip(&model.joints).enumerate())
+                .map(|(i, (e, joint))| match motors.get(i) {
+                    Some(Some(m)) => m.motor.joint_limit(joint.gear_ratio),
+                    _ => e,
+                })
+                .collect())
+        }
+        (None, None) => Ok(default_effort(model)),
+    }
 }
 
 /// Every joint's value, `auto` refused (it is for gains).

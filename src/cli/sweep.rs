@@ -16,10 +16,12 @@ use super::{interrupted_status, print_stdout, scenario, stopped_by, warn};
 use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
-use crate::output::format::{distinct, exact};
+use crate::output::format::exact;
 use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
-use crate::sweep::{self, Axis, Format, Found, Grid, MAX_RUNS, Row, Runner, Scale, Seek, Shard, TableWriter};
+use crate::sweep::{
+    self, Axis, Format, Found, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Scale, Seek, Shard, TableWriter,
+};
 use crate::traj::{Trajectory, npy};
 
 /// An option of the base command, if the command has it.
@@ -162,9 +164,9 @@ struct Base {
 }
 
 impl Base {
-    /// Parses the words after `--` and reads the model (and frames, and the shape's IK unless
-    /// `replan`, when `shape-points` varies).
-    fn load(words: &[String], replan: bool) -> Result<Base> {
+    /// Parses the words after `--` and reads the model (and a replay's frames unless `frames`
+    /// gives them, and the shape's IK unless `replan`, when `shape-points` varies).
+    fn load(words: &[String], replan: bool, frames: Option<Vec<Vec<f64>>>) -> Result<Base> {
         if words.is_empty() {
             return Err(Error::argument(
                 "sweep",
@@ -186,7 +188,14 @@ impl Base {
             .command;
         let (mut robot, frames, plan) = match &command {
             Command::Wave(a) => (scenario::load_model(&a.run)?, Vec::new(), None),
-            Command::Replay(a) => (scenario::load_model(&a.run)?, npy::read_samples(&a.q_traj)?, None),
+            Command::Replay(a) => {
+                let robot = scenario::load_model(&a.run)?;
+                let frames = match frames {
+                    Some(frames) => frames,
+                    None => npy::read_samples(&a.q_traj)?,
+                };
+                (robot, frames, None)
+            }
             Command::Shape(a) => {
                 let robot = scenario::load_model(&a.run)?;
                 let plan = match replan {
@@ -319,8 +328,17 @@ pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
     if let Some(SweepCommand::Merge(m)) = &args.merge {
         check_output_path(&m.out, "--out")?;
         let parts: Vec<&Path> = m.tables.iter().map(PathBuf::as_path).collect();
-        let rows = sweep::merge(&parts, &m.out)?;
-        println!("[done] {rows} runs from {} tables -> {}", parts.len(), m.out.display());
+        let merged = sweep::merge(&parts, &m.out, m.allow_partial)?;
+        let line = match &merged.absent {
+            None => format!("{} runs", merged.rows),
+            Some(absent) => format!("{} of {} runs (absent: {absent})", merged.rows, merged.total),
+        };
+        let _ = writeln!(
+            std::io::stdout().lock(),
+            "[done] {line} from {} tables -> {}",
+            parts.len(),
+            m.out.display()
+        );
         return Ok(ExitCode::SUCCESS);
     }
     match (&args.find, &args.find_min) {
@@ -340,6 +358,8 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     if args.resolution.is_some() {
         return Err(Error::argument("--resolution", "is for --find and --find-min"));
     }
+    // before any temporary exists: a signal from here on stops the sweep cleanly
+    let stop = StopFlag::ctrl_c();
     let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose()?;
     let (grid, indices) = Grid::parse(&args.vary, shard, MAX_RUNS)?;
     let total = grid.len().expect("sized by Grid::parse");
@@ -358,9 +378,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         None => None,
     };
     check_trails(args.trails.as_deref())?;
-    let replan = grid.axes.iter().any(|a| a.name == "shape-points");
-    let base = Base::load(&args.base, replan)?;
-    let knobs = knobs(&base.command, &grid.axes)?;
+    let (base, knobs) = load_for(&grid, &args.base, None)?;
     warn(&base.warnings, args.quiet);
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -376,7 +394,6 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         _ => None,
     };
     let mut plot = plot;
-    let stop = StopFlag::ctrl_c();
     let started = Instant::now();
     let (mut cannot, mut failed) = (0, 0);
     let ran = runner.sweep(&grid, indices.clone(), &stop, |row| {
@@ -397,8 +414,19 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let wall = started.elapsed().as_secs_f64();
     progress.clear();
     let mut written = Vec::new();
-    if let (Some(t), Some(path)) = (table, &args.out) {
-        t.finish()?;
+    if let (Some(mut t), Some(path)) = (table, &args.out) {
+        if !t.has_columns() {
+            // no run of this part ran (none, or all failed): the sweep's columns all the same
+            if let Some(row) = probe(&base, &knobs, &grid, total) {
+                t.set_columns(sweep::cells(&axes, &row).into_iter().map(|(name, _)| name).collect())?;
+            }
+        }
+        // a part of a sweep says what it is beside it (docs/sweep.md)
+        let mut part = shard.map(|s| {
+            let held = indices.start..indices.start + ran;
+            PartMeta::new(&args.base, &grid, total, Some(s), held)
+        });
+        t.finish(part.as_mut())?;
         written.push(format!("table -> {}", path.display()));
     }
     if let (Some(p), Some(path)) = (plot, &args.plot) {
@@ -437,6 +465,43 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The base command (`words`, with a replay's `frames` when given) and the knobs of `grid`'s
+/// axes, checked against it.
+fn load_for(grid: &Grid, words: &[String], frames: Option<Vec<Vec<f64>>>) -> Result<(Base, Vec<Knob>)> {
+    let replan = grid.axes.iter().any(|a| a.name == "shape-points");
+    let base = Base::load(words, replan, frames)?;
+    let knobs = knobs(&base.command, &grid.axes)?;
+    Ok((base, knobs))
+}
+
+/// A sweep's rows as a library call (the Python binding's `faze4.sweep`): the runs of
+/// `args.vary`'s grid on `args.base` (a replay's `frames` given, or read from its `--q-traj`),
+/// in index order, each run stopping at `stop`; with the base's warnings. A raised `stop`
+/// ends the sweep early (fewer rows than runs).
+pub fn rows(args: &SweepArgs, frames: Option<Vec<Vec<f64>>>, stop: &StopFlag) -> Result<(Vec<Row>, Vec<Warning>)> {
+    for (given, name) in [
+        (args.out.is_some(), "--out"),
+        (args.plot.is_some(), "--plot"),
+        (args.shard.is_some(), "--shard"),
+        (args.trails.is_some(), "--trails"),
+        (args.find.is_some() || args.find_min.is_some(), "--find"),
+    ] {
+        if given {
+            return Err(Error::argument(name, "is not for a sweep's rows in memory"));
+        }
+    }
+    let (grid, indices) = Grid::parse(&args.vary, None, MAX_RUNS)?;
+    let (base, knobs) = load_for(&grid, &args.base, frames)?;
+    let build = |values: &[f64]| base.build(&knobs, values);
+    let runner = Runner::new(&build, threads(args.jobs, indices.len()))?.with_stop(stop);
+    let mut rows = Vec::with_capacity(indices.len());
+    runner.sweep(&grid, indices, stop, |row| {
+        rows.push(row);
+        Ok(())
+    })?;
+    Ok((rows, base.warnings))
+}
+
 /// Most threads `--jobs` takes.
 pub const MAX_JOBS: usize = 1024;
 
@@ -449,9 +514,32 @@ fn threads(jobs: usize, runs: usize) -> usize {
     jobs.min(runs).max(1)
 }
 
+/// Most runs [`probe`] tries to build.
+const PROBES: usize = 100;
+
+/// A row with the sweep's columns, for a part none of whose runs ran: the first of the sweep's
+/// first [`PROBES`] runs that builds, run for one step (the columns depend on the model and the
+/// base command, not on the values; the same for every part). `None` when none builds: the
+/// table then has the base columns only.
+fn probe(base: &Base, knobs: &[Knob], grid: &Grid, total: usize) -> Option<Row> {
+    (0..total.min(PROBES)).find_map(|index| {
+        let values = grid.point(index);
+        let mut scenario = base.build(knobs, &values).ok()?;
+        scenario.steps = scenario.steps.min(1);
+        let summary = crate::sim::run(&scenario, &mut [], &StopFlag::new()).ok()?;
+        Some(Row {
+            index,
+            values,
+            outcome: Outcome::Ran(Box::new(summary)),
+        })
+    })
+}
+
 /// A run for people: `payload-kg=0.5 dt=0.0002: follows` or `…: cannot follow — reasons`.
 fn row_line(axes: &[String], row: &Row) -> String {
-    let values: Vec<String> = axes.iter().zip(&row.values).map(|(n, v)| format!("{n}={v}")).collect();
+    let values: Vec<String> = (axes.iter().zip(&row.values))
+        .map(|(n, &v)| format!("{n}={}", exact(v)))
+        .collect();
     let answer = match row.follows() {
         true => "follows".to_string(),
         false => format!("cannot follow — {}", row.reasons()),
@@ -471,6 +559,36 @@ fn check_trails(dir: Option<&Path>) -> Result<()> {
 
 /// `--find NAME=LO:HI` (or `--find-min`).
 fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
+    let (_, line, _) = search(args, spec, seek, None, &StopFlag::new(), |w| warn(w, args.quiet))?;
+    print_stdout(&format!("{line}\n"))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// What `--find` (or `--find-min`, as `args` asks) finds, and the line the binary prints for
+/// it, as a library call (the Python binding's `faze4.find`); a replay's `frames` given or read
+/// from its `--q-traj`; each run stops at `stop`.
+pub fn find_line(
+    args: &SweepArgs,
+    frames: Option<Vec<Vec<f64>>>,
+    stop: &StopFlag,
+) -> Result<(Found, String, Vec<Warning>)> {
+    match (&args.find, &args.find_min) {
+        (Some(spec), _) => search(args, spec, Seek::Largest, frames, stop, |_| ()),
+        (None, Some(spec)) => search(args, spec, Seek::Smallest, frames, stop, |_| ()),
+        (None, None) => Err(Error::argument("--find", "no NAME=LO:HI to find")),
+    }
+}
+
+/// The search of `--find`/`--find-min` `spec` and its answer line; `warn` is told the base's
+/// warnings once it is loaded, before the runs.
+fn search(
+    args: &SweepArgs,
+    spec: &str,
+    seek: Seek,
+    frames: Option<Vec<Vec<f64>>>,
+    stop: &StopFlag,
+    warn: impl Fn(&[Warning]),
+) -> Result<(Found, String, Vec<Warning>)> {
     let option = match seek {
         Seek::Largest => "--find",
         Seek::Smallest => "--find-min",
@@ -506,7 +624,10 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
     if !resolution.is_finite() || resolution <= 0.0 {
         return Err(Error::argument(
             "--resolution",
-            format!("{resolution}: give a finite width > 0 (default: 1 % of the range)"),
+            format!(
+                "{}: give a finite width > 0 (default: 1 % of the range)",
+                exact(resolution)
+            ),
         ));
     }
     let name = name.trim().trim_start_matches("--");
@@ -515,12 +636,12 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         values: vec![lo, hi],
     };
     let replan = name == "shape-points";
-    let base = Base::load(&args.base, replan)?;
+    let base = Base::load(&args.base, replan, frames)?;
     let knobs = knobs(&base.command, std::slice::from_ref(&axis)).map_err(|e| match e {
         Error::InvalidArgument { message, .. } => Error::argument(option, message),
         other => other,
     })?;
-    warn(&base.warnings, args.quiet);
+    warn(&base.warnings);
     if let [Knob::Option(Field::Count(_))] = knobs[..] {
         return Err(Error::argument(
             option,
@@ -535,15 +656,18 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
         })?;
     }
     let build = |values: &[f64]| base.build(&knobs, values);
-    let runner = Runner::new(&build, args.jobs)?;
+    let runner = Runner::new(&build, args.jobs)?.with_stop(stop);
     let (lo_text, hi_text) = (exact(lo), exact(hi));
-    let line = match sweep::find(&runner, lo, hi, resolution, seek) {
+    let found = sweep::find(&runner, lo, hi, resolution, seek);
+    let line = match &found {
         Found::Boundary { follows, fails } => {
             let which = match seek {
                 Seek::Largest => "largest",
                 Seek::Smallest => "smallest",
             };
-            let (follows_at, fails_at) = distinct(follows.values[0], fails.values[0], resolution);
+            // the values run, each as its shortest round-trip decimal: rerunning either with
+            // the option gives the same row
+            let (follows_at, fails_at) = (exact(follows.values[0]), exact(fails.values[0]));
             format!(
                 "{which} {name} that follows: {follows_at} (at {fails_at}: {})",
                 fails.reasons()
@@ -573,8 +697,7 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
             )
         }
     };
-    print_stdout(&format!("{line}\n"))?;
-    Ok(ExitCode::SUCCESS)
+    Ok((found, line, base.warnings))
 }
 
 /// The sweep's progress bar on stderr, when stderr is a terminal: redrawn at most every 0.1 s

@@ -99,7 +99,7 @@ pub fn for_uri(uri: &str) -> Option<IndexedMesh> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::mesh::parse_stl;
+    use crate::geometry::mesh::triangle_corners;
     use std::collections::HashSet;
 
     const LINKS: [&str; 6] = ["hvataljka", "lakat", "nadlaktica", "podlaktica", "rotary_base", "saka"];
@@ -109,8 +109,11 @@ mod tests {
         assert_eq!(names().collect::<Vec<_>>(), LINKS);
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/faze4_description/meshes");
         for link in LINKS {
-            let stl = std::fs::read(dir.join(format!("{link}.STL"))).unwrap();
-            let file = parse_stl(&stl).unwrap();
+            let path = dir.join(format!("{link}.STL"));
+            let (file, _) = triangle_corners(&std::fs::read(&path).unwrap(), &path, |p: &std::path::Path| {
+                std::fs::read(p)
+            })
+            .unwrap();
             let built_in = mesh(link).unwrap();
             let bits = |corners: &[[f32; 3]]| corners.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
             assert_eq!(bits(&built_in.corners()), bits(&file), "{link}: the file's triangles");

@@ -87,7 +87,8 @@ impl std::fmt::Display for Warning {
         match self {
             Warning::MeshNotFound { file, link, uri } => write!(
                 f,
-                "{file}: link '{link}' <collision>: mesh '{uri}' not found, its clearance is not checked (give the folder holding it with --package-path)"
+                "{file}: link '{link}' <collision>: mesh '{uri}' not found, its clearance is not checked ({})",
+                crate::model::not_found_advice(uri)
             ),
         }
     }
@@ -170,7 +171,7 @@ impl Object {
                 let Some(mesh) = load(uri, path.as_deref()) else {
                     return Ok(None);
                 };
-                let mesh = mesh?;
+                let mesh = mesh?.mesh;
                 let path = path.clone().unwrap_or_else(|| uri.into());
                 let points: Vec<PVector> = (mesh.vertices.iter())
                     .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))

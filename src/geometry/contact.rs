@@ -135,7 +135,7 @@ impl ContactGeometry {
                 let mut levers = Vec::new();
                 let mut joint = frame.body.map(|JointId(j)| j);
                 while let Some(j) = joint {
-                    let lever = match model.joints[j].kind {
+                    let lever = match model.bodies[j].kind {
                         JointKind::Prismatic => 1.0,
                         JointKind::Revolute | JointKind::Continuous => reach,
                     };
@@ -150,7 +150,12 @@ impl ContactGeometry {
             .map(|&(a, b)| {
                 let moves = |o: usize, j: usize| levers[o].iter().any(|&(k, _)| k == j);
                 let only = |o: usize, other: usize| levers[o].iter().filter(move |&&(j, _)| !moves(other, j));
-                only(a, b).chain(only(b, a)).copied().collect()
+                // bodies → the coordinates that move them (a follower's lever scaled by |m|)
+                let coordinate = |&(j, lever): &(usize, f64)| {
+                    let body = &model.bodies[j];
+                    (body.coordinate, body.multiplier.abs() * lever)
+                };
+                only(a, b).chain(only(b, a)).map(coordinate).collect()
             })
             .collect();
         ContactGeometry {

@@ -1,5 +1,6 @@
-//! Triangle meshes as files hold them: STL (binary and ASCII) → exact f32 vertices, welded,
-//! with three indices per triangle. [`read_mesh`] is the one place a mesh file is read.
+//! Triangle meshes as files hold them: STL (binary and ASCII), COLLADA and Wavefront OBJ, parsed
+//! by the `mesh-loader` crate → exact f32 vertices, welded, with three indices per triangle.
+//! [`read_mesh`] is the one place a mesh file is read.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -49,34 +50,83 @@ impl Mesh {
     }
 }
 
-/// Reads the mesh file at `path` (STL, binary or ASCII) into a welded indexed [`Mesh`]. Every
-/// mesh faze4 uses, for drawing or for distances, is read here.
+/// A colour: red, green, blue, alpha in [0, 1].
+pub type Rgba = [f32; 4];
+
+/// A mesh file as read: its triangles as a welded [`Mesh`], and the colour its first material
+/// gives (diffuse RGBA, COLLADA `<effect>` or OBJ `.mtl` `Kd`/`d`), if any.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshFile {
+    /// The triangles (metres, in the mesh's own frame: COLLADA's `<unit meter>` applied).
+    pub mesh: Mesh,
+    /// Diffuse colour of the file's first material that has one.
+    pub color: Option<Rgba>,
+}
+
+/// The formats [`read_mesh`] reads, named as in its errors.
+pub const FORMATS: &str = "STL (binary or ASCII), COLLADA (.dae) or Wavefront OBJ (.obj)";
+
+/// Reads the mesh file at `path` (STL binary or ASCII, COLLADA `.dae`, Wavefront `.obj`) into a
+/// welded indexed [`Mesh`]. Every mesh faze4 uses, for drawing or for distances, is read here.
 ///
-/// Errors: [`Error::Io`] if the file cannot be read, [`Error::InvalidData`] if it is not an STL,
-/// [`Error::MeshNotFinite`] for a NaN or infinite coordinate, [`Error::MeshEmpty`] if no
-/// triangle of non-zero extent remains.
+/// The files are parsed by the `mesh-loader` crate; the format follows the extension (any
+/// case), else the contents. A file of several meshes (COLLADA geometries, OBJ groups) is their
+/// union. COLLADA's `<unit meter>` scales the vertices and its node transforms place them, and
+/// its `<up_axis>` is ignored, as rviz and MoveIt do (see docs/model.md, "Meshes").
+///
+/// Errors: [`Error::Io`] if the file cannot be read, [`Error::InvalidData`] if it is none of
+/// those formats, [`Error::MeshNotFinite`] for a NaN or infinite coordinate, [`Error::MeshEmpty`]
+/// if no triangle of non-zero extent remains.
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
+    Ok(read_mesh_file(path)?.mesh)
+}
+
+/// [`read_mesh`], with the file's material colour. An OBJ's `mtllib` is read from beside it
+/// (a missing one leaves the colour out).
+pub fn read_mesh_file(path: &Path) -> Result<MeshFile> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    parse_mesh(&bytes, path)
+    parse_mesh_file(&bytes, path, |p: &Path| std::fs::read(p))
 }
 
 /// The mesh a URDF mesh reference stands for: the file it resolved to (`path`), read by
-/// [`read_mesh`], else the copy built into the binary when `uri` names one of the official
+/// [`read_mesh_file`], else the copy built into the binary when `uri` names one of the official
 /// Faze4 meshes ([`crate::faze4::meshes::for_uri`]); `None` when there is neither. Every mesh
 /// reference, visual or collision, is loaded here.
-pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<Mesh>> {
+pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
     match path {
-        Some(path) => Some(read_mesh(path)),
-        None => crate::faze4::meshes::for_uri(uri).map(|mesh| Ok(Mesh::from_soup(&mesh.corners()))),
+        Some(path) => Some(read_mesh_file(path)),
+        None => crate::faze4::meshes::for_uri(uri).map(|mesh| {
+            Ok(MeshFile {
+                mesh: Mesh::from_soup(&mesh.corners()),
+                color: None,
+            })
+        }),
     }
 }
 
-/// [`read_mesh`] on a file's contents already in memory; `path` names it in errors.
+/// [`read_mesh`] on a file's contents already in memory; `path` names it in errors and gives
+/// its format by extension. Reads no other file (an OBJ's `mtllib` is left out).
 pub fn parse_mesh(bytes: &[u8], path: &Path) -> Result<Mesh> {
-    let soup = parse_stl(bytes).map_err(|message| Error::InvalidData {
+    let no_side_files = |p: &Path| {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            p.display().to_string(),
+        ))
+    };
+    Ok(parse_mesh_file(bytes, path, no_side_files)?.mesh)
+}
+
+/// [`read_mesh_file`] on contents in memory; `side_file` reads the files it refers to (an OBJ's
+/// `.mtl`).
+fn parse_mesh_file(
+    bytes: &[u8],
+    path: &Path,
+    side_file: impl FnMut(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<MeshFile> {
+    let (soup, color) = triangle_corners(bytes, path, side_file).map_err(|message| Error::InvalidData {
         path: path.to_path_buf(),
         message,
     })?;
@@ -92,53 +142,50 @@ pub fn parse_mesh(bytes: &[u8], path: &Path) -> Result<Mesh> {
             path: path.to_path_buf(),
         });
     }
-    Ok(mesh)
+    Ok(MeshFile { mesh, color })
 }
 
-/// The triangle corners of an STL file's contents (three per triangle), exactly as stored.
-/// Binary when the size matches the triangle count in the header (SolidWorks writes binary
-/// files that start with "solid"), ASCII when the text starts with `solid`. Non-finite
-/// coordinates are passed through (see [`parse_mesh`]).
-pub fn parse_stl(bytes: &[u8]) -> std::result::Result<Vec<[f32; 3]>, String> {
-    if bytes.len() >= 84 {
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        if n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len()) {
-            let mut soup = Vec::with_capacity(3 * n);
-            for t in bytes[84..].chunks_exact(50) {
-                for k in 0..3 {
-                    let o = 12 + 12 * k;
-                    let f = |i: usize| f32::from_le_bytes([t[o + i], t[o + i + 1], t[o + i + 2], t[o + i + 3]]);
-                    soup.push([f(0), f(4), f(8)]);
-                }
-            }
-            return Ok(soup);
+/// The triangle corners of a mesh file's contents (three per triangle, every mesh of the file
+/// in its order, each triangle as stored, degenerate ones included; non-finite coordinates are
+/// passed through, see [`parse_mesh`]), and the diffuse colour of its first material that has
+/// one. The error is one line.
+pub fn triangle_corners(
+    bytes: &[u8],
+    path: &Path,
+    side_file: impl FnMut(&Path) -> std::io::Result<Vec<u8>>,
+) -> std::result::Result<(Vec<[f32; 3]>, Option<Rgba>), String> {
+    let loader = mesh_loader::Loader::default();
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let scene = match extension.as_deref() {
+        Some("stl") => loader.load_stl_from_slice(bytes, path),
+        Some("dae") => loader.load_collada_from_slice(bytes, path),
+        Some("obj") => loader.load_obj_from_slice_with_reader(bytes, path, side_file),
+        _ => loader.load_from_slice_with_reader(bytes, path, side_file),
+    }
+    .map_err(|e| {
+        let message = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+        match extension.as_deref() {
+            Some("stl" | "dae" | "obj") => message,
+            _ => format!("not a mesh faze4 reads ({FORMATS}): {message}"),
         }
-    }
-    let text = std::str::from_utf8(bytes)
-        .map_err(|_| "neither a binary STL (size does not match its triangle count) nor ASCII text".to_string())?;
-    if !text.trim_start().starts_with("solid") {
-        return Err(
-            "neither a binary STL (size does not match its triangle count) nor an ASCII STL (no 'solid')".into(),
-        );
-    }
+    })?;
     let mut soup = Vec::new();
-    let mut words = text.split_ascii_whitespace();
-    while let Some(w) = words.next() {
-        if w == "vertex" {
-            let mut p = [0.0f32; 3];
-            for c in &mut p {
-                let word = words.next().ok_or("a 'vertex' with fewer than 3 numbers")?;
-                *c = word
-                    .parse()
-                    .map_err(|_| format!("'vertex' coordinate '{word}' is not a number"))?;
+    for mesh in &scene.meshes {
+        for face in &mesh.faces {
+            for &i in face {
+                let corner = mesh.vertices.get(i as usize).ok_or_else(|| {
+                    format!(
+                        "mesh '{}': a face refers to vertex {i} of {}",
+                        mesh.name,
+                        mesh.vertices.len()
+                    )
+                })?;
+                soup.push(*corner);
             }
-            soup.push(p);
         }
     }
-    if soup.len() % 3 != 0 {
-        return Err(format!("{} vertices: not a whole number of triangles", soup.len()));
-    }
-    Ok(soup)
+    let color = scene.materials.iter().find_map(|m| m.color.diffuse);
+    Ok((soup, color))
 }
 
 #[cfg(test)]
@@ -228,11 +275,12 @@ pub(crate) mod tests {
     fn malformed_stl_is_refused_with_a_reason() {
         let here = Path::new("bad.stl");
         let e = parse_mesh(b"hello", here).unwrap_err().to_string();
-        assert!(e.starts_with("bad.stl: neither"), "{e}");
-        let e = parse_stl(b"solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 zero\n").unwrap_err();
-        assert!(e.contains("'zero'"), "{e}");
-        let e = parse_stl(b"solid x\n vertex 0 0 0\n vertex 1 0 0\n endsolid").unwrap_err();
-        assert!(e.contains("whole number"), "{e}");
+        assert!(e.starts_with("bad.stl: "), "{e}");
+        let text = b"solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 zero\n";
+        let e = parse_mesh(text, here).unwrap_err().to_string();
+        assert!(e.starts_with("bad.stl: ") && !e.contains('\n'), "{e}");
+        let e = parse_mesh(b"hello", Path::new("bad.xyz")).unwrap_err().to_string();
+        assert!(e.contains("not a mesh faze4 reads (STL"), "{e}");
         let mut bin = binary_stl(&cube_soup(), b"");
         bin[84 + 50 + 12..84 + 50 + 16].copy_from_slice(&f32::NAN.to_le_bytes());
         assert!(matches!(
@@ -245,5 +293,100 @@ pub(crate) mod tests {
         ));
         let collapsed = binary_stl(&[[1.0, 2.0, 3.0]; 3], b"");
         assert!(matches!(parse_mesh(&collapsed, here), Err(Error::MeshEmpty { .. })));
+    }
+
+    /// The cube of [`cube_soup`] as COLLADA text: one `<geometry>` of 8 positions and 12
+    /// triangles, placed by a node `<matrix>`, with a material of diffuse colour (0.1, 0.2,
+    /// 0.3, 1) and the given `<unit meter>` and `<up_axis>`.
+    pub(crate) fn collada_cube(unit: &str, up_axis: &str, matrix: &str) -> String {
+        let mesh = Mesh::from_soup(&cube_soup());
+        let positions: Vec<String> = mesh.vertices.iter().flatten().map(|c| c.to_string()).collect();
+        let indices: Vec<String> = mesh.triangles.iter().flatten().map(|i| i.to_string()).collect();
+        format!(
+            r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="u" meter="{unit}"/><up_axis>{up_axis}</up_axis></asset>
+  <library_effects><effect id="paint"><profile_COMMON><technique sid="common"><phong>
+    <diffuse><color>0.1 0.2 0.3 1</color></diffuse>
+  </phong></technique></profile_COMMON></effect></library_effects>
+  <library_materials><material id="paint-material" name="paint"><instance_effect url="#paint"/></material></library_materials>
+  <library_geometries><geometry id="cube" name="cube"><mesh>
+    <source id="cube-positions"><float_array id="cube-positions-array" count="{np}">{positions}</float_array>
+      <technique_common><accessor source="#cube-positions-array" count="{nv}" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="cube-vertices"><input semantic="POSITION" source="#cube-positions"/></vertices>
+    <triangles material="paint" count="{nt}"><input semantic="VERTEX" source="#cube-vertices" offset="0"/><p>{indices}</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="scene" name="scene">
+    <node id="part" name="part"><matrix sid="transform">{matrix}</matrix>
+      <instance_geometry url="#cube"><bind_material><technique_common>
+        <instance_material symbol="paint" target="#paint-material"/>
+      </technique_common></bind_material></instance_geometry>
+    </node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+"##,
+            np = positions.len(),
+            positions = positions.join(" "),
+            nv = mesh.vertices.len(),
+            nt = mesh.triangles.len(),
+            indices = indices.join(" "),
+        )
+    }
+
+    const IDENTITY: &str = "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1";
+
+    #[test]
+    fn collada_gives_the_stl_cube_with_its_unit_and_colour() {
+        let here = Path::new("cube.DAE");
+        let stl = parse_mesh(&binary_stl(&cube_soup(), b""), Path::new("cube.stl")).unwrap();
+        let dae = collada_cube("1", "Z_UP", IDENTITY);
+        let (soup, color) = triangle_corners(dae.as_bytes(), here, |p: &Path| std::fs::read(p)).unwrap();
+        assert_eq!(Mesh::from_soup(&soup), stl, "same vertices, same triangles");
+        assert_eq!(color, Some([0.1, 0.2, 0.3, 1.0]));
+        // millimetres: every coordinate × 0.001 (as rviz does with <unit meter>)
+        let mm = parse_mesh(collada_cube("0.001", "Z_UP", IDENTITY).as_bytes(), here).unwrap();
+        for (a, b) in mm.vertices.iter().zip(&stl.vertices) {
+            for k in 0..3 {
+                assert!((a[k] - b[k] * 0.001).abs() <= 1e-9, "{a:?} vs {b:?}");
+            }
+        }
+        // <up_axis> Y_UP is ignored, as rviz and MoveIt ignore it: no rotation
+        let y_up = parse_mesh(collada_cube("1", "Y_UP", IDENTITY).as_bytes(), here).unwrap();
+        assert_eq!(y_up, stl);
+        // a node's matrix places the geometry (row-major, translation in the last column)
+        let moved = parse_mesh(
+            collada_cube("1", "Z_UP", "1 0 0 2 0 1 0 0 0 0 1 0 0 0 0 1").as_bytes(),
+            here,
+        )
+        .unwrap();
+        assert!(
+            moved.vertices.iter().all(|p| p[0] == 1.5 || p[0] == 2.5),
+            "{:?}",
+            moved.vertices
+        );
+        let e = parse_mesh(b"<COLLADA><broken", here).unwrap_err().to_string();
+        assert!(e.starts_with("cube.DAE: ") && !e.contains('\n'), "{e}");
+    }
+
+    #[test]
+    fn obj_groups_make_one_mesh_with_the_stl_vertices() {
+        let stl = parse_mesh(&binary_stl(&cube_soup(), b""), Path::new("cube.stl")).unwrap();
+        // the cube in two groups (faces 1-based, two per quad), as OBJ exporters write it
+        let mut obj = String::from("# cube\n");
+        for v in &stl.vertices {
+            obj += &format!("v {} {} {}\n", v[0], v[1], v[2]);
+        }
+        for (k, t) in stl.triangles.iter().enumerate() {
+            if k % 6 == 0 {
+                obj += &format!("g part{}\n", k / 6);
+            }
+            obj += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        let mesh = parse_mesh(obj.as_bytes(), Path::new("cube.obj")).unwrap();
+        assert_eq!(mesh.triangles.len(), 12);
+        assert_eq!(mesh.soup(), stl.soup(), "same triangles in the same order");
     }
 }

@@ -5,7 +5,7 @@
 //! | file | holds |
 //! |---|---|
 //! | `mod.rs` | [`GeometryModel`], [`GeometryObject`] |
-//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII) → exact f32 vertices, welded indices |
+//! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII), COLLADA, OBJ (mesh-loader) → exact f32 vertices, welded indices |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `clearance.rs` | [`CollisionSet`] (parry shapes), [`GeometryData`] (workspace), distances at a pose |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
@@ -27,7 +27,7 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::faze4;
-use crate::model::{FrameId, Geometry, Model, PackagePaths, RobotDescription, urdf};
+use crate::model::{FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, RobotDescription, urdf};
 use crate::spatial::Pose;
 
 /// A robot as read from a file: the dynamics [`Model`] and, beside it, the shapes attached to
@@ -38,14 +38,21 @@ pub struct Robot {
     pub model: Model,
     /// Visuals and collision geometry, by frame.
     pub geometry: GeometryModel,
+    /// What reading the file skipped or changed (transmissions skipped, inertias balanced).
+    pub warnings: Vec<LoadWarning>,
 }
 
 impl Robot {
     /// Reads and validates the URDF file at `path`: its model and its geometry. Mesh files are
     /// only located (`packages` resolves `package://`), not read.
     pub fn from_urdf_file(path: &Path, packages: &PackagePaths) -> Result<Robot> {
+        Robot::from_urdf_file_with(path, packages, &LoadOptions::default())
+    }
+
+    /// [`Robot::from_urdf_file`] read with `options`.
+    pub fn from_urdf_file_with(path: &Path, packages: &PackagePaths, options: &LoadOptions) -> Result<Robot> {
         let text = urdf::read_text(path)?;
-        Robot::from_urdf_str(&text, &path.display().to_string(), path.parent(), packages)
+        Robot::from_urdf_str_with(&text, &path.display().to_string(), path.parent(), packages, options)
     }
 
     /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
@@ -64,16 +71,32 @@ impl Robot {
         Robot {
             model: faze4::model(),
             geometry: real.geometry,
+            warnings: Vec::new(),
         }
     }
 
     /// Reads and validates URDF `text`; `file` names it in errors, `base_dir` anchors relative
     /// mesh paths.
     pub fn from_urdf_str(text: &str, file: &str, base_dir: Option<&Path>, packages: &PackagePaths) -> Result<Robot> {
+        Robot::from_urdf_str_with(text, file, base_dir, packages, &LoadOptions::default())
+    }
+
+    /// [`Robot::from_urdf_str`] read with `options`.
+    pub fn from_urdf_str_with(
+        text: &str,
+        file: &str,
+        base_dir: Option<&Path>,
+        packages: &PackagePaths,
+        options: &LoadOptions,
+    ) -> Result<Robot> {
         let desc = urdf::describe(text, file, base_dir, packages)?;
-        let model = Model::from_description(&desc)?;
+        let (model, warnings) = Model::from_description_with(&desc, options)?;
         let geometry = GeometryModel::new(&model, &desc);
-        Ok(Robot { model, geometry })
+        Ok(Robot {
+            model,
+            geometry,
+            warnings,
+        })
     }
 }
 

@@ -112,7 +112,7 @@ pub(super) fn solve(
     ws.on_branch.fill(false);
     let mut body = model.frame(task.frame).body.map(|b| b.0);
     while let Some(j) = body {
-        ws.on_branch[j] = true;
+        ws.on_branch[model.bodies[j].coordinate] = true;
         body = model.parent[j];
     }
     // q_0 = q_prev, free joints clamped into their limits
@@ -529,7 +529,7 @@ mod tests {
                 ws.on_branch.fill(false);
                 let mut body = model.frame(frame).body.map(|b| b.0);
                 while let Some(j) = body {
-                    ws.on_branch[j] = true;
+                    ws.on_branch[model.bodies[j].coordinate] = true;
                     body = model.parent[j];
                 }
                 let h = 1e-6;

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
-use super::{AxisSplit, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
+use super::{AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result, one_line};
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
@@ -13,15 +13,76 @@ use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 /// CAD inertias; a real violation is orders of magnitude larger).
 const TRIANGLE_TOLERANCE: f64 = 1e-9;
 
+/// How a model is read: what may be changed to make a URDF usable.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// A moving body whose inertia no rigid body has gets its principal moments set to their
+    /// mean (MuJoCo's `balanceinertia`; `--balance-inertia`), with a [`LoadWarning`].
+    pub balance_inertia: bool,
+}
+
+/// Something the reading of a model skipped or changed, which changes the result: returned as
+/// a value for the caller to print (the CLI prints it even under `-q`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum LoadWarning {
+    /// A `<transmission>` on a fixed joint: skipped, as Drake skips it.
+    TransmissionSkipped {
+        /// The URDF file.
+        file: String,
+        /// The transmission's name.
+        transmission: String,
+        /// The fixed joint it names.
+        joint: String,
+    },
+    /// A moving body's rotational inertia balanced (`--balance-inertia`).
+    InertiaBalanced {
+        /// The URDF file.
+        file: String,
+        /// The link that heads the body.
+        link: String,
+        /// Its principal moments about its centre of mass as read, ascending (kg·m²).
+        moments: [f64; 3],
+        /// The moment all three were set to (their mean).
+        balanced: f64,
+    },
+}
+
+impl std::fmt::Display for LoadWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadWarning::TransmissionSkipped {
+                file,
+                transmission,
+                joint,
+            } => write!(
+                f,
+                "{file}: transmission '{transmission}' skipped: joint '{joint}' is fixed (Drake skips it too)"
+            ),
+            LoadWarning::InertiaBalanced {
+                file,
+                link,
+                moments: [a, b, c],
+                balanced,
+            } => write!(
+                f,
+                "{file}: link '{link}' <inertial>: principal moments {a:e}, {b:e}, {c:e} kg·m² (about the centre of mass of the body it heads) set to their mean {balanced:e} kg·m² (--balance-inertia)"
+            ),
+        }
+    }
+}
+
 /// Validates `desc` and builds its model: the links as one tree, walked depth-first into
-/// bodies and frames; the motors of its transmissions; every moving body checked for mass.
-pub(super) fn build(desc: &RobotDescription) -> Result<Model> {
+/// bodies and frames; the motors of its transmissions; every moving body checked for mass and
+/// a physical inertia (after the links welded to it are merged in).
+pub(super) fn build(desc: &RobotDescription, options: &LoadOptions) -> Result<(Model, Vec<LoadWarning>)> {
     check_finite(desc)?;
     let tree = Tree::of(desc)?;
     let mut model = walk(desc, &tree)?;
-    apply_transmissions(desc, &mut model)?;
+    let mut warnings = apply_transmissions(desc, &mut model)?;
     check_masses(desc, &model)?;
-    Ok(model)
+    check_inertias(desc, &mut model, options, &mut warnings)?;
+    apply_mimics(desc, &mut model)?;
+    Ok((model, warnings))
 }
 
 /// The links as one tree: each link's index by name, each link's child joints (document
@@ -146,6 +207,7 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
         name: desc.name.clone(),
         source: desc.file.clone(),
         joints: Vec::new(),
+        bodies: Vec::new(),
         parent: Vec::new(),
         tree_pose: Vec::new(),
         axis_split: Vec::new(),
@@ -234,6 +296,15 @@ fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model)
             model.tree_pose.push(origin);
             model.s.push(moving.motion_subspace());
             model.inertia.push(Inertia::ZERO);
+            model.bodies.push(Body {
+                joint: moving.name.clone(),
+                kind: moving.kind,
+                axis: moving.axis,
+                coordinate: body,
+                multiplier: 1.0,
+                offset: 0.0,
+                follower: false,
+            });
             model.joints.push(moving);
             Frame {
                 name: joint.child.clone(),
@@ -244,12 +315,27 @@ fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model)
     })
 }
 
-/// Each `<transmission>`'s motor (rotor inertia, gear ratio) on the joint it names.
-fn apply_transmissions(desc: &RobotDescription, model: &mut Model) -> Result<()> {
+/// Each `<transmission>`'s motor (rotor inertia, gear ratio) on the joint it names; one on a
+/// fixed joint is skipped with a warning, one on a joint the URDF does not have is refused
+/// (both as Drake's URDF parser does).
+fn apply_transmissions(desc: &RobotDescription, model: &mut Model) -> Result<Vec<LoadWarning>> {
     let file = desc.file.as_str();
+    let mut warnings = Vec::new();
     for t in &desc.transmissions {
         let element = || format!("transmission '{}'", t.name);
         let Some(i) = model.joint_index(&t.joint) else {
+            if desc
+                .joints
+                .iter()
+                .any(|j| j.name == t.joint && j.kind == JointType::Fixed)
+            {
+                warnings.push(LoadWarning::TransmissionSkipped {
+                    file: file.to_string(),
+                    transmission: t.name.clone(),
+                    joint: t.joint.clone(),
+                });
+                continue;
+            }
             return Err(Error::model(
                 file,
                 element(),
@@ -275,6 +361,61 @@ fn apply_transmissions(desc: &RobotDescription, model: &mut Model) -> Result<()>
         model.joints[i.0].gear_ratio = gear_ratio;
     }
 
+    Ok(warnings)
+}
+
+/// Every moving body's rotational inertia about its centre of mass (its links merged) must be
+/// one a rigid body can have: principal moments a ≤ b ≤ c with a > 0 and a + b ≥ c (to a
+/// relative [`TRIANGLE_TOLERANCE`]). Else, with `balance_inertia`, all three become their mean
+/// (MuJoCo's `balanceinertia`), with a warning; without, the model is refused.
+fn check_inertias(
+    desc: &RobotDescription,
+    model: &mut Model,
+    options: &LoadOptions,
+    warnings: &mut Vec<LoadWarning>,
+) -> Result<()> {
+    let file = desc.file.as_str();
+    for i in 0..model.dof() {
+        let inertia = model.inertia[i];
+        let i_com = inertia.rot_about_com();
+        let mut moments = SymmetricEigen::new(i_com).eigenvalues;
+        moments.as_mut_slice().sort_by(f64::total_cmp);
+        let [a, b, c] = [moments[0], moments[1], moments[2]];
+        let definite = a > 0.0;
+        let triangle = a + b >= c * (1.0 - TRIANGLE_TOLERANCE);
+        if definite && triangle {
+            continue;
+        }
+        let link = model.joints[i].child_link.clone();
+        let mean = (a + b + c) / 3.0;
+        if options.balance_inertia && mean > 0.0 {
+            model.inertia[i] = Inertia::from_com(inertia.mass, inertia.com(), Mat3::identity() * mean);
+            warnings.push(LoadWarning::InertiaBalanced {
+                file: file.to_string(),
+                link,
+                moments: [a, b, c],
+                balanced: mean,
+            });
+            continue;
+        }
+        let what = if !definite {
+            format!("are not positive definite ({a:e} ≤ 0)")
+        } else {
+            format!("violate the triangle inequality ({a:e} + {b:e} < {c:e})")
+        };
+        let fix = if mean > 0.0 {
+            " (--balance-inertia sets them to their mean, as MuJoCo's balanceinertia does)"
+        } else {
+            ""
+        };
+        return Err(Error::model(
+            file,
+            format!("link '{link}' <inertial>"),
+            format!(
+                "the principal moments {a:e}, {b:e}, {c:e} kg·m² of its body (it and the links welded to it, about their centre of mass) {what}: no rigid body has them{fix}"
+            ),
+        ));
+    }
     Ok(())
 }
 
@@ -293,6 +434,131 @@ fn check_masses(desc: &RobotDescription, model: &Model) -> Result<()> {
             ));
         }
     }
+    Ok(())
+}
+
+/// Each `<mimic>`: the follower's body is driven by its leader's coordinate
+/// (`q_f = m·q_l + o`) and the follower stops being a degree of freedom. Its limits constrain
+/// the leader through the map, its damping adds m²·d to the leader's (`Gᵀ D G`), its velocity
+/// limit bounds the leader's by v/|m|. Refused: a mimic of a missing, fixed or following joint
+/// (no chains), of itself, a fixed joint with `<mimic>`, a motor on a follower, limits that
+/// leave the leader no position.
+fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
+    let file = desc.file.as_str();
+    let body_of = |name: &str| model.bodies.iter().position(|b| b.joint == name);
+    // (follower body, leader body, multiplier, offset)
+    let mut follows = Vec::new();
+    for joint in &desc.joints {
+        let Some(mimic) = &joint.mimic else { continue };
+        let element = || format!("joint '{}' <mimic>", joint.name);
+        let Some(follower) = body_of(&joint.name) else {
+            return Err(Error::model(
+                file,
+                element(),
+                "is on a fixed joint: only a moving joint can mimic another",
+            ));
+        };
+        if mimic.joint == joint.name {
+            return Err(Error::model(file, element(), "names the joint itself"));
+        }
+        let Some(leader_desc) = desc.joints.iter().find(|j| j.name == mimic.joint) else {
+            return Err(Error::model(
+                file,
+                element(),
+                format!("names joint '{}', which does not exist", mimic.joint),
+            ));
+        };
+        let Some(leader) = body_of(&mimic.joint) else {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "names joint '{}', which is fixed: a mimic needs a moving leader",
+                    mimic.joint
+                ),
+            ));
+        };
+        if let Some(next) = &leader_desc.mimic {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "names joint '{}', which itself mimics '{}': mimic chains are not supported (make '{}' mimic '{}' directly)",
+                    mimic.joint, next.joint, joint.name, next.joint
+                ),
+            ));
+        }
+        if !(mimic.multiplier.is_finite() && mimic.offset.is_finite()) {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "multiplier {} and offset {} must be finite",
+                    mimic.multiplier, mimic.offset
+                ),
+            ));
+        }
+        let f = &model.joints[follower];
+        if f.rotor_inertia != 0.0 || f.gear_ratio != 1.0 {
+            return Err(Error::model(
+                file,
+                element(),
+                format!(
+                    "joint '{}' has a <transmission>, but a follower is driven by its leader: put the motor on '{}'",
+                    joint.name, mimic.joint
+                ),
+            ));
+        }
+        follows.push((follower, leader, mimic.multiplier, mimic.offset));
+    }
+    if follows.is_empty() {
+        return Ok(());
+    }
+    // the leaders take their followers' limits, damping and speed limits
+    for &(f, l, m, o) in &follows {
+        let follower = model.joints[f].clone();
+        let leader = &mut model.joints[l];
+        if m != 0.0 {
+            let (a, b) = ((follower.lower - o) / m, (follower.upper - o) / m);
+            leader.lower = leader.lower.max(a.min(b));
+            leader.upper = leader.upper.min(a.max(b));
+            if let Some(v) = follower.velocity {
+                leader.velocity = Some(leader.velocity.map_or(v / m.abs(), |u| u.min(v / m.abs())));
+            }
+        }
+        leader.damping += m * m * follower.damping;
+        if leader.lower > leader.upper {
+            return Err(Error::model(
+                file,
+                format!("joint '{}' <mimic>", follower.name),
+                format!(
+                    "its limits [{}, {}] through q = {m}·q_{} + {o} leave joint '{}' no position within its own",
+                    follower.lower, follower.upper, leader.name, leader.name
+                ),
+            ));
+        }
+    }
+    // coordinates: the bodies that follow nobody, in body order
+    let mut coordinate = vec![usize::MAX; model.bodies.len()];
+    let mut n = 0;
+    for (i, c) in coordinate.iter_mut().enumerate() {
+        if !follows.iter().any(|&(f, ..)| f == i) {
+            *c = n;
+            n += 1;
+        }
+    }
+    for (i, body) in model.bodies.iter_mut().enumerate() {
+        body.coordinate = coordinate[i];
+    }
+    for &(f, l, m, o) in &follows {
+        let body = &mut model.bodies[f];
+        (body.coordinate, body.multiplier, body.offset, body.follower) = (coordinate[l], m, o, true);
+    }
+    let mut i = 0;
+    model.joints.retain(|_| {
+        i += 1;
+        coordinate[i - 1] != usize::MAX
+    });
     Ok(())
 }
 
@@ -356,7 +622,7 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
     }))
 }
 
-/// A link's spatial inertia about the link origin, after checking it is physical.
+/// A link's spatial inertia about the link origin (its mass must not be negative).
 fn link_inertia(file: &str, link: &str, inertial: &InertialDesc) -> Result<Inertia> {
     let element = || format!("link '{link}' <inertial>");
     let m = inertial.mass;
@@ -365,31 +631,11 @@ fn link_inertia(file: &str, link: &str, inertial: &InertialDesc) -> Result<Inert
     }
     let [ixx, ixy, ixz, iyy, iyz, izz] = inertial.inertia;
     let i_frame = Mat3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
-    if m == 0.0 {
-        if i_frame.abs().max() > 0.0 {
-            return Err(Error::model(file, element(), "has rotational inertia but zero mass"));
-        }
+    if m == 0.0 && i_frame.abs().max() == 0.0 {
         return Ok(Inertia::ZERO);
     }
-    let mut moments = SymmetricEigen::new(i_frame).eigenvalues;
-    moments.as_mut_slice().sort_by(f64::total_cmp);
-    let [a, b, c] = [moments[0], moments[1], moments[2]];
-    if a <= 0.0 {
-        return Err(Error::model(
-            file,
-            element(),
-            format!("inertia is not positive definite (principal moments {a:e}, {b:e}, {c:e} kg·m²)"),
-        ));
-    }
-    if a + b < c * (1.0 - TRIANGLE_TOLERANCE) {
-        return Err(Error::model(
-            file,
-            element(),
-            format!(
-                "inertia violates the triangle inequality: principal moments {a:e} + {b:e} < {c:e} kg·m² (no rigid body has these)"
-            ),
-        ));
-    }
+    // a link's inertia may be anything a body's part can add (a zero-mass link with rotational
+    // inertia, a point mass); its body is checked once its links are merged (check_inertias)
     let frame = Pose::from_xyz_rpy(inertial.xyz, inertial.rpy);
     let i_com = frame.rot * i_frame * frame.rot.transpose();
     Ok(Inertia::from_com(m, frame.pos, i_com))

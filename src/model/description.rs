@@ -101,6 +101,19 @@ pub struct JointDesc {
     pub velocity: Option<f64>,
     /// Viscous damping (0 if not given).
     pub damping: f64,
+    /// `<mimic>`: this joint follows another, q = multiplier·q_leader + offset.
+    pub mimic: Option<MimicDesc>,
+}
+
+/// A `<mimic joint multiplier offset>` element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MimicDesc {
+    /// The leading joint's name.
+    pub joint: String,
+    /// m in q = m·q_leader + o (1 if not given).
+    pub multiplier: f64,
+    /// o in q = m·q_leader + o (0 if not given).
+    pub offset: f64,
 }
 
 /// Shape of a visual or a collision element.

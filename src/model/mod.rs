@@ -2,23 +2,30 @@
 //!
 //! A URDF describes links joined by joints. faze4 keeps every link as a [`Frame`] (so any link
 //! can be asked for its pose), but for dynamics it merges links joined by `fixed` joints into
-//! one rigid body: the model has exactly one body per moving joint (one degree of freedom
-//! each). Body `i` is moved by joint `i`, its parent is `parent[i]` (`None` for the fixed
-//! world), and `parent[i] < i`: bodies are numbered root to tip, so a forward pass is a plain
-//! loop over `0..n` and a backward pass over `(0..n).rev()`.
+//! one rigid body: the model has exactly one body per moving joint. Body `i` is moved by the
+//! joint `bodies[i]`, its parent is `parent[i]` (`None` for the fixed world), and
+//! `parent[i] < i`: bodies are numbered root to tip, so a forward pass is a plain loop over
+//! `0..nb` and a backward pass over `(0..nb).rev()`.
+//!
+//! The degrees of freedom are the moving joints that do not `<mimic>` another (`joints`,
+//! `q[i]` is `joints[i]`'s position). A mimic follower's body is driven by its leader's
+//! coordinate: `q_body = multiplier·q[coordinate] + offset` ([`Body`]). Without mimic joints
+//! body i is moved by joint i (`nb = n`) and the two numberings are the same.
 //!
 //! Only [`urdf`] knows the URDF format (and the urdf-rs crate); it produces a
 //! [`RobotDescription`], and [`Model::from_description`] turns any description into a model.
 
 mod build;
+pub use build::{LoadOptions, LoadWarning};
 mod description;
 mod package;
 pub mod urdf;
 
 pub use description::{
-    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
+    Visual,
 };
-pub use package::PackagePaths;
+pub use package::{PackagePaths, not_found_advice};
 
 pub use crate::id::{FrameId, JointId};
 
@@ -73,13 +80,7 @@ impl Joint {
     /// joint's origin frame (rotation about, or translation along, `axis` by `q`).
     #[inline]
     pub fn motion_pose(&self, q: f64) -> Pose {
-        match self.kind {
-            JointKind::Revolute | JointKind::Continuous => {
-                let (s, c) = q.sin_cos();
-                Pose::new(rotation_about_axis(&self.axis, s, c), Vec3::zeros())
-            }
-            JointKind::Prismatic => Pose::new(Pose::IDENTITY.rot, self.axis * q),
-        }
+        motion_pose(self.kind, &self.axis, q)
     }
 
     /// The joint's motion subspace `s` in the child frame: `(axis, 0)` for a rotation,
@@ -144,12 +145,63 @@ impl AxisSplit {
     }
 }
 
+/// The joint motion of a body: a rotation by `q` about `axis` or a translation by `q` along it,
+/// as a placement of the child frame in the joint's origin frame.
+#[inline]
+fn motion_pose(kind: JointKind, axis: &Vec3, q: f64) -> Pose {
+    match kind {
+        JointKind::Revolute | JointKind::Continuous => {
+            let (s, c) = q.sin_cos();
+            Pose::new(rotation_about_axis(axis, s, c), Vec3::zeros())
+        }
+        JointKind::Prismatic => Pose::new(Pose::IDENTITY.rot, axis * q),
+    }
+}
+
+/// One moving body of the tree and the coordinate that drives it. A body moved by one of the
+/// model's [`Joint`]s has `multiplier` 1 and `offset` 0 exactly; a body moved by a `<mimic>`
+/// follower has its leader's coordinate and the follower's multiplier and offset.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// The URDF joint that moves the body (a follower's own name).
+    pub joint: String,
+    /// How that joint moves the body.
+    pub kind: JointKind,
+    /// Unit axis of that joint in the body's frame.
+    pub axis: Vec3,
+    /// The coordinate (index into `q` and [`Model::joints`]) that drives the body.
+    pub coordinate: usize,
+    /// m in `q_body = m·q[coordinate] + o`.
+    pub multiplier: f64,
+    /// o in `q_body = m·q[coordinate] + o`.
+    pub offset: f64,
+    /// Whether the body's joint mimics another (it is then no degree of freedom).
+    pub follower: bool,
+}
+
+impl Body {
+    /// The body's joint motion at the body's own position `q_body`.
+    #[inline]
+    pub fn motion_pose(&self, q_body: f64) -> Pose {
+        motion_pose(self.kind, &self.axis, q_body)
+    }
+
+    /// The body's joint position at the coordinates `q`.
+    #[inline]
+    pub fn position(&self, q: &[f64]) -> f64 {
+        match self.follower {
+            false => q[self.coordinate],
+            true => self.multiplier * q[self.coordinate] + self.offset,
+        }
+    }
+}
+
 /// A named frame: one per URDF link, fixed to a body (or to the world).
 #[derive(Clone, Debug)]
 pub struct Frame {
     /// The URDF link name.
     pub name: String,
-    /// The body it is fixed to (body i is moved by joint i); `None` for frames welded to the
+    /// The body it is fixed to (body i is moved by `Model::bodies[i]`); `None` for frames welded to the
     /// world.
     pub body: Option<JointId>,
     /// Its placement `body_T_frame` in that body's frame (or in the world).
@@ -164,22 +216,27 @@ pub struct Model {
     pub name: String,
     /// Where the model came from (a file path, or the name of a bundled model).
     pub source: String,
-    /// The n moving joints, in generalised-coordinate order (`q[i]` is joint i's position).
+    /// The n degrees of freedom: the moving joints that mimic no other, in generalised-coordinate
+    /// order (`q[i]` is joint i's position). A leader's limits are its own intersected with each
+    /// follower's mapped through the mimic map, its damping includes m²·d of each follower.
     pub joints: Vec<Joint>,
-    /// `parent[i]`: the body that carries joint i (`None`: the world). Always `< i`.
+    /// The nb moving bodies, one per moving joint (mimic followers included), root to tip, and
+    /// the coordinate that drives each. `nb = n` and body i is joint i without mimic joints.
+    pub bodies: Vec<Body>,
+    /// `parent[i]`: the body that carries body i (`None`: the world). Always `< i`. nb entries.
     pub parent: Vec<Option<usize>>,
     /// `tree_pose[i]`: the placement `λ_T_joint` of joint i's frame in its parent body's frame
     /// at q = 0 (the URDF joint origin, fixed joints on the way folded in); its Plücker
-    /// transform `X_T(i)` is `tree_pose[i].to_xform()`. n entries.
+    /// transform `X_T(i)` is `tree_pose[i].to_xform()`. nb entries (bodies).
     pub tree_pose: Vec<Pose>,
     /// `axis_split[i]`: `X_T(i)`'s rotation split about joint i's axis, derived from
     /// `tree_pose[i]` when the model is built (the 5 kHz loop's form of it; see [`AxisSplit`]).
-    /// n entries.
+    /// nb entries.
     pub(crate) axis_split: Vec<AxisSplit>,
-    /// `s[i]`: motion subspace of joint i in body i's frame (6-vector). n entries.
+    /// `s[i]`: motion subspace of body i's joint in body i's frame (6-vector). nb entries.
     pub s: Vec<Motion>,
     /// `inertia[i]`: spatial inertia of body i (its link and every link welded to it) about
-    /// body i's origin, in body i's frame. n entries.
+    /// body i's origin, in body i's frame. nb entries.
     pub inertia: Vec<Inertia>,
     /// Gravitational acceleration in the world frame (m/s²), `(0, 0, −9.81)` by default.
     pub gravity: Vec3,
@@ -188,9 +245,88 @@ pub struct Model {
 }
 
 impl Model {
-    /// Number of degrees of freedom (= moving joints = bodies).
+    /// Number of degrees of freedom n (the moving joints that mimic no other).
     pub fn dof(&self) -> usize {
         self.joints.len()
+    }
+
+    /// Number of moving bodies nb (= moving joints, mimic followers included; ≥ n).
+    pub fn num_bodies(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Whether some body follows a `<mimic>`: then `nb > n` and the algorithms expand the
+    /// coordinates to the bodies' positions (`q_b = G q + o`) and reduce their results
+    /// (`M_r = Gᵀ M G`, `τ_r = Gᵀ τ`). Without, both are the identity and skipped.
+    #[inline]
+    pub fn has_mimic(&self) -> bool {
+        self.bodies.len() != self.joints.len()
+    }
+
+    /// The bodies' joint positions `q_b = G q + o` (nb) from the coordinates `q` (n).
+    pub fn expand_positions(&self, q: &[f64], q_body: &mut [f64]) {
+        for (x, body) in q_body.iter_mut().zip(&self.bodies) {
+            *x = body.position(q);
+        }
+    }
+
+    /// The bodies' joint velocities (or accelerations) `v_b = G v` (nb) from the coordinates'.
+    pub fn expand_velocities(&self, v: &[f64], v_body: &mut [f64]) {
+        for (x, body) in v_body.iter_mut().zip(&self.bodies) {
+            *x = body.multiplier * v[body.coordinate];
+        }
+    }
+
+    /// Joint forces on the bodies (nb) → generalised forces on the coordinates, `τ = Gᵀ τ_b`
+    /// (the virtual work of each body's force through `q_b = m q_c + o`).
+    pub fn reduce_forces(&self, tau_body: &[f64], tau: &mut [f64]) {
+        tau.fill(0.0);
+        for (x, body) in tau_body.iter().zip(&self.bodies) {
+            tau[body.coordinate] += body.multiplier * x;
+        }
+    }
+
+    /// A symmetric bodies' matrix (nb×nb) → the coordinates', `M_r = Gᵀ M G` (n×n), exactly
+    /// symmetric: the upper triangle is summed, the lower copied from it.
+    pub fn reduce_matrix(&self, m_body: &nalgebra::DMatrix<f64>, m: &mut nalgebra::DMatrix<f64>) {
+        m.fill(0.0);
+        for (a, ba) in self.bodies.iter().enumerate() {
+            for (b, bb) in self.bodies.iter().enumerate() {
+                let (i, j) = (ba.coordinate, bb.coordinate);
+                if i <= j {
+                    m[(i, j)] += ba.multiplier * bb.multiplier * m_body[(a, b)];
+                }
+            }
+        }
+        for j in 0..m.ncols() {
+            for i in j + 1..m.nrows() {
+                m[(i, j)] = m[(j, i)];
+            }
+        }
+    }
+
+    /// The joints that mimic coordinate i, for messages about its limits: empty, or
+    /// `" (which include those of its mimic follower(s) F, …)"`.
+    pub fn mimic_note(&self, i: usize) -> String {
+        let followers: Vec<&str> = (self.bodies.iter())
+            .filter(|b| b.follower && b.coordinate == i)
+            .map(|b| b.joint.as_str())
+            .collect();
+        match followers.as_slice() {
+            [] => String::new(),
+            names => format!(" (which include those of its mimic followers: {})", names.join(", ")),
+        }
+    }
+
+    /// The motor's reflected inertia on body i's diagonal of the bodies' M: its coordinate's
+    /// motor on the body its joint moves, 0 on a follower (a follower carries no motor).
+    #[inline]
+    pub fn body_reflected_inertia(&self, i: usize) -> f64 {
+        let body = &self.bodies[i];
+        match body.follower {
+            false => self.joints[body.coordinate].reflected_inertia(),
+            true => 0.0,
+        }
     }
 
     /// The frame named `name`.
@@ -243,7 +379,15 @@ impl Model {
 
     /// Builds a model from a format-free description (see [`urdf`] for files).
     pub fn from_description(desc: &RobotDescription) -> crate::Result<Model> {
-        build::build(desc)
+        build::build(desc, &LoadOptions::default()).map(|(model, _)| model)
+    }
+
+    /// [`Model::from_description`] with `options`, and what the reading skipped or changed.
+    pub fn from_description_with(
+        desc: &RobotDescription,
+        options: &LoadOptions,
+    ) -> crate::Result<(Model, Vec<LoadWarning>)> {
+        build::build(desc, options)
     }
 
     /// Reads a URDF file's dynamics (`crate::geometry::Robot::from_urdf_file` reads its

@@ -71,6 +71,18 @@ impl PackagePaths {
     }
 }
 
+/// What to do about a mesh reference that was not found, for its warning: for
+/// `package://NAME/…`, ROS's rule (give `--package-path` the folder that contains the package
+/// folder NAME, or set `ROS_PACKAGE_PATH`); for a path, where it was looked for.
+pub fn not_found_advice(uri: &str) -> String {
+    match uri.strip_prefix("package://").and_then(|rest| rest.split_once('/')) {
+        Some((name, _)) => format!(
+            "package '{name}': give --package-path the folder that contains the package folder '{name}', as ROS_PACKAGE_PATH would"
+        ),
+        None => "a relative path is taken from the URDF's folder".to_string(),
+    }
+}
+
 /// Whether directory `dir` is the ROS package `name`.
 fn is_package(dir: &Path, name: &str) -> bool {
     if dir.file_name().is_some_and(|n| n == name) {

@@ -12,7 +12,8 @@ use std::path::Path;
 use std::sync::Once;
 
 use super::description::{
-    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, RobotDescription, TransmissionDesc, Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
+    Visual,
 };
 use super::{Model, PackagePaths};
 use crate::error::{Error, Result, one_line};
@@ -125,6 +126,11 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 effort: (lim.effort != 0.0).then_some(lim.effort),
                 velocity: (lim.velocity != 0.0).then_some(lim.velocity),
                 damping: j.dynamics.as_ref().map_or(0.0, |d| d.damping),
+                mimic: j.mimic.as_ref().map(|m| MimicDesc {
+                    joint: m.joint.clone(),
+                    multiplier: m.multiplier.unwrap_or(1.0),
+                    offset: m.offset.unwrap_or(0.0),
+                }),
             }
         })
         .collect();

@@ -33,23 +33,7 @@ pub fn push_exact(out: &mut String, x: f64) {
 
 /// `x` as its shortest decimal that reads back to the same `f64` (see [`push_exact`]).
 pub fn exact(x: f64) -> String {
-    ryu::Buffer::new().format(x).to_string()
-}
-
-/// `a` and `b` with the fewest significant digits (at least those `resolution` asks for) that
-/// tell them apart, each as its shortest decimal: `1.1207706637` and `1.1207706638`, not 300
-/// digits for a resolution of 1e-300 nor two equal figures for 1e-12.
-pub fn distinct(a: f64, b: f64, resolution: f64) -> (String, String) {
-    let at = |x: f64, digits: usize| exact(format!("{x:.*e}", digits - 1).parse().unwrap_or(x));
-    let magnitude = a.abs().max(b.abs());
-    let wanted = match magnitude > 0.0 && resolution > 0.0 {
-        true => (magnitude / resolution).log10().ceil().clamp(1.0, 17.0) as usize,
-        false => 1,
-    };
-    (wanted..=17)
-        .map(|d| (at(a, d), at(b, d)))
-        .find(|(x, y)| x != y || a == b)
-        .unwrap_or_else(|| (exact(a), exact(b)))
+    crate::error::shortest(x)
 }
 
 /// A row: a left label, then one right-aligned number per joint.

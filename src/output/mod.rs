@@ -1,9 +1,11 @@
 //! The run's text and file outputs, each a [`Recorder`](crate::sim::Recorder): the terminal
-//! printer and the trail CSV; and the number formats they share.
+//! printer, the trail CSV and the trail kept in memory; and the number formats they share.
 
+mod capture;
 pub mod format;
 mod terminal;
 mod trail;
 
+pub use capture::Capture;
 pub use terminal::{PRINT_PERIOD, Terminal};
 pub use trail::TrailCsv;

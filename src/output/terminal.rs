@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use super::format::{joint_header, row, text_row};
 use crate::error::quoted;
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
+use crate::model::JointKind;
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
@@ -24,6 +25,8 @@ pub struct Terminal {
     /// Simulated time between progress lines (s).
     print_period: f64,
     dof: usize,
+    /// Per joint, whether it is prismatic (its rows are in m, not rad); empty for none.
+    prismatic: Vec<bool>,
     steps: usize,
     dt: f64,
     bar: Option<Bar>,
@@ -36,6 +39,17 @@ struct Bar {
 }
 
 impl Terminal {
+    /// A row naming each joint's unit: `revolute` for a revolute or continuous joint,
+    /// `prismatic` for a prismatic one.
+    fn unit_row(&self, label: &str, revolute: &str, prismatic: &str) -> String {
+        text_row(
+            label,
+            self.prismatic
+                .iter()
+                .map(|&p| if p { prismatic } else { revolute }.to_string()),
+        )
+    }
+
     /// A printer with a progress line every `print_period` s of simulated time; `debug` adds τ,
     /// the tracking error, v and g(q) to every progress line.
     pub fn new(debug: bool, print_period: f64) -> Self {
@@ -47,6 +61,7 @@ impl Terminal {
             debug,
             print_period,
             dof: 0,
+            prismatic: Vec::new(),
             steps: 0,
             dt: 0.0,
             bar,
@@ -110,6 +125,10 @@ impl Recorder for Terminal {
     fn begin(&mut self, run: &RunInfo) -> crate::Result<()> {
         let m = run.model;
         self.dof = m.dof();
+        self.prismatic = match m.joints.iter().any(|j| j.kind == JointKind::Prismatic) {
+            true => m.joints.iter().map(|j| j.kind == JointKind::Prismatic).collect(),
+            false => Vec::new(),
+        };
         self.steps = run.steps;
         self.dt = run.dt;
         let g = m.gravity.z;
@@ -157,13 +176,23 @@ impl Recorder for Terminal {
                 }
             ))?;
         }
-        // degrees to 0.01: a −8e-15 from sin(π) is 0
+        if self.prismatic.is_empty() {
+            // degrees to 0.01: a −8e-15 from sin(π) is 0
+            return out(&row(
+                "start pose (deg)",
+                run.start_q
+                    .iter()
+                    .map(|q| (q.to_degrees() * 100.0).round() / 100.0 + 0.0),
+            ));
+        }
+        // with a prismatic joint, each joint's unit is said: degrees and millimetres to 0.01
+        out(&self.unit_row("start pose unit", "deg", "mm"))?;
         out(&row(
-            "start pose (deg)",
-            run.start_q
-                .iter()
-                .map(|q| (q.to_degrees() * 100.0).round() / 100.0 + 0.0),
-        ))
+            "start pose (deg | mm)",
+            (run.start_q.iter().zip(&self.prismatic))
+                .map(|(&q, &p)| (if p { q * 1e3 } else { q.to_degrees() } * 100.0).round() / 100.0 + 0.0),
+        ))?;
+        out(&self.unit_row("unit of rad rows", "rad", "m"))
     }
 
     fn record(&mut self, s: &Sample) -> crate::Result<()> {
@@ -188,6 +217,9 @@ impl Recorder for Terminal {
     fn finish(&mut self, s: &Summary) -> crate::Result<()> {
         self.clear_bar();
         out(&format!("[summary]{}", &joint_header(self.dof)[9..]))?;
+        if !self.prismatic.is_empty() {
+            out(&self.unit_row("unit of rad rows", "rad", "m"))?;
+        }
         out(&row("max track. err (rad)", s.max_tracking_error_rad.iter().copied()))?;
         out(&text_row(
             "saturation (% steps)",

@@ -139,7 +139,8 @@ impl ContactStep {
 /// first at the contact point p, in the contact frame (t₁, t₂, n̂): for each joint j on the
 /// path of body B (sign +1) or body A (−1) to the root, world axis a and origin o, the column
 /// `±(a × (p − o))` (revolute) or `±a` (prismatic), then rotated into the frame. Joints both
-/// paths share cancel. Requires the world poses at q.
+/// paths share cancel; a mimic follower's column goes to its leader's, times m. Requires the
+/// world poses at q.
 fn contact_jacobian(model: &Model, data: &Data, c: &crate::geometry::Contact, rows: &mut [f64]) {
     let n = model.dof();
     let normal = c.normal;
@@ -151,14 +152,20 @@ fn contact_jacobian(model: &Model, data: &Data, c: &crate::geometry::Contact, ro
         let mut joint = body.map(|JointId(j)| j);
         while let Some(j) = joint {
             let pose = &data.body_pose[j];
-            let axis = pose.rot * model.joints[j].axis;
-            let column = match model.joints[j].kind {
+            let moved = &model.bodies[j];
+            let axis = pose.rot * moved.axis;
+            let column = match moved.kind {
                 JointKind::Revolute | JointKind::Continuous => axis.cross(&(c.point - pose.pos)),
                 JointKind::Prismatic => axis,
             } * sign;
-            rows[j] += t1.dot(&column);
-            rows[n + j] += t2.dot(&column);
-            rows[2 * n + j] += normal.dot(&column);
+            // a follower's body moves with m times its leader's coordinate (J G)
+            let (i, column) = match moved.follower {
+                false => (moved.coordinate, column),
+                true => (moved.coordinate, column * moved.multiplier),
+            };
+            rows[i] += t1.dot(&column);
+            rows[n + i] += t2.dot(&column);
+            rows[2 * n + i] += normal.dot(&column);
             joint = model.parent[j];
         }
     }

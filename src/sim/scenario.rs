@@ -6,7 +6,7 @@
 //! use faze4::traj::{Trajectory, Wave};
 //! # fn main() -> faze4::Result<()> {
 //! let model = faze4::faze4::model();
-//! let wave = Trajectory::Wave(Wave { amplitude: 0.3, omega: 0.5, center: vec![0.0; model.dof()] });
+//! let wave = Trajectory::Wave(Wave { amplitude: vec![0.3; model.dof()], omega: 0.5, center: vec![0.0; model.dof()] });
 //! let scenario = Scenario::builder(model, wave).duration(4.0).payload_kg(0.5).build()?;
 //! let summary = run(&scenario, &mut [], &StopFlag::new())?;
 //! println!("J2 saturated {} % of the steps", summary.saturation_pct[1]);
@@ -21,11 +21,11 @@ use nalgebra::DMatrix;
 use super::SelfContact;
 use crate::algo::{Data, crba};
 use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::ik::{IkTask, solve_path};
-use crate::model::{FrameId, JointId, Model};
+use crate::model::{FrameId, JointId, LoadWarning, Model};
 use crate::spatial::Vec3;
 use crate::traj::shape::{Board, Shape};
 use crate::traj::{Interpolated, Trajectory, Wrap};
@@ -106,6 +106,17 @@ pub enum Warning {
     },
     /// Part of the collision geometry is left out of the clearance (a mesh not found).
     Clearance(geometry::Warning),
+    /// Reading the model skipped or changed something (a transmission, an inertia).
+    Model(LoadWarning),
+}
+
+impl Warning {
+    /// Whether the run's result differs from what the input says because of it (a mesh left
+    /// out, a transmission skipped, an inertia balanced): such a warning is printed even under
+    /// `-q`.
+    pub fn changes_result(&self) -> bool {
+        matches!(self, Warning::Clearance(_) | Warning::Model(_))
+    }
 }
 
 impl fmt::Display for Warning {
@@ -129,6 +140,7 @@ impl fmt::Display for Warning {
                 s.b_kd
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
+            Warning::Model(w) => write!(f, "warning: {w}"),
         }
     }
 }
@@ -197,6 +209,7 @@ impl Scenario {
     pub fn builder(model: Model, trajectory: Trajectory) -> ScenarioBuilder {
         ScenarioBuilder {
             geometry: GeometryModel::default(),
+            load_warnings: Vec::new(),
             collisions: Some(Collisions::default()),
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
@@ -231,6 +244,7 @@ pub struct ScenarioBuilder {
     command: String,
     model: Model,
     geometry: GeometryModel,
+    load_warnings: Vec<LoadWarning>,
     collisions: Option<Collisions>,
     trajectory: Trajectory,
     dt: f64,
@@ -254,6 +268,13 @@ impl ScenarioBuilder {
     /// What runs, for people (the banner's first word): `wave`, `replay`, `shape circle …`.
     pub fn command(mut self, command: impl Into<String>) -> Self {
         self.command = command.into();
+        self
+    }
+
+    /// What reading the model skipped or changed (see [`crate::geometry::Robot::warnings`]): the
+    /// scenario's warnings start with these.
+    pub fn load_warnings(mut self, warnings: Vec<LoadWarning>) -> Self {
+        self.load_warnings = warnings;
         self
     }
 
@@ -382,6 +403,15 @@ impl ScenarioBuilder {
         non_negative("--payload-kg", self.payload_kg)?;
         if let Some(contact) = &self.self_contact {
             non_negative("--friction", contact.friction)?;
+            if contact.friction > MAX_FRICTION {
+                return Err(Error::argument(
+                    "--friction",
+                    format!(
+                        "{}: at most {MAX_FRICTION:e}: beyond it the contact solver's arithmetic overflows (any μ above about 1e10 already sticks)",
+                        shortest(contact.friction)
+                    ),
+                ));
+            }
             positive("--self-collisions: stiffness", contact.stiffness)?;
             non_negative("--self-collisions: dissipation", contact.dissipation)?;
             if self.collisions.is_none() {
@@ -426,21 +456,26 @@ impl ScenarioBuilder {
         if !self.gravity {
             model.gravity = Default::default();
         }
+        // the arm without its payload, kept only to say which input overflows
+        let bare = (self.payload_kg > 0.0).then(|| model.clone());
         if self.payload_kg > 0.0 {
             model = model.with_point_mass(tool_frame, self.payload_kg);
         }
 
-        let mut warnings = Vec::new();
+        let mut warnings: Vec<Warning> = self.load_warnings.iter().cloned().map(Warning::Model).collect();
         let explicit_effort = self.effort.is_some();
         let effort = match self.effort {
             Some(effort) => {
                 count("--effort", effort.len(), n)?;
                 if let Some((i, x)) = effort.iter().enumerate().find(|(_, x)| x.is_nan() || **x <= 0.0) {
-                    return Err(Error::argument("--effort", format!("J{} limit {x} must be > 0", i + 1)));
+                    return Err(Error::argument(
+                        "--effort",
+                        format!("J{} limit {} must be > 0", i + 1, shortest(*x)),
+                    ));
                 }
                 effort
             }
-            None if faze4::is_faze4(&model) => faze4::EFFORT.to_vec(),
+            None if faze4::is_faze4(&model) => default_effort(&model),
             None => {
                 let unlimited: Vec<String> = (model.joints.iter())
                     .filter(|j| j.effort.is_none())
@@ -452,7 +487,7 @@ impl ScenarioBuilder {
                         joints: unlimited,
                     });
                 }
-                model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect()
+                default_effort(&model)
             }
         };
 
@@ -473,6 +508,16 @@ impl ScenarioBuilder {
                 scaled: gains.stability.is_some_and(|s| s.scaled),
                 ..Stability::assess(&m, &damping, &gains.kp, &gains.kd, self.dt)
             });
+        }
+        if !arithmetic_holds(&m, &gains) {
+            return Err(overflow(
+                &model,
+                bare.as_ref(),
+                self.payload_kg,
+                &self.trajectory,
+                &effort,
+                self.dt,
+            ));
         }
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
@@ -531,6 +576,61 @@ fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<
     Ok(out)
 }
 
+/// Largest Coulomb friction `--friction` takes. The contact step's products of μ overflow
+/// between 1e150 and 1e200 (μ = 1e200 gave the frictionless result); every μ from about 1e10
+/// gave the same sticking run as 1e100 (the circle shape with `--self-collisions`).
+pub const MAX_FRICTION: f64 = 1e100;
+
+/// Whether the mass matrix at the start pose, the gains and their stability figures are all
+/// finite: inputs too large for f64 (a payload of 1e300 kg, a gear ratio of 1e160) make one of
+/// them overflow, and the run would end as "diverged" with a NaN spectral radius.
+pub fn arithmetic_holds(m: &DMatrix<f64>, gains: &Gains) -> bool {
+    m.iter().chain(&gains.kp).chain(&gains.kd).all(|x| x.is_finite())
+        && gains
+            .stability
+            .is_none_or(|s| s.b_max.is_finite() && s.spectral_radius.is_finite())
+}
+
+/// The error of a scenario whose arithmetic overflows: the payload's (`--payload-kg`) when the
+/// arm without it (`bare`) holds, else the model's joint of largest inertia.
+fn overflow(
+    model: &Model,
+    bare: Option<&Model>,
+    payload_kg: f64,
+    trajectory: &Trajectory,
+    effort: &[f64],
+    dt: f64,
+) -> Error {
+    let holds = |m: &Model| {
+        let (gains, mass) = tune(m, trajectory, effort, dt);
+        arithmetic_holds(&mass, &gains)
+    };
+    if bare.is_some_and(holds) {
+        return Error::argument(
+            "--payload-kg",
+            format!(
+                "{} kg: too heavy to simulate (the mass matrix and the gains tuned for it overflow)",
+                shortest(payload_kg)
+            ),
+        );
+    }
+    let model = bare.unwrap_or(model);
+    let n = model.dof();
+    let mut q = vec![0.0; n];
+    trajectory.eval(0.0, &mut q, &mut vec![0.0; n]);
+    let m = crba(model, &mut Data::new(model), &q).clone();
+    let joint = (0..n)
+        .max_by(|&a, &b| m[(a, a)].abs().total_cmp(&m[(b, b)].abs()))
+        .map_or(String::new(), |i| {
+            format!("joint {}", crate::error::quoted(&model.joints[i].name))
+        });
+    Error::model(
+        &model.source,
+        joint,
+        "its masses, rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF, --rotor-inertia, --gear-ratio)",
+    )
+}
+
 /// The geometry a run of `model` keeps and its loaded collision set, as
 /// [`ScenarioBuilder::collisions`] says: none, and no collision elements, when `collisions` is
 /// `None`; none when the geometry has no collision element. Meshes not found become warnings
@@ -554,6 +654,15 @@ pub fn load_collisions(
 }
 
 /// The tuning recipe: the effective inertia I_i = M_ii at the command's start pose, then
+/// The torque limits a run on `model` has when none are given: the Faze4 motors' for the
+/// bundled arm, else each joint's URDF effort (infinite where it has none).
+pub fn default_effort(model: &Model) -> Vec<f64> {
+    match faze4::is_faze4(model) {
+        true => faze4::EFFORT.to_vec(),
+        false => model.joints.iter().map(|j| j.effort.unwrap_or(f64::INFINITY)).collect(),
+    }
+}
+
 /// [`auto_tune`] with the torque limits `effort` at step `dt`, then [`stabilize`] for the
 /// coupled arm (the gains then carry their `stability`). Returns the gains and M(q_start).
 pub fn tune(model: &Model, trajectory: &Trajectory, effort: &[f64], dt: f64) -> (Gains, DMatrix<f64>) {
@@ -648,8 +757,8 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
     let Trajectory::Wave(wave) = trajectory else {
         return Ok(());
     };
-    if (model.joints.iter().zip(&wave.center))
-        .all(|(j, &c)| j.within_limits(c + wave.amplitude) && j.within_limits(c - wave.amplitude))
+    if (model.joints.iter().zip(&wave.center).zip(&wave.amplitude))
+        .all(|((j, &c), &a)| j.within_limits(c + a) && j.within_limits(c - a))
     {
         return Ok(());
     }
@@ -659,27 +768,58 @@ fn check_wave_limits(model: &Model, trajectory: &Trajectory, dt: f64, steps: usi
         let t = k as f64 * dt;
         trajectory.eval(t, &mut q, &mut v);
         if let Some(i) = (0..n).find(|&i| !model.joints[i].within_limits(q[i])) {
-            let j = &model.joints[i];
-            return Err(Error::argument(
-                "--amp-deg",
-                format!(
-                    "joint J{} ({}) would be commanded to {:.4} rad at t = {t:.4} s, beyond its limits [{:.4}, {:.4}]",
-                    i + 1,
-                    j.name,
-                    q[i],
-                    j.lower,
-                    j.upper
-                ),
-            ));
+            return Err(wave_limit_error(model, wave, i, q[i], t));
         }
     }
     Ok(())
 }
 
+/// The one line for a wave that leaves joint `i`'s limits (commanded to `q` at `t`): the joint,
+/// its unit, the values with every digit (shortest round-trip), the amplitude that would fit
+/// about its centre, and `--center mid` where the zero pose is the cause.
+fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t: f64) -> Error {
+    let j = &model.joints[i];
+    let (c, a) = (wave.center[i], wave.amplitude[i]);
+    let prismatic = j.kind == crate::model::JointKind::Prismatic;
+    let (option, unit, to_option) = match prismatic {
+        true => ("--amp-m", "m", 1.0),
+        false => ("--amp-deg", "deg", 180.0 / std::f64::consts::PI),
+    };
+    let joint_unit = if prismatic { "m" } else { "rad" };
+    let room = (j.upper - c).min(c - j.lower);
+    let fits = match room >= 0.0 {
+        true => format!(
+            "an amplitude of at most {} {unit} fits about its centre {c} {joint_unit}",
+            room * to_option
+        ),
+        false => format!("its centre {c} {joint_unit} is itself outside them"),
+    };
+    let half_range = 0.5 * (j.upper - j.lower);
+    let mid = match c == 0.0 && half_range.is_finite() && half_range >= a {
+        true => "; the zero pose is the cause: --center mid waves about the middle of each range",
+        false => "",
+    };
+    Error::argument(
+        option,
+        format!(
+            "joint J{} ({}) would be commanded to {q} {joint_unit} at t = {t} s, beyond its limits [{}, {}] {joint_unit}{} (amplitude {} {unit}): {fits}{mid}",
+            i + 1,
+            j.name,
+            j.lower,
+            j.upper,
+            model.mimic_note(i),
+            a * to_option,
+        ),
+    )
+}
+
 /// `x` is a finite number, else an error for `option`.
 pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
     if !x.is_finite() {
-        return Err(Error::argument(option, format!("{x} is not a finite number")));
+        return Err(Error::argument(
+            option,
+            format!("{} is not a finite number", shortest(x)),
+        ));
     }
     Ok(())
 }
@@ -688,7 +828,7 @@ pub(crate) fn finite(option: &str, x: f64) -> Result<()> {
 pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
     finite(option, x)?;
     if x <= 0.0 {
-        return Err(Error::argument(option, format!("{x} must be > 0")));
+        return Err(Error::argument(option, format!("{} must be > 0", shortest(x))));
     }
     Ok(())
 }
@@ -697,7 +837,7 @@ pub(crate) fn positive(option: &str, x: f64) -> Result<()> {
 pub(crate) fn non_negative(option: &str, x: f64) -> Result<()> {
     finite(option, x)?;
     if x < 0.0 {
-        return Err(Error::argument(option, format!("{x} must be ≥ 0")));
+        return Err(Error::argument(option, format!("{} must be ≥ 0", shortest(x))));
     }
     Ok(())
 }

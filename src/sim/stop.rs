@@ -5,9 +5,22 @@ use std::sync::Arc;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A shared "please stop" flag, which remembers the signal that raised it.
-#[derive(Clone, Debug, Default)]
-pub struct StopFlag(Arc<AtomicUsize>);
+/// A shared "please stop" flag, which remembers the signal that raised it; optionally with a
+/// [`StopFlag::with_poll`] question asked at every look at it.
+#[derive(Clone, Default)]
+pub struct StopFlag(Arc<AtomicUsize>, Option<Poll>);
+
+/// A question asked at every look at a flag: should it be raised now?
+type Poll = Arc<dyn Fn() -> bool + Send + Sync>;
+
+impl std::fmt::Debug for StopFlag {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("StopFlag")
+            .field(&self.0)
+            .field(&self.1.is_some())
+            .finish()
+    }
+}
 
 /// SIGINT's number, what [`StopFlag::raise`] records.
 const SIGINT: usize = 2;
@@ -40,9 +53,24 @@ impl StopFlag {
         let _ = self.0.compare_exchange(0, SIGINT, Ordering::Relaxed, Ordering::Relaxed);
     }
 
+    /// A flag that also asks `poll` at every [`StopFlag::is_raised`] and is raised when it
+    /// says so (the Python binding looks for Ctrl-C there, on the thread that may see it).
+    pub fn with_poll(poll: impl Fn() -> bool + Send + Sync + 'static) -> StopFlag {
+        StopFlag(Arc::default(), Some(Arc::new(poll)))
+    }
+
     /// Whether a stop was asked for.
     pub fn is_raised(&self) -> bool {
-        self.0.load(Ordering::Relaxed) != 0
+        if self.0.load(Ordering::Relaxed) != 0 {
+            return true;
+        }
+        match &self.1 {
+            Some(poll) if poll() => {
+                self.raise();
+                true
+            }
+            _ => false,
+        }
     }
 
     /// The signal that raised the flag (SIGINT for [`StopFlag::raise`]), if raised.

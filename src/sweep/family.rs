@@ -7,9 +7,10 @@ use rayon::prelude::*;
 
 use super::Grid;
 use crate::atomic::Outputs;
-use crate::control::Envelope;
-use crate::error::{Error, Result};
+use crate::control::{Envelope, Stability};
+use crate::error::{Error, Result, shortest};
 use crate::output::TrailCsv;
+use crate::sim::scenario::arithmetic_holds;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 
 /// A multiplier of a built scenario: the controller's gains and limits (as tuned, or as
@@ -64,7 +65,7 @@ impl Scale {
             let bound = if zero_allowed { "≥ 0" } else { "> 0" };
             return Err(Error::argument(
                 self.name(),
-                format!("{factor} must be finite and {bound}"),
+                format!("{} must be finite and {bound}", shortest(factor)),
             ));
         }
         let gains = &mut scenario.controller.gains;
@@ -78,11 +79,11 @@ impl Scale {
                     inertia.h *= factor;
                     inertia.rot *= factor;
                 }
-                return Ok(());
+                return self.holds(scenario, factor);
             }
             Scale::RotorInertia => {
                 scenario.model.joints.iter_mut().for_each(|j| j.rotor_inertia *= factor);
-                return Ok(());
+                return self.holds(scenario, factor);
             }
             Scale::Efficiency | Scale::StallTorque => {
                 let Some(motors) = scenario.motors.as_mut() else {
@@ -111,7 +112,38 @@ impl Scale {
             }
         };
         values.iter_mut().for_each(|x| *x *= factor);
-        Ok(())
+        match self {
+            Scale::Kp | Scale::Kd if values.iter().any(|x| !x.is_finite()) => Err(self.overflows(factor)),
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether the scaled arm's mass matrix at the start pose and the stability figures of the
+    /// gains on it are finite (a factor of 1e300 makes them overflow).
+    fn holds(self, scenario: &Scenario, factor: f64) -> Result<()> {
+        let model = &scenario.model;
+        let n = model.dof();
+        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+        scenario.trajectory.eval(0.0, &mut q, &mut v);
+        let m = crate::algo::crba(model, &mut crate::algo::Data::new(model), &q).clone();
+        let gains = &scenario.controller.gains;
+        let damping: Vec<f64> = model.damping().collect();
+        let mut scaled = gains.clone();
+        scaled.stability = Some(Stability::assess(&m, &damping, &gains.kp, &gains.kd, scenario.dt));
+        match arithmetic_holds(&m, &scaled) {
+            true => Ok(()),
+            false => Err(self.overflows(factor)),
+        }
+    }
+
+    fn overflows(self, factor: f64) -> Error {
+        Error::argument(
+            self.name(),
+            format!(
+                "{}: too large to simulate (the scaled arm's arithmetic overflows)",
+                shortest(factor)
+            ),
+        )
     }
 }
 
@@ -167,6 +199,8 @@ pub struct Runner<'a> {
     /// `--trails`: the directory, and the set its files are written in.
     trails: Option<(PathBuf, Outputs)>,
     on_done: Option<&'a (dyn Fn() + Sync)>,
+    /// Each run's stop flag (none: runs go to their end).
+    stop: StopFlag,
 }
 
 /// Runs handed to the pool at once by [`Runner::sweep`], per thread: enough to keep every core
@@ -185,6 +219,7 @@ impl<'a> Runner<'a> {
             build,
             trails: None,
             on_done: None,
+            stop: StopFlag::new(),
         })
     }
 
@@ -198,6 +233,13 @@ impl<'a> Runner<'a> {
     /// Call `on_done` after every run, from the thread that ran it (a progress bar).
     pub fn with_progress(mut self, on_done: &'a (dyn Fn() + Sync)) -> Self {
         self.on_done = Some(on_done);
+        self
+    }
+
+    /// Each run polls `stop` as a single run does (and ends there, `interrupted_at_s` in its
+    /// summary); runs not yet started when it is raised fail as interrupted.
+    pub fn with_stop(mut self, stop: &StopFlag) -> Self {
+        self.stop = stop.clone();
         self
     }
 
@@ -256,16 +298,19 @@ impl<'a> Runner<'a> {
     }
 
     fn build_and_run(&self, index: usize, values: &[f64]) -> Result<Summary> {
+        if self.stop.is_raised() {
+            return Err(Error::argument("sweep", "interrupted before this run started"));
+        }
         let scenario = (self.build)(values)?;
-        let never = StopFlag::new();
+        let stop = &self.stop;
         match &self.trails {
-            None => sim::run(&scenario, &mut [], &never),
+            None => sim::run(&scenario, &mut [], stop),
             Some((dir, outputs)) => {
                 let period = scenario.record_every as f64 * scenario.dt;
                 let path = dir.join(format!("run_{index:07}.csv"));
                 let mut trail = TrailCsv::within(outputs, &path, period, false)?;
                 let mut recorders: [&mut dyn Recorder; 1] = [&mut trail];
-                sim::run(&scenario, &mut recorders, &never)
+                sim::run(&scenario, &mut recorders, stop)
             }
         }
     }
@@ -279,7 +324,7 @@ mod tests {
     fn scenario() -> Scenario {
         let model = crate::faze4::model();
         let wave = Trajectory::Wave(Wave {
-            amplitude: 0.1,
+            amplitude: vec![0.1; model.dof()],
             omega: 0.5,
             center: vec![0.0; model.dof()],
         });

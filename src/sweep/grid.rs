@@ -4,7 +4,7 @@
 use std::ops::Range;
 use std::str::FromStr;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 
 /// Most values one option takes (80 MB of them); a bigger sweep is a product of options.
 pub const MAX_AXIS_VALUES: usize = 10_000_000;
@@ -79,13 +79,13 @@ impl Steps {
         if step <= 0.0 {
             return Err(Error::argument(
                 VARY,
-                format!("{name}={text}: the step {step} must be > 0"),
+                format!("{name}={text}: the step {} must be > 0", shortest(step)),
             ));
         }
         if hi < lo {
             return Err(Error::argument(
                 VARY,
-                format!("{name}={text}: empty range ({hi} < {lo})"),
+                format!("{name}={text}: empty range ({} < {})", shortest(hi), shortest(lo)),
             ));
         }
         let count = ((hi - lo) / step + 1e-9).floor() + 1.0;
@@ -137,7 +137,10 @@ fn number(name: &str, text: &str) -> Result<f64> {
         .parse()
         .map_err(|_| Error::argument(VARY, format!("{name}: '{}' is not a number", text.trim())))?;
     if !x.is_finite() {
-        return Err(Error::argument(VARY, format!("{name}: {x} is not a finite number")));
+        return Err(Error::argument(
+            VARY,
+            format!("{name}: {} is not a finite number", shortest(x)),
+        ));
     }
     Ok(x)
 }

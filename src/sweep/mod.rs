@@ -7,12 +7,14 @@
 mod family;
 mod find;
 mod grid;
+mod part;
 mod table;
 
 pub use family::{Build, Outcome, Row, Runner, Scale};
 pub use find::{Found, Seek, find};
 pub use grid::{Axis, Grid, MAX_AXIS_VALUES, Shard};
-pub use table::{Cell, Cells, Format, TableWriter, cells, merge};
+pub use part::{Merged, PartMeta, fingerprint, merge, meta_path};
+pub use table::{Cell, Cells, Format, TableWriter, cells};
 
 /// Most runs one process takes without `--shard`.
 pub const MAX_RUNS: usize = 1_000_000;

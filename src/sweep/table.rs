@@ -1,5 +1,5 @@
-//! The sweep's table: one row per run, written as CSV or JSON while the sweep runs, and the
-//! merge of the tables of a sweep's shards.
+//! The sweep's table: one row per run, written as CSV or JSON while the sweep runs (the merge
+//! of a sweep's parts is [`super::part`]'s).
 //!
 //! Columns: `run` (the index in the whole sweep), the varied options (named as the options),
 //! `follows`, `diverged`, `reasons` (the verdict's reasons, or `failed: …` for a run that could
@@ -15,6 +15,7 @@ use std::path::Path;
 
 use serde_json::{Map, Value};
 
+use super::part::{Fnv, PartMeta, meta_path, meta_text};
 use super::{Outcome, Row};
 use crate::atomic::{AtomicFile, Outputs};
 use crate::error::{Error, Result};
@@ -140,15 +141,23 @@ impl Format {
 }
 
 /// A table being written, row by row, into a file that appears whole when [`TableWriter::finish`]
-/// is called (and not at all otherwise). The columns are those of the first row that ran (or,
-/// if none ran, the first row): later rows fill those columns, empty where they have none.
+/// is called (and not at all otherwise). The columns are those of the first row that ran (or
+/// those given with [`TableWriter::set_columns`]): later rows fill those columns, empty where
+/// they have none.
 pub struct TableWriter {
     file: AtomicFile,
+    path: std::path::PathBuf,
     format: Format,
     header: Option<Vec<String>>,
     /// Rows waiting for a row that ran, which fixes the columns.
     waiting: Vec<Cells>,
     rows: usize,
+    /// Bytes written.
+    bytes: u64,
+    /// Their hash.
+    hash: Fnv,
+    /// The set the table is a file of (its metadata too).
+    outputs: Outputs,
 }
 
 impl TableWriter {
@@ -161,11 +170,37 @@ impl TableWriter {
     pub fn within(outputs: &Outputs, path: &Path, format: Format) -> Result<TableWriter> {
         Ok(TableWriter {
             file: outputs.create(path)?,
+            path: path.to_path_buf(),
             format,
             header: None,
             waiting: Vec::new(),
             rows: 0,
+            bytes: 0,
+            hash: Fnv::default(),
+            outputs: outputs.clone(),
         })
+    }
+
+    /// Whether the columns are fixed (by a row that ran, or [`TableWriter::set_columns`]).
+    pub fn has_columns(&self) -> bool {
+        self.header.is_some()
+    }
+
+    /// Fixes the columns before any row that ran (an empty part, or one whose runs all
+    /// failed, still has the sweep's columns); the rows waiting are written.
+    pub fn set_columns(&mut self, columns: Vec<String>) -> Result<()> {
+        if self.header.is_none() {
+            self.start(columns)?;
+            for waiting in std::mem::take(&mut self.waiting) {
+                self.write(&waiting)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a row of named cells (the columns must be fixed).
+    pub fn push_cells(&mut self, cells: &Cells) -> Result<()> {
+        self.write(cells)
     }
 
     /// Adds `row`, whose varied options are `axes`.
@@ -176,10 +211,7 @@ impl TableWriter {
                 self.waiting.push(cells);
                 return Ok(());
             }
-            self.start(cells.iter().map(|(name, _)| name.clone()).collect())?;
-            for waiting in std::mem::take(&mut self.waiting) {
-                self.write(&waiting)?;
-            }
+            self.set_columns(cells.iter().map(|(name, _)| name.clone()).collect())?;
         }
         self.write(&cells)
     }
@@ -189,37 +221,52 @@ impl TableWriter {
         self.rows + self.waiting.len()
     }
 
-    /// Writes the rows still waiting, closes the table and moves it into place.
-    pub fn finish(mut self) -> Result<()> {
+    /// Writes the rows still waiting, closes the table and moves it into place (or stages it,
+    /// in a set of outputs). With `part`, the table is a part of a sweep: its metadata (filled
+    /// here with the rows, bytes, hash and columns) follows it as `TABLE.meta`, renamed into
+    /// place after it; the hash of the table's bytes binds the two, so a table beside another's
+    /// metadata (a task killed between the two renames) is refused by `merge`.
+    pub fn finish(mut self, part: Option<&mut PartMeta>) -> Result<()> {
         if self.header.is_none() {
             let header = match self.waiting.first() {
                 Some(cells) => cells.iter().map(|(name, _)| name.clone()).collect(),
                 None => vec!["run".to_string()],
             };
-            self.start(header)?;
-            for waiting in std::mem::take(&mut self.waiting) {
-                self.write(&waiting)?;
-            }
+            self.set_columns(header)?;
         }
         let end = match (self.format, self.rows) {
             (Format::Csv, _) => "",
             (Format::Json, 0) => "[]\n",
             (Format::Json, _) => "\n]\n",
         };
+        self.put(end)?;
+        // a device or FIFO (`--out /dev/null`) has no metadata beside it
+        let special = std::fs::metadata(&self.path).is_ok_and(|m| !m.is_file());
+        let Some(meta) = part.filter(|_| !special) else {
+            return self.file.commit();
+        };
+        meta.rows = self.rows;
+        meta.bytes = self.bytes;
+        meta.table_fnv1a = self.hash.hex();
+        meta.columns = self.header.clone().unwrap_or_default();
+        self.file.commit()?;
+        self.outputs.write(&meta_path(&self.path), meta_text(meta).as_bytes())
+    }
+
+    fn put(&mut self, text: &str) -> Result<()> {
         self.file
             .writer()
-            .write_all(end.as_bytes())
+            .write_all(text.as_bytes())
             .map_err(|e| self.file.error(e))?;
-        self.file.commit()
+        self.bytes += text.len() as u64;
+        self.hash.eat(text.as_bytes());
+        Ok(())
     }
 
     fn start(&mut self, header: Vec<String>) -> Result<()> {
         if self.format == Format::Csv {
             let line = csv_line(header.iter().map(|h| Cell::Text(h.clone())));
-            self.file
-                .writer()
-                .write_all(line.as_bytes())
-                .map_err(|e| self.file.error(e))?;
+            self.put(&line)?;
         }
         self.header = Some(header);
         Ok(())
@@ -245,10 +292,7 @@ impl TableWriter {
                 format!("{lead}{{{}}}", fields.join(","))
             }
         };
-        self.file
-            .writer()
-            .write_all(text.as_bytes())
-            .map_err(|e| self.file.error(e))?;
+        self.put(&text)?;
         self.rows += 1;
         Ok(())
     }
@@ -285,76 +329,6 @@ fn json_value(cell: Cell) -> Value {
         Cell::Bool(b) => Value::Bool(b),
         Cell::Text(t) => Value::String(t),
     }
-}
-
-/// Joins the CSV tables of a sweep's shards into `out`: their columns must be the same; the rows
-/// are ordered by `run`, and a run present twice is an error. Returns the number of rows.
-pub fn merge(parts: &[&Path], out: &Path) -> Result<usize> {
-    let option = "sweep merge";
-    let mut header: Option<(csv::StringRecord, &Path)> = None;
-    let mut rows: Vec<(u64, csv::StringRecord)> = Vec::new();
-    for &path in parts {
-        let io = |e: csv::Error| Error::InvalidData {
-            path: path.to_path_buf(),
-            message: crate::error::one_line(&e.to_string()),
-        };
-        let mut reader = csv::ReaderBuilder::new().flexible(false).from_path(path).map_err(io)?;
-        let this = reader.headers().map_err(io)?.clone();
-        if this.get(0) != Some("run") {
-            return Err(Error::InvalidData {
-                path: path.to_path_buf(),
-                message: "is not a sweep table (its first column is not 'run')".into(),
-            });
-        }
-        match &header {
-            None => header = Some((this, path)),
-            Some((first, first_path)) if *first != this => {
-                return Err(Error::argument(
-                    option,
-                    format!(
-                        "{} and {} have different columns: not parts of one sweep",
-                        first_path.display(),
-                        path.display()
-                    ),
-                ));
-            }
-            Some(_) => {}
-        }
-        for record in reader.records() {
-            let record = record.map_err(io)?;
-            let run = record
-                .get(0)
-                .and_then(|r| r.parse::<u64>().ok())
-                .ok_or_else(|| Error::InvalidData {
-                    path: path.to_path_buf(),
-                    message: format!("run '{}' is not a run index", record.get(0).unwrap_or("")),
-                })?;
-            rows.push((run, record));
-        }
-    }
-    let (header, _) = header.ok_or_else(|| Error::argument(option, "no table to merge"))?;
-    rows.sort_by_key(|(run, _)| *run);
-    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(Error::argument(
-            option,
-            format!("run {} is in two of the tables", w[0].0),
-        ));
-    }
-    let mut file = AtomicFile::create(out)?;
-    {
-        let mut writer = csv::Writer::from_writer(file.writer());
-        let mut put = |record: &csv::StringRecord| writer.write_record(record);
-        let result = std::iter::once(&header)
-            .chain(rows.iter().map(|(_, r)| r))
-            .try_for_each(&mut put)
-            .and_then(|_| writer.flush().map_err(csv::Error::from));
-        result.map_err(|e| Error::Io {
-            path: out.to_path_buf(),
-            source: std::io::Error::other(e.to_string()),
-        })?;
-    }
-    file.commit()?;
-    Ok(rows.len())
 }
 
 #[cfg(test)]
@@ -410,7 +384,7 @@ mod tests {
         };
         table.push(&axes, &failed).unwrap();
         table.push(&axes, &row(1, false)).unwrap();
-        table.finish().unwrap();
+        table.finish(None).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3);

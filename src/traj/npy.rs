@@ -77,6 +77,25 @@ pub fn parse_samples(bytes: &[u8], path: &Path) -> Result<Vec<Vec<f64>>> {
             .map_err(data)?
             .mapv(f64::from),
     };
+    check_frames(array.view(), bad, found)
+}
+
+/// An N×dof array of joint positions given in memory (the Python binding's `q_traj`), checked
+/// as [`read_samples`] checks a file's, `path` naming it in the messages.
+pub fn samples_from_array(path: &Path, array: ndarray::ArrayView2<f64>) -> Result<Vec<Vec<f64>>> {
+    let bad = |message: String| Error::InvalidData {
+        path: path.to_path_buf(),
+        message,
+    };
+    check_frames(array, bad, || format!("shape {:?}", array.shape()))
+}
+
+/// At least 2 rows, a column, every value finite: the rows.
+fn check_frames(
+    array: ndarray::ArrayView2<f64>,
+    bad: impl Fn(String) -> Error,
+    found: impl Fn() -> String,
+) -> Result<Vec<Vec<f64>>> {
     let (rows, columns) = array.dim();
     if rows < 2 {
         return Err(bad(format!("needs at least 2 frames (rows), found {}", found())));

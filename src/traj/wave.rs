@@ -1,11 +1,12 @@
-//! `faze4 wave`: q_cmd,i(t) = c_i + A·sin(ω t + i·π/3).
+//! `faze4 wave`: q_cmd,i(t) = c_i + A_i·sin(ω t + i·π/3).
 
-/// Phase-shifted sines about a centre pose: joint i follows `c_i + A sin(ω t + i π/3)`,
-/// `v = A ω cos(ω t + i π/3)`.
+/// Phase-shifted sines about a centre pose: joint i follows `c_i + A_i sin(ω t + i π/3)`,
+/// `v = A_i ω cos(ω t + i π/3)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Wave {
-    /// Amplitude A (rad).
-    pub amplitude: f64,
+    /// Amplitude A_i per joint, in the joint's unit (rad for a revolute joint, m for a
+    /// prismatic one).
+    pub amplitude: Vec<f64>,
     /// Angular frequency ω (rad/s; the original's `--freq` is in rad/s).
     pub omega: f64,
     /// The pose the joints wave about, c (rad or m), one entry per joint: zero for the
@@ -23,11 +24,10 @@ impl Wave {
     pub fn eval(&self, t: f64, q: &mut [f64], v: &mut [f64]) {
         const COS_STEP: f64 = 0.5;
         let sin_step = 0.75f64.sqrt();
-        let aw = self.amplitude * self.omega;
         let (mut s, mut c) = (self.omega * t).sin_cos();
-        for (i, &c_i) in self.center.iter().enumerate() {
-            q[i] = c_i + self.amplitude * s;
-            v[i] = aw * c;
+        for (i, (&c_i, &a)) in self.center.iter().zip(&self.amplitude).enumerate() {
+            q[i] = c_i + a * s;
+            v[i] = a * self.omega * c;
             (s, c) = (s * COS_STEP + c * sin_step, c * COS_STEP - s * sin_step);
         }
     }
@@ -42,7 +42,7 @@ mod tests {
     #[test]
     fn eval_matches_the_phase_shifted_sines() {
         let wave = Wave {
-            amplitude: 25f64.to_radians(),
+            amplitude: vec![25f64.to_radians(); 6],
             omega: 0.5,
             center: vec![0.0; 6],
         };
@@ -54,8 +54,11 @@ mod tests {
                 // the direct formula rounds its argument to within ulp(ω t + i π/3)
                 let tol = 4.0 * f64::EPSILON * (wave.omega * t + i as f64 * FRAC_PI_3);
                 let (s, c) = (wave.omega * t + i as f64 * FRAC_PI_3).sin_cos();
-                assert!((q[i] - wave.amplitude * s).abs() <= tol, "q{i} at t = {t}");
-                assert!((v[i] - wave.amplitude * wave.omega * c).abs() <= tol, "v{i} at t = {t}");
+                assert!((q[i] - wave.amplitude[i] * s).abs() <= tol, "q{i} at t = {t}");
+                assert!(
+                    (v[i] - wave.amplitude[i] * wave.omega * c).abs() <= tol,
+                    "v{i} at t = {t}"
+                );
             }
         }
     }
@@ -63,7 +66,7 @@ mod tests {
     #[test]
     fn a_centre_shifts_q_and_leaves_v() {
         let about_zero = Wave {
-            amplitude: 0.3,
+            amplitude: vec![0.3; 3],
             omega: 2.0,
             center: vec![0.0; 3],
         };

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::Result;
-use crate::geometry::mesh::read_mesh;
+use crate::geometry::mesh::{Rgba, read_mesh};
 
 /// Normals of faces meeting at a vertex are averaged when they differ by less than this angle;
 /// sharper edges keep one vertex per side (CAD parts: flat faces, sharp edges).
@@ -238,16 +238,17 @@ impl TriMesh {
     }
 }
 
-/// Reads a mesh file (through [`read_mesh`], the one mesh reader) into an indexed mesh with
-/// normals (see [`TriMesh::from_soup`]).
-pub fn read_stl(path: &Path) -> Result<TriMesh> {
+/// Reads a mesh file (STL, COLLADA or OBJ, through [`read_mesh`], the one mesh reader) into an
+/// indexed mesh with normals (see [`TriMesh::from_soup`]).
+pub fn read_trimesh(path: &Path) -> Result<TriMesh> {
     Ok(TriMesh::from_soup(&read_mesh(path)?.soup()))
 }
 
-/// The mesh a URDF mesh reference stands for, with normals: [`crate::geometry::mesh::load`]
-/// (the file, else the built-in Faze4 copy); `None` when there is neither.
-pub fn load_mesh(uri: &str, path: Option<&Path>) -> Option<Result<TriMesh>> {
-    crate::geometry::mesh::load(uri, path).map(|mesh| mesh.map(|m| TriMesh::from_soup(&m.soup())))
+/// The mesh a URDF mesh reference stands for, with normals, and the colour of the file's
+/// material if it has one: [`crate::geometry::mesh::load`] (the file, else the built-in Faze4
+/// copy); `None` when there is neither.
+pub fn load_mesh(uri: &str, path: Option<&Path>) -> Option<Result<(TriMesh, Option<Rgba>)>> {
+    crate::geometry::mesh::load(uri, path).map(|file| file.map(|f| (TriMesh::from_soup(&f.mesh.soup()), f.color)))
 }
 
 /// Vertex indices in the narrowest type that holds them.

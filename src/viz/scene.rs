@@ -16,6 +16,7 @@ use serde_json::json;
 use super::mesh::{CompactMesh, Indices, TriMesh, load_mesh};
 use crate::algo::{Data, forward_kinematics};
 use crate::geometry::GeometryModel;
+use crate::geometry::mesh::Rgba;
 use crate::model::{FrameId, Geometry, Model};
 use crate::sim::{RunInfo, Sample};
 use crate::spatial::{Mat3, Pose, Vec3};
@@ -102,13 +103,14 @@ impl Scene {
             run: json!({}),
         };
         scene.meshes.push(CompactMesh::new(&TriMesh::sphere(1.0, 10, 16)));
-        let mut loaded: HashMap<(PathBuf, [u32; 3]), usize> = HashMap::new();
+        // mesh index in the scene and the file's own colour, per file and scale
+        let mut loaded: HashMap<(PathBuf, [u32; 3]), (usize, Option<Rgba>)> = HashMap::new();
         for visual in &geometry.visuals {
             let frame = visual.frame;
             let slot = scene.slot(model, frame);
             let color = visual.rgba.map_or(DEFAULT_COLOR, |c| c.map(|x| x as f32));
             let name = visual.link.clone();
-            let add = |scene: &mut Scene, mesh: CompactMesh, placement: Pose| {
+            let add = |scene: &mut Scene, mesh: CompactMesh, placement: Pose, color: [f32; 4]| {
                 scene.meshes.push(mesh);
                 scene.visuals.push(SceneVisual {
                     name: name.clone(),
@@ -119,16 +121,18 @@ impl Scene {
                 });
             };
             match &visual.geometry {
-                Geometry::Box { size } => add(&mut scene, box_mesh(size), visual.placement),
+                Geometry::Box { size } => add(&mut scene, box_mesh(size), visual.placement, color),
                 Geometry::Cylinder { radius, length } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::cylinder(*radius as f32, *length as f32, 40)),
                     visual.placement,
+                    color,
                 ),
                 Geometry::Sphere { radius } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::sphere(*radius as f32, 16, 24)),
                     visual.placement,
+                    color,
                 ),
                 Geometry::Mesh { uri, path, scale } => {
                     let scale = [scale.x as f32, scale.y as f32, scale.z as f32];
@@ -136,13 +140,15 @@ impl Scene {
                         path.clone().unwrap_or_else(|| PathBuf::from(uri)),
                         scale.map(f32::to_bits),
                     );
-                    if let Some(&m) = loaded.get(&key) {
+                    // the URDF's <material> colour, else the file's own, else the default (rviz)
+                    let color_of = |file: Option<[f32; 4]>| visual.rgba.map(|c| c.map(|x| x as f32)).or(file);
+                    if let Some(&(m, file_color)) = loaded.get(&key) {
                         scene.visuals.push(SceneVisual {
                             name: name.clone(),
                             slot,
                             placement: visual.placement,
                             mesh: m,
-                            color,
+                            color: color_of(file_color).unwrap_or(DEFAULT_COLOR),
                         });
                         continue;
                     }
@@ -151,9 +157,9 @@ impl Scene {
                             scene.missing.push(uri.clone());
                             None
                         }
-                        Some(Ok(m)) if m.triangles() > 0 => {
-                            loaded.insert(key, scene.meshes.len());
-                            Some(CompactMesh::new(&m.scaled(scale)))
+                        Some(Ok((m, file_color))) if m.triangles() > 0 => {
+                            loaded.insert(key, (scene.meshes.len(), file_color));
+                            Some((CompactMesh::new(&m.scaled(scale)), color_of(file_color)))
                         }
                         Some(Ok(_)) => {
                             scene.unreadable.push(format!("{}: no triangles", key.0.display()));
@@ -165,10 +171,10 @@ impl Scene {
                         }
                     };
                     match mesh {
-                        Some(m) => add(&mut scene, m, visual.placement),
+                        Some((m, mesh_color)) => add(&mut scene, m, visual.placement, mesh_color.unwrap_or(color)),
                         None => {
                             for (placement, size) in fallback_boxes(model, frame) {
-                                add(&mut scene, box_mesh(&size), placement);
+                                add(&mut scene, box_mesh(&size), placement, color);
                             }
                         }
                     }
@@ -234,8 +240,9 @@ impl Scene {
         if !self.missing.is_empty() && !MISSING.swap(true, Ordering::Relaxed) {
             let names: Vec<&str> = self.missing.iter().map(|u| u.rsplit('/').next().unwrap_or(u)).collect();
             eprintln!(
-                "viz: meshes not found ({}); drawing boxes — pass --package-path",
-                names.join(", ")
+                "viz: meshes not found ({}); drawing boxes ({})",
+                names.join(", "),
+                crate::model::not_found_advice(&self.missing[0])
             );
         }
         if !self.unreadable.is_empty() && !UNREADABLE.swap(true, Ordering::Relaxed) {
@@ -352,7 +359,7 @@ fn box_mesh(size: &Vec3) -> CompactMesh {
 fn fallback_boxes(model: &Model, FrameId(frame): FrameId) -> Vec<(Pose, Vec3)> {
     let f = &model.frames[frame];
     let inv = f.placement.inverse();
-    let mut ends: Vec<Vec3> = (0..model.dof())
+    let mut ends: Vec<Vec3> = (0..model.num_bodies())
         .filter(|&j| model.parent[j] == f.body.map(|b| b.0))
         .map(|j| inv.compose(&model.tree_pose[j]).pos)
         .collect();

@@ -37,9 +37,9 @@ pub struct SyntheticRun {
 
 impl SyntheticRun {
     /// Every joint follows `amp_deg`·sin(ω t + i·π/3) for `duration` s.
-    pub fn wave(Robot { model, geometry }: Robot, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
+    pub fn wave(Robot { model, geometry, .. }: Robot, duration: f64, amp_deg: f64, omega: f64) -> SyntheticRun {
         let wave = Trajectory::Wave(Wave {
-            amplitude: amp_deg.to_radians(),
+            amplitude: vec![amp_deg.to_radians(); model.dof()],
             omega,
             center: vec![0.0; model.dof()],
         });
@@ -53,7 +53,7 @@ impl SyntheticRun {
     }
 
     /// The tool draws the circle on the board (240 points, exact IK) for `duration` s.
-    pub fn circle(Robot { model, geometry }: Robot, duration: f64) -> SyntheticRun {
+    pub fn circle(Robot { model, geometry, .. }: Robot, duration: f64) -> SyntheticRun {
         let tool = model.default_tool_frame();
         let (trajectory, shape) = ShapeRun::plan(&model, tool, Shape::Circle, 240).unwrap();
         let scenario = Scenario::builder(model, trajectory)

@@ -238,7 +238,10 @@ class PinArm:
     def terms(self, q, v):
         """(M with the motors' reflected inertia, C v, g) in faze4's order."""
         pq, pv = self.pin_q(q), self.pin_v(v)
-        M = pin.crba(self.model, self.data, pq)
+        # a fresh Data: Pinocchio 4.1.0's crba on a model with mimic joints gives a different
+        # (wrong) M when called again on the same Data (the first call equals G^T M G of the
+        # model without mimic, which pin_fixtures.py checks)
+        M = pin.crba(self.model, self.model.createData(), pq)
         M = np.triu(M) + np.triu(M, 1).T
         M = M[np.ix_(self.perm, self.perm)] + self.urdf.reflected
         g = self.ours(pin.computeGeneralizedGravity(self.model, self.data, pq))

@@ -1,0 +1,380 @@
+"""faze4: can the motors of a real arm follow this trajectory?
+
+A fast, exact dynamics simulator of the Faze4 six-axis arm (or any URDF arm) under a 5 kHz
+digital PD controller, from Python::
+
+    import faze4, numpy as np
+    robot = faze4.Robot.faze4()
+    run = faze4.wave(robot, duration=8.0, amp_deg=25.0)
+    run.follows, run.summary["max_tracking_error_rad"], run.q.shape
+
+Every option of the command line is a keyword of ``wave``, ``replay``, ``shape``, ``sweep`` and
+``find``: the same name with underscores, the same default, the same checks and messages. The
+keywords become the words of the same subcommand, parsed by the binary's own definitions, and
+the run is the binary's: its summary equals the binary's ``--summary`` JSON. Two defaults
+differ, because a Python call returns what the binary writes: ``trail="none"`` (the trail is in
+``Run.t``, ``Run.q``, ...; give a path to write the CSV too) and ``quiet=True`` (nothing is
+printed; ``quiet=False`` prints the progress lines). Bad input raises :class:`Error`.
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+import os
+from collections import namedtuple
+from typing import Any
+
+import numpy as np
+
+from . import _faze4
+from ._faze4 import Error, __version__
+
+__all__ = ["Error", "Robot", "Run", "wave", "replay", "shape", "sweep", "find", "options", "__version__"]
+
+#: An option of a command as the binary's clap definition declares it.
+Option = namedtuple("Option", "name long kind repeated required default choices help")
+
+#: Python's defaults where they differ from the binary's (see the module's docstring).
+PYTHON_DEFAULTS = {"trail": "none", "quiet": True}
+
+_RUN_COMMANDS = ("wave", "replay", "shape")
+
+
+def _table(command: str) -> dict[str, Option]:
+    return {
+        long.replace("-", "_"): Option(long.replace("-", "_"), long, kind, repeated, required, default, choices, help_)
+        for (long, kind, repeated, required, default, choices, help_) in _faze4._options(command)
+    }
+
+
+_TABLES = {c: _table(c) for c in (*_RUN_COMMANDS, "sweep", "run")}
+
+
+def options(command: str) -> list[Option]:
+    """The keywords of ``command`` ('wave', 'replay', 'shape', 'sweep'; 'run': those every run
+    command shares, which ``Robot.faze4`` and ``Robot.from_urdf`` take), as the binary declares
+    them: name, long option, kind, default, choices, help."""
+    if command not in _TABLES:
+        raise Error(f"no command '{command}' (wave, replay, shape, sweep, run)")
+    return list(_TABLES[command].values())
+
+
+def _text(option: Option | None, value: Any) -> str:
+    """One value as the command line writes it (floats exactly: repr round-trips)."""
+    if isinstance(value, (str, os.PathLike)):
+        return os.fspath(value)
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value)).lower()
+    kind = option.kind if option else None
+    if kind in ("joints", "str") or isinstance(value, (list, tuple, np.ndarray)):
+        items = np.asarray(value, dtype=object).ravel() if isinstance(value, np.ndarray) else value
+        if isinstance(items, (list, tuple, np.ndarray)):
+            return ",".join("auto" if x is None else _text(None, x) for x in items)
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    return str(value)
+
+
+def _words(table: dict[str, Option], options: dict[str, Any]) -> list[str]:
+    """Keywords → the option words of the command line: ``amp_deg=25.0`` → ``--amp-deg=25.0``,
+    ``True`` a flag, a list comma-joined (``None`` in it: ``auto``), ``None`` omitted. A name
+    the command does not have goes through as ``--name`` so that the parser says so, as the
+    binary does."""
+    words = []
+    for name, value in options.items():
+        if value is None:
+            continue
+        option = table.get(name)
+        long = option.long if option else name.replace("_", "-")
+        if option is not None and option.kind == "flag":
+            if not isinstance(value, (bool, np.bool_)):
+                raise Error(f"--{long}: is a flag: True or False, not {value!r}")
+            if value:
+                words.append(f"--{long}")
+            continue
+        if option is not None and option.repeated and isinstance(value, (list, tuple)):
+            words.extend(f"--{long}={_text(option, v)}" for v in value)
+            continue
+        words.append(f"--{long}={_text(option, value)}")
+    return words
+
+
+class Robot(_faze4.Robot):
+    """An arm: its model (as the binary loads it from the same options) and a dynamics
+    workspace. Build it with :meth:`Robot.faze4` or :meth:`Robot.from_urdf`.
+
+    The dynamics take and return float64 numpy arrays, one joint per entry, SI units, as
+    Pinocchio does: ``mass_matrix(q)``, ``gravity(q)``, ``rnea(q, v, a)``, ``aba(q, v, tau)``,
+    ``frame_pose(q, link)``. The robot's options (``motors``, ``rotor_inertia``,
+    ``gear_ratio``, ``payload_kg``, ``no_gravity``, ...) change the model of these calls as they
+    change a run's, and every run of the robot starts from them."""
+
+    _options: dict[str, Any]
+
+    @classmethod
+    def faze4(cls, **options: Any) -> Robot:
+        """The bundled Faze4 (the binary's default arm). Keywords: the options every run command
+        shares (``faze4.options('run')``), e.g. ``motors='faze4'``, ``payload_kg=0.5``."""
+        return cls._load(options)
+
+    @classmethod
+    def from_urdf(
+        cls,
+        path: str | os.PathLike[str],
+        package_path: list[str | os.PathLike[str]] | None = None,
+        tool_link: str | None = None,
+        **options: Any,
+    ) -> Robot:
+        """The arm of a URDF file; ``package_path``: where ``package://`` meshes are looked for
+        (ROS_PACKAGE_PATH after); ``tool_link``: the link traced as the tool. Other keywords:
+        as :meth:`Robot.faze4`."""
+        return cls._load(dict(urdf=path, package_path=package_path, tool_link=tool_link, **options))
+
+    @classmethod
+    def _load(cls, options: dict[str, Any]) -> Robot:
+        table = _TABLES["run"]
+        for name in options:
+            if name not in table:
+                raise Error(
+                    f"--{name.replace('_', '-')}: not an option a robot takes "
+                    f"(the options every run command shares: {', '.join(table)})"
+                )
+        robot = cls(_words(table, options))
+        robot._options = {k: v for k, v in options.items() if v is not None}
+        return robot
+
+
+class Run:
+    """What a run did.
+
+    ``summary``: the binary's ``--summary`` JSON as a dict; ``follows``: whether the arm follows
+    its command; ``verdict``: the verdict line the binary prints last; ``reasons``: why not;
+    ``t`` (N,), ``q`` (N, dof), ``q_cmd`` (N, dof), ``tool_xyz`` (N, 3): the trail's samples
+    (every ``record_period``, t = 0 and the last step included); ``warnings``: what the binary
+    would have said on stderr. A run that diverged returns too: ``summary["diverged"]``."""
+
+    __slots__ = ("summary", "follows", "verdict", "reasons", "t", "q", "q_cmd", "tool_xyz", "warnings", "_engine_s")
+
+    def __init__(self, summary_json, verdict, t, q, q_cmd, tool_xyz, warnings, engine_s):
+        self.summary = json.loads(summary_json)
+        self.follows = bool(self.summary["verdict"]["follows"])
+        self.reasons = list(self.summary["verdict"]["reasons"])
+        self.verdict = verdict
+        self.t, self.q, self.q_cmd, self.tool_xyz = t, q, q_cmd, tool_xyz
+        self.warnings = warnings
+        # seconds the binary's own scenario-run-outputs code took (tools/bench/python_api.py)
+        self._engine_s = engine_s
+
+    def __repr__(self) -> str:
+        return f"<faze4.Run {self.verdict!r}, {len(self.t)} samples>"
+
+
+def _robot_options(robot: Robot) -> dict[str, Any]:
+    if not isinstance(robot, _faze4.Robot):
+        raise TypeError(f"robot: expected a faze4.Robot, got {type(robot).__name__}")
+    return dict(getattr(robot, "_options", {}))
+
+
+def _q_traj(q_traj: Any):
+    """A replay's trajectory: a path (the binary reads it) or an array-like (N, dof) of real
+    numbers, converted exactly to float64 (any order and strides)."""
+    if isinstance(q_traj, (str, os.PathLike)):
+        return os.fspath(q_traj), None
+    array = np.asarray(q_traj)
+    if array.dtype.kind not in "fiu":
+        raise TypeError(f"q_traj: dtype {array.dtype} is not a real number type (float64 expected)")
+    if array.ndim != 2:
+        raise Error(f"q_traj: shape {array.shape}; expected (N, dof), one row per frame")
+    return "q_traj", array.astype(np.float64, copy=False)
+
+
+def _command_words(command: str, robot: Robot, options: dict[str, Any]) -> list[str]:
+    merged = {**PYTHON_DEFAULTS, **_robot_options(robot), **options}
+    return [command, *_words(_TABLES[command], merged)]
+
+
+def _run(command: str, robot: Robot, options: dict[str, Any], frames=None) -> Run:
+    return Run(*_faze4._run(_command_words(command, robot, options), frames))
+
+
+def wave(robot: Robot, **options: Any) -> Run:
+    return _run("wave", robot, options)
+
+
+def replay(robot: Robot, q_traj: Any, **options: Any) -> Run:
+    path, frames = _q_traj(q_traj)
+    return _run("replay", robot, {**options, "q_traj": path}, frames)
+
+
+def shape(robot: Robot, shape: str, **options: Any) -> Run:
+    return _run("shape", robot, {**options, "shape": shape})
+
+
+def _base(command: str, robot: Robot, options: dict[str, Any]):
+    if command not in _RUN_COMMANDS:
+        raise Error(f"command: '{command}' is not one of wave, replay, shape")
+    frames = None
+    if command == "replay":
+        if "q_traj" not in options:
+            raise Error("q_traj: a replay sweep needs q_traj=")
+        path, frames = _q_traj(options["q_traj"])
+        options = {**options, "q_traj": path}
+    return _command_words(command, robot, options), frames
+
+
+def _row(names, values, summary_json, failure) -> dict[str, Any]:
+    row = json.loads(summary_json) if summary_json is not None else {"failed": failure}
+    row.update(zip(names, values))
+    return row
+
+
+def _name(name: str) -> str:
+    return name.replace("_", "-")
+
+
+def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **options: Any) -> list[dict[str, Any]]:
+    words, frames = _base(command, robot, options)
+    if not vary:
+        raise Error("vary: nothing to vary: give vary={'payload_kg': [...]}")
+    specs = []
+    for name, values in vary.items():
+        if isinstance(values, str):
+            text = values
+        else:
+            text = ",".join(_text(None, v) for v in np.asarray(values, dtype=np.float64).ravel())
+        specs += [f"--vary={_name(name)}={text}"]
+    sweep_words = ["sweep", *specs, f"--jobs={int(jobs)}", "--quiet", "--", *words]
+    rows, warnings = _faze4._sweep(sweep_words, frames)
+    names = list(vary)
+    return [_row(names, *r) for r in rows]
+
+
+def find(
+    robot: Robot,
+    command: str,
+    name: str,
+    lo: float,
+    hi: float,
+    resolution: float | None = None,
+    smallest: bool = False,
+    jobs: int = 0,
+    **options: Any,
+) -> dict[str, Any]:
+    words, frames = _base(command, robot, options)
+    spec = f"{_name(name)}={_text(None, float(lo))}:{_text(None, float(hi))}"
+    find_words = ["sweep", f"--find-min={spec}" if smallest else f"--find={spec}", f"--jobs={int(jobs)}", "--quiet"]
+    if resolution is not None:
+        find_words.append(f"--resolution={_text(None, float(resolution))}")
+    kind, line, follows, fails, warnings = _faze4._find([*find_words, "--", *words], frames)
+    follows_row = _row([name], *follows) if follows else None
+    fails_row = _row([name], *fails) if fails else None
+    reason = ""
+    if fails_row is not None:
+        reason = fails_row.get("failed") or "; ".join(fails_row["verdict"]["reasons"])
+        if "failed" in fails_row:
+            reason = f"failed: {reason}"
+    return {
+        "name": name,
+        "found": kind,
+        "value": follows_row[name] if kind == "boundary" else None,
+        "fails_at": fails_row[name] if fails_row is not None else None,
+        "reason": reason,
+        "line": line,
+        "follows": follows_row,
+        "fails": fails_row,
+        "warnings": warnings,
+    }
+
+
+# --- docstrings and signatures from the binary's definitions, built at import -----------------
+
+_ABOUT = {
+    "wave": "Every joint follows A·sin(ω t + i·π/3) (docs/model.md): ``faze4 wave``.",
+    "replay": "Replay an (N, dof) joint trajectory, repeating every ``traj_period``: ``faze4 replay``.\n\n"
+    "``q_traj``: an array-like (N, dof) of joint positions (rad or m), or the path of a .npy file.",
+    "shape": "Draw a sine, circle or triangle on the board (exact IK, then the samples as a loop): "
+    "``faze4 shape``.\n\n``shape``: 'sine', 'circle' or 'tri'.",
+}
+
+
+def _default(option: Option):
+    if option.name in PYTHON_DEFAULTS:
+        return PYTHON_DEFAULTS[option.name]
+    if option.kind == "flag":
+        return False
+    if option.default is None:
+        return None
+    if option.kind == "float":
+        return float(option.default)
+    if option.kind == "int":
+        return int(option.default)
+    return option.default
+
+
+def _doc_lines(table: dict[str, Option], skip=()) -> list[str]:
+    lines = []
+    for option in table.values():
+        if option.name in skip:
+            continue
+        default = _default(option)
+        choices = f" One of {', '.join(repr(c) for c in option.choices)}." if option.choices else ""
+        binary = option.default if option.kind != "flag" else False
+        differs = " (the binary's: %r)" % (binary,) if option.name in PYTHON_DEFAULTS else ""
+        text = option.help.rstrip(".") + "."
+        lines.append(f"    {option.name} ({option.kind}, default {default!r}{differs}): {text}{choices}")
+    return lines
+
+
+def _document(function, command: str, positional: tuple[str, ...]) -> None:
+    table = _TABLES[command]
+    lines = [
+        _ABOUT[command],
+        "",
+        "Returns a :class:`Run`. Keywords (every option of ``faze4 %s``, same name with underscores):" % command,
+        "",
+        *_doc_lines(table, skip=positional),
+    ]
+    function.__doc__ = "\n".join(lines)
+    parameters = [inspect.Parameter("robot", inspect.Parameter.POSITIONAL_OR_KEYWORD)]
+    parameters += [inspect.Parameter(p, inspect.Parameter.POSITIONAL_OR_KEYWORD) for p in positional]
+    parameters += [
+        inspect.Parameter(o.name, inspect.Parameter.KEYWORD_ONLY, default=_default(o))
+        for o in table.values()
+        if o.name not in positional
+    ]
+    function.__signature__ = inspect.Signature(parameters)
+
+
+_document(wave, "wave", ())
+_document(replay, "replay", ("q_traj",))
+_document(shape, "shape", ("shape",))
+
+sweep.__doc__ = "\n".join(
+    [
+        "Many runs of ``command`` ('wave', 'replay', 'shape') on every core, the GIL released: "
+        "``faze4 sweep --vary``.",
+        "",
+        "``vary``: {name: values} (an array-like, or 'LO:HI:STEP'); the runs are the product. "
+        "A name is a numeric option of the command (payload_kg, dt, duration, freq, amp_deg, "
+        "traj_period, shape_points, record_period, max_error, max_saturation_pct, "
+        "max_deviation_mm) or a multiplier: kp_scale, kd_scale, effort_scale, mass_scale, "
+        "rotor_inertia_scale. ``jobs``: threads (0: one per core). Other keywords: the options of "
+        "the command (see ``help(faze4.%s)``)." % "wave",
+        "",
+        "Returns one dict per run, in grid order: the run's summary (as ``Run.summary``) with "
+        "the varied values under their names; a run that could not be built: {'failed': reason}.",
+    ]
+)
+find.__doc__ = (
+    "The largest value of option ``name`` in [lo, hi] at which the arm still follows "
+    "(``smallest=True``: the smallest), by parallel bisection to ``resolution`` (default 1 % of "
+    "the range): ``faze4 sweep --find``. Other keywords: the options of ``command``.\n\n"
+    "Returns a dict: 'value' (the value found, None unless the boundary is inside the range), "
+    "'fails_at' and 'reason' (the next value and the reason that fails there), 'found' "
+    "('boundary', 'none_follows', 'all_follow'), 'line' (the line the binary prints), "
+    "'follows' and 'fails' (the two runs' summaries)."
+)
+Robot.faze4.__func__.__doc__ = (Robot.faze4.__doc__ or "") + "\n\n" + "\n".join(_doc_lines(_TABLES["run"]))

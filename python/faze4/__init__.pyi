@@ -1,0 +1,290 @@
+"""Type stubs of faze4 (written by tools/python/stubs.py from the binary's options)."""
+
+import os
+from typing import Any, Literal, NamedTuple, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+PYTHON_DEFAULTS: dict[str, Any]
+
+class Error(ValueError): ...
+
+class Option(NamedTuple):
+    name: str
+    long: str
+    kind: str
+    repeated: bool
+    required: bool
+    default: str | None
+    choices: list[str]
+    help: str
+
+def options(command: str) -> list[Option]: ...
+
+Vector = npt.ArrayLike
+
+class Robot:
+    @property
+    def dof(self) -> int: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def link_names(self) -> list[str]: ...
+    @property
+    def effort(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def lower(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def upper(self) -> npt.NDArray[np.float64]: ...
+    def mass_matrix(self, q: Vector) -> npt.NDArray[np.float64]: ...
+    def gravity(self, q: Vector) -> npt.NDArray[np.float64]: ...
+    def rnea(self, q: Vector, v: Vector, a: Vector) -> npt.NDArray[np.float64]: ...
+    def aba(self, q: Vector, v: Vector, tau: Vector) -> npt.NDArray[np.float64]: ...
+    def frame_pose(self, q: Vector, link: str) -> npt.NDArray[np.float64]: ...
+    @classmethod
+    def faze4(
+        cls,
+        *,
+        urdf: str | os.PathLike[str] | None = None,
+        package_path: Sequence[str | os.PathLike[str]] | None = None,
+        tool_link: str | None = None,
+        effort: str | Sequence[float | None] | np.ndarray | None = None,
+        kp: str | Sequence[float | None] | np.ndarray | None = None,
+        kd: str | Sequence[float | None] | np.ndarray | None = None,
+        motors: str | None = None,
+        supply_voltage: float | None = None,
+        rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
+        gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
+        max_speed: str | Sequence[float | None] | np.ndarray | None = None,
+        no_ff: bool = False,
+        no_gravity: bool = False,
+        payload_kg: float = 0.0,
+        dt: float = 0.0002,
+        debug: bool = False,
+        quiet: bool = True,
+        print_period: float | None = None,
+        max_saturation_pct: float = 5.0,
+        max_error: float = 0.05,
+        max_deviation_mm: float = 5.0,
+        strict: bool = False,
+        trail: str | os.PathLike[str] = 'none',
+        summary: str | os.PathLike[str] | None = None,
+        record_period: float = 0.02,
+        collision_geometry: Literal['mesh', 'hull'] = 'mesh',
+        collision_pairs: Literal['all'] | None = None,
+        no_collisions: bool = False,
+        self_collisions: bool = False,
+        friction: float = 1.0,
+        view: bool = False,
+        port: int = 7000,
+        hold: bool = False,
+        html: str | os.PathLike[str] | None = None,
+        plot: str | os.PathLike[str] | None = None,
+    ) -> Robot: ...
+    @classmethod
+    def from_urdf(
+        cls,
+        path: str | os.PathLike[str],
+        package_path: Sequence[str | os.PathLike[str]] | None = None,
+        tool_link: str | None = None,
+        *,
+        effort: str | Sequence[float | None] | np.ndarray | None = None,
+        kp: str | Sequence[float | None] | np.ndarray | None = None,
+        kd: str | Sequence[float | None] | np.ndarray | None = None,
+        motors: str | None = None,
+        supply_voltage: float | None = None,
+        rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
+        gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
+        max_speed: str | Sequence[float | None] | np.ndarray | None = None,
+        no_ff: bool = False,
+        no_gravity: bool = False,
+        payload_kg: float = 0.0,
+        dt: float = 0.0002,
+        debug: bool = False,
+        quiet: bool = True,
+        print_period: float | None = None,
+        max_saturation_pct: float = 5.0,
+        max_error: float = 0.05,
+        max_deviation_mm: float = 5.0,
+        strict: bool = False,
+        trail: str | os.PathLike[str] = 'none',
+        summary: str | os.PathLike[str] | None = None,
+        record_period: float = 0.02,
+        collision_geometry: Literal['mesh', 'hull'] = 'mesh',
+        collision_pairs: Literal['all'] | None = None,
+        no_collisions: bool = False,
+        self_collisions: bool = False,
+        friction: float = 1.0,
+        view: bool = False,
+        port: int = 7000,
+        hold: bool = False,
+        html: str | os.PathLike[str] | None = None,
+        plot: str | os.PathLike[str] | None = None,
+    ) -> Robot: ...
+
+
+class Run:
+    summary: dict[str, Any]
+    follows: bool
+    verdict: str
+    reasons: list[str]
+    t: npt.NDArray[np.float64]
+    q: npt.NDArray[np.float64]
+    q_cmd: npt.NDArray[np.float64]
+    tool_xyz: npt.NDArray[np.float64]
+    warnings: list[str]
+
+
+def wave(
+    robot: Robot,
+    *,
+    duration: float = 8.0,
+    freq: float = 0.5,
+    amp_deg: float = 25.0,
+    center: str | Sequence[float] | None = None,
+    urdf: str | os.PathLike[str] | None = None,
+    package_path: Sequence[str | os.PathLike[str]] | None = None,
+    tool_link: str | None = None,
+    effort: str | Sequence[float | None] | np.ndarray | None = None,
+    kp: str | Sequence[float | None] | np.ndarray | None = None,
+    kd: str | Sequence[float | None] | np.ndarray | None = None,
+    motors: str | None = None,
+    supply_voltage: float | None = None,
+    rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
+    gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
+    max_speed: str | Sequence[float | None] | np.ndarray | None = None,
+    no_ff: bool = False,
+    no_gravity: bool = False,
+    payload_kg: float = 0.0,
+    dt: float = 0.0002,
+    debug: bool = False,
+    quiet: bool = True,
+    print_period: float | None = None,
+    max_saturation_pct: float = 5.0,
+    max_error: float = 0.05,
+    max_deviation_mm: float = 5.0,
+    strict: bool = False,
+    trail: str | os.PathLike[str] = 'none',
+    summary: str | os.PathLike[str] | None = None,
+    record_period: float = 0.02,
+    collision_geometry: Literal['mesh', 'hull'] = 'mesh',
+    collision_pairs: Literal['all'] | None = None,
+    no_collisions: bool = False,
+    self_collisions: bool = False,
+    friction: float = 1.0,
+    view: bool = False,
+    port: int = 7000,
+    hold: bool = False,
+    html: str | os.PathLike[str] | None = None,
+    plot: str | os.PathLike[str] | None = None,
+) -> Run: ...
+
+def replay(
+    robot: Robot,
+    q_traj: npt.ArrayLike | str | os.PathLike[str],
+    *,
+    traj_period: float = 5.0,
+    duration: float = 8.0,
+    urdf: str | os.PathLike[str] | None = None,
+    package_path: Sequence[str | os.PathLike[str]] | None = None,
+    tool_link: str | None = None,
+    effort: str | Sequence[float | None] | np.ndarray | None = None,
+    kp: str | Sequence[float | None] | np.ndarray | None = None,
+    kd: str | Sequence[float | None] | np.ndarray | None = None,
+    motors: str | None = None,
+    supply_voltage: float | None = None,
+    rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
+    gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
+    max_speed: str | Sequence[float | None] | np.ndarray | None = None,
+    no_ff: bool = False,
+    no_gravity: bool = False,
+    payload_kg: float = 0.0,
+    dt: float = 0.0002,
+    debug: bool = False,
+    quiet: bool = True,
+    print_period: float | None = None,
+    max_saturation_pct: float = 5.0,
+    max_error: float = 0.05,
+    max_deviation_mm: float = 5.0,
+    strict: bool = False,
+    trail: str | os.PathLike[str] = 'none',
+    summary: str | os.PathLike[str] | None = None,
+    record_period: float = 0.02,
+    collision_geometry: Literal['mesh', 'hull'] = 'mesh',
+    collision_pairs: Literal['all'] | None = None,
+    no_collisions: bool = False,
+    self_collisions: bool = False,
+    friction: float = 1.0,
+    view: bool = False,
+    port: int = 7000,
+    hold: bool = False,
+    html: str | os.PathLike[str] | None = None,
+    plot: str | os.PathLike[str] | None = None,
+) -> Run: ...
+
+def shape(
+    robot: Robot,
+    shape: Literal['sine', 'circle', 'tri'],
+    *,
+    shape_points: int = 240,
+    duration: float = 12.0,
+    save_q: str | os.PathLike[str] | None = None,
+    urdf: str | os.PathLike[str] | None = None,
+    package_path: Sequence[str | os.PathLike[str]] | None = None,
+    tool_link: str | None = None,
+    effort: str | Sequence[float | None] | np.ndarray | None = None,
+    kp: str | Sequence[float | None] | np.ndarray | None = None,
+    kd: str | Sequence[float | None] | np.ndarray | None = None,
+    motors: str | None = None,
+    supply_voltage: float | None = None,
+    rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
+    gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
+    max_speed: str | Sequence[float | None] | np.ndarray | None = None,
+    no_ff: bool = False,
+    no_gravity: bool = False,
+    payload_kg: float = 0.0,
+    dt: float = 0.0002,
+    debug: bool = False,
+    quiet: bool = True,
+    print_period: float | None = None,
+    max_saturation_pct: float = 5.0,
+    max_error: float = 0.05,
+    max_deviation_mm: float = 5.0,
+    strict: bool = False,
+    trail: str | os.PathLike[str] = 'none',
+    summary: str | os.PathLike[str] | None = None,
+    record_period: float = 0.02,
+    collision_geometry: Literal['mesh', 'hull'] = 'mesh',
+    collision_pairs: Literal['all'] | None = None,
+    no_collisions: bool = False,
+    self_collisions: bool = False,
+    friction: float = 1.0,
+    view: bool = False,
+    port: int = 7000,
+    hold: bool = False,
+    html: str | os.PathLike[str] | None = None,
+    plot: str | os.PathLike[str] | None = None,
+) -> Run: ...
+
+def sweep(
+    robot: Robot,
+    command: Literal['wave', 'replay', 'shape'],
+    vary: dict[str, npt.ArrayLike | str],
+    jobs: int = 0,
+    **options: Any,
+) -> list[dict[str, Any]]: ...
+
+def find(
+    robot: Robot,
+    command: Literal['wave', 'replay', 'shape'],
+    name: str,
+    lo: float,
+    hi: float,
+    resolution: float | None = None,
+    smallest: bool = False,
+    jobs: int = 0,
+    **options: Any,
+) -> dict[str, Any]: ...

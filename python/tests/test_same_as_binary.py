@@ -1,0 +1,161 @@
+"""Each command through the binary and through Python with the same options: the summaries are
+equal bit for bit (wall-clock times aside), and so are the errors' messages and a search's line."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import faze4
+from conftest import ROOT, run_binary, without_wall_times
+
+REPLAY = ROOT / "tests" / "fixtures" / "replay_q_traj.npy"
+ROTOR_ARM = ROOT / "tests" / "urdf" / "rotor_arm.urdf"
+
+
+def words_of(options: dict) -> list[str]:
+    """Python keywords → command-line words, written out independently of faze4's own mapping."""
+    words = []
+    for name, value in options.items():
+        option = "--" + name.replace("_", "-")
+        if value is True:
+            words.append(option)
+        elif isinstance(value, (list, tuple)):
+            words += [option, ",".join("auto" if x is None else repr(x) for x in value)]
+        else:
+            words += [option, str(value)]
+    return words
+
+
+# (command, robot keywords, run keywords (positional ones first))
+CASES = {
+    "wave, every default": ("wave", {}, {}),
+    "wave, options": ("wave", {}, {"amp_deg": 40.0, "freq": 1.5, "duration": 3.0, "payload_kg": 0.8, "center": "mid"}),
+    "wave, motors on the robot": ("wave", {"motors": "faze4"}, {"duration": 2.0}),
+    "wave, gains and flags": (
+        "wave",
+        {},
+        {"duration": 1.0, "no_ff": True, "no_gravity": True, "kp": [None, None, None, None, None, 30.0], "dt": 1e-4},
+    ),
+    "wave, diverges": (
+        "wave",
+        {},
+        {"kp": [None] * 5 + [40000.0], "effort": [7.9, 8.5, 4.7, 3.7, 3.5, 1e9], "duration": 1.0},
+    ),
+    "replay, file": ("replay", {}, {"q_traj": str(REPLAY), "traj_period": 4.0, "duration": 3.0}),
+    "shape circle, every default": ("shape", {}, {"shape": "circle"}),
+    "shape tri, payload on the robot, hulls": (
+        "shape",
+        {"payload_kg": 0.5},
+        {"shape": "tri", "duration": 3.0, "collision_geometry": "hull", "shape_points": 120},
+    ),
+    "urdf arm with rotors": ("wave", {"urdf": str(ROTOR_ARM)}, {"duration": 1.0, "amp_deg": 10.0}),
+}
+
+
+def python_run(command: str, robot_options: dict, options: dict) -> faze4.Run:
+    robot = faze4.Robot.faze4(**robot_options)
+    options = dict(options)
+    if command == "replay":
+        return faze4.replay(robot, options.pop("q_traj"), **options)
+    if command == "shape":
+        return faze4.shape(robot, options.pop("shape"), **options)
+    return faze4.wave(robot, **options)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_summaries_equal_the_binarys(case, binary, tmp_path):
+    command, robot_options, options = CASES[case]
+    proc, expected = run_binary(binary, [command, *words_of(robot_options), *words_of(options)], tmp_path)
+    assert expected is not None, proc.stderr
+    run = python_run(command, robot_options, options)
+    assert without_wall_times(run.summary) == without_wall_times(expected)
+    # the verdict is the binary's last line
+    assert proc.stdout.strip().splitlines()[-1] == run.verdict
+    assert run.follows == expected["verdict"]["follows"]
+    if case == "wave, diverges":
+        assert proc.returncode == 1 and run.summary["diverged"]["joint"] == 6
+
+
+def test_a_replay_from_a_numpy_array_equals_the_binarys_from_the_file(binary, tmp_path):
+    proc, expected = run_binary(binary, ["replay", "--q-traj", str(REPLAY), "--duration", "3"], tmp_path)
+    frames = np.load(REPLAY)
+    robot = faze4.Robot.faze4()
+    for array in (frames, np.asfortranarray(frames), frames.tolist(), np.ascontiguousarray(frames[::-1])[::-1]):
+        run = faze4.replay(robot, array, duration=3.0)
+        assert without_wall_times(run.summary) == without_wall_times(expected)
+    # float32 frames: the binary reads a float32 file as these exact doubles
+    path32 = tmp_path / "q32.npy"
+    np.save(path32, frames.astype(np.float32))
+    _, expected32 = run_binary(binary, ["replay", "--q-traj", str(path32), "--duration", "3"], tmp_path)
+    run = faze4.replay(robot, frames.astype(np.float32), duration=3.0)
+    assert without_wall_times(run.summary) == without_wall_times(expected32)
+
+
+def test_the_trail_arrays_are_the_binarys_trail(binary, tmp_path):
+    trail = tmp_path / "t.csv"
+    proc = __import__("subprocess").run(
+        [binary, "wave", "--duration", "1", "--trail", str(trail), "-q"], capture_output=True, text=True
+    )
+    assert proc.returncode == 0, proc.stderr
+    table = np.loadtxt(trail, delimiter=",", skiprows=1)
+    run = faze4.wave(faze4.Robot.faze4(), duration=1.0)
+    assert run.t.shape == (table.shape[0],)
+    assert np.array_equal(run.t, table[:, 0])
+    assert np.array_equal(run.tool_xyz, table[:, 1:4])
+    assert np.array_equal(run.q, table[:, 4:10])
+    assert run.q_cmd.shape == run.q.shape and np.abs(run.q_cmd - run.q).max() < 0.05
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"dt": -1.0}, {"amp_deg": -3.0}, {"effort": [1.0, 2.0]}, {"amp_dgr": 3.0}, {"urdf": "/no/such.urdf"}, {"collision_geometry": "box"}],
+)
+def test_bad_input_raises_the_binarys_message(options, binary, tmp_path):
+    proc, _ = run_binary(binary, ["wave", *words_of(options)], tmp_path)
+    assert proc.returncode == 2
+    line = proc.stderr.strip().splitlines()[-1]
+    robot_options = {k: v for k, v in options.items() if k == "urdf"}
+    with pytest.raises(faze4.Error) as caught:
+        robot = faze4.Robot.faze4(**robot_options)
+        faze4.wave(robot, **{k: v for k, v in options.items() if k != "urdf"})
+    assert isinstance(caught.value, ValueError)
+    assert line == f"faze4: error: {caught.value}"
+
+
+def test_find_says_what_the_binary_says(binary, tmp_path):
+    words = ["sweep", "--find", "payload-kg=0:3", "--resolution", "0.1", "-j", "2", "--", "shape", "--shape", "circle", "--duration", "2"]
+    proc = __import__("subprocess").run([binary, *words], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    best = faze4.find(faze4.Robot.faze4(), "shape", "payload_kg", 0.0, 3.0, resolution=0.1, jobs=2, shape="circle", duration=2.0)
+    assert best["line"] == proc.stdout.strip().splitlines()[-1]
+    if best["found"] == "boundary":
+        assert best["value"] < best["fails_at"] and best["reason"] in best["line"]
+
+
+def test_sweep_rows_are_the_single_runs(binary, tmp_path):
+    robot = faze4.Robot.faze4()
+    payloads = np.linspace(0.0, 1.4, 3)
+    rows = faze4.sweep(robot, "wave", vary={"payload_kg": payloads}, duration=1.0)
+    assert [r["payload_kg"] for r in rows] == payloads.tolist()
+    for row, payload in zip(rows, payloads):
+        single = faze4.wave(robot, duration=1.0, payload_kg=float(payload))
+        expected = dict(single.summary, payload_kg=float(payload))
+        assert without_wall_times(row) == without_wall_times(expected)
+    # and the binary's table has the same runs
+    out = tmp_path / "rows.json"
+    values = ",".join(repr(float(p)) for p in payloads)
+    proc = __import__("subprocess").run(
+        [binary, "sweep", "--vary", f"payload-kg={values}", "--out", str(out), "-q", "--", "wave", "--duration", "1"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    table = json.loads(out.read_text())
+    assert len(table) == len(rows)
+    for flat, row in zip(table, rows):
+        assert flat["payload-kg"] == row["payload_kg"] and flat["follows"] == row["verdict"]["follows"]
+        for field in ("max_tracking_error_rad", "saturation_pct", "max_speed"):
+            assert [flat[f"{field}_{i + 1}"] for i in range(6)] == row[field]
