@@ -4,8 +4,8 @@
 //! Reads the official description from the repository (`assets/faze4_description`), or from
 //! `FAZE4_DESCRIPTION`.
 //!
-//! * `clearance_hull_600_samples`: forward kinematics and [`CollisionSet::accumulate`] (then
-//!   [`CollisionSet::finish`]) with
+//! * `clearance_hull_600_samples`: forward kinematics and [`Clearance::add`] (then
+//!   [`Clearance::finish`]) with
 //!   each mesh as its convex hull, for the 600 samples of a run.
 //! * `clearance_mesh_600_samples`: the same with the exact triangles.
 //!
@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use faze4::algo::{Data, forward_kinematics};
-use faze4::geometry::{ClearanceGeometry, CollisionSet, GeometryData, PairFilter, Robot};
+use faze4::geometry::{Clearance, ClearanceGeometry, CollisionSet, PairFilter, Robot};
 use faze4::model::PackagePaths;
 use faze4::traj::npy;
 
@@ -39,13 +39,13 @@ fn run_samples() -> Vec<Vec<f64>> {
 
 fn clearance_pass(robot: &Robot, set: &CollisionSet, samples: &[(f64, &Vec<f64>)]) -> f64 {
     let mut data = Data::new(&robot.model);
-    let mut geometry_data = GeometryData::new(set);
-    let mut report = set.new_report();
+    let mut clearance = Clearance::new(set);
     for (t, q) in samples {
         forward_kinematics(&robot.model, &mut data, q);
-        set.accumulate(&data.frame_pose, *t, &mut geometry_data, &mut report);
+        clearance.add(&data.frame_pose, *t);
     }
-    set.finish(&mut geometry_data, &mut report);
+    clearance.finish();
+    let report = clearance.into_report();
     report.min_m.unwrap()
 }
 

@@ -297,27 +297,6 @@ fn outputs_are_written_through_links_and_a_trailing_slash_leaves_nothing() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Sends `signal` to `pid`.
-fn send(pid: u32, signal: libc::c_int) {
-    // SAFETY: kill(2) only reads its arguments
-    assert_eq!(unsafe { libc::kill(pid as libc::pid_t, signal) }, 0);
-}
-
-/// Runs `args` in `dir`, sends `signal` once its first output line shows it has started (or
-/// after `after`), and waits for it.
-fn signalled(dir: &Path, args: &[&str], signal: libc::c_int, after: Duration) -> std::process::Output {
-    let child = Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(after);
-    send(child.id(), signal);
-    child.wait_with_output().unwrap()
-}
-
 #[test]
 fn sigterm_and_sighup_stop_a_run_as_ctrl_c_does() {
     for (signal, status, name) in [(libc::SIGTERM, 143, "SIGTERM"), (libc::SIGHUP, 129, "SIGHUP")] {

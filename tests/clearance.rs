@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use faze4::Error;
 use faze4::algo::{Data, forward_kinematics};
-use faze4::geometry::{ClearanceGeometry, CollisionSet, GeometryData, PairFilter, Robot, Warning};
+use faze4::geometry::{Clearance, ClearanceGeometry, CollisionSet, GeometryData, PairFilter, Robot, Warning};
 use faze4::model::{Geometry, PackagePaths};
 use serde_json::Value;
 
@@ -189,13 +189,13 @@ fn circle_clearance_report_names_the_closest_pair() {
         PairFilter::NonAdjacent,
     )
     .unwrap();
-    let mut geometry_data = GeometryData::new(&set);
-    let mut report = set.new_report();
+    let mut clearance = Clearance::new(&set);
     for (k, pose) in circle.iter().enumerate() {
         forward_kinematics(&robot.model, &mut data, &vec_f64(&pose["q"]));
-        set.accumulate(&data.frame_pose, k as f64 * 0.02, &mut geometry_data, &mut report);
+        clearance.add(&data.frame_pose, k as f64 * 0.02);
     }
-    set.finish(&mut geometry_data, &mut report);
+    clearance.finish();
+    let report = clearance.into_report();
     let pair = fixture_pairs(&robot, &fixture)
         .iter()
         .position(|&(a, b)| {
@@ -218,7 +218,7 @@ fn circle_clearance_report_names_the_closest_pair() {
     assert_eq!(json["geometry"], "hull");
     assert_eq!(json["links"], serde_json::json!(["nadlaktica", "podlaktica"]));
     assert_eq!(json["pairs"].as_array().unwrap().len(), 15);
-    assert!(report.line().contains("nadlaktica–podlaktica"), "{}", report.line());
+    assert!(report.line().contains("'nadlaktica'–'podlaktica'"), "{}", report.line());
 
     // exact meshes, on the samples where the mesh pair is closest per the oracle
     let mesh: Vec<f64> = circle.iter().map(|p| p["mesh"][pair].as_f64().unwrap()).collect();
@@ -230,15 +230,15 @@ fn circle_clearance_report_names_the_closest_pair() {
         PairFilter::NonAdjacent,
     )
     .unwrap();
-    let mut geometry_data = GeometryData::new(&set);
-    let mut report = set.new_report();
+    let mut clearance = Clearance::new(&set);
     let k_mesh =
         (mesh.iter().copied().enumerate()).fold((0, f64::INFINITY), |b, (k, d)| if d < b.1 { (k, d) } else { b });
     for k in [k_mesh.0.saturating_sub(1), k_mesh.0, (k_mesh.0 + 1) % circle.len()] {
         forward_kinematics(&robot.model, &mut data, &vec_f64(&circle[k]["q"]));
-        set.accumulate(&data.frame_pose, k as f64 * 0.02, &mut geometry_data, &mut report);
+        clearance.add(&data.frame_pose, k as f64 * 0.02);
     }
-    set.finish(&mut geometry_data, &mut report);
+    clearance.finish();
+    let report = clearance.into_report();
     let ours = &report.pairs[set
         .pair_links()
         .position(|l| l == ["nadlaktica", "podlaktica"])
@@ -374,8 +374,7 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample_and_finds_each_interse
     let mut data = Data::new(&robot.model);
     for kind in [ClearanceGeometry::Hull, ClearanceGeometry::Mesh] {
         let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, kind, PairFilter::NonAdjacent).unwrap();
-        let (mut every, mut pruned) = (GeometryData::new(&set), GeometryData::new(&set));
-        let mut report = set.new_report();
+        let (mut every, mut pruned) = (GeometryData::new(&set), Clearance::new(&set));
         // every pair's distance at every sample, by the full query
         let mut every_sample: Vec<Vec<f64>> = Vec::new();
         for (k, pose) in poses.iter().enumerate() {
@@ -383,12 +382,13 @@ fn pruned_accumulation_equals_the_minimum_of_every_sample_and_finds_each_interse
             forward_kinematics(&robot.model, &mut data, &vec_f64(&pose["q"]));
             set.distances(&data.frame_pose, &mut every);
             every_sample.push(every.distances.iter().map(|d| d.distance).collect());
-            set.accumulate(&data.frame_pose, t, &mut pruned, &mut report);
+            pruned.add(&data.frame_pose, t);
             let intersecting: Vec<bool> = every.distances.iter().map(|d| d.intersecting).collect();
-            assert_eq!(pruned.intersecting, intersecting, "{kind:?} at sample {k}");
+            assert_eq!(pruned.intersecting(), intersecting, "{kind:?} at sample {k}");
             assert_eq!(intersecting.iter().any(|&i| i), kind == ClearanceGeometry::Hull);
         }
-        set.finish(&mut pruned, &mut report);
+        pruned.finish();
+        let report = pruned.into_report();
         // the report's minimum is the smallest of every sample, and its time a sample at which
         // the pair is that close: within GJK's accuracy on the hulls (the accumulation's
         // hill-climbing support maps stop GJK at other points than the full query's scans),
@@ -452,19 +452,19 @@ fn the_bundled_arm_checks_its_built_in_meshes_as_the_files_do() {
 fn accumulation_matches_every_sample(robot: &Robot, filter: PairFilter, qs: &[Vec<f64>]) -> usize {
     let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, ClearanceGeometry::Mesh, filter).unwrap();
     let mut data = Data::new(&robot.model);
-    let (mut every, mut pruned) = (GeometryData::new(&set), GeometryData::new(&set));
-    let mut report = set.new_report();
+    let (mut every, mut pruned) = (GeometryData::new(&set), Clearance::new(&set));
     let (mut every_sample, mut crossings) = (Vec::new(), 0);
     for (k, q) in qs.iter().enumerate() {
         forward_kinematics(&robot.model, &mut data, q);
         set.distances(&data.frame_pose, &mut every);
         every_sample.push(every.distances.iter().map(|d| d.distance).collect::<Vec<f64>>());
-        set.accumulate(&data.frame_pose, k as f64 * 0.02, &mut pruned, &mut report);
+        pruned.add(&data.frame_pose, k as f64 * 0.02);
         let intersecting: Vec<bool> = every.distances.iter().map(|d| d.intersecting).collect();
-        assert_eq!(pruned.intersecting, intersecting, "sample {k}");
+        assert_eq!(pruned.intersecting(), intersecting, "sample {k}");
         crossings += intersecting.iter().filter(|&&i| i).count();
     }
-    set.finish(&mut pruned, &mut report);
+    pruned.finish();
+    let report = pruned.into_report();
     for (p, pair) in report.pairs.iter().enumerate() {
         let least = every_sample.iter().map(|d| d[p]).fold(f64::INFINITY, f64::min);
         let at_t = every_sample[(pair.t / 0.02).round() as usize][p];
@@ -480,19 +480,25 @@ fn accumulation_matches_every_sample(robot: &Robot, filter: PairFilter, qs: &[Ve
     crossings
 }
 
-/// The Faze4's meshes through a wave of 90° amplitude (every joint `A sin(t + i π/3)`), which
-/// folds links into one another for many samples in a row, the crossing triangles changing
-/// from sample to sample; with the default pairs, and with every pair.
-#[test]
-fn pruned_accumulation_sees_every_intersection_of_the_faze4_meshes() {
-    let qs: Vec<Vec<f64>> = (0..150)
+/// `n` joint samples of the Faze4 folding into itself: every joint `90° sin(t + i π/3)`, one
+/// every 0.04 s.
+fn folding(n: usize) -> Vec<Vec<f64>> {
+    (0..n)
         .map(|k| {
             let t = k as f64 * 0.04;
             (0..6)
                 .map(|i| 90f64.to_radians() * (t + i as f64 * std::f64::consts::FRAC_PI_3).sin())
                 .collect()
         })
-        .collect();
+        .collect()
+}
+
+/// The Faze4's meshes through a wave of 90° amplitude (every joint `A sin(t + i π/3)`), which
+/// folds links into one another for many samples in a row, the crossing triangles changing
+/// from sample to sample; with the default pairs, and with every pair.
+#[test]
+fn pruned_accumulation_sees_every_intersection_of_the_faze4_meshes() {
+    let qs = folding(150);
     let crossings = accumulation_matches_every_sample(&real(), PairFilter::NonAdjacent, &qs);
     assert!(crossings > 50, "{crossings} intersections");
     // the arm's own motion in `faze4 wave --amp-deg 60` (J2 cannot hold it and it falls),
@@ -593,4 +599,120 @@ fn pruned_accumulation_sees_every_intersection_of_a_folding_fork() {
         .collect();
     let crossings = accumulation_matches_every_sample(&robot, PairFilter::All, &qs);
     assert!(crossings > 10, "{crossings} intersections");
+}
+
+/// Runs the clearance of `kind` over the joint samples `qs` (one every 0.02 s) exactly, to
+/// within `tolerance` (searching the waiting samples every `batch` samples), and by the full
+/// query at every sample. At every sample the tolerance's intersecting pairs are the exact
+/// run's and the full query's; each pair's reported minimum is the distance of two actual
+/// parts (not below the full query's distance at its sample), at most `tolerance` above the
+/// smallest of every sample, and its `intersecting` the exact run's. Returns how many (sample,
+/// pair) intersections there were.
+fn tolerance_matches_exact(
+    robot: &Robot,
+    kind: ClearanceGeometry,
+    filter: PairFilter,
+    qs: &[Vec<f64>],
+    tolerance: f64,
+    batch: usize,
+) -> usize {
+    let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, kind, filter).unwrap();
+    let mut data = Data::new(&robot.model);
+    let mut every = GeometryData::new(&set);
+    let (mut exact, mut approx) = (
+        Clearance::new(&set),
+        Clearance::with_tolerance(&set, tolerance).batch(batch),
+    );
+    let (mut every_sample, mut crossings) = (Vec::new(), 0);
+    for (k, q) in qs.iter().enumerate() {
+        let t = k as f64 * 0.02;
+        forward_kinematics(&robot.model, &mut data, q);
+        set.distances(&data.frame_pose, &mut every);
+        every_sample.push(every.distances.iter().map(|d| d.distance).collect::<Vec<f64>>());
+        exact.add(&data.frame_pose, t);
+        approx.add(&data.frame_pose, t);
+        let intersecting: Vec<bool> = every.distances.iter().map(|d| d.intersecting).collect();
+        assert_eq!(approx.intersecting(), intersecting, "{kind:?} sample {k}");
+        assert_eq!(exact.intersecting(), intersecting, "{kind:?} sample {k}");
+        crossings += intersecting.iter().filter(|&&i| i).count();
+    }
+    exact.finish();
+    approx.finish();
+    let (exact, approx) = (exact.into_report(), approx.into_report());
+    assert_eq!(approx.tolerance_m, tolerance);
+    // GJK's accuracy on hulls and cylinders (the full query scans, the run climbs)
+    let slack = if kind == ClearanceGeometry::Hull {
+        TOLERANCE
+    } else {
+        1e-12
+    };
+    for (p, (pair, exact)) in approx.pairs.iter().zip(&exact.pairs).enumerate() {
+        let least = every_sample.iter().map(|d| d[p]).fold(f64::INFINITY, f64::min);
+        let at_t = every_sample[(pair.t / 0.02).round() as usize][p];
+        assert!(
+            at_t <= pair.min_m + slack && pair.min_m <= least + tolerance + slack,
+            "{kind:?} {:?}: {} at t = {} (full query there {at_t}), smallest {least}, tolerance {tolerance}",
+            pair.links,
+            pair.min_m,
+            pair.t
+        );
+        assert!((exact.min_m - least).abs() <= slack, "{:?}", pair.links);
+        assert_eq!(pair.intersecting, exact.intersecting, "{:?}", pair.links);
+    }
+    crossings
+}
+
+/// The tolerance on mesh pairs (the Faze4 circle, whose closest pairs are nearly concentric
+/// surfaces), on primitive pairs (our box/cylinder/sphere arm, every pair) and on pairs that
+/// intersect (the Faze4 folding into itself, exact meshes and hulls): intersections exactly
+/// the exact run's at every sample, minima actual distances within the tolerance.
+#[test]
+fn a_tolerance_reports_actual_distances_within_it_and_the_exact_intersections() {
+    let fixture = fixture("clearance_faze4_real.json");
+    let circle: Vec<Vec<f64>> = fixture["poses"].as_array().unwrap()[90..150]
+        .iter()
+        .map(|p| vec_f64(&p["q"]))
+        .collect();
+    let folding = folding(60);
+    let robot = real();
+    for (tolerance, batch) in [(1e-3, 1024), (1e-4, 7)] {
+        // mesh pairs
+        let crossings = tolerance_matches_exact(
+            &robot,
+            ClearanceGeometry::Mesh,
+            PairFilter::NonAdjacent,
+            &circle,
+            tolerance,
+            batch,
+        );
+        assert_eq!(crossings, 0);
+        // primitive pairs
+        let arm = collision_arm();
+        let wave: Vec<Vec<f64>> = (0..80)
+            .map(|k| {
+                let t = k as f64 * 0.05;
+                (0..arm.model.dof()).map(|i| 1.2 * (t + i as f64).sin()).collect()
+            })
+            .collect();
+        tolerance_matches_exact(&arm, ClearanceGeometry::Hull, PairFilter::All, &wave, tolerance, batch);
+        // intersecting pairs
+        let crossings = tolerance_matches_exact(
+            &robot,
+            ClearanceGeometry::Mesh,
+            PairFilter::NonAdjacent,
+            &folding,
+            tolerance,
+            batch,
+        );
+        assert!(crossings > 20, "{crossings} intersections");
+        let crossings = tolerance_matches_exact(
+            &robot,
+            ClearanceGeometry::Hull,
+            PairFilter::NonAdjacent,
+            &circle,
+            tolerance,
+            batch,
+        );
+        assert!(crossings >= 60, "{crossings} intersections");
+    }
 }

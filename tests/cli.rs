@@ -98,7 +98,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
         "t=  0.50s",
         "[summary]",
         "tool range",
-        "self-clearance (exact meshes): ",
+        "self-clearance (meshes, tolerance 1.00 mm): ",
     ] {
         assert!(run.stdout.contains(part), "stdout lacks {part:?}:\n{}", run.stdout);
     }

@@ -109,6 +109,8 @@ fn closed_loop_wave_matches_pinocchio() {
     let a = &cl["args"];
     let num = |k: &str| a[k].as_f64().unwrap().to_string();
     let dir = temp_dir("mimic-wave");
+    // the fixture waves the prismatic fingers by the revolute amplitude in radians, as metres
+    let amp_m = a["amp_deg"].as_f64().unwrap().to_radians().to_string();
     let urdf = repo_path(URDF).display().to_string();
     let run = faze4(
         &dir,
@@ -120,6 +122,8 @@ fn closed_loop_wave_matches_pinocchio() {
             "mid",
             "--amp-deg",
             &num("amp_deg"),
+            "--amp-m",
+            &amp_m,
             "--freq",
             &num("freq"),
             "--duration",

@@ -68,6 +68,10 @@ fn wave_trail(dir: &std::path::Path, urdf: &str, extra: &[&str]) -> (Value, Vec<
     ] {
         args.extend([option.to_string(), num(key)]);
     }
+    // the fixture waves the prismatic slide by the same amplitude as the other joints, the
+    // degrees in radians read as metres (docs/model.md 4.1: without --amp-m a quarter of its range)
+    let amp_m = a["amp_deg"].as_f64().unwrap().to_radians().to_string();
+    args.extend(["--amp-m".to_string(), amp_m]);
     args.extend(["--trail", "trail.csv", "--summary", "s.json"].map(String::from));
     args.extend(extra.iter().map(|s| s.to_string()));
     let argv: Vec<&str> = args.iter().map(String::as_str).collect();

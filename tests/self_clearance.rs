@@ -11,7 +11,7 @@ use std::path::Path;
 
 use common::*;
 use faze4::algo::{Data, forward_kinematics};
-use faze4::geometry::{ClearanceGeometry, ClearanceReport, CollisionSet, GeometryData, PairFilter, Robot};
+use faze4::geometry::{Clearance, ClearanceGeometry, ClearanceReport, CollisionSet, PairFilter, Robot};
 use faze4::model::PackagePaths;
 use serde_json::Value;
 
@@ -22,6 +22,7 @@ fn library_run(
     robot: &Robot,
     kind: ClearanceGeometry,
     filter: PairFilter,
+    tolerance: f64,
     trail: &Path,
 ) -> (ClearanceReport, Option<f64>) {
     let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, kind, filter).unwrap();
@@ -30,18 +31,18 @@ fn library_run(
         .map(|i| header.iter().position(|h| *h == format!("q{i}")).unwrap())
         .collect();
     let mut data = Data::new(&robot.model);
-    let mut geometry_data = GeometryData::new(&set);
-    let mut report = set.new_report();
+    let mut clearance = Clearance::with_tolerance(&set, tolerance);
     let mut first = None;
     for row in &rows {
         let q: Vec<f64> = q_columns.iter().map(|&c| row[c]).collect();
         forward_kinematics(&robot.model, &mut data, &q);
-        set.accumulate(&data.frame_pose, row[0], &mut geometry_data, &mut report);
-        if first.is_none() && geometry_data.intersecting.contains(&true) {
+        clearance.add(&data.frame_pose, row[0]);
+        if first.is_none() && clearance.intersecting().contains(&true) {
             first = Some(row[0]);
         }
     }
-    set.finish(&mut geometry_data, &mut report);
+    clearance.finish();
+    let report = clearance.into_report();
     (report, first)
 }
 
@@ -63,7 +64,8 @@ fn run_as_library(dir: &Path, args: &[&str], robot: &Robot, kind: ClearanceGeome
     let run = faze4(dir, args);
     assert!(run.status.success(), "{}", run.stderr);
     let summary = summary(dir);
-    let (report, first) = library_run(robot, kind, filter, &dir.join("t.csv"));
+    let tolerance = summary["clearance"]["tolerance_m"].as_f64().unwrap();
+    let (report, first) = library_run(robot, kind, filter, tolerance, &dir.join("t.csv"));
     assert_eq!(summary["clearance"], serde_json::to_value(&report).unwrap());
     Checked {
         run,
@@ -142,11 +144,16 @@ fn the_faze4_circle_with_exact_meshes_clears_itself() {
     assert_eq!(c["unchecked"], serde_json::json!([]));
     assert_eq!(s["verdict"]["collides"], false);
     let t = c["t"].as_f64().unwrap();
+    // the default tolerance, stated with the bound it gives the true minimum
+    let tolerance = c["tolerance_m"].as_f64().unwrap();
+    assert_eq!(tolerance, faze4::sim::DEFAULT_CLEARANCE_TOLERANCE_M);
     assert_eq!(
         line(&run.stdout, "self-clearance"),
         format!(
-            "self-clearance (exact meshes): podlaktica–hvataljka {:.2} mm at t = {t:.2} s",
-            min * 1e3
+            "self-clearance (meshes, tolerance {:.2} mm): 'podlaktica'–'hvataljka' {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
+            tolerance * 1e3,
+            min * 1e3,
+            (min - tolerance) * 1e3
         )
     );
     assert_eq!(run.stdout.lines().last(), Some("verdict: follows"));
@@ -192,12 +199,12 @@ fn the_faze4_circle_with_hulls_collides() {
     assert_eq!(intersecting.len(), 1, "{c}");
     assert_eq!(s["verdict"]["follows"], false);
     assert_eq!(s["verdict"]["collides"], true);
-    let verdict = "verdict: collides — nadlaktica–podlaktica intersect from t = 0.00 s";
+    let verdict = "verdict: collides — 'nadlaktica'–'podlaktica' intersect from t = 0.00 s";
     assert_eq!(s["verdict"]["reasons"][0], verdict["verdict: collides — ".len()..]);
     assert_eq!(run.stdout.lines().last(), Some(verdict));
     assert!(
         line(&run.stdout, "self-clearance").starts_with(&format!(
-            "self-clearance (convex hulls): nadlaktica–podlaktica {:.2} mm at t = ",
+            "self-clearance (convex hulls, tolerance 1.00 mm): 'nadlaktica'–'podlaktica' {:.2} mm at t = ",
             min * 1e3
         )),
         "{}",
@@ -205,7 +212,7 @@ fn the_faze4_circle_with_hulls_collides() {
     );
     assert!(
         run.stdout
-            .contains("· intersecting: nadlaktica–podlaktica from t = 0.00 s")
+            .contains("· intersecting: 'nadlaktica'–'podlaktica' from t = 0.00 s")
     );
 
     let quiet = faze4(&dir, &[&args[..], &["--quiet", "--strict"]].concat());
@@ -250,11 +257,11 @@ fn collision_pairs_all_checks_the_pairs_a_joint_connects() {
     assert_eq!(s["verdict"]["collides"], true);
     let verdict = run.stdout.lines().last().unwrap();
     assert!(
-        verdict.starts_with("verdict: collides — base–turret intersect from t = 0.00 s"),
+        verdict.starts_with("verdict: collides — 'base'–'turret' intersect from t = 0.00 s"),
         "{verdict}"
     );
     // upper and forearm intersect with two pairs of shapes: named once
-    assert_eq!(verdict.matches("upper–forearm").count(), 1, "{verdict}");
+    assert_eq!(verdict.matches("'upper'–'forearm'").count(), 1, "{verdict}");
 
     let run = faze4(&dir, &[&base[..], &["--no-collisions"]].concat());
     assert!(run.status.success(), "{}", run.stderr);
@@ -309,8 +316,8 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
     let q2 = header.iter().position(|h| h == "q2").unwrap();
     assert!(rows[0][q2].abs() < 1e-3, "the run starts folded out");
     let reason = s["verdict"]["reasons"][0].as_str().unwrap();
-    assert!(reason.starts_with("base–forearm intersect from t = "), "{reason}");
-    let from: f64 = reason["base–forearm intersect from t = ".len()..]
+    assert!(reason.starts_with("'base'–'forearm' intersect from t = "), "{reason}");
+    let from: f64 = reason["'base'–'forearm' intersect from t = ".len()..]
         .trim_end_matches(" s")
         .parse()
         .unwrap();

@@ -194,6 +194,27 @@ fn a_hull_sweeps_clearance_equals_its_single_runs() {
     );
 }
 
+/// `--self-collisions` in a sweep: the runs share the sweep's collision set (loaded once)
+/// and their rows are the single runs', contact included (the hulls touch, so the contact
+/// forces change the motion).
+#[test]
+fn a_sweep_with_self_collisions_equals_its_single_runs() {
+    rows_equal_single_runs(
+        "self_collisions",
+        &["payload-kg=0:0.2:0.1"],
+        &[
+            "shape",
+            "--shape",
+            "circle",
+            "--duration",
+            "2",
+            "--collision-geometry",
+            "hull",
+            "--self-collisions",
+        ],
+    );
+}
+
 #[test]
 fn a_sweep_of_an_arm_of_our_own_equals_its_single_runs() {
     let urdf = repo_path("tests/urdf/arm_prismatic.urdf");

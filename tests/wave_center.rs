@@ -20,7 +20,18 @@ fn offset_arm(dir: &std::path::Path) -> &'static str {
 fn an_arm_whose_zero_is_outside_its_limits_waves_about_mid() {
     let dir = temp_dir("center-mid");
     let urdf = offset_arm(&dir);
-    let wave = ["wave", "--urdf", urdf, "--duration", "0.5", "--amp-deg", "10"];
+    // J3 is prismatic: 10° in radians as metres too (without --amp-m, a quarter of its range)
+    let wave = [
+        "wave",
+        "--urdf",
+        urdf,
+        "--duration",
+        "0.5",
+        "--amp-deg",
+        "10",
+        "--amp-m",
+        "0.17453292519943295",
+    ];
     let with = |extra: &[&'static str]| -> Vec<&str> { wave.iter().copied().chain(extra.iter().copied()).collect() };
     // about zero: refused, naming the joint
     refuses(&dir, &with(&[]), &["--amp-deg", "J2 (pitch)"]);

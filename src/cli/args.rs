@@ -213,8 +213,13 @@ pub struct RunArgs {
     /// default (Drake's: links on different bodies not connected by a joint).
     #[arg(long = "collision-pairs", value_name = "all", value_parser = ["all"])]
     pub collision_pairs: Option<String>,
+    /// How far (mm) the reported self-clearance may be above the true minimum over the
+    /// samples: it is the distance of two actual parts, and the true minimum is at most this
+    /// much below it. 0 is exact. Intersections are decided exactly whatever it is.
+    #[arg(long = "clearance-tolerance", value_name = "MM", default_value_t = crate::sim::DEFAULT_CLEARANCE_TOLERANCE_M * 1e3, allow_hyphen_values = true)]
+    pub clearance_tolerance: f64,
     /// No self-clearance: the collision geometry is skipped altogether (its meshes not read).
-    #[arg(long = "no-collisions", conflicts_with_all = ["collision_geometry", "collision_pairs"])]
+    #[arg(long = "no-collisions", conflicts_with_all = ["collision_geometry", "collision_pairs", "clearance_tolerance"])]
     pub no_collisions: bool,
     /// Contact forces between the checked pairs of the collision geometry, solved inside the
     /// step (Drake's compliant point contact; with --collision-geometry hull the convex hulls

@@ -149,7 +149,7 @@ pub fn run(command: &Command, frames: Option<Vec<Vec<f64>>>, stop: &StopFlag) ->
         Command::Wave(a) => (scenario::wave(a)?, &a.run, None),
         Command::Replay(a) => match frames {
             Some(frames) => (
-                scenario::replay_with(a, scenario::load_model(&a.run)?, &frames)?,
+                scenario::replay_with(a, scenario::load_model(&a.run)?, &frames, None)?,
                 &a.run,
                 None,
             ),

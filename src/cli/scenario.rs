@@ -3,11 +3,12 @@
 //! here, each error naming its option, before anything runs or is written.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::control::JointMotor;
 use crate::error::{Error, Result};
-use crate::geometry::{ClearanceGeometry, PairFilter, Robot};
+use crate::geometry::{ClearanceGeometry, CollisionSet, PairFilter, Robot};
 use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
 use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
@@ -17,10 +18,11 @@ use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 /// `faze4 wave` → scenario.
 pub fn wave(args: &WaveArgs) -> Result<Scenario> {
     check_wave(args)?;
-    wave_with(args, load_model(&args.run)?)
+    wave_with(args, load_model(&args.run)?, None)
 }
 
-/// `faze4 wave` → scenario, on a model already loaded (a sweep loads it once).
+/// `faze4 wave` → scenario, on a model already loaded (a sweep loads it once, and its
+/// collision set: `set`).
 pub fn wave_with(
     args: &WaveArgs,
     Robot {
@@ -28,6 +30,7 @@ pub fn wave_with(
         geometry,
         warnings,
     }: Robot,
+    set: Option<Arc<CollisionSet>>,
 ) -> Result<Scenario> {
     check_wave(args)?;
     let trajectory = Trajectory::Wave(Wave {
@@ -35,7 +38,7 @@ pub fn wave_with(
         omega: args.freq,
         center: wave_center(&model, args.center.as_deref())?,
     });
-    builder(model, trajectory, &args.run)?
+    builder(model, trajectory, &args.run, set)?
         .geometry(geometry)
         .load_warnings(warnings)
         .command("wave")
@@ -76,10 +79,11 @@ pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
     positive("--traj-period", args.traj_period)?;
     let model = load_model(&args.run)?;
     let frames = npy::read_samples(&args.q_traj)?;
-    replay_with(args, model, &frames)
+    replay_with(args, model, &frames, None)
 }
 
-/// `faze4 replay` → scenario, on a model and frames (`--q-traj`) already read.
+/// `faze4 replay` → scenario, on a model and frames (`--q-traj`) already read (and a
+/// collision set, as [`wave_with`]).
 pub fn replay_with(
     args: &ReplayArgs,
     Robot {
@@ -88,12 +92,13 @@ pub fn replay_with(
         warnings,
     }: Robot,
     frames: &[Vec<f64>],
+    set: Option<Arc<CollisionSet>>,
 ) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     positive("--traj-period", args.traj_period)?;
     check_samples(&model, frames, &args.q_traj)?;
     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, args.traj_period, Wrap::Repeat));
-    builder(model, trajectory, &args.run)?
+    builder(model, trajectory, &args.run, set)?
         .geometry(geometry)
         .load_warnings(warnings)
         .command("replay")
@@ -108,7 +113,7 @@ pub fn shape(args: &ShapeArgs) -> Result<Scenario> {
     shape_of(args)?;
     let robot = load_model(&args.run)?;
     let plan = shape_plan(args, &robot.model)?;
-    shape_with(args, robot, plan)
+    shape_with(args, robot, plan, None)
 }
 
 /// The joint command and drawing part of `faze4 shape` on `model` (the IK; see
@@ -119,7 +124,7 @@ pub fn shape_plan(args: &ShapeArgs, model: &Model) -> Result<(Trajectory, ShapeR
 }
 
 /// `faze4 shape` → scenario, on a model already loaded and its [`shape_plan`] (a sweep plans
-/// once unless it varies `shape-points`).
+/// once unless it varies `shape-points`), and a collision set as [`wave_with`].
 pub fn shape_with(
     args: &ShapeArgs,
     Robot {
@@ -128,10 +133,11 @@ pub fn shape_with(
         warnings,
     }: Robot,
     (trajectory, run): (Trajectory, ShapeRun),
+    set: Option<Arc<CollisionSet>>,
 ) -> Result<Scenario> {
     positive("--duration", args.duration)?;
     let shape = shape_of(args)?;
-    builder(model, trajectory, &args.run)?
+    builder(model, trajectory, &args.run, set)?
         .geometry(geometry)
         .load_warnings(warnings)
         .command(format!("shape {} ({} points)", shape.name(), args.shape_points))
@@ -152,6 +158,7 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     positive("--dt", run.dt)?;
     positive("--record-period", run.record_period)?;
     non_negative("--payload-kg", run.payload_kg)?;
+    non_negative("--clearance-tolerance", run.clearance_tolerance)?;
     let options = LoadOptions {
         balance_inertia: run.balance_inertia,
     };
@@ -266,8 +273,14 @@ pub fn tool_frame(model: &Model, name: Option<&str>) -> Result<FrameId> {
     }
 }
 
-/// The options every command shares, on the builder.
-fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<ScenarioBuilder> {
+/// The options every command shares, on the builder (with `set`, a collision set already
+/// loaded).
+fn builder(
+    model: Model,
+    trajectory: Trajectory,
+    run: &RunArgs,
+    set: Option<Arc<CollisionSet>>,
+) -> Result<ScenarioBuilder> {
     let n = model.dof();
     // the motors' ratios and rotors are on the model already (load_model, with the overrides)
     let motors = super::motors::motors(run, &model)?.map(|motors| {
@@ -290,11 +303,15 @@ fn builder(model: Model, trajectory: Trajectory, run: &RunArgs) -> Result<Scenar
         .gravity(!run.no_gravity)
         .feedforward(!run.no_ff)
         .collisions(collisions(run))
+        .clearance_tolerance(run.clearance_tolerance * 1e-3)
         .thresholds(Thresholds {
             max_saturation_pct: run.max_saturation_pct,
             max_error: run.max_error,
             max_deviation_mm: run.max_deviation_mm,
         });
+    if let Some(set) = set {
+        builder = builder.collision_set(set);
+    }
     if run.self_collisions {
         builder = builder.self_contact(SelfContact {
             friction: run.friction,

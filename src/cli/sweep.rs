@@ -257,22 +257,19 @@ impl Base {
             }
         }
         // the collision set is Base's, loaded once
-        run(&mut command).no_collisions = true;
-        let robot = self.robot.clone();
+        let (robot, set) = (self.robot.clone(), self.collision_set.clone());
         let mut scenario = match &command {
-            Command::Wave(a) => scenario::wave_with(a, robot)?,
-            Command::Replay(a) => scenario::replay_with(a, robot, &self.frames)?,
+            Command::Wave(a) => scenario::wave_with(a, robot, set)?,
+            Command::Replay(a) => scenario::replay_with(a, robot, &self.frames, set)?,
             Command::Shape(a) => {
                 let plan = match &self.plan {
                     Some(plan) => plan.clone(),
                     None => scenario::shape_plan(a, &robot.model)?,
                 };
-                scenario::shape_with(a, robot, plan)?
+                scenario::shape_with(a, robot, plan, set)?
             }
             Command::Sweep(_) => unreachable!("refused by Base::load"),
         };
-        scenario.geometry = self.robot.geometry.clone();
-        scenario.collision_set = self.collision_set.clone();
         for (scale, x) in scales {
             scale.apply(&mut scenario, x)?;
         }

@@ -30,7 +30,7 @@ use std::sync::Arc;
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 
 use super::CollisionSet;
-use super::clearance::parry_pose;
+use super::collision_set::parry_pose;
 use super::report::ClearanceGeometry;
 use crate::error::{Error, Result};
 use crate::model::{JointId, JointKind, Model};

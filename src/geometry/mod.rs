@@ -7,18 +7,23 @@
 //! | `mod.rs` | [`GeometryModel`], [`GeometryObject`] |
 //! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII), COLLADA, OBJ (mesh-loader) → exact f32 vertices, welded indices |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
-//! | `clearance.rs` | [`CollisionSet`] (parry shapes), [`GeometryData`] (workspace), distances at a pose |
+//! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
+//! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |
+//! | `clearance.rs` | [`Clearance`]: a run's accumulator, sample by sample, into a [`ClearanceReport`] |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
 mod clearance;
+mod collision_set;
 mod contact;
 mod hull;
 pub mod mesh;
 mod pairs;
 mod report;
+mod search;
 
-pub use clearance::{CollisionSet, GeometryData, Warning};
+pub use clearance::Clearance;
+pub use collision_set::{CollisionSet, GeometryData, Warning};
 pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 pub use pairs::{PairFilter, checked_pairs};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};

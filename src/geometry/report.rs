@@ -56,6 +56,9 @@ pub struct ClearanceReport {
     /// When the closest pair was closest (s).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub t: Option<f64>,
+    /// How far (m) each minimum may be above the true one over the samples (0: exact); each
+    /// is the distance of two actual parts at one sample (see [`super::Clearance`]).
+    pub tolerance_m: f64,
     /// Every checked pair, in [`super::CollisionSet::pair_links`] order.
     pub pairs: Vec<PairReport>,
     /// Links whose collision mesh was not found, so not checked.
@@ -75,6 +78,7 @@ impl ClearanceReport {
             min_m: None,
             links: None,
             t: None,
+            tolerance_m: 0.0,
             pairs: pair_links
                 .map(|[a, b]| PairReport {
                     links: [a.to_string(), b.to_string()],

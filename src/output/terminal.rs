@@ -292,13 +292,25 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the
 /// hulls' penetration depth) and when; the pairs that intersect and from when (from the
 /// verdict's [`Reason::Collides`]); the links not checked. E.g. `self-clearance (exact
-/// meshes): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s`.
+/// meshes): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s`. With a tolerance, the reading
+/// says it and the line ends with the bound it gives the true minimum: `self-clearance (meshes,
+/// tolerance 1.00 mm): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s (true minimum ≥ 17.85
+/// mm)`.
 pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
-    let what = match c.geometry {
-        ClearanceGeometry::Mesh => "exact meshes",
-        ClearanceGeometry::Hull => "convex hulls",
+    let what = match (c.geometry, c.tolerance_m > 0.0) {
+        (ClearanceGeometry::Mesh, false) => "exact meshes".to_string(),
+        (ClearanceGeometry::Hull, false) => "convex hulls".to_string(),
+        (ClearanceGeometry::Mesh, true) => format!("meshes, tolerance {:.2} mm", c.tolerance_m * 1e3),
+        (ClearanceGeometry::Hull, true) => format!("convex hulls, tolerance {:.2} mm", c.tolerance_m * 1e3),
     };
     let mut line = match (&c.links, c.min_m, c.t) {
+        (Some([a, b]), Some(m), Some(t)) if c.tolerance_m > 0.0 => format!(
+            "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
+            quoted(a),
+            quoted(b),
+            m * 1e3,
+            (m - c.tolerance_m) * 1e3
+        ),
         (Some([a, b]), Some(m), Some(t)) => {
             format!(
                 "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s",

@@ -13,7 +13,8 @@ pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, POINT_STIFFNESS, SelfC
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
-    Collisions, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
+    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
+    ScenarioBuilder, ShapeRun, Warning, tune,
 };
 pub use stop::{StopFlag, exit_status};
 pub use summary::{ContactSummary, Diverged, MotorSummary, PathDeviation, StepLoss, Summary, ToolRange};

@@ -6,7 +6,7 @@ use super::{ContactStep, ContactSummary};
 use crate::algo::{Data, State, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
 use crate::control::Envelope;
 use crate::error::{Error, Result};
-use crate::geometry::{ClearanceReport, CollisionSet, GeometryData};
+use crate::geometry::{Clearance, CollisionSet};
 use crate::model::{FrameId, JointId, JointKind};
 use crate::spatial::Pose;
 use crate::spatial::Vec3;
@@ -34,7 +34,7 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 /// speed limit are over those steps; tool range and path deviation over the samples every
 /// `record_every` steps and after the last, where the self-clearance of the scenario's
 /// collision set is measured too (every frame's pose by forward kinematics, then
-/// [`CollisionSet::accumulate`], completed by [`CollisionSet::finish`]): the summary's
+/// [`Clearance::add`], completed by [`Clearance::finish`]): the summary's
 /// `clearance`, and a verdict that *collides* when any pair intersects at a sample. A diverged
 /// run stops at once; its summary says where (`diverged`), and covers the steps that
 /// completed. A raised `stop` flag ends the run at the next poll the same way, as if that step
@@ -160,7 +160,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
     let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
     summary.clearance_wall_time_s = clearance.as_ref().map(|c| c.elapsed.as_secs_f64());
-    summary.clearance = clearance.map(|c| c.report);
+    summary.clearance = clearance.map(|c| c.clearance.into_report());
     summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
     for r in recorders.iter_mut() {
         r.finish(&summary)?;
@@ -288,7 +288,7 @@ impl<'a> Records<'a> {
             steps: StepMetrics::new(sc.model.dof()),
             motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc.model.dof())),
             samples: SampleMetrics::new(),
-            clearance: sc.collision_set.as_deref().map(ClearanceMetrics::new),
+            clearance: (sc.collision_set.as_deref()).map(|set| ClearanceMetrics::new(set, sc.clearance_tolerance)),
             schedule: Schedule::new(recorders, sc.dt, sc.record_every),
             target: [0.0; 3],
             target_rate: [0.0; 3],
@@ -334,7 +334,7 @@ impl<'a> Records<'a> {
             g: p.data.g.as_slice(),
             tool,
             target,
-            intersecting: self.clearance.as_ref().map_or(&[], |c| c.data.intersecting.as_slice()),
+            intersecting: self.clearance.as_ref().map_or(&[], |c| c.clearance.intersecting()),
         };
         self.schedule.record(recorders, k, last, &sample)
     }
@@ -557,9 +557,7 @@ impl SampleMetrics {
 
 /// Self-clearance over the trail samples: the report, and when each pair first intersected.
 struct ClearanceMetrics<'a> {
-    set: &'a CollisionSet,
-    data: GeometryData,
-    report: ClearanceReport,
+    clearance: Clearance<'a>,
     /// Per checked pair, the time of the first sample at which it intersects (s).
     first_intersection: Vec<Option<f64>>,
     /// Wall-clock time spent in [`ClearanceMetrics::add`] and [`ClearanceMetrics::finish`].
@@ -567,13 +565,11 @@ struct ClearanceMetrics<'a> {
 }
 
 impl<'a> ClearanceMetrics<'a> {
-    fn new(set: &'a CollisionSet) -> Self {
-        let data = GeometryData::new(set);
-        let first_intersection = vec![None; data.intersecting.len()];
+    fn new(set: &'a CollisionSet, tolerance: f64) -> Self {
+        let clearance = Clearance::with_tolerance(set, tolerance);
+        let first_intersection = vec![None; clearance.intersecting().len()];
         ClearanceMetrics {
-            set,
-            data,
-            report: set.new_report(),
+            clearance,
             first_intersection,
             elapsed: Duration::ZERO,
         }
@@ -582,8 +578,8 @@ impl<'a> ClearanceMetrics<'a> {
     /// Folds the sample at time `t` (s), whose frames are at `frame_pose`, in.
     fn add(&mut self, frame_pose: &[Pose], t: f64) {
         let started = Instant::now();
-        self.set.accumulate(frame_pose, t, &mut self.data, &mut self.report);
-        for (first, &now) in self.first_intersection.iter_mut().zip(&self.data.intersecting) {
+        self.clearance.add(frame_pose, t);
+        for (first, &now) in self.first_intersection.iter_mut().zip(self.clearance.intersecting()) {
             if now && first.is_none() {
                 *first = Some(t);
             }
@@ -591,17 +587,17 @@ impl<'a> ClearanceMetrics<'a> {
         self.elapsed += started.elapsed();
     }
 
-    /// Completes the report after the last sample ([`CollisionSet::finish`]).
+    /// Completes the report after the last sample ([`Clearance::finish`]).
     fn finish(&mut self) {
         let started = Instant::now();
-        self.set.finish(&mut self.data, &mut self.report);
+        self.clearance.finish();
         self.elapsed += started.elapsed();
     }
 
     /// The pairs of links that intersected, each once (a link may carry several shapes), in
     /// the order they first did (pair order among equals).
     fn intersections(&self) -> Vec<Intersection> {
-        let mut pairs: Vec<Intersection> = (self.report.pairs.iter().zip(&self.first_intersection))
+        let mut pairs: Vec<Intersection> = (self.clearance.report().pairs.iter().zip(&self.first_intersection))
             .filter_map(|(p, first)| {
                 first.map(|from_t| Intersection {
                     links: p.links.clone(),

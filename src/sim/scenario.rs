@@ -36,6 +36,9 @@ use super::{Thresholds, steps_per_record};
 pub const DEFAULT_DT: f64 = 2e-4;
 /// Default time between two trail samples, where the tool range and path deviation are taken (s).
 pub const DEFAULT_RECORD_PERIOD: f64 = 0.02;
+/// Default tolerance (m) of the self-clearance ([`ScenarioBuilder::clearance_tolerance`]); how
+/// it was chosen: docs/clearance.md, "Speed".
+pub const DEFAULT_CLEARANCE_TOLERANCE_M: f64 = 1e-3;
 /// Default simulated time (s) of a run built without [`ScenarioBuilder::duration`].
 pub const DEFAULT_DURATION: f64 = 8.0;
 
@@ -55,6 +58,9 @@ pub struct Scenario {
     /// geometry has no collision element. Shared, immutable: clones of the scenario (a sweep's
     /// runs) use the same one.
     pub collision_set: Option<Arc<CollisionSet>>,
+    /// How far (m) the self-clearance's minimum may be above the true one (0: exact; see
+    /// [`crate::geometry::Clearance::with_tolerance`]).
+    pub clearance_tolerance: f64,
     /// The frame traced as the tool.
     pub tool_frame: FrameId,
     /// The joint command.
@@ -211,6 +217,8 @@ impl Scenario {
             geometry: GeometryModel::default(),
             load_warnings: Vec::new(),
             collisions: Some(Collisions::default()),
+            collision_set: None,
+            clearance_tolerance: DEFAULT_CLEARANCE_TOLERANCE_M,
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
                 Trajectory::Interpolated(_) => "replay",
@@ -246,6 +254,8 @@ pub struct ScenarioBuilder {
     geometry: GeometryModel,
     load_warnings: Vec<LoadWarning>,
     collisions: Option<Collisions>,
+    collision_set: Option<Arc<CollisionSet>>,
+    clearance_tolerance: f64,
     trajectory: Trajectory,
     dt: f64,
     duration: f64,
@@ -290,6 +300,25 @@ impl ScenarioBuilder {
     /// mesh is read. Default: [`Collisions::default`] (exact meshes, non-adjacent pairs).
     pub fn collisions(mut self, collisions: Option<Collisions>) -> Self {
         self.collisions = collisions;
+        self
+    }
+
+    /// A collision set already loaded from the geometry given by
+    /// [`ScenarioBuilder::geometry`] (its pairs index that geometry's collision elements), used
+    /// instead of loading one: a sweep loads it once and shares it between its runs. Its
+    /// reading of meshes and its pairs are its own; [`ScenarioBuilder::collisions`]`(None)`
+    /// still turns the clearance off.
+    pub fn collision_set(mut self, set: Arc<CollisionSet>) -> Self {
+        self.collision_set = Some(set);
+        self
+    }
+
+    /// How far (m, ≥ 0) the self-clearance's minimum may be above the true minimum over the
+    /// samples (`--clearance-tolerance`, in mm there): it is the distance of two actual parts,
+    /// and the true minimum is at most this much below it; 0 is exact. Intersections are
+    /// decided exactly whatever it is. Default [`DEFAULT_CLEARANCE_TOLERANCE_M`].
+    pub fn clearance_tolerance(mut self, tolerance: f64) -> Self {
+        self.clearance_tolerance = tolerance;
         self
     }
 
@@ -401,6 +430,7 @@ impl ScenarioBuilder {
         non_negative("--max-error", self.thresholds.max_error)?;
         non_negative("--max-deviation-mm", self.thresholds.max_deviation_mm)?;
         non_negative("--payload-kg", self.payload_kg)?;
+        non_negative("--clearance-tolerance", self.clearance_tolerance)?;
         if let Some(contact) = &self.self_contact {
             non_negative("--friction", contact.friction)?;
             if contact.friction > MAX_FRICTION {
@@ -523,12 +553,16 @@ impl ScenarioBuilder {
             warnings.push(Warning::UnstableGains { stability, given });
         }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
-        let (geometry, collision_set) = load_collisions(&model, self.geometry, self.collisions, &mut warnings)?;
+        let (geometry, collision_set) = match (self.collisions, self.collision_set) {
+            (Some(_), Some(set)) => (self.geometry, Some(set)),
+            (collisions, _) => load_collisions(&model, self.geometry, collisions, &mut warnings)?,
+        };
         Ok(Scenario {
             command: self.command,
             model,
             geometry,
             collision_set,
+            clearance_tolerance: self.clearance_tolerance,
             tool_frame,
             trajectory: self.trajectory,
             dt: self.dt,

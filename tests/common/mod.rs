@@ -147,14 +147,25 @@ pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
 
 /// Sends SIGINT (what Ctrl-C sends) to process `pid`.
 pub fn interrupt(pid: u32) {
+    send(pid, libc::SIGINT);
+}
+
+/// Sends `signal` to process `pid`.
+pub fn send(pid: u32, signal: libc::c_int) {
     // SAFETY: kill(2) only reads its arguments
-    let sent = unsafe { libc::kill(pid as libc::pid_t, libc::SIGINT) };
-    assert_eq!(sent, 0, "kill(SIGINT) failed: {}", std::io::Error::last_os_error());
+    let sent = unsafe { libc::kill(pid as libc::pid_t, signal) };
+    assert_eq!(sent, 0, "kill({signal}) failed: {}", std::io::Error::last_os_error());
 }
 
 /// Runs the `faze4` binary with `args` in `dir`, sends it SIGINT (Ctrl-C) after `after`, and
 /// waits for it: its exit status and both outputs.
 pub fn interrupted(dir: &Path, args: &[&str], after: std::time::Duration) -> std::process::Output {
+    signalled(dir, args, libc::SIGINT, after)
+}
+
+/// Runs the `faze4` binary with `args` in `dir`, sends it `signal` after `after`, and waits for
+/// it: its exit status and both outputs.
+pub fn signalled(dir: &Path, args: &[&str], signal: libc::c_int, after: std::time::Duration) -> std::process::Output {
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
         .args(args)
         .current_dir(dir)
@@ -163,7 +174,7 @@ pub fn interrupted(dir: &Path, args: &[&str], after: std::time::Duration) -> std
         .spawn()
         .expect("run faze4");
     std::thread::sleep(after);
-    interrupt(child.id());
+    send(child.id(), signal);
     child.wait_with_output().expect("faze4 ends")
 }
 
