@@ -78,6 +78,50 @@ def _text(option: Option | None, value: Any) -> str:
     return str(value)
 
 
+def _toml_value(value: Any) -> str:
+    """One TOML value of a motors table: a string, a number, a boolean or a list of them."""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value)).lower()
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    raise Error(f"--motors: a dict's value {value!r} is not a string, number, boolean or list")
+
+
+_MOTOR_FILES: list[str] = []
+
+
+def _motors_file(motors: dict[str, Any]) -> str:
+    """``motors={"joint": [{...}, ...]}`` (the ``--motors FILE.toml`` schema as a dict, docs/motors.md)
+    written as a TOML file for the command line's ``--motors``; the file lives as long as the
+    interpreter (a Robot keeps its words)."""
+    import atexit
+    import tempfile
+
+    joints = motors.get("joint")
+    if set(motors) != {"joint"} or not isinstance(joints, (list, tuple)):
+        raise Error('--motors: a dict holds one key, "joint": a list of one dict per moving joint')
+    lines = []
+    for entry in joints:
+        if not isinstance(entry, dict):
+            raise Error(f"--motors: each joint is a dict of its motor's figures, not {entry!r}")
+        lines.append("[[joint]]")
+        lines.extend(f"{key} = {_toml_value(value)}" for key, value in entry.items())
+        lines.append("")
+    handle, path = tempfile.mkstemp(prefix="faze4-motors-", suffix=".toml")
+    with os.fdopen(handle, "w", encoding="utf-8") as file:
+        file.write("\n".join(lines))
+    if not _MOTOR_FILES:
+        atexit.register(lambda: [os.remove(f) for f in _MOTOR_FILES if os.path.exists(f)])
+    _MOTOR_FILES.append(path)
+    return path
+
+
 def _words(table: dict[str, Option], options: dict[str, Any]) -> list[str]:
     """Keywords → the option words of the command line: ``amp_deg=25.0`` → ``--amp-deg=25.0``,
     ``True`` a flag, a list comma-joined (``None`` in it: ``auto``), ``None`` omitted. A name
@@ -87,6 +131,8 @@ def _words(table: dict[str, Option], options: dict[str, Any]) -> list[str]:
     for name, value in options.items():
         if value is None:
             continue
+        if name == "motors" and isinstance(value, dict):
+            value = _motors_file(value)
         option = table.get(name)
         long = option.long if option else name.replace("_", "-")
         if option is not None and option.kind == "flag":

@@ -50,6 +50,7 @@ class Robot:
         *,
         urdf: str | os.PathLike[str] | None = None,
         package_path: Sequence[str | os.PathLike[str]] | None = None,
+        balance_inertia: bool = False,
         tool_link: str | None = None,
         effort: str | Sequence[float | None] | np.ndarray | None = None,
         kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -75,6 +76,7 @@ class Robot:
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
         collision_pairs: Literal['all'] | None = None,
+        clearance_tolerance: float = 1.0,
         no_collisions: bool = False,
         self_collisions: bool = False,
         friction: float = 1.0,
@@ -83,6 +85,7 @@ class Robot:
         hold: bool = False,
         html: str | os.PathLike[str] | None = None,
         plot: str | os.PathLike[str] | None = None,
+        plot_motors: str | os.PathLike[str] | None = None,
     ) -> Robot: ...
     @classmethod
     def from_urdf(
@@ -91,6 +94,7 @@ class Robot:
         package_path: Sequence[str | os.PathLike[str]] | None = None,
         tool_link: str | None = None,
         *,
+        balance_inertia: bool = False,
         effort: str | Sequence[float | None] | np.ndarray | None = None,
         kp: str | Sequence[float | None] | np.ndarray | None = None,
         kd: str | Sequence[float | None] | np.ndarray | None = None,
@@ -115,6 +119,7 @@ class Robot:
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
         collision_pairs: Literal['all'] | None = None,
+        clearance_tolerance: float = 1.0,
         no_collisions: bool = False,
         self_collisions: bool = False,
         friction: float = 1.0,
@@ -123,6 +128,7 @@ class Robot:
         hold: bool = False,
         html: str | os.PathLike[str] | None = None,
         plot: str | os.PathLike[str] | None = None,
+        plot_motors: str | os.PathLike[str] | None = None,
     ) -> Robot: ...
 
 
@@ -144,9 +150,11 @@ def wave(
     duration: float = 8.0,
     freq: float = 0.5,
     amp_deg: float = 25.0,
+    amp_m: float | None = None,
     center: str | Sequence[float] | None = None,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
     tool_link: str | None = None,
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -172,6 +180,7 @@ def wave(
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
     collision_pairs: Literal['all'] | None = None,
+    clearance_tolerance: float = 1.0,
     no_collisions: bool = False,
     self_collisions: bool = False,
     friction: float = 1.0,
@@ -180,6 +189,7 @@ def wave(
     hold: bool = False,
     html: str | os.PathLike[str] | None = None,
     plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
 
 def replay(
@@ -190,6 +200,7 @@ def replay(
     duration: float = 8.0,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
     tool_link: str | None = None,
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -215,6 +226,7 @@ def replay(
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
     collision_pairs: Literal['all'] | None = None,
+    clearance_tolerance: float = 1.0,
     no_collisions: bool = False,
     self_collisions: bool = False,
     friction: float = 1.0,
@@ -223,6 +235,7 @@ def replay(
     hold: bool = False,
     html: str | os.PathLike[str] | None = None,
     plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
 
 def shape(
@@ -234,6 +247,7 @@ def shape(
     save_q: str | os.PathLike[str] | None = None,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
     tool_link: str | None = None,
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
@@ -259,6 +273,7 @@ def shape(
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
     collision_pairs: Literal['all'] | None = None,
+    clearance_tolerance: float = 1.0,
     no_collisions: bool = False,
     self_collisions: bool = False,
     friction: float = 1.0,
@@ -267,6 +282,7 @@ def shape(
     hold: bool = False,
     html: str | os.PathLike[str] | None = None,
     plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
 
 def sweep(

@@ -252,3 +252,24 @@ def test_python_defaults_are_the_only_ones_that_differ():
     assert set(faze4.PYTHON_DEFAULTS) == {"trail", "quiet"}
     binary = {o.name: o.default for o in faze4.options("wave")}
     assert binary["trail"] == "faze4_trail.csv"
+
+
+def test_motors_as_a_dict_equal_the_motors_file():
+    # issue 23: motors= takes a path, a preset name or a dict of the file's schema
+    import tomllib
+
+    path = ROOT / "tests" / "motors" / "dc_arm.toml"
+    table = tomllib.loads(path.read_text())
+    urdf = ROOT / "tests" / "urdf" / "motor_arm.urdf"
+    common = dict(duration=0.5, no_collisions=True)
+    by_file = faze4.wave(faze4.Robot.from_urdf(urdf, motors=str(path)), **common)
+    by_dict = faze4.wave(faze4.Robot.from_urdf(urdf, motors=table), **common)
+    by_run = faze4.wave(faze4.Robot.from_urdf(urdf), motors=table, **common)
+    strip = lambda s: {k: v for k, v in s.items() if "wall_time" not in k}  # noqa: E731
+    assert "motors" in by_file.summary
+    assert strip(by_dict.summary) == strip(by_file.summary)
+    assert strip(by_run.summary) == strip(by_file.summary)
+    preset = faze4.wave(faze4.Robot.faze4(motors="faze4"), **common)
+    assert [m["kind"] for m in preset.summary["motors"]] == ["stepper"] * 6
+    with pytest.raises(faze4.Error, match="--motors"):
+        faze4.Robot.from_urdf(urdf, motors={"joints": []})
