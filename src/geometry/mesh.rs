@@ -156,12 +156,15 @@ pub fn triangle_corners(
 ) -> std::result::Result<(Vec<[f32; 3]>, Option<Rgba>), String> {
     let loader = mesh_loader::Loader::default();
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let scene = match extension.as_deref() {
+    // mesh-loader panics on some malformed COLLADA files (fuzz/artifacts of mesh_file): a panic
+    // is caught, unprinted, and reported as the file's one-line error
+    let scene = crate::model::urdf::quietly(std::panic::AssertUnwindSafe(|| match extension.as_deref() {
         Some("stl") => loader.load_stl_from_slice(bytes, path),
         Some("dae") => loader.load_collada_from_slice(bytes, path),
         Some("obj") => loader.load_obj_from_slice_with_reader(bytes, path, side_file),
         _ => loader.load_from_slice_with_reader(bytes, path, side_file),
-    }
+    }))
+    .map_err(|panic| format!("the mesh reader (mesh-loader) failed on this file: {panic}"))?
     .map_err(|e| {
         let message = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
         match extension.as_deref() {

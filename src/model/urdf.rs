@@ -240,6 +240,13 @@ thread_local! {
 /// the fuzzer, libFuzzer's, which aborts). A hook set after the first call replaces it, which
 /// only makes a caught parser panic visible again.
 fn parse_quietly(text: &str) -> std::result::Result<urdf_rs::Result<urdf_rs::Robot>, String> {
+    quietly(|| urdf_rs::read_from_string(text))
+}
+
+/// `f()`, with a panic inside it caught and returned as its message, unprinted, as
+/// [`parse_quietly`] does for urdf-rs (the mesh reader uses it for mesh-loader, which panics on
+/// some malformed COLLADA files).
+pub(crate) fn quietly<T>(f: impl FnOnce() -> T + std::panic::UnwindSafe) -> std::result::Result<T, String> {
     static QUIET_HOOK: Once = Once::new();
     QUIET_HOOK.call_once(|| {
         let previous = std::panic::take_hook();
@@ -250,7 +257,7 @@ fn parse_quietly(text: &str) -> std::result::Result<urdf_rs::Result<urdf_rs::Rob
         }));
     });
     IN_PARSER.set(true);
-    let result = std::panic::catch_unwind(|| urdf_rs::read_from_string(text));
+    let result = std::panic::catch_unwind(f);
     IN_PARSER.set(false);
     result.map_err(|payload| {
         (payload.downcast_ref::<&str>().map(|s| s.to_string()))
