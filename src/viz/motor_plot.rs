@@ -46,17 +46,7 @@ impl MotorPlot {
     pub fn new(path: impl Into<PathBuf>) -> Result<MotorPlot> {
         let path = path.into();
         check_output_path(&path, "--plot-motors")?;
-        let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
-        let svg = match ext.as_deref() {
-            Some("svg") => true,
-            Some("png") => false,
-            _ => {
-                return Err(Error::argument(
-                    "--plot-motors",
-                    format!("{}: the plot is written as .svg or .png", path.display()),
-                ));
-            }
-        };
+        let svg = super::plot::is_svg(&path, "--plot-motors")?;
         Ok(MotorPlot {
             path,
             outputs: Outputs::immediate(),

@@ -26,6 +26,23 @@ const WIDTH: u32 = 1400;
 const ROW_HEIGHT: u32 = 220;
 const TITLE_HEIGHT: u32 = 44;
 
+/// Whether a figure to `path` is an SVG (`.svg`) rather than a PNG (`.png`); another
+/// extension is an error naming `option`.
+pub(crate) fn is_svg(path: &std::path::Path, option: &str) -> Result<bool> {
+    match path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .as_deref()
+    {
+        Some("svg") => Ok(true),
+        Some("png") => Ok(false),
+        _ => Err(Error::argument(
+            option,
+            format!("{}: the plot is written as .svg or .png", path.display()),
+        )),
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Format {
     Svg,
@@ -61,19 +78,10 @@ impl PlotRecorder {
     pub fn new(path: impl Into<PathBuf>) -> Result<PlotRecorder> {
         let path = path.into();
         check_output_path(&path, "--plot")?;
-        let format = match path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase())
-            .as_deref()
-        {
-            Some("svg") => Format::Svg,
-            Some("png") => Format::Png,
-            _ => {
-                return Err(Error::argument(
-                    "--plot",
-                    format!("{}: the plot is written as .svg or .png", path.display()),
-                ));
-            }
+        let format = if is_svg(&path, "--plot")? {
+            Format::Svg
+        } else {
+            Format::Png
         };
         Ok(PlotRecorder {
             path,
