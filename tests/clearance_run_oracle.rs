@@ -9,8 +9,10 @@
 //! `tolerance_m` and E coal's minimum: `E ≤ R + slack` (R is the distance of two actual parts at
 //! a sample), `R − τ ≤ E + slack` (the true minimum is at most τ below R), and that the pair
 //! intersected exactly when coal finds it intersecting at some sample. At τ = 0 the two give
-//! `|R − E| ≤ slack`. slack is the fixture's: 1e-9 m for two meshes (coal's triangle distances
-//! are closed-form), 1e-5 m with a primitive (GJK and EPA on curved shapes; docs/clearance.md).
+//! `|R − E| ≤ slack`. slack is the fixture's: 1e-9 m for meshes, boxes and spheres (coal's
+//! triangle distances are closed-form, GJK is exact on polytopes), 1e-5 m for a pair with a
+//! cylinder (GJK and EPA on curved shapes; docs/clearance.md). Two primitives with a cylinder
+//! that intersect are checked for the intersection only (coal's depth there is not trusted).
 
 mod common;
 
@@ -80,22 +82,29 @@ fn check_run(name: &str, tolerance_mm: Option<&str>, expect_tolerance_m: f64) ->
     for (p, e) in ours.iter().zip(exact) {
         assert_eq!(p["links"], e["links"], "{name}: the checked pairs, in order");
         let r = p["min_m"].as_f64().unwrap();
-        let (min, slack) = (e["exact_min_m"].as_f64().unwrap(), e["slack_m"].as_f64().unwrap());
+        let slack = e["slack_m"].as_f64().unwrap();
         let faze4_hits = p.get("intersecting").and_then(Value::as_bool).unwrap_or(false);
         let coal_hits = e["intersecting"].as_bool().unwrap();
         let what = format!(
-            "{name}, tolerance {tau} m, {} {} ({}): faze4 {r}, coal {min} at t = {}",
-            e["links"], e["shapes"], e["kind"], e["exact_t"]
-        );
-        assert!(
-            min <= r + slack,
-            "{what}: below coal's exact minimum, not an actual distance"
-        );
-        assert!(
-            r - tau <= min + slack,
-            "{what}: more than the tolerance above the exact minimum"
+            "{name}, tolerance {tau} m, {} {} ({}): faze4 {r}, coal {} at t = {}",
+            e["links"], e["shapes"], e["kind"], e["exact_min_m"], e["exact_t"]
         );
         assert_eq!(faze4_hits, coal_hits, "{what}: intersecting");
+        match e["exact_min_m"].as_f64() {
+            Some(min) => {
+                assert!(
+                    min <= r + slack,
+                    "{what}: below coal's exact minimum, not an actual distance"
+                );
+                assert!(
+                    r - tau <= min + slack,
+                    "{what}: more than the tolerance above the exact minimum"
+                );
+            }
+            // two primitives with a cylinder that intersect: coal's penetration depth is not
+            // trusted (the script's docstring), only that they intersect
+            None => assert!(coal_hits && r <= 0.0, "{what}"),
+        }
         intersecting += usize::from(coal_hits);
         let kind = e["kind"].as_str().unwrap().to_string();
         if !kinds.contains(&kind) {
