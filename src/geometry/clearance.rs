@@ -350,14 +350,14 @@ impl PairMemory {
                             return upper_bound(upper);
                         }
                     }
-                } else if oa.triangles.is_some() && ob.triangles.is_some() && !(self.search_now && best > 0.0) {
-                    // the hulls overlap: whether two triangles cross is tested now (an
-                    // intersection must be seen at its sample); the distance of a sample
+                } else if !(self.search_now && best > 0.0) {
+                    // the hulls overlap: whether two triangles cross (or a triangle and a
+                    // primitive) is tested now (an intersection must be seen at its sample); the distance of a sample
                     // whose triangles are apart waits for finish like the others, its hulls
                     // bounding it below by 0 (none can lower a smallest distance of 0, and
                     // then the test goes on whatever it costs)
                     let budget = if best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
-                    match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("two meshes") {
+                    match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("a mesh") {
                         Touch::Crossing => PairDistance {
                             distance: 0.0,
                             intersecting: true,
@@ -381,8 +381,7 @@ impl PairMemory {
                         }
                     }
                 } else {
-                    // a mesh and a primitive, or meshes too close for a crossing test, whose
-                    // hulls overlap
+                    // a pair too close for a crossing test, whose hulls overlap
                     self.search_now(set, k, (pa, pb), best, hull)?
                 }
             }
