@@ -505,7 +505,8 @@ def run_faze4(faze4, args, tolerance_mm, tmp):
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
     wall = time.time() - t0
     if r.returncode not in (0, 3):
-        raise RuntimeError(f"{' '.join(cmd)}: exit {r.returncode}: {r.stderr.strip()[-300:]}")
+        last = (r.stderr.strip().splitlines() or ["?"])[-1]
+        raise RuntimeError(f"faze4 exit {r.returncode}: {last[-200:]}")
     s = json.load(open(summary))
     with open(trail) as f:
         rows = list(csv.reader(f))
@@ -702,7 +703,7 @@ def main():
                 try:
                     result, _ = check(arm, args.faze4, tol, tmp)
                 except (RuntimeError, ValueError, AssertionError) as e:
-                    print(f"| {arm.name} | {tol} mm | – | – | – | could not check: {str(e)[:200]} | – | – |", flush=True)
+                    print(f"| {arm.name} | {tol:g} mm | – | – | – | could not check: {str(e)[:200]} | – | – |", flush=True)
                     failed = True
                     continue
             print_row(result)
