@@ -126,6 +126,12 @@ mod tests {
             })
             .unwrap();
             let built_in = mesh(link).unwrap();
+            // the loader's shortcut welds it as the file's soup would be
+            assert_eq!(
+                crate::geometry::mesh::Mesh::from_indexed(&built_in.positions, &built_in.indices),
+                crate::geometry::mesh::Mesh::from_soup(&built_in.corners()),
+                "{link}"
+            );
             let bits = |corners: &[[f32; 3]]| corners.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
             assert_eq!(bits(&built_in.corners()), bits(&file), "{link}: the file's triangles");
             // welded: one vertex per distinct position

@@ -350,14 +350,14 @@ impl PairMemory {
                             return upper_bound(upper);
                         }
                     }
-                } else if oa.triangles.is_some() && ob.triangles.is_some() && !(self.search_now && best > 0.0) {
-                    // the hulls overlap: whether two triangles cross is tested now (an
-                    // intersection must be seen at its sample); the distance of a sample
+                } else if !(self.search_now && best > 0.0) {
+                    // the hulls overlap: whether two triangles cross (or a triangle and a
+                    // primitive) is tested now (an intersection must be seen at its sample); the distance of a sample
                     // whose triangles are apart waits for finish like the others, its hulls
                     // bounding it below by 0 (none can lower a smallest distance of 0, and
                     // then the test goes on whatever it costs)
                     let budget = if best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
-                    match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("two meshes") {
+                    match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("a mesh") {
                         Touch::Crossing => PairDistance {
                             distance: 0.0,
                             intersecting: true,
@@ -377,13 +377,12 @@ impl PairMemory {
                         }
                         Touch::Undecided => {
                             self.search_now = true;
-                            self.search_now(set, k, (pa, pb), best, hull)?
+                            return self.search_now(set, k, (pa, pb), best, hull, tolerance);
                         }
                     }
                 } else {
-                    // a mesh and a primitive, or meshes too close for a crossing test, whose
-                    // hulls overlap
-                    self.search_now(set, k, (pa, pb), best, hull)?
+                    // a pair too close for a crossing test, whose hulls overlap
+                    return self.search_now(set, k, (pa, pb), best, hull, tolerance);
                 }
             }
         };
@@ -391,12 +390,17 @@ impl PairMemory {
         Some(d)
     }
 
-    /// For [`PairMemory::fold`]: the distance of pair `k` (exactly, whatever the tolerance:
-    /// it may touch), whose hulls overlap (signed
+    /// For [`PairMemory::fold`]: the distance of pair `k`, whose hulls overlap (signed
     /// distance `hull`), at the world poses `(pa, pb)` of its objects, searched now, bounded by
     /// the smallest distance so far `best`, or (once the pair has intersected) by the least
     /// positive distance, which still finds an intersection (a pair of meshes is then given
-    /// the crossing test, whose budget is lifted).
+    /// the crossing test, whose budget is lifted). Sets the pair's carried lower bound.
+    ///
+    /// The pair may touch, yet a search to within a share `s` of the `tolerance` is safe while
+    /// `best > s`: it passes over only boxes and parts whose lower bound is at least the best
+    /// distance found less `s`, which is positive until it finds parts within `s` of each
+    /// other, and two parts that touch have a lower bound of 0. When it finds parts that
+    /// close, the sample is searched again exactly, so an intersection is never passed over.
     fn search_now(
         &mut self,
         set: &CollisionSet,
@@ -404,12 +408,20 @@ impl PairMemory {
         (pa, pb): (&PPose, &PPose),
         best: f64,
         hull: f64,
+        tolerance: f64,
     ) -> Option<PairDistance> {
         let bound = best.max(f64::MIN_POSITIVE);
-        let found = set.pair_distance(k, (pa, pb), &mut self.closest, bound, Some(hull), 0.0);
-        if found.is_none() {
-            self.reference = (bound, pa.inv_mul(pb));
-        }
+        let share = tolerance * SEARCH_SHARE;
+        let mut search = |tolerance| set.pair_distance(k, (pa, pb), &mut self.closest, bound, Some(hull), tolerance);
+        let (found, slack) = match share > 0.0 && bound > share {
+            true => match search(share) {
+                Some(d) if d.distance <= share => (search(0.0), 0.0),
+                found => (found, share),
+            },
+            false => (search(0.0), 0.0),
+        };
+        let lower = found.map_or(bound, |d| d.distance) - slack;
+        self.reference = (lower, pa.inv_mul(pb));
         found
     }
 }

@@ -48,7 +48,7 @@ use super::hull::{Adjacency, Climber};
 use super::mesh::load;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
-use super::search::{Touch, mesh_distance, meshes_touch};
+use super::search::{Touch, mesh_distance, mesh_shape_distance, mesh_touches_shape, meshes_touch};
 use super::{GeometryModel, GeometryObject};
 use crate::error::{Error, Result};
 use crate::model::{Geometry, Model};
@@ -338,9 +338,11 @@ impl CollisionSet {
         ClearanceReport::new(self.geometry(), self.pair_links(), self.unchecked().to_vec())
     }
 
-    /// Whether two triangles of the meshes of objects `a` and `b` touch or cross at their
-    /// relative pose `pose_ab` ([`meshes_touch`], opening at most `budget` pairs of nodes;
-    /// `closest` is tried first and receives a crossing pair); `None` unless both are meshes.
+    /// Whether a triangle of the mesh of object `a` or `b` touches or crosses the other's
+    /// triangles (or the other object whole, a primitive) at their relative pose `pose_ab`
+    /// ([`meshes_touch`], [`mesh_touches_shape`], opening at most `budget` nodes or pairs of
+    /// nodes; `closest` is tried first and receives a crossing pair); `None` when neither is a
+    /// mesh.
     pub(super) fn touch(
         &self,
         a: usize,
@@ -349,8 +351,19 @@ impl CollisionSet {
         closest: &mut (u32, u32),
         budget: usize,
     ) -> Option<Touch> {
-        let (ma, mb) = (self.objects[a].triangles.as_ref()?, self.objects[b].triangles.as_ref()?);
-        Some(meshes_touch(ma, mb, pose_ab, closest, budget))
+        let (oa, ob) = (&self.objects[a], &self.objects[b]);
+        match (&oa.triangles, &ob.triangles) {
+            (Some(ma), Some(mb)) => Some(meshes_touch(ma, mb, pose_ab, closest, budget)),
+            (Some(ma), None) => Some(mesh_touches_shape(ma, &*ob.convex, pose_ab, &mut closest.0, budget)),
+            (None, Some(mb)) => Some(mesh_touches_shape(
+                mb,
+                &*oa.convex,
+                &pose_ab.inverse(),
+                &mut closest.1,
+                budget,
+            )),
+            (None, None) => None,
+        }
     }
 
     /// The distance of pair `k` at the world poses `(pa, pb)` of its objects, as
@@ -388,16 +401,19 @@ impl CollisionSet {
         let distance = match (&oa.triangles, &ob.triangles) {
             (None, None) => unreachable!("convex pairs are answered above"),
             (Some(ma), Some(mb)) => mesh_distance(ma, mb, &pa.inv_mul(pb), closest, bound, tolerance)?,
+            // the relative poses as parry's query::distance forms them, so that the exact
+            // search gives its value bit for bit
             (Some(ma), None) => {
-                query::distance(pa, ma, pb, &*ob.convex)
-                    .expect("parry supports meshes against convex shapes")
-                    .distance
+                mesh_shape_distance(ma, &*ob.convex, &pa.inv_mul(pb), &mut closest.0, bound, tolerance)?
             }
-            (None, Some(mb)) => {
-                query::distance(pa, &*oa.convex, pb, mb)
-                    .expect("parry supports meshes against convex shapes")
-                    .distance
-            }
+            (None, Some(mb)) => mesh_shape_distance(
+                mb,
+                &*oa.convex,
+                &pa.inv_mul(pb).inverse(),
+                &mut closest.1,
+                bound,
+                tolerance,
+            )?,
         };
         (distance < bound).then_some(PairDistance {
             distance,

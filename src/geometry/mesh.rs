@@ -42,6 +42,36 @@ impl Mesh {
         mesh
     }
 
+    /// [`Mesh::from_soup`] of the triangles of an indexed mesh (`indices`: three per triangle
+    /// into `positions`) without writing the soup out: the same vertices in the same order and
+    /// the same triangles, with one weld lookup per position instead of one per corner.
+    pub fn from_indexed(positions: &[[f32; 3]], indices: &[u32]) -> Mesh {
+        let key = |p: &[f32; 3]| [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits(), (p[2] + 0.0).to_bits()];
+        let mut welded: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
+        // each position's vertex, once first used
+        let mut vertex_of = vec![u32::MAX; positions.len()];
+        let mut mesh = Mesh {
+            vertices: Vec::with_capacity(positions.len()),
+            triangles: Vec::with_capacity(indices.len() / 3),
+        };
+        for t in indices.chunks_exact(3) {
+            let t = [0, 1, 2].map(|k| {
+                let i = t[k] as usize;
+                if vertex_of[i] == u32::MAX {
+                    vertex_of[i] = *welded.entry(key(&positions[i])).or_insert_with(|| {
+                        mesh.vertices.push(positions[i]);
+                        (mesh.vertices.len() - 1) as u32
+                    });
+                }
+                vertex_of[i]
+            });
+            if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                mesh.triangles.push(t);
+            }
+        }
+        mesh
+    }
+
     /// The triangle corners again, three per triangle (the soup this mesh indexes).
     pub fn soup(&self) -> Vec<[f32; 3]> {
         (self.triangles.iter())
@@ -100,7 +130,7 @@ pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
         Origin::File(path) => Some(read_mesh_file(path)),
         Origin::BuiltIn => crate::faze4::meshes::for_uri(uri).map(|mesh| {
             Ok(MeshFile {
-                mesh: Mesh::from_soup(&mesh.corners()),
+                mesh: Mesh::from_indexed(&mesh.positions, &mesh.indices),
                 color: None,
             })
         }),

@@ -1,5 +1,7 @@
 //! Searches of two triangle meshes by a simultaneous traversal of their bounding-volume
-//! hierarchies: their distance ([`mesh_distance`]) and whether they touch ([`meshes_touch`]).
+//! hierarchies: their distance ([`mesh_distance`]) and whether they touch ([`meshes_touch`]);
+//! and of a mesh against a convex shape (a primitive) by a traversal of the mesh's hierarchy
+//! against the shape's box and bounding sphere ([`mesh_shape_distance`], [`mesh_touches_shape`]).
 //! Single-pose queries of [`super::CollisionSet`]; see its module doc for the bounds.
 
 use std::cell::Cell;
@@ -7,7 +9,7 @@ use std::cell::Cell;
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
-use parry3d_f64::shape::{TriMesh, Triangle};
+use parry3d_f64::shape::{Shape, TriMesh, Triangle};
 
 use super::collision_set::ROUND_OFF;
 
@@ -190,4 +192,231 @@ fn triangle_gap(t1: &Triangle, t2: &Triangle, two_in_one: &Rebox) -> f64 {
     let top1 = axis.dot(t1.a).max(axis.dot(t1.b)).max(axis.dot(t1.c));
     let bottom2 = axis.dot(a).min(axis.dot(b)).min(axis.dot(c));
     boxes.max(bottom2 - top1)
+}
+
+/// A convex shape placed in a mesh's frame, ready for the bounds of [`mesh_shape_distance`]
+/// and [`mesh_touches_shape`]: its box and its bounding sphere in that frame.
+struct PlacedShape<'a> {
+    shape: &'a dyn Shape,
+    /// The shape's frame in the mesh's.
+    pose: &'a PPose,
+    /// Its axis-aligned box in the mesh's frame (`mins`, `maxs`).
+    aabb: (PVector, PVector),
+    /// Its bounding sphere in the mesh's frame: centre and radius (m).
+    sphere: (PVector, f64),
+}
+
+impl<'a> PlacedShape<'a> {
+    fn new(shape: &'a dyn Shape, pose: &'a PPose) -> PlacedShape<'a> {
+        let aabb = shape.compute_aabb(pose);
+        let sphere = shape.compute_bounding_sphere(pose);
+        PlacedShape {
+            shape,
+            pose,
+            aabb: (aabb.mins, aabb.maxs),
+            sphere: (sphere.center, sphere.radius),
+        }
+    }
+
+    /// A lower bound of the distance between the shape and anything inside the box `(lo, hi)`
+    /// (mesh frame): the largest of the gap between the two boxes, the gap between the box and
+    /// the bounding sphere (`|c − clamp(c, lo, hi)| − r`), and the shape's distance to the
+    /// box's centre less its half diagonal (distances are 1-Lipschitz).
+    fn gap(&self, (lo, hi): (PVector, PVector)) -> f64 {
+        let (mins, maxs) = self.aabb;
+        let boxes = (lo - maxs).max(mins - hi).max(PVector::ZERO).length();
+        let (c, r) = self.sphere;
+        let sphere = (c - c.clamp(lo, hi)).length() - r;
+        let centre = self.to_point((lo + hi) * 0.5) - (hi - lo).length() * 0.5;
+        boxes.max(sphere).max(centre)
+    }
+
+    /// The distance from point `p` (mesh frame) to the shape, solid (0 inside): parry's exact
+    /// point query.
+    fn to_point(&self, p: PVector) -> f64 {
+        self.shape.distance_to_point(self.pose, p, true)
+    }
+
+    /// A lower bound of the distance between the shape and triangle `t`: the shape's
+    /// distance to the triangle's centroid less the centroid's distance to the farthest
+    /// corner, or [`PlacedShape::gap`] to the triangle's exact box if that is larger.
+    fn triangle_gap(&self, t: &Triangle) -> f64 {
+        let centroid = (t.a + t.b + t.c) / 3.0;
+        let reach = (t.a - centroid)
+            .length()
+            .max((t.b - centroid).length())
+            .max((t.c - centroid).length());
+        let (lo, hi) = (t.a.min(t.b).min(t.c), t.a.max(t.b).max(t.c));
+        let (mins, maxs) = self.aabb;
+        let boxes = (lo - maxs).max(mins - hi).max(PVector::ZERO).length();
+        boxes.max(self.to_point(centroid) - reach)
+    }
+
+    /// The distance between triangle `i` of `m` and the shape (parry's GJK; 0 when they touch).
+    fn distance(&self, m: &TriMesh, i: u32) -> f64 {
+        DefaultQueryDispatcher
+            .distance(self.pose, &m.triangle(i), self.shape)
+            .expect("parry supports triangles against convex shapes")
+            .distance
+    }
+}
+
+/// The smallest distance between a triangle of `m` and the convex `shape` (`pos12`: the
+/// shape's frame in `m`'s), if below `bound`; `closest` seeds the search with a triangle and
+/// receives the closest found. 0 as soon as a triangle touches the shape. The mesh is its
+/// triangles (a surface), as in [`mesh_distance`]: the value is parry's distance of the mesh
+/// and the shape, computed triangle by triangle on the same relative pose.
+///
+/// A node of `m`'s hierarchy is opened only while [`PlacedShape::gap`] is below the best
+/// distance found; `tolerance` as in [`mesh_distance`] (only for a pair known to be apart).
+pub(super) fn mesh_shape_distance(
+    m: &TriMesh,
+    shape: &dyn Shape,
+    pos12: &PPose,
+    closest: &mut u32,
+    bound: f64,
+    tolerance: f64,
+) -> Option<f64> {
+    let placed = PlacedShape::new(shape, pos12);
+    let seeded = placed.distance(m, *closest);
+    let best = Cell::new(if seeded < bound { seeded } else { bound });
+    let mut found = (seeded < bound).then_some(*closest);
+    let slack = if tolerance > 0.0 { -tolerance } else { ROUND_OFF };
+    let reach = || best.get() + slack;
+    let open = |n: &BvhNode| best.get() > 0.0 && reach() > 0.0 && placed.gap((n.mins(), n.maxs())) < reach();
+    for i in m.bvh().leaves(open) {
+        if placed.triangle_gap(&m.triangle(i)) >= reach() {
+            continue;
+        }
+        let d = placed.distance(m, i);
+        if d < best.get() {
+            best.set(d);
+            found = Some(i);
+        }
+        if d <= 0.0 {
+            break;
+        }
+    }
+    *closest = found?;
+    Some(best.get())
+}
+
+/// [`meshes_touch`] for a mesh and a convex shape: whether a triangle of `m` touches or
+/// crosses `shape` (`pos12`: the shape's frame in `m`'s), with `closest` set to such a
+/// triangle when one does. Opens only the nodes whose [`PlacedShape::gap`] is below
+/// [`ROUND_OFF`], at most `budget` of them.
+pub(super) fn mesh_touches_shape(
+    m: &TriMesh,
+    shape: &dyn Shape,
+    pos12: &PPose,
+    closest: &mut u32,
+    budget: usize,
+) -> Touch {
+    let placed = PlacedShape::new(shape, pos12);
+    let seeded = placed.distance(m, *closest);
+    if seeded <= 0.0 {
+        return Touch::Crossing;
+    }
+    let opened = Cell::new(0);
+    let open = |n: &BvhNode| {
+        opened.set(opened.get() + 1);
+        opened.get() <= budget && placed.gap((n.mins(), n.maxs())) < ROUND_OFF
+    };
+    for i in m.bvh().leaves(open) {
+        if placed.triangle_gap(&m.triangle(i)) < ROUND_OFF && placed.distance(m, i) <= 0.0 {
+            *closest = i;
+            return Touch::Crossing;
+        }
+    }
+    if opened.get() > budget {
+        Touch::Undecided
+    } else {
+        Touch::Apart(seeded)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use parry3d_f64::math::Rot3 as PRot3;
+    use parry3d_f64::query;
+    use parry3d_f64::shape::{Ball, Cuboid, Cylinder};
+
+    /// The built-in gripper mesh of the Faze4 (2,672 triangles), in metres.
+    fn gripper() -> TriMesh {
+        let mesh = crate::faze4::meshes::mesh("hvataljka").expect("built in");
+        let points = (mesh.positions.iter())
+            .map(|p| PVector::new(p[0] as f64, p[1] as f64, p[2] as f64))
+            .collect();
+        let triangles = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        TriMesh::new(points, triangles).unwrap()
+    }
+
+    /// Poses of a shape about the gripper: `n` seeded pseudo-random turns and offsets within
+    /// `reach` (m) of the mesh's box centre, some inside it.
+    fn poses(m: &TriMesh, n: usize, reach: f64) -> Vec<PPose> {
+        let centre = m.local_aabb().center();
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        (0..n)
+            .map(|_| {
+                let axis = PVector::new(next(), next(), next()).normalize_or(PVector::X);
+                let rotation = PRot3::from_scaled_axis(axis * 3.0 * next());
+                PPose::from_parts(centre + PVector::new(next(), next(), next()) * reach, rotation)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_mesh_shape_search_is_parrys_distance_and_its_crossing_test_agrees() {
+        let m = gripper();
+        let shapes: [Box<dyn Shape>; 3] = [
+            Box::new(Ball::new(0.01)),
+            Box::new(Cuboid::new(PVector::new(0.01, 0.02, 0.005))),
+            Box::new(Cylinder::new(0.02, 0.008)),
+        ];
+        let (mut touching, mut apart) = (0, 0);
+        for shape in &shapes {
+            let mut closest = 0;
+            for pose in poses(&m, 60, 0.06) {
+                let parry = query::distance(&PPose::IDENTITY, &m, &pose, &**shape).unwrap().distance;
+                // exact, seeded by the previous pose's closest triangle, bit for bit
+                let ours = mesh_shape_distance(&m, &**shape, &pose, &mut closest, f64::INFINITY, 0.0);
+                assert_eq!(ours, Some(parry), "{pose:?}");
+                // bounded: nothing when it is not below the bound
+                let (mut seed, bound) = (0, parry);
+                assert_eq!(mesh_shape_distance(&m, &**shape, &pose, &mut seed, bound, 0.0), None);
+                // within a tolerance: an actual distance at most that far above
+                let mut seed = 0;
+                let near = mesh_shape_distance(&m, &**shape, &pose, &mut seed, f64::INFINITY, 0.002).unwrap();
+                assert!(near >= parry && near <= parry + 0.002, "{near} against {parry}");
+                let d = query::distance(&PPose::IDENTITY, &m.triangle(seed), &pose, &**shape)
+                    .unwrap()
+                    .distance;
+                assert_eq!(d, near, "the triangle it names is at that distance");
+                // the crossing test, with no budget, agrees with the distance
+                let mut seed = 0;
+                match mesh_touches_shape(&m, &**shape, &pose, &mut seed, usize::MAX) {
+                    Touch::Crossing => {
+                        assert_eq!(parry, 0.0);
+                        touching += 1;
+                    }
+                    Touch::Apart(upper) => {
+                        assert!(parry > 0.0 && upper >= parry);
+                        apart += 1;
+                    }
+                    Touch::Undecided => unreachable!("no budget"),
+                }
+            }
+        }
+        assert!(
+            touching > 10 && apart > 10,
+            "both cases exercised: {touching} touching, {apart} apart"
+        );
+    }
 }
