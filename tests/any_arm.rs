@@ -304,3 +304,166 @@ fn the_arms_agree_with_pinocchio_closed_loop() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The `--summary` JSON of `faze4 ARGS --duration 0.05 -q --trail none` (it must succeed).
+fn summary_of(name: &str, args: &[&str]) -> serde_json::Value {
+    let dir = temp_dir(&format!("any-arm-summary-{name}"));
+    let summary = dir.join("s.json");
+    let mut all = args.to_vec();
+    all.extend([
+        "--duration",
+        "0.05",
+        "-q",
+        "--trail",
+        "none",
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    let run = faze4(&dir, &all);
+    assert!(run.status.success(), "{name}: {}", run.stderr);
+    let value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    value
+}
+
+/// The summary's `joints` as (name, unit) pairs.
+fn joints_of(summary: &serde_json::Value) -> Vec<(String, String)> {
+    (summary["joints"].as_array().unwrap().iter())
+        .map(|j| (j["name"].as_str().unwrap().into(), j["unit"].as_str().unwrap().into()))
+        .collect()
+}
+
+/// The summary's `meshes` as (link, uri, source) triples.
+fn meshes_of(summary: &serde_json::Value) -> Vec<(String, String, Option<String>)> {
+    (summary["meshes"].as_array().unwrap().iter())
+        .map(|m| {
+            (
+                m["link"].as_str().unwrap().into(),
+                m["uri"].as_str().unwrap().into(),
+                m["source"].as_str().map(String::from),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn the_summary_says_what_was_simulated_on_the_default_arm() {
+    let s = summary_of("faze4", &["wave"]);
+    // urdf/faze4_arm.urdf's <robot name> and its six revolute joints in DOF order
+    assert_eq!(s["robot"], "faze4_arm");
+    let names = ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"];
+    let expected: Vec<(String, String)> = names.iter().map(|n| (n.to_string(), "rad".into())).collect();
+    assert_eq!(joints_of(&s), expected);
+    assert_eq!(
+        s["joints"].as_array().unwrap().len(),
+        s["dof"].as_u64().unwrap() as usize
+    );
+    assert_eq!(
+        (&s["tool_link"], &s["tool_choice"]),
+        (&"tool_link".into(), &"named_tool_link".into())
+    );
+    // the real arm's collision meshes, one per moving link, from the copies built into the binary
+    let meshes = meshes_of(&s);
+    let expected: Vec<_> = (names.iter())
+        .map(|n| {
+            let uri = format!("package://faze4_description/meshes/{n}.STL");
+            (n.to_string(), uri, Some("built-in".to_string()))
+        })
+        .collect();
+    assert_eq!(meshes, expected);
+    assert!(s["clearance"].is_object());
+
+    // another tool is `given`; without clearance the meshes are still listed, and no clearance
+    let s = summary_of("faze4-saka", &["wave", "--tool-link", "saka", "--no-collisions"]);
+    assert_eq!((&s["tool_link"], &s["tool_choice"]), (&"saka".into(), &"given".into()));
+    assert_eq!(meshes_of(&s), expected);
+    assert!(s.get("clearance").is_none(), "{s}");
+}
+
+#[test]
+fn the_summary_names_the_leading_joints_with_their_units_and_the_default_tool_rule() {
+    // mimic_gripper_arm: the revolute `wrist_follow` and the prismatic `finger_right` follow
+    let urdf = repo_path("tests/urdf/mimic_gripper_arm.urdf");
+    let s = summary_of("mimic", &["wave", "--urdf", urdf.to_str().unwrap(), "--center", "mid"]);
+    assert_eq!(s["robot"], "mimic_gripper_arm");
+    let joints = joints_of(&s);
+    let pairs: Vec<(&str, &str)> = joints.iter().map(|(n, u)| (n.as_str(), u.as_str())).collect();
+    assert_eq!(
+        pairs,
+        [
+            ("shoulder_yaw", "rad"),
+            ("shoulder_pitch", "rad"),
+            ("elbow", "rad"),
+            ("finger_left", "m")
+        ]
+    );
+    assert_eq!(s["max_speed"].as_array().unwrap().len(), joints.len());
+    assert_eq!(
+        (&s["tool_link"], &s["tool_choice"]),
+        (&"tool_link".into(), &"named_tool_link".into())
+    );
+    assert_eq!(s["meshes"], serde_json::json!([]), "no collision mesh");
+
+    // a chain without tool_link: its last link; a branched tree: the deepest common ancestor
+    let urdf = repo_path("tests/urdf/arm_prismatic.urdf");
+    let s = summary_of("prismatic", &["wave", "--urdf", urdf.to_str().unwrap()]);
+    let units: Vec<String> = joints_of(&s).into_iter().map(|(_, u)| u).collect();
+    assert_eq!(units, ["rad", "m", "rad", "rad", "rad", "rad"]);
+    assert_eq!(s["tool_choice"], "last_link");
+    let urdf = repo_path("tests/urdf/tree_arm.urdf");
+    let s = summary_of("tree", &["wave", "--urdf", urdf.to_str().unwrap(), "--center", "mid"]);
+    assert_eq!(
+        (&s["tool_link"], &s["tool_choice"]),
+        (&"chest".into(), &"deepest_common_ancestor".into())
+    );
+}
+
+#[test]
+fn the_summary_says_where_each_mesh_came_from() {
+    // mesh_arm_stl with the upper arm's collision mesh renamed to a file that does not exist
+    let dir = temp_dir("any-arm-mesh-sources");
+    let text = std::fs::read_to_string(repo_path("tests/urdf/mesh_arm_stl.urdf")).unwrap();
+    let collision = r#"<collision><geometry><mesh filename="package://mesh_arms/meshes/upper.stl"/>"#;
+    assert!(text.contains(collision));
+    let text = text.replace(collision, &collision.replace("upper.stl", "missing.stl"));
+    let urdf = dir.join("arm.urdf");
+    std::fs::write(&urdf, text).unwrap();
+    let packages = repo_path("tests/urdf");
+    let s = summary_of(
+        "mesh-sources",
+        &[
+            "wave",
+            "--urdf",
+            urdf.to_str().unwrap(),
+            "--package-path",
+            packages.to_str().unwrap(),
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(s["robot"], "mesh_arm_stl");
+    let file = |name: &str| {
+        Some(
+            packages
+                .join("mesh_arms/meshes")
+                .join(name)
+                .to_str()
+                .unwrap()
+                .to_string(),
+        )
+    };
+    let uri = |name: &str| format!("package://mesh_arms/meshes/{name}");
+    let expected = vec![
+        ("base".to_string(), uri("base.stl"), file("base.stl")),
+        ("upper".to_string(), uri("missing.stl"), None),
+        ("forearm".to_string(), uri("forearm.stl"), file("forearm.stl")),
+        ("hand".to_string(), uri("base.stl"), file("base.stl")),
+    ];
+    assert_eq!(meshes_of(&s), expected);
+    // the files exist, and the missing mesh's link is the one the clearance left out
+    for (_, _, source) in &expected {
+        if let Some(path) = source {
+            assert!(std::path::Path::new(path).is_file(), "{path}");
+        }
+    }
+    assert_eq!(s["clearance"]["unchecked"], serde_json::json!(["upper"]));
+}

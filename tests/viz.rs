@@ -186,7 +186,12 @@ fn live_view_serves_its_assets_and_nothing_else() {
             .sum();
         let records = 51; // 0, 0.02, …, 1.0
         assert!(b64 >= records * 85 * 4 * 4 / 3, "{b64} base64 chars");
-        assert!(stream.contains("event: end\ndata: {\"dof\":6"));
+        // the summary, what was simulated first
+        assert!(
+            stream.contains("event: end\ndata: {\"robot\":\"faze4_arm\""),
+            "{stream}"
+        );
+        assert!(stream.contains(",\"dof\":6,"));
     }
 
     // refusals

@@ -59,7 +59,7 @@ def survey_one(faze4, urdf, duration):
         s = json.load(open(summary))
         unchecked = (s.get("clearance") or {}).get("unchecked", [])
         meshes = "all read" if not unchecked else f"unchecked: {', '.join(unchecked)}"
-        tool = next(l.split("tool ")[1].split(" ·")[0] for l in run.stdout.splitlines() if l.startswith("[faze4] tool"))
+        tool = s["tool_link"]
         theirs = os.path.join(tmp, "p.csv")
         amp = amplitudes(urdf, skip_mimic=True)
         ref = subprocess.run([sys.executable, os.path.join(ROOT, "tools/oracle/pin_closed_loop.py"), "--urdf", urdf,

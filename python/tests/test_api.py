@@ -81,6 +81,24 @@ def test_robot_properties():
     assert prismatic.dof == len(fixture("core_arm_prismatic.json")["joint_names"])
 
 
+def test_the_summary_says_what_was_simulated():
+    # mimic_gripper_arm: the followers wrist_follow and finger_right are no degrees of freedom
+    robot = faze4.Robot.from_urdf(ROOT / "tests" / "urdf" / "mimic_gripper_arm.urdf")
+    summary = faze4.wave(robot, duration=0.05, center="mid").summary
+    assert summary["robot"] == "mimic_gripper_arm"
+    assert [(j["name"], j["unit"]) for j in summary["joints"]] == [
+        ("shoulder_yaw", "rad"),
+        ("shoulder_pitch", "rad"),
+        ("elbow", "rad"),
+        ("finger_left", "m"),
+    ]
+    assert (summary["tool_link"], summary["tool_choice"], summary["meshes"]) == ("tool_link", "named_tool_link", [])
+    # the bundled arm's meshes are built into the binary, listed without the clearance too
+    summary = faze4.wave(faze4.Robot.faze4(), duration=0.05, no_collisions=True, tool_link="saka").summary
+    assert summary["robot"] == "faze4_arm" and summary["tool_choice"] == "given"
+    assert [(m["link"], m["source"]) for m in summary["meshes"]] == [(j["name"], "built-in") for j in summary["joints"]]
+
+
 def test_model_options_change_the_model():
     q = np.zeros(6)
     plain, heavy = faze4.Robot.faze4(), faze4.Robot.faze4(payload_kg=1.0)

@@ -91,9 +91,20 @@ pub fn mesh(name: &str) -> Option<IndexedMesh> {
 /// The built-in mesh a URDF mesh reference names, if it is one of them:
 /// `package://P/meshes/<link>.STL` with P one of [`PACKAGES`].
 pub fn for_uri(uri: &str) -> Option<IndexedMesh> {
+    mesh(name_of(uri)?)
+}
+
+/// Whether `uri` names one of the built-in meshes ([`for_uri`] would give it), without
+/// decoding it.
+pub fn is_built_in(uri: &str) -> bool {
+    name_of(uri).is_some_and(|name| MESHES.iter().any(|m| m.name == name))
+}
+
+/// The link name in `package://P/meshes/<link>.STL`, P one of [`PACKAGES`].
+fn name_of(uri: &str) -> Option<&str> {
     let (package, file) = uri.strip_prefix("package://")?.split_once("/meshes/")?;
     PACKAGES.contains(&package).then_some(())?;
-    mesh(file.strip_suffix(".STL")?)
+    file.strip_suffix(".STL")
 }
 
 #[cfg(test)]

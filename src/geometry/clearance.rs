@@ -3,7 +3,7 @@
 //! from one sample to the next so that most pairs need no query at most samples.
 //!
 //! Pruning uses lower bounds of a pair's distance: the last lower bound found for the pair
-//! less how far its shapes can have moved relative to each other since (see [`moved`]), the
+//! less how far its shapes can have moved relative to each other since (see [`relative_motion`]), the
 //! bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, the gap between the convex shapes' projections
 //! on the axis that separated them at the pair's last GJK (see
 //! [`CollisionSet::separation_along`]: two support points, and tight when the pair moves
@@ -210,13 +210,13 @@ impl PairMemory {
     /// actual distance at most that far above the smallest, if below `best`, and none when no
     /// sample is closer than `best − tolerance`.
     fn finish(&mut self, set: &CollisionSet, k: usize, mut best: f64, tolerance: f64) -> Option<(PairDistance, f64)> {
-        let b = set.object_pairs()[k].1;
+        let (a, b) = set.object_pairs()[k];
         let mut pending = std::mem::take(&mut self.pending);
         // the likeliest minimum first (the smallest actual distance seen); each search finds
         // its sample's distance d_j, which bounds every other waiting sample i from below by
         // d_j − moved(j, i) (the pair's relative motion between them)
         pending.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.t.total_cmp(&y.t)));
-        let (centre, radius) = set.object(b).sphere;
+        let spheres = (set.object(a).sphere, set.object(b).sphere);
         let mut found = None;
         for j in 0..pending.len() {
             let p = pending[j];
@@ -257,7 +257,7 @@ impl PairMemory {
                 d.distance
             };
             for other in &mut pending[j + 1..] {
-                let bound = lower - moved(&p.pose_ab, &other.pose_ab, centre, radius);
+                let bound = lower - relative_motion(&p.pose_ab, &other.pose_ab, spheres);
                 other.lower = other.lower.max(bound);
             }
         }
@@ -296,9 +296,9 @@ impl PairMemory {
         let (pa, pb) = (&poses[a], &poses[b]);
         let pose_ab = pa.inv_mul(pb);
         // the lower bound found at an earlier sample, less how far any point of b can have
-        // moved relative to a since
+        // moved relative to a since (or a relative to b, whichever bound is smaller)
         let (lower, then) = &self.reference;
-        if skip(*lower - moved(then, &pose_ab, ob.sphere.0, ob.sphere.1)) {
+        if skip(*lower - relative_motion(then, &pose_ab, (oa.sphere, ob.sphere))) {
             return None;
         }
         let gap = (*pa * oa.sphere.0 - *pb * ob.sphere.0).length() - oa.sphere.1 - ob.sphere.1;
@@ -437,4 +437,15 @@ fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
     let turn = then.rotation.inverse() * now.rotation;
     let half_sine = PVector::new(turn.x, turn.y, turn.z).length();
     (*now * centre - *then * centre).length() + 2.0 * half_sine * radius
+}
+
+/// How far the distance of a pair can have changed between its relative poses `then` and
+/// `now` (`a_T_b`), given the bounding spheres (centre, radius; each in its own shape's frame)
+/// of a and of b: the smaller of how far b moved relative to a ([`moved`]) and how far a moved
+/// relative to b (the same bound on the inverse poses, `b_T_a`), since the distance is the
+/// same seen from either. Its smaller shape gives the tighter bound when the pair turns.
+fn relative_motion(then: &PPose, now: &PPose, ((ca, ra), (cb, rb)): ((PVector, f64), (PVector, f64))) -> f64 {
+    let b_moved = moved(then, now, cb, rb);
+    let a_moved = moved(&then.inverse(), &now.inverse(), ca, ra);
+    b_moved.min(a_moved)
 }

@@ -43,6 +43,9 @@ use parry3d_f64::query::{self, ClosestPoints, PointQueryWithLocation, details};
 use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap, TriMesh};
 use parry3d_f64::transformation::try_convex_hull;
 use rayon::prelude::*;
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
 
 use super::hull::{Adjacency, Climber};
 use super::mesh::load;
@@ -107,12 +110,13 @@ struct Object {
     frame: usize,
     /// `frame_T_shape` in parry's form (for cylinders, parry's y axis turned onto URDF's z).
     placement: PPose,
-    /// The convex shape: a primitive, or a mesh's convex hull.
-    convex: Box<dyn Shape>,
-    /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]).
-    triangles: Option<TriMesh>,
+    /// The convex shape: a primitive, or a mesh's convex hull (shared by the objects that
+    /// use the same mesh file at the same scale).
+    convex: Arc<dyn Shape>,
+    /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]; shared as `convex`).
+    triangles: Option<Arc<TriMesh>>,
     /// A hull's vertex adjacency, for its support map by hill climbing (`None`: a primitive).
-    climb: Option<Adjacency>,
+    climb: Option<Arc<Adjacency>>,
     /// Bounding sphere centre in the shape frame (m).
     centre: PVector,
     /// Bounding sphere radius (m).
@@ -131,60 +135,39 @@ impl Object {
         }
     }
 
-    /// Collision element `g` (number `source`) loaded as `kind` reads it; `None` for a mesh
-    /// found nowhere.
-    fn load(source: usize, g: &GeometryObject, kind: ClearanceGeometry) -> Result<Option<Object>> {
+    /// Collision element `g` (number `source`) loaded as `kind` reads it, its mesh (if it is
+    /// one) taken from `meshes`; `None` for a mesh found nowhere.
+    fn load(source: usize, g: &GeometryObject, meshes: &MeshShapes) -> Option<Object> {
         let axis_fix = Pose::new(
             Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
             Vec3::zeros(),
         );
-        type Loaded = (Box<dyn Shape>, Option<TriMesh>, Pose, Option<Adjacency>);
-        let (convex, triangles, placement, climb): Loaded = match &g.geometry {
+        let (convex, triangles, placement, climb): (Arc<dyn Shape>, _, _, _) = match &g.geometry {
             Geometry::Box { size } => (
-                Box::new(Cuboid::new(PVector::new(size.x, size.y, size.z) / 2.0)),
+                Arc::new(Cuboid::new(PVector::new(size.x, size.y, size.z) / 2.0)),
                 None,
                 g.placement,
                 None,
             ),
-            Geometry::Sphere { radius } => (Box::new(Ball::new(*radius)), None, g.placement, None),
+            Geometry::Sphere { radius } => (Arc::new(Ball::new(*radius)), None, g.placement, None),
             Geometry::Cylinder { radius, length } => (
-                Box::new(Cylinder::new(length / 2.0, *radius)),
+                Arc::new(Cylinder::new(length / 2.0, *radius)),
                 None,
                 g.placement.compose(&axis_fix),
                 None,
             ),
-            Geometry::Mesh { uri, path, scale } => {
-                let Some(mesh) = load(uri, path.as_deref()) else {
-                    return Ok(None);
-                };
-                let mesh = mesh?.mesh;
-                let path = path.clone().unwrap_or_else(|| uri.into());
-                let points: Vec<PVector> = (mesh.vertices.iter())
-                    .map(|v| PVector::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z))
-                    .collect();
-                // parry's ConvexPolyhedron::from_convex_hull, keeping the hull's triangles for
-                // the climb's edges
-                let no_hull = || Error::InvalidData {
-                    path: path.clone(),
-                    message: "the mesh spans no volume (no convex hull)".into(),
-                };
-                let (corners, faces) = try_convex_hull(&points).map_err(|_| no_hull())?;
-                let climb = Adjacency::of(corners.len(), &faces);
-                let hull = ConvexPolyhedron::from_convex_mesh(corners, &faces).ok_or_else(no_hull)?;
-                let triangles = match kind {
-                    ClearanceGeometry::Hull => None,
-                    ClearanceGeometry::Mesh => {
-                        Some(TriMesh::new(points, mesh.triangles).map_err(|e| Error::InvalidData {
-                            path: path.clone(),
-                            message: format!("not a triangle mesh: {e}"),
-                        })?)
-                    }
-                };
-                (Box::new(hull), triangles, g.placement, Some(climb))
+            Geometry::Mesh { .. } => {
+                let mesh = meshes.get(&MeshKey::of(g)?)?.as_ref()?;
+                (
+                    mesh.hull.clone() as Arc<dyn Shape>,
+                    mesh.triangles.clone(),
+                    g.placement,
+                    Some(mesh.climb.clone()),
+                )
             }
         };
         let sphere = convex.compute_local_bounding_sphere();
-        Ok(Some(Object {
+        Some(Object {
             source,
             link: g.link.clone(),
             frame: g.frame.0,
@@ -194,6 +177,111 @@ impl Object {
             climb,
             centre: sphere.center,
             radius: sphere.radius,
+        })
+    }
+}
+
+/// A mesh file at a scale: the objects that share one share its loaded shapes.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct MeshKey {
+    /// The reference as the URDF writes it.
+    uri: String,
+    /// The file it resolved to, if any.
+    path: Option<PathBuf>,
+    /// `<mesh scale>`, bit for bit.
+    scale: [u64; 3],
+}
+
+impl MeshKey {
+    /// The key of a mesh element; `None` for a primitive.
+    fn of(g: &GeometryObject) -> Option<MeshKey> {
+        let Geometry::Mesh { uri, path, scale } = &g.geometry else {
+            return None;
+        };
+        Some(MeshKey {
+            uri: uri.clone(),
+            path: path.clone(),
+            scale: [scale.x.to_bits(), scale.y.to_bits(), scale.z.to_bits()],
+        })
+    }
+}
+
+/// A mesh's shapes, loaded once: its convex hull, the hull's vertex adjacency and (for
+/// [`ClearanceGeometry::Mesh`]) its exact triangles with their BVH.
+struct MeshShapes {
+    loaded: HashMap<MeshKey, Option<MeshShape>>,
+}
+
+/// One mesh's shapes (see [`MeshShapes`]).
+struct MeshShape {
+    hull: Arc<ConvexPolyhedron>,
+    climb: Arc<Adjacency>,
+    triangles: Option<Arc<TriMesh>>,
+}
+
+impl MeshShapes {
+    /// Every distinct mesh (file and scale) of `collisions`, loaded in parallel (hulls and
+    /// BVHs of big meshes take a while); a mesh found nowhere is `None`.
+    fn load(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result<MeshShapes> {
+        // in document order, so that the error reported is the first mesh's that fails
+        let mut keys: Vec<MeshKey> = Vec::new();
+        for key in collisions.iter().filter_map(MeshKey::of) {
+            if !keys.contains(&key) {
+                keys.push(key);
+            }
+        }
+        let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
+        let shapes: Vec<Option<MeshShape>> = shapes.into_iter().collect::<Result<_>>()?;
+        Ok(MeshShapes {
+            loaded: keys.into_iter().zip(shapes).collect(),
+        })
+    }
+
+    /// The shapes of the mesh `key` names: `None` if it is not a mesh of the set, `Some(None)`
+    /// if it was found nowhere.
+    fn get(&self, key: &MeshKey) -> Option<&Option<MeshShape>> {
+        self.loaded.get(key)
+    }
+}
+
+impl MeshShape {
+    /// The mesh `key` names, read by [`load`] (the file, else the built-in Faze4 copy) and
+    /// scaled; `None` when it is found nowhere.
+    ///
+    /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]);
+    /// a mesh whose points span no volume (no convex hull).
+    fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<MeshShape>> {
+        let Some(mesh) = load(&key.uri, key.path.as_deref()) else {
+            return Ok(None);
+        };
+        let mesh = mesh?.mesh;
+        let path = key.path.clone().unwrap_or_else(|| key.uri.clone().into());
+        let scale = key.scale.map(f64::from_bits);
+        let points: Vec<PVector> = (mesh.vertices.iter())
+            .map(|v| PVector::new(v[0] as f64 * scale[0], v[1] as f64 * scale[1], v[2] as f64 * scale[2]))
+            .collect();
+        // parry's ConvexPolyhedron::from_convex_hull, keeping the hull's triangles for the
+        // climb's edges
+        let no_hull = || Error::InvalidData {
+            path: path.clone(),
+            message: "the mesh spans no volume (no convex hull)".into(),
+        };
+        let (corners, faces) = try_convex_hull(&points).map_err(|_| no_hull())?;
+        let climb = Adjacency::of(corners.len(), &faces);
+        let hull = ConvexPolyhedron::from_convex_mesh(corners, &faces).ok_or_else(no_hull)?;
+        let triangles = match kind {
+            ClearanceGeometry::Hull => None,
+            ClearanceGeometry::Mesh => Some(Arc::new(TriMesh::new(points, mesh.triangles).map_err(|e| {
+                Error::InvalidData {
+                    path: path.clone(),
+                    message: format!("not a triangle mesh: {e}"),
+                }
+            })?)),
+        };
+        Ok(Some(MeshShape {
+            hull: Arc::new(hull),
+            climb: Arc::new(climb),
+            triangles,
         }))
     }
 }
@@ -256,14 +344,12 @@ impl CollisionSet {
         kind: ClearanceGeometry,
         filter: PairFilter,
     ) -> Result<(CollisionSet, Vec<Warning>)> {
-        // the objects are loaded in parallel (hulls and BVHs of big meshes take a while), and
-        // kept in document order
-        let loaded: Vec<Result<Option<Object>>> = (geometry.collisions.par_iter().enumerate())
-            .map(|(source, g)| Object::load(source, g, kind))
-            .collect();
+        // each distinct mesh is loaded once, the objects in document order
+        let meshes = MeshShapes::load(&geometry.collisions, kind)?;
+        let loaded = (geometry.collisions.iter().enumerate()).map(|(source, g)| Object::load(source, g, &meshes));
         let (mut warnings, mut unchecked, mut kept, mut objects) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (g, object) in geometry.collisions.iter().zip(loaded) {
-            match object? {
+            match object {
                 Some(object) => {
                     objects.push(object);
                     kept.push(g.clone());
@@ -658,7 +744,7 @@ impl CollisionSet {
             frame: o.frame,
             placement: &o.placement,
             convex: &*o.convex,
-            triangles: o.triangles.as_ref(),
+            triangles: o.triangles.as_deref(),
             sphere: (o.centre, o.radius),
         }
     }

@@ -126,14 +126,36 @@ pub fn read_mesh_file(path: &Path) -> Result<MeshFile> {
 /// Faze4 meshes ([`crate::faze4::meshes::for_uri`]); `None` when there is neither. Every mesh
 /// reference, visual or collision, is loaded here.
 pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
-    match path {
-        Some(path) => Some(read_mesh_file(path)),
-        None => crate::faze4::meshes::for_uri(uri).map(|mesh| {
+    match origin(uri, path) {
+        Origin::File(path) => Some(read_mesh_file(path)),
+        Origin::BuiltIn => crate::faze4::meshes::for_uri(uri).map(|mesh| {
             Ok(MeshFile {
                 mesh: Mesh::from_indexed(&mesh.positions, &mesh.indices),
                 color: None,
             })
         }),
+        Origin::NotFound => None,
+    }
+}
+
+/// Where [`load`] takes a mesh reference's triangles from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin<'a> {
+    /// The file the reference resolved to.
+    File(&'a Path),
+    /// The copy of an official Faze4 mesh built into the binary (no file found).
+    BuiltIn,
+    /// Nowhere: the mesh is left out (its link's clearance is not checked, its view not drawn).
+    NotFound,
+}
+
+/// Where the mesh reference `uri`, resolved to `path` (if a file was found), is loaded from,
+/// without reading it: the file, else the built-in Faze4 copy, else nowhere.
+pub fn origin<'a>(uri: &str, path: Option<&'a Path>) -> Origin<'a> {
+    match path {
+        Some(path) => Origin::File(path),
+        None if crate::faze4::meshes::is_built_in(uri) => Origin::BuiltIn,
+        None => Origin::NotFound,
     }
 }
 

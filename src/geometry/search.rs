@@ -20,8 +20,10 @@ use super::collision_set::ROUND_OFF;
 /// With a `tolerance` > 0 (m) the search stops short: a pair of nodes or triangles is passed
 /// over as soon as its lower bound reaches the best distance found less the tolerance. What
 /// it returns is still the distance of an actual pair of triangles, and the meshes' distance
-/// is at most `tolerance` below it (`None`: not below `bound − tolerance`). Only for meshes
-/// that cannot touch (an intersection could be passed over): the caller knows they are apart.
+/// is at most `tolerance` below it (`None`: not below `bound − tolerance`). It can pass over an
+/// intersection only once it has found triangles within `tolerance` of each other (until then
+/// everything it passes over has a positive lower bound): the caller searches exactly when it
+/// returns a distance that small, or knows the meshes are apart.
 pub(super) fn mesh_distance(
     m1: &TriMesh,
     m2: &TriMesh,

@@ -45,6 +45,17 @@ pub enum JointKind {
     Prismatic,
 }
 
+impl JointKind {
+    /// The SI unit of the joint's position: `"rad"` for a rotation, `"m"` for a translation
+    /// (velocities per second, torques N·m or forces N; docs/model.md, 4.1).
+    pub fn unit(self) -> &'static str {
+        match self {
+            JointKind::Revolute | JointKind::Continuous => "rad",
+            JointKind::Prismatic => "m",
+        }
+    }
+}
+
 /// One moving joint (one degree of freedom) and the static facts about it.
 #[derive(Clone, Debug)]
 pub struct Joint {

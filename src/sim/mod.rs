@@ -17,5 +17,8 @@ pub use scenario::{
     ScenarioBuilder, ShapeRun, Warning, tune,
 };
 pub use stop::{StopFlag, exit_status};
-pub use summary::{ContactSummary, Diverged, MotorSummary, PathDeviation, StepLoss, Summary, ToolRange};
+pub use summary::{
+    ContactSummary, Diverged, DofJoint, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss, Summary,
+    ToolRange, ToolRule,
+};
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

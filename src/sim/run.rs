@@ -13,8 +13,8 @@ use crate::spatial::Vec3;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, Intersection, MotorSummary, PathDeviation, Recorder, RunInfo, Sample, Scenario, StepLoss, StopFlag,
-    Summary, ToolRange, Verdict, steps_per_record,
+    Diverged, Intersection, MotorSummary, PathDeviation, Recorder, RunInfo, Sample, Scenario, Simulated, StepLoss,
+    StopFlag, Summary, ToolRange, Verdict, steps_per_record,
 };
 
 /// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
@@ -121,6 +121,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
 
     let contact = &p.contact;
     let mut summary = Summary {
+        simulated: Simulated::of(sc),
         dof: n,
         dt,
         steps: done,

@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use super::SelfContact;
+use super::{MeshSource, SelfContact};
 use crate::algo::{Data, crba};
 use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result, shortest};
@@ -58,6 +58,9 @@ pub struct Scenario {
     /// geometry has no collision element. Shared, immutable: clones of the scenario (a sweep's
     /// runs) use the same one.
     pub collision_set: Option<Arc<CollisionSet>>,
+    /// The model's collision meshes and where each was found (the summary's `meshes`), listed
+    /// before the clearance is turned off or loaded: a run without clearance lists them too.
+    pub meshes: Vec<MeshSource>,
     /// How far (m) the self-clearance's minimum may be above the true one (0: exact; see
     /// [`crate::geometry::Clearance::with_tolerance`]).
     pub clearance_tolerance: f64,
@@ -553,6 +556,7 @@ impl ScenarioBuilder {
             warnings.push(Warning::UnstableGains { stability, given });
         }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
+        let meshes = MeshSource::of(&self.geometry);
         let (geometry, collision_set) = match (self.collisions, self.collision_set) {
             (Some(_), Some(set)) => (self.geometry, Some(set)),
             (collisions, _) => load_collisions(&model, self.geometry, collisions, &mut warnings)?,
@@ -562,6 +566,7 @@ impl ScenarioBuilder {
             model,
             geometry,
             collision_set,
+            meshes,
             clearance_tolerance: self.clearance_tolerance,
             tool_frame,
             trajectory: self.trajectory,

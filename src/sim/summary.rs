@@ -2,10 +2,116 @@
 
 use serde::Serialize;
 
-use super::Verdict;
+use super::{Scenario, Verdict};
 use crate::control::Gains;
-use crate::geometry::ClearanceReport;
-use crate::model::JointId;
+use crate::geometry::mesh::{Origin, origin};
+use crate::geometry::{ClearanceReport, GeometryModel};
+use crate::model::{Geometry, JointId, ToolChoice};
+
+/// What a run simulated: the robot, its degrees of freedom and their units, the tool, and where
+/// each collision mesh came from (the summary's first keys), so that summaries of several arms
+/// can be read side by side without their command lines.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Simulated {
+    /// The robot's name (the URDF's `<robot name>`).
+    pub robot: String,
+    /// The degrees of freedom in order (J1 … Jn, the order of every per-joint list): the moving
+    /// joints that mimic no other.
+    pub joints: Vec<DofJoint>,
+    /// The link whose origin is the tool (the trail's x, y, z, the tool range, the payload).
+    pub tool_link: String,
+    /// How the tool link was chosen.
+    pub tool_choice: ToolRule,
+    /// Every collision mesh of the model, in link order then document order, and where it was
+    /// found. Listed whether or not the run checks the self-clearance (`--no-collisions` too):
+    /// whether it did, and the links it left out, is `clearance`.
+    pub meshes: Vec<MeshSource>,
+}
+
+impl Simulated {
+    /// The description of a run of `sc`.
+    pub fn of(sc: &Scenario) -> Simulated {
+        let model = &sc.model;
+        let (default, choice) = model.default_tool();
+        Simulated {
+            robot: model.name.clone(),
+            joints: (model.joints.iter())
+                .map(|j| DofJoint {
+                    name: j.name.clone(),
+                    unit: j.kind.unit(),
+                })
+                .collect(),
+            tool_link: model.frame(sc.tool_frame).name.clone(),
+            tool_choice: match choice {
+                _ if default != sc.tool_frame => ToolRule::Given,
+                ToolChoice::Named => ToolRule::NamedToolLink,
+                ToolChoice::LastLink => ToolRule::LastLink,
+                ToolChoice::DeepestCommonAncestor => ToolRule::DeepestCommonAncestor,
+            },
+            meshes: sc.meshes.clone(),
+        }
+    }
+}
+
+/// A degree of freedom: its joint and the unit of its position.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct DofJoint {
+    /// The URDF joint name.
+    pub name: String,
+    /// `"rad"` (revolute, continuous) or `"m"` (prismatic): the unit of the joint's entries in
+    /// the per-joint lists (per second for speeds).
+    pub unit: &'static str,
+}
+
+/// How the tool link was chosen (the model's default rule, docs/model.md 1.3, or given).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToolRule {
+    /// The model has a link named `tool_link`.
+    #[default]
+    NamedToolLink,
+    /// A chain: its last link.
+    LastLink,
+    /// A branched tree: the deepest common ancestor of its deepest leaves.
+    DeepestCommonAncestor,
+    /// `--tool-link` (or [`super::ScenarioBuilder::tool_frame`]) named a link the default rule
+    /// does not give.
+    Given,
+}
+
+/// One collision mesh of the model and where it was found.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MeshSource {
+    /// The link it belongs to.
+    pub link: String,
+    /// The reference as the URDF writes it (`package://…`, relative or absolute).
+    pub uri: String,
+    /// The file it resolved to (as faze4 resolved it: relative to the working directory when
+    /// `--urdf` or `--package-path` was relative), `"built-in"` for the copy of an official
+    /// Faze4 mesh built into the binary, `null` when found nowhere (its link is not checked).
+    pub source: Option<String>,
+}
+
+impl MeshSource {
+    /// The collision meshes of `geometry` and where each is loaded from (see
+    /// [`crate::geometry::mesh::load`]); reads no file.
+    pub fn of(geometry: &GeometryModel) -> Vec<MeshSource> {
+        (geometry.collisions.iter())
+            .filter_map(|g| match &g.geometry {
+                Geometry::Mesh { uri, path, .. } => Some(MeshSource {
+                    link: g.link.clone(),
+                    uri: uri.clone(),
+                    source: match origin(uri, path.as_deref()) {
+                        Origin::File(path) => Some(path.to_string_lossy().into_owned()),
+                        Origin::BuiltIn => Some("built-in".into()),
+                        Origin::NotFound => None,
+                    },
+                }),
+                _ => None,
+            })
+            .collect()
+    }
+}
 
 /// Per-axis [lo, hi] of the tool origin over the trail samples (m).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -46,6 +152,10 @@ pub struct PathDeviation {
 /// What a run did. Field names and units are the contract.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Summary {
+    /// What was simulated (`robot`, `joints`, `tool_link`, `tool_choice`, `meshes` in the
+    /// JSON).
+    #[serde(flatten)]
+    pub simulated: Simulated,
     /// Degrees of freedom.
     pub dof: usize,
     /// Step Δt (s).

@@ -8,7 +8,9 @@
 //! `a_b`; an unlimited torque limit is empty. A failed run has empty figures. Lists of objects
 //! (the clearance's per-pair `pairs`) stay in the summary: the table keeps the closest pair,
 //! `clearance_min_m`, `clearance_links_1`, `clearance_links_2`, `clearance_t` (and
-//! `clearance_geometry`), the same columns in every row.
+//! `clearance_geometry`), the same columns in every row. What was simulated (`robot`,
+//! `joints`, `tool_link`, `tool_choice`, `meshes`) is the same in every run of a sweep and has
+//! no column.
 
 use std::io::Write;
 use std::path::Path;
@@ -21,8 +23,18 @@ use crate::atomic::{AtomicFile, Outputs};
 use crate::error::{Error, Result};
 use crate::output::format::push_exact;
 
-/// The summary fields that are not figures of the run, or that have their own columns.
-const NOT_FIGURES: [&str; 3] = ["verdict", "diverged", "interrupted_at_s"];
+/// The summary fields that are not figures of the run, or that have their own columns: the
+/// description of what was simulated is the same in every row of a sweep and left out.
+const NOT_FIGURES: [&str; 8] = [
+    "verdict",
+    "diverged",
+    "interrupted_at_s",
+    "robot",
+    "joints",
+    "tool_link",
+    "tool_choice",
+    "meshes",
+];
 
 /// One cell.
 #[derive(Clone, Debug, PartialEq)]
@@ -347,6 +359,11 @@ mod tests {
                 stiffness_b: vec![0.4, 0.6],
             }),
             verdict: Verdict::default(),
+            simulated: crate::sim::Simulated {
+                robot: "two_link".into(),
+                tool_link: "tip".into(),
+                ..Default::default()
+            },
             ..Summary::default()
         };
         Row {
@@ -367,6 +384,8 @@ mod tests {
         assert_eq!(get("tool_range_m_z_2"), Some(Cell::Number(0.0)));
         assert_eq!(get("diverged"), Some(Cell::Bool(true)));
         assert_eq!(get("verdict"), None);
+        assert_eq!(get("robot"), None, "what was simulated has no column");
+        assert_eq!(get("tool_link"), None);
         assert_eq!(get("max_tracking_error_rad_3"), None);
     }
 

@@ -23,10 +23,15 @@ clearance, alternately: runs per second of each and their ratio (target ≥ 0.5)
 Usage (repository root, after `cargo build --release`):
 
     python3 tools/bench/clearance_speed.py [--runs 5] [--tolerances 0.01,0.1,0.3,1]
-        [--arm URDF [--package-path DIR]]... [--no-sweep]
+        [--arm URDF [--package-path DIR]]... [--erd] [--no-faze4] [--no-sweep]
+
+`--erd` adds every fixed-base arm of the `example-robot-data` pip package, as
+tools/robots_survey.py lists them (needs that package and Pinocchio: tools/oracle/setup.sh's
+venv). At the end, a Markdown table of every job's medians and ratios.
 """
 
 import argparse
+import glob
 import json
 import os
 import statistics
@@ -74,7 +79,7 @@ def bench_job(name, base, duration, variants, runs, tmp):
         f" search); a one-step run (loading, start-up) {statistics.median(loading):.3f} s;"
         f" min {1e3 * (c.get('min_m') or float('nan')):.3f} mm, tolerance {1e3 * c.get('tolerance_m', 0):.2f} mm"
     )
-    return {v: statistics.median(t) / alone for v, t in times.items()}
+    return {v: statistics.median(t) for v, t in times.items()}
 
 
 def main():
@@ -83,6 +88,8 @@ def main():
     ap.add_argument("--tolerances", default="", help="extra tolerances (mm), comma-separated")
     ap.add_argument("--arm", action="append", default=[], help="a URDF to wave (8 s, --center mid)")
     ap.add_argument("--package-path", action="append", default=[])
+    ap.add_argument("--erd", action="store_true", help="every fixed-base example-robot-data arm")
+    ap.add_argument("--no-faze4", action="store_true", help="leave out the Faze4's two jobs")
     ap.add_argument("--no-sweep", action="store_true")
     args = ap.parse_args()
     if not os.path.exists(FAZE4):
@@ -95,13 +102,34 @@ def main():
     }
     for mm in filter(None, args.tolerances.split(",")):
         variants[f"--clearance-tolerance {mm}"] = ["--clearance-tolerance", mm]
-    jobs = {"Faze4 wave": (["wave"], "8"), "Faze4 circle": (["shape", "--shape", "circle"], "12")}
+    jobs = {}
+    if not args.no_faze4:
+        jobs = {"Faze4 wave": (["wave"], "8"), "Faze4 circle": (["shape", "--shape", "circle"], "12")}
     packages = [x for p in args.package_path for x in ("--package-path", p)]
-    for urdf in args.arm:
+    arms = list(args.arm)
+    if args.erd:
+        sys.path.insert(0, os.path.join(ROOT, "tools"))
+        from robots_survey import FIXED, ROBOTS, SHARE  # noqa: E402
+
+        packages += ["--package-path", SHARE]
+        for folder in sorted(FIXED):
+            arms += sorted(glob.glob(os.path.join(ROBOTS, folder, "**", "*.urdf"), recursive=True))
+    for urdf in arms:
         jobs[os.path.basename(urdf)] = (["wave", "--center", "mid", "--urdf", urdf, *packages], "8")
+    table = []
     with tempfile.TemporaryDirectory() as tmp:
         for name, (base, duration) in jobs.items():
-            bench_job(name, base, duration, variants, args.runs, tmp)
+            try:
+                table.append((name, bench_job(name, base, duration, variants, args.runs, tmp)))
+            except subprocess.CalledProcessError as e:
+                print(f"\n{name}: faze4 failed (exit {e.returncode}); left out")
+        names = list(variants)
+        print("\n| job | " + " | ".join(f"{v} (s, ×)" for v in names) + " |")
+        print("|---|" + "---|" * len(names))
+        for name, medians in table:
+            alone = medians["--no-collisions"]
+            cells = [f"{medians[v]:.3f} ({medians[v] / alone:.2f}×)" for v in names]
+            print(f"| {name} | " + " | ".join(cells) + " |")
         if args.no_sweep:
             return
         with_c, without = [], []
