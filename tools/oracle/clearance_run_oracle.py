@@ -81,6 +81,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(REPO, "tools"))
+from clearance_fixtures import tight_request  # noqa: E402
 from pin_closed_loop import PinArm  # noqa: E402
 
 SHARE = os.path.realpath(os.path.join(os.path.dirname(pin.__file__), "..", "..", "..", "..", "share"))
@@ -276,16 +277,7 @@ def read_mesh(path, scale):
 # Shapes and pairs in coal
 # ------------------------------------------------------------------------------------------
 
-def tight_request():
-    req = coal.DistanceRequest()
-    req.gjk_tolerance = 1e-13
-    req.epa_tolerance = 1e-13
-    req.gjk_max_iterations = 10000
-    req.epa_max_iterations = 10000
-    req.enable_signed_distance = True
-    return req
-
-
+# GJK/EPA to 1e-13, signed distances (clearance_fixtures.py's request)
 REQ = tight_request()
 # (GJK variant, convergence criterion, tolerance) asked in turn until one gives a checked answer
 # (see dist): the duality gap bounds the answer's error, but on two boxes it never closes to 1e-13
