@@ -530,14 +530,18 @@ impl CollisionSet {
             return Err(seeded);
         }
         let certificate = HULL_CERTIFICATE.max(tolerance);
-        if seeded <= hull + certificate {
-            return Ok(seeded);
-        }
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         let Ok(ClosestPoints::WithinMargin(ca, cb)) = query::closest_points(pa, &*oa.convex, pb, &*ob.convex, f64::MAX)
         else {
             return Err(seeded);
         };
+        // GJK's distance may stop above the hulls' (by 7.6e-8 m on the SO-101, against coal):
+        // the certificate takes the gap of the hulls' projections on the line through GJK's
+        // closest points, which is below their distance whatever GJK's accuracy
+        let hull = hull.min(projection_gap(pa, &*oa.convex, pb, &*ob.convex, cb - ca));
+        if seeded <= hull + certificate {
+            return Ok(seeded);
+        }
         // the triangle of a mesh nearest a point on its hull (world frame)
         let part = |o: &Object, pose: &PPose, p: PVector| {
             (o.triangles.as_ref()).map_or(0, |m| {
@@ -698,6 +702,21 @@ fn convex_pair_distance(pa: &PPose, sa: &dyn Shape, pb: &PPose, sb: &dyn Shape) 
     (query::distance(pa, sa, pb, sb))
         .expect("parry supports convex pairs")
         .distance
+}
+
+/// The gap between the projections of two convex shapes (at world poses `pa`, `pb`) on the
+/// line along `axis` (world frame, from a towards b): `min n·y − max n·x` over points `y` of b
+/// and `x` of a, with `n` the unit axis. Any axis gives a lower bound of their distance
+/// (negative when the projections overlap); the axis through their closest points gives the
+/// distance itself. `-∞` for a zero axis.
+fn projection_gap(pa: &PPose, sa: &dyn Shape, pb: &PPose, sb: &dyn Shape, axis: PVector) -> f64 {
+    let Some(n) = axis.try_normalize() else {
+        return f64::NEG_INFINITY;
+    };
+    fn support(s: &dyn Shape) -> &dyn SupportMap {
+        s.as_support_map().expect("convex shapes have support maps")
+    }
+    n.dot(support(sb).support_point(pb, -n)) - n.dot(support(sa).support_point(pa, n))
 }
 
 /// The support map of a convex object for GJK and EPA: a hull's by hill climbing, or a
