@@ -807,29 +807,7 @@ pub(super) fn parry_pose(p: &Pose) -> PPose {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Seeded poses: turns up to ±3 rad about pseudo-random axes or about x, offsets within
-    /// ±0.06 m.
-    fn poses(n: usize) -> Vec<PPose> {
-        let mut state = 0x2545_F491_4F6C_DD1D_u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        (0..n)
-            .map(|_| {
-                // about a pseudo-random axis, or about x as the Panda's diagonal finger turns
-                let axis = match next() > 0.0 {
-                    true => PVector::new(next(), next(), next()).normalize_or(PVector::X),
-                    false => PVector::X,
-                };
-                let turn = PRot3::from_scaled_axis(axis * 3.0 * next());
-                PPose::from_parts(PVector::new(next(), next(), next()) * 0.06, turn)
-            })
-            .collect()
-    }
+    use crate::geometry::search::tests::poses;
 
     #[test]
     fn two_boxes_are_as_far_apart_as_their_closest_points_where_parrys_box_distance_is_not() {
@@ -839,7 +817,7 @@ mod tests {
             Cuboid::new(PVector::new(0.00875, 0.0035, 0.01175)),
         );
         let mut parry_above = 0;
-        for pose in poses(400) {
+        for pose in poses(400, PVector::ZERO, 0.06) {
             let ours = convex_pair_distance(&PPose::IDENTITY, &a, &pose, &b);
             let truth = match query::closest_points(&PPose::IDENTITY, &a, &pose, &b, f64::MAX).unwrap() {
                 ClosestPoints::WithinMargin(p, q) => (p - q).length(),
