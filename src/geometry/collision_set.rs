@@ -88,14 +88,6 @@ impl std::fmt::Display for Warning {
 /// tests' 1e-6 m, far above GJK's round-off.
 const HULL_CERTIFICATE: f64 = 1e-9;
 
-/// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
-/// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
-/// only when its lower bound exceeds the best distance by this much, so that among triangle
-/// pairs (or samples) whose distances tie to round-off the smallest computed distance is
-/// found, whatever the order of the search ([`CollisionSet::touch`] looks inside boxes and triangles
-/// this close to each other).
-pub(super) const ROUND_OFF: f64 = 1e-9;
-
 /// How many pairs of nodes [`CollisionSet::touch`] may open at a sample (a distance search opens
 /// some thousands): past it, the pair's distance is searched at each sample instead.
 pub(super) const TOUCH_BUDGET: usize = 1000;

@@ -10,8 +10,13 @@ use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Shape, TriMesh, Triangle};
-
-use super::collision_set::ROUND_OFF;
+/// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
+/// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
+/// only when its lower bound exceeds the best distance by this much, so that among triangle
+/// pairs (or samples) whose distances tie to round-off the smallest computed distance is
+/// found, whatever the order of the search ([`super::CollisionSet::touch`] looks inside boxes and triangles
+/// this close to each other).
+pub(super) const ROUND_OFF: f64 = 1e-9;
 
 /// The smallest distance between a triangle of `m1` and a triangle of `m2` (`pos12`: `m2`'s
 /// frame in `m1`'s), if below `bound`; `closest` seeds the search with a pair of triangles and
