@@ -66,14 +66,14 @@ def survey_one(faze4, urdf, duration):
                               "--mimic", "--gains", summary, "--center", "mid", "--amplitude",
                               ",".join(repr(a) for a in amp), "--duration", str(duration), "--tool-link", tool,
                               "--trail", theirs, "--quiet"], capture_output=True, text=True, timeout=900)
-        if ref.returncode != 0:
-            return [rel, pin_loads, f"exit 0 ({s['verdict']})", meshes,
-                    f"reference failed: {(ref.stderr.strip().splitlines() or ['?'])[-1][:60]}"]
-        a, b = trail(ours), trail(theirs)
-        worst = max(abs(x - y) for r, q in zip(a, b) for x, y in zip(r, q)) if len(a) == len(b) else float("nan")
         v = s["verdict"]
         verdict = v if isinstance(v, str) else ("follows" if v.get("follows") else "cannot follow") + (
             ", collides" if v.get("collides") else "")
+        if ref.returncode != 0:
+            return [rel, pin_loads, f"exit 0 ({verdict})", meshes,
+                    f"reference failed: {(ref.stderr.strip().splitlines() or ['?'])[-1][:60]}"]
+        a, b = trail(ours), trail(theirs)
+        worst = max(abs(x - y) for r, q in zip(a, b) for x, y in zip(r, q)) if len(a) == len(b) else float("nan")
         return [rel, pin_loads, f"exit 0 ({verdict})", meshes, f"{worst:.1e}" + (" ✓" if worst <= 1e-9 else " ✗")]
 
 

@@ -329,9 +329,12 @@ pub struct SweepArgs {
     pub base: Vec<String>,
 }
 
-/// `--jobs N`: a whole number of threads, 0 (one per core) to [`super::sweep::MAX_JOBS`].
+/// Most threads `--jobs` takes.
+pub const MAX_JOBS: usize = 1024;
+
+/// `--jobs N`: a whole number of threads, 0 (one per core) to [`MAX_JOBS`].
 fn jobs(text: &str) -> Result<usize, String> {
-    let most = super::sweep::MAX_JOBS;
+    let most = MAX_JOBS;
     match text.trim().parse::<usize>() {
         Ok(n) if n <= most => Ok(n),
         Ok(_) => Err(format!("at most {most} threads")),

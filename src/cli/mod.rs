@@ -88,6 +88,10 @@ pub fn usage_line(e: &clap::Error) -> String {
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
+    // the signal handlers go in before the model and its meshes load: a Ctrl-C (or SIGTERM)
+    // while they load stops the run before its first step (exit 130, the files as a stopped
+    // run writes them) instead of killing the process with nothing written
+    let _ = StopFlag::ctrl_c();
     let (scenario, run, save_q) = match &cli.command {
         Command::Wave(a) => (scenario::wave(a)?, &a.run, None),
         Command::Replay(a) => (scenario::replay(a)?, &a.run, None),

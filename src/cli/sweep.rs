@@ -499,9 +499,6 @@ pub fn rows(args: &SweepArgs, frames: Option<Vec<Vec<f64>>>, stop: &StopFlag) ->
     Ok((rows, base.warnings))
 }
 
-/// Most threads `--jobs` takes.
-pub const MAX_JOBS: usize = 1024;
-
 /// The threads of a sweep of `runs` runs: `jobs` (0: one per core), never more than the runs.
 fn threads(jobs: usize, runs: usize) -> usize {
     let jobs = match jobs {

@@ -22,8 +22,9 @@
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 use rayon::prelude::*;
 
-use super::collision_set::{CollisionSet, ROUND_OFF, TOUCH_BUDGET};
+use super::collision_set::{CollisionSet, TOUCH_BUDGET};
 use super::report::{ClearanceReport, PairDistance};
+use super::search::ROUND_OFF;
 use super::search::Touch;
 use crate::spatial::Pose;
 

@@ -10,8 +10,13 @@ use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Vector as PVector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Shape, TriMesh, Triangle};
-
-use super::collision_set::ROUND_OFF;
+/// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
+/// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
+/// only when its lower bound exceeds the best distance by this much, so that among triangle
+/// pairs (or samples) whose distances tie to round-off the smallest computed distance is
+/// found, whatever the order of the search ([`super::CollisionSet::touch`] looks inside boxes and triangles
+/// this close to each other).
+pub(super) const ROUND_OFF: f64 = 1e-9;
 
 /// The smallest distance between a triangle of `m1` and a triangle of `m2` (`pos12`: `m2`'s
 /// frame in `m1`'s), if below `bound`; `closest` seeds the search with a pair of triangles and
@@ -338,7 +343,7 @@ pub(super) fn mesh_touches_shape(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use parry3d_f64::math::Rot3 as PRot3;
     use parry3d_f64::query;
@@ -354,10 +359,9 @@ mod tests {
         TriMesh::new(points, triangles).unwrap()
     }
 
-    /// Poses of a shape about the gripper: `n` seeded pseudo-random turns and offsets within
-    /// `reach` (m) of the mesh's box centre, some inside it.
-    fn poses(m: &TriMesh, n: usize, reach: f64) -> Vec<PPose> {
-        let centre = m.local_aabb().center();
+    /// `n` seeded pseudo-random poses: turns up to ±3 rad about a random axis or (every other
+    /// one, on average) about x, and offsets within `reach` (m) of `centre`.
+    pub(in crate::geometry) fn poses(n: usize, centre: PVector, reach: f64) -> Vec<PPose> {
         let mut state = 0x9E37_79B9_7F4A_7C15_u64;
         let mut next = move || {
             state = state
@@ -367,7 +371,10 @@ mod tests {
         };
         (0..n)
             .map(|_| {
-                let axis = PVector::new(next(), next(), next()).normalize_or(PVector::X);
+                let axis = match next() > 0.0 {
+                    true => PVector::new(next(), next(), next()).normalize_or(PVector::X),
+                    false => PVector::X,
+                };
                 let rotation = PRot3::from_scaled_axis(axis * 3.0 * next());
                 PPose::from_parts(centre + PVector::new(next(), next(), next()) * reach, rotation)
             })
@@ -385,7 +392,7 @@ mod tests {
         let (mut touching, mut apart) = (0, 0);
         for shape in &shapes {
             let mut closest = 0;
-            for pose in poses(&m, 60, 0.06) {
+            for pose in poses(60, m.local_aabb().center(), 0.06) {
                 let parry = query::distance(&PPose::IDENTITY, &m, &pose, &**shape).unwrap().distance;
                 // exact, seeded by the previous pose's closest triangle, bit for bit
                 let ours = mesh_shape_distance(&m, &**shape, &pose, &mut closest, f64::INFINITY, 0.0);
