@@ -3,7 +3,7 @@
 (`--clearance-tolerance`, docs/clearance.md "Checked against coal over a run").
 
     /work/venv/bin/python tools/oracle/clearance_run_oracle.py [--faze4 target/release/faze4]
-        [--duration 8] [--tolerances 1,0] [--erd] [--fixtures]
+        [--duration 8] [--tolerances 1,0] [--erd [--only SUBSTRING]] [--fixtures]
 
 What it does, per arm:
 
@@ -658,6 +658,7 @@ def main():
     ap.add_argument("--duration", type=float, default=8.0)
     ap.add_argument("--tolerances", default="1,0", help="mm, comma-separated; 'default' leaves the option out")
     ap.add_argument("--erd", action="store_true", help="every example-robot-data arm of tools/robots_survey.py")
+    ap.add_argument("--only", default="", help="with --erd: only the URDFs whose path contains this")
     ap.add_argument("--fixtures", action="store_true", help="write tests/fixtures/clearance_run_*.json")
     args = ap.parse_args()
     tolerances = [None if x == "default" else float(x) for x in args.tolerances.split(",")]
@@ -688,7 +689,7 @@ def main():
                 f.write("\n")
             print(f"  -> {os.path.relpath(path, REPO)}", flush=True)
         sys.exit(1 if failed else 0)
-    arms = erd_arms(args.duration) if args.erd else [faze4_arm(args.duration)]
+    arms = [a for a in erd_arms(args.duration) if args.only in a.name] if args.erd else [faze4_arm(args.duration)]
     for arm in arms:
         for tol in tolerances:
             with tempfile.TemporaryDirectory() as tmp:
