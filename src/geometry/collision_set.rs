@@ -129,7 +129,7 @@ impl Object {
 
     /// Collision element `g` (number `source`) loaded as `kind` reads it, its mesh (if it is
     /// one) taken from `meshes`; `None` for a mesh found nowhere.
-    fn load(source: usize, g: &GeometryObject, meshes: &MeshShapes) -> Option<Object> {
+    fn load(source: usize, g: &GeometryObject, meshes: &HashMap<MeshKey, Option<MeshShape>>) -> Option<Object> {
         let axis_fix = Pose::new(
             Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0), // parry y → URDF z
             Vec3::zeros(),
@@ -198,42 +198,27 @@ impl MeshKey {
     }
 }
 
-/// A mesh's shapes, loaded once: its convex hull, the hull's vertex adjacency and (for
-/// [`ClearanceGeometry::Mesh`]) its exact triangles with their BVH.
-struct MeshShapes {
-    loaded: HashMap<MeshKey, Option<MeshShape>>,
+/// Every distinct mesh (file and scale) of `collisions`, loaded once, in parallel (hulls and
+/// BVHs of big meshes take a while); a mesh found nowhere maps to `None`.
+fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result<HashMap<MeshKey, Option<MeshShape>>> {
+    // in document order, so that the error reported is the first mesh's that fails
+    let mut keys: Vec<MeshKey> = Vec::new();
+    for key in collisions.iter().filter_map(MeshKey::of) {
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
+    let shapes: Vec<Option<MeshShape>> = shapes.into_iter().collect::<Result<_>>()?;
+    Ok(keys.into_iter().zip(shapes).collect())
 }
 
-/// One mesh's shapes (see [`MeshShapes`]).
+/// One mesh's shapes, shared by the objects that use it: its convex hull, the hull's vertex
+/// adjacency and (for [`ClearanceGeometry::Mesh`]) its exact triangles with their BVH.
 struct MeshShape {
     hull: Arc<ConvexPolyhedron>,
     climb: Arc<Adjacency>,
     triangles: Option<Arc<TriMesh>>,
-}
-
-impl MeshShapes {
-    /// Every distinct mesh (file and scale) of `collisions`, loaded in parallel (hulls and
-    /// BVHs of big meshes take a while); a mesh found nowhere is `None`.
-    fn load(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result<MeshShapes> {
-        // in document order, so that the error reported is the first mesh's that fails
-        let mut keys: Vec<MeshKey> = Vec::new();
-        for key in collisions.iter().filter_map(MeshKey::of) {
-            if !keys.contains(&key) {
-                keys.push(key);
-            }
-        }
-        let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
-        let shapes: Vec<Option<MeshShape>> = shapes.into_iter().collect::<Result<_>>()?;
-        Ok(MeshShapes {
-            loaded: keys.into_iter().zip(shapes).collect(),
-        })
-    }
-
-    /// The shapes of the mesh `key` names: `None` if it is not a mesh of the set, `Some(None)`
-    /// if it was found nowhere.
-    fn get(&self, key: &MeshKey) -> Option<&Option<MeshShape>> {
-        self.loaded.get(key)
-    }
 }
 
 impl MeshShape {
@@ -337,7 +322,7 @@ impl CollisionSet {
         filter: PairFilter,
     ) -> Result<(CollisionSet, Vec<Warning>)> {
         // each distinct mesh is loaded once, the objects in document order
-        let meshes = MeshShapes::load(&geometry.collisions, kind)?;
+        let meshes = load_meshes(&geometry.collisions, kind)?;
         let loaded = (geometry.collisions.iter().enumerate()).map(|(source, g)| Object::load(source, g, &meshes));
         let (mut warnings, mut unchecked, mut kept, mut objects) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (g, object) in geometry.collisions.iter().zip(loaded) {
@@ -528,10 +513,18 @@ impl CollisionSet {
             return Err(seeded);
         };
         // GJK's distance may stop above the hulls' (by 7.6e-8 m on the SO-101, against coal):
-        // the certificate takes the gap of the hulls' projections on the line through GJK's
-        // closest points, which is below their distance whatever GJK's accuracy
-        let hull = hull.min(projection_gap(pa, &*oa.convex, pb, &*ob.convex, cb - ca));
-        if seeded <= hull + certificate {
+        // a part is accepted against the gap of the hulls' projections on the line through
+        // GJK's closest points, which is below their distance whatever GJK's accuracy; it is
+        // computed (two support scans) only for a part already within the certificate of
+        // GJK's distance, since the gap is no larger
+        let lower = std::cell::OnceCell::new();
+        let proves = |part: f64| {
+            part <= hull + certificate
+                && part
+                    <= *lower.get_or_init(|| hull.min(projection_gap(pa, &*oa.convex, pb, &*ob.convex, cb - ca)))
+                        + certificate
+        };
+        if proves(seeded) {
             return Ok(seeded);
         }
         // the triangle of a mesh nearest a point on its hull (world frame)
@@ -547,7 +540,7 @@ impl CollisionSet {
         if under < seeded {
             *closest = parts;
         }
-        if under <= hull + certificate {
+        if proves(under) {
             Ok(under)
         } else {
             Err(under.min(seeded))
