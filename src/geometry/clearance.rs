@@ -353,10 +353,10 @@ impl PairMemory {
                     }
                 } else if !(self.search_now && best > 0.0) {
                     // the hulls overlap: whether two triangles cross (or a triangle and a
-                    // primitive) is tested now (an intersection must be seen at its sample); the distance of a sample
-                    // whose triangles are apart waits for finish like the others, its hulls
-                    // bounding it below by 0 (none can lower a smallest distance of 0, and
-                    // then the test goes on whatever it costs)
+                    // primitive) is tested now (an intersection must be seen at its sample);
+                    // the distance of a sample whose parts are apart waits for finish like
+                    // the others, its hulls bounding it below by 0 (none can lower a smallest
+                    // distance of 0, and then the test goes on whatever it costs)
                     let budget = if best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
                     match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("a mesh") {
                         Touch::Crossing => PairDistance {
@@ -414,12 +414,13 @@ impl PairMemory {
         let bound = best.max(f64::MIN_POSITIVE);
         let share = tolerance * SEARCH_SHARE;
         let mut search = |tolerance| set.pair_distance(k, (pa, pb), &mut self.closest, bound, Some(hull), tolerance);
-        let (found, slack) = match share > 0.0 && bound > share {
-            true => match search(share) {
+        let (found, slack) = if share > 0.0 && bound > share {
+            match search(share) {
                 Some(d) if d.distance <= share => (search(0.0), 0.0),
                 found => (found, share),
-            },
-            false => (search(0.0), 0.0),
+            }
+        } else {
+            (search(0.0), 0.0)
         };
         let lower = found.map_or(bound, |d| d.distance) - slack;
         self.reference = (lower, pa.inv_mul(pb));

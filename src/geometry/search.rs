@@ -230,8 +230,7 @@ impl<'a> PlacedShape<'a> {
     /// the bounding sphere (`|c − clamp(c, lo, hi)| − r`), and the shape's distance to the
     /// box's centre less its half diagonal (distances are 1-Lipschitz).
     fn gap(&self, (lo, hi): (PVector, PVector)) -> f64 {
-        let (mins, maxs) = self.aabb;
-        let boxes = (lo - maxs).max(mins - hi).max(PVector::ZERO).length();
+        let boxes = self.box_gap((lo, hi));
         let (c, r) = self.sphere;
         let sphere = (c - c.clamp(lo, hi)).length() - r;
         let centre = self.to_point((lo + hi) * 0.5) - (hi - lo).length() * 0.5;
@@ -244,18 +243,22 @@ impl<'a> PlacedShape<'a> {
         self.shape.distance_to_point(self.pose, p, true)
     }
 
+    /// The gap between the box `(lo, hi)` (mesh frame) and the shape's box.
+    fn box_gap(&self, (lo, hi): (PVector, PVector)) -> f64 {
+        let (mins, maxs) = self.aabb;
+        (lo - maxs).max(mins - hi).max(PVector::ZERO).length()
+    }
+
     /// A lower bound of the distance between the shape and triangle `t`: the shape's
     /// distance to the triangle's centroid less the centroid's distance to the farthest
-    /// corner, or [`PlacedShape::gap`] to the triangle's exact box if that is larger.
+    /// corner, or [`PlacedShape::box_gap`] to the triangle's exact box if that is larger.
     fn triangle_gap(&self, t: &Triangle) -> f64 {
         let centroid = (t.a + t.b + t.c) / 3.0;
         let reach = (t.a - centroid)
             .length()
             .max((t.b - centroid).length())
             .max((t.c - centroid).length());
-        let (lo, hi) = (t.a.min(t.b).min(t.c), t.a.max(t.b).max(t.c));
-        let (mins, maxs) = self.aabb;
-        let boxes = (lo - maxs).max(mins - hi).max(PVector::ZERO).length();
+        let boxes = self.box_gap((t.a.min(t.b).min(t.c), t.a.max(t.b).max(t.c)));
         boxes.max(self.to_point(centroid) - reach)
     }
 
@@ -275,7 +278,8 @@ impl<'a> PlacedShape<'a> {
 /// and the shape, computed triangle by triangle on the same relative pose.
 ///
 /// A node of `m`'s hierarchy is opened only while [`PlacedShape::gap`] is below the best
-/// distance found; `tolerance` as in [`mesh_distance`] (only for a pair known to be apart).
+/// distance found; `tolerance` as in [`mesh_distance`] (and, as there, it can pass over a
+/// touching triangle only once it has found one within `tolerance` of the shape).
 pub(super) fn mesh_shape_distance(
     m: &TriMesh,
     shape: &dyn Shape,
