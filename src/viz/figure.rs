@@ -95,6 +95,27 @@ pub(super) fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     (lo - pad)..(hi + pad)
 }
 
+/// Height of every figure's title band (px).
+pub(super) const TITLE_HEIGHT: u32 = 44;
+
+/// A drawing error as text.
+pub(super) fn err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
+    e.to_string()
+}
+
+/// Clears `root` to white and writes `title` in the band of [`TITLE_HEIGHT`] at its top; the
+/// area below it.
+pub(super) fn titled<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> std::result::Result<DrawingArea<DB, Shift>, String> {
+    root.fill(&WHITE).map_err(err)?;
+    let (top, body) = root.split_vertically(TITLE_HEIGHT);
+    top.draw(&Text::new(title, (16, 12), (FAMILY, 20).into_font().color(&BLACK)))
+        .map_err(err)?;
+    Ok(body)
+}
+
 /// A chart with f64 axes.
 pub(super) type Chart<'a, DB> =
     ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{FAMILY, Figure, PALETTE, chart, write_figure};
+use super::figure::{FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart, err, titled, write_figure};
 use crate::atomic::{Outputs, check_output_path};
 use crate::control::Motor;
 use crate::error::{Error, Result};
@@ -17,7 +17,6 @@ use crate::sim::{Recorder, RunInfo, Sample, Summary};
 /// Sampling period of the operating points (s).
 const PERIOD: f64 = 0.04;
 const PANEL: (u32, u32) = (700, 340);
-const TITLE_HEIGHT: u32 = 44;
 /// Points along a drawn envelope.
 const ENVELOPE_POINTS: usize = 200;
 const ENVELOPE: RGBColor = RGBColor(60, 60, 60);
@@ -110,20 +109,9 @@ impl Recorder for MotorPlot {
     }
 }
 
-fn err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
-    e.to_string()
-}
-
 impl Figure for MotorPlot {
     fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String> {
-        root.fill(&WHITE).map_err(err)?;
-        let (top, body) = root.split_vertically(TITLE_HEIGHT);
-        top.draw(&Text::new(
-            self.title.clone(),
-            (16, 12),
-            (FAMILY, 20).into_font().color(&BLACK),
-        ))
-        .map_err(err)?;
+        let body = titled(root, &self.title)?;
         let rows = self.joints.len().div_ceil(2).max(1);
         let panels = body.split_evenly((rows, 2));
         for (k, (panel, ((i, name, m, _), points))) in

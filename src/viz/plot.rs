@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{Chart, FAMILY, Figure, PALETTE, chart, range, write_figure};
+use super::figure::{Chart, FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart, err, range, titled, write_figure};
 use crate::atomic::{Outputs, check_output_path};
 use crate::control::Motor;
 use crate::error::{Error, Result};
@@ -24,7 +24,6 @@ use crate::traj::shape::distance_to_closed_path;
 const PERIOD: f64 = 0.01;
 const WIDTH: u32 = 1400;
 const ROW_HEIGHT: u32 = 220;
-const TITLE_HEIGHT: u32 = 44;
 
 /// Whether a figure to `path` is an SVG (`.svg`) rather than a PNG (`.png`); another
 /// extension is an error naming `option`.
@@ -169,11 +168,6 @@ const LIMIT: RGBColor = RGBColor(110, 110, 110);
 
 type Area<'a, DB> = DrawingArea<DB, Shift>;
 
-/// A drawing error as text.
-fn err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
-    e.to_string()
-}
-
 impl Figure for PlotRecorder {
     fn draw_on<DB: DrawingBackend>(&self, root: &Area<DB>) -> std::result::Result<(), String> {
         self.draw(root)
@@ -184,14 +178,7 @@ impl PlotRecorder {
     /// The whole figure: a title, then per joint its angle and its torque, then the tracking
     /// error of every joint and the path deviation (or the tool position).
     fn draw<DB: DrawingBackend>(&self, root: &Area<DB>) -> std::result::Result<(), String> {
-        root.fill(&WHITE).map_err(err)?;
-        let (top, body) = root.split_vertically(TITLE_HEIGHT);
-        top.draw(&Text::new(
-            self.title.clone(),
-            (16, 12),
-            (FAMILY, 20).into_font().color(&BLACK),
-        ))
-        .map_err(err)?;
+        let body = titled(root, &self.title)?;
         let n = self.joints.len();
         let panels = body.split_evenly((n + 1, 2));
         let t_end = self.t.last().copied().unwrap_or(1.0).max(1e-6);

@@ -9,14 +9,13 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{FAMILY, Figure, PALETTE, chart, chart_area, range, write_figure};
+use super::figure::{FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart, chart_area, range, titled, write_figure};
 use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::sweep::{Grid, Outcome, Row};
 
 const WIDTH: u32 = 1400;
 const PANEL_HEIGHT: u32 = 360;
-const TITLE_HEIGHT: u32 = 44;
 const FOLLOWS: RGBColor = RGBColor(44, 160, 44);
 const CANNOT: RGBColor = RGBColor(214, 39, 40);
 
@@ -123,9 +122,6 @@ impl SweepPlot {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> std::result::Result<(), String> {
-        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-        root.fill(&WHITE).map_err(e)?;
-        let (top, body) = root.split_vertically(TITLE_HEIGHT);
         let names: Vec<&str> = self.grid.axes.iter().map(|a| a.name.as_str()).collect();
         let follow = self.points.iter().filter(|p| p.follows).count();
         let title = format!(
@@ -133,8 +129,7 @@ impl SweepPlot {
             names.join(" × "),
             self.points.len()
         );
-        top.draw(&Text::new(title, (16, 12), (FAMILY, 20).into_font().color(&BLACK)))
-            .map_err(e)?;
+        let body = titled(root, &title)?;
         let areas = body.split_evenly((self.panels().div_ceil(2), 2));
         if self.grid.axes.len() == 1 {
             self.draw_lines(&areas)
