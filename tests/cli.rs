@@ -5,7 +5,6 @@ mod common;
 use std::path::Path;
 
 use common::*;
-use serde_json::Value;
 
 /// Writes a .npy by hand (any dtype string, order and shape), as other tools might.
 fn write_npy(path: &Path, descr: &str, fortran: bool, shape: &[usize], data: &[u8]) {
@@ -40,10 +39,6 @@ fn trajectory(n: usize) -> Vec<f64> {
     (0..n)
         .flat_map(|k| (0..6).map(move |i| 0.3 * ((k as f64) * 0.2 + i as f64).sin()))
         .collect()
-}
-
-fn summary(dir: &Path, name: &str) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
 }
 
 #[test]

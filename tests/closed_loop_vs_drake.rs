@@ -64,15 +64,8 @@ fn run_fixture(name: &str) -> (Value, Ours) {
     let argv: Vec<&str> = args.iter().map(String::as_str).collect();
     let run = faze4(&dir, &argv);
     assert!(run.status.success(), "faze4 {argv:?} failed: {}", run.stderr);
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    let (header, rows) = read_csv(&dir.join("trail.csv"));
-    let columns: Vec<String> = fx["trail"]["columns"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| c.as_str().unwrap().into())
-        .collect();
-    assert_eq!(header, columns);
+    let summary: Value = summary(&dir, "summary.json");
+    let rows = fixture_trail(&dir, &fx);
     let saved_q = (fx["command"] == "shape").then(|| npy::read_samples(&dir.join("q.npy")).unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
     let ours = Ours {

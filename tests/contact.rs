@@ -38,7 +38,7 @@ fn circle(name: &str, extra: &[&str]) -> (Value, Vec<Vec<f64>>) {
     args.extend_from_slice(extra);
     let run = faze4(&dir, &args);
     assert!(matches!(run.status.code(), Some(0 | 3)), "{args:?}: {}", run.stderr);
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let summary: Value = summary(&dir, "summary.json");
     let (_, trail) = read_csv(&dir.join("trail.csv"));
     (summary, trail)
 }
@@ -150,7 +150,7 @@ fn arm_run(name: &str, fx: &Value) -> (Value, Vec<Vec<f64>>) {
     let run = faze4(&dir, &args);
     assert!(matches!(run.status.code(), Some(0 | 3)), "{}", run.stderr);
     let (_, trail) = read_csv(&dir.join("trail.csv"));
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let summary: Value = summary(&dir, "summary.json");
     (summary, trail)
 }
 
@@ -454,7 +454,7 @@ fn exact_meshes_that_intersect_stop_the_run_with_one_line_naming_them() {
     hull.extend(["--summary", "summary.json"]);
     let run = faze4(&dir, &hull);
     assert!(matches!(run.status.code(), Some(0 | 3)), "{}", run.stderr);
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let summary: Value = summary(&dir, "summary.json");
     let in_contact = summary["self_contact"]["steps_in_contact_pct"].as_f64().unwrap();
     assert!(in_contact > 1.0, "the hulls touch in {in_contact} % of the steps");
 }

@@ -142,16 +142,9 @@ fn closed_loop_wave_matches_pinocchio() {
         ],
     );
     assert!(run.status.success(), "{}", run.stderr);
-    let (header, rows) = read_csv(&dir.join("trail.csv"));
-    let ours: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let rows = fixture_trail(&dir, cl);
+    let ours: Value = summary(&dir, "summary.json");
     std::fs::remove_dir_all(&dir).unwrap();
-    let columns: Vec<&str> = cl["trail"]["columns"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| c.as_str().unwrap())
-        .collect();
-    assert_eq!(header, columns);
     let theirs = mat_f64(&cl["trail"]["rows"]);
     assert_eq!(rows.len(), theirs.len());
     let mut worst = 0.0f64;

@@ -67,15 +67,8 @@ fn run_fixture(name: &str) -> (Value, Value, Vec<Vec<f64>>, String) {
         "{argv:?}: {}",
         run.stderr
     );
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    let (header, rows) = read_csv(&dir.join("trail.csv"));
-    let columns: Vec<&str> = fx["trail"]["columns"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| c.as_str().unwrap())
-        .collect();
-    assert_eq!(header, columns);
+    let summary: Value = summary(&dir, "summary.json");
+    let rows = fixture_trail(&dir, &fx);
     std::fs::remove_dir_all(&dir).unwrap();
     (fx, summary, rows, run.stdout)
 }

@@ -63,7 +63,7 @@ struct Checked {
 fn run_as_library(dir: &Path, args: &[&str], robot: &Robot, kind: ClearanceGeometry, filter: PairFilter) -> Checked {
     let run = faze4(dir, args);
     assert!(run.status.success(), "{}", run.stderr);
-    let summary = summary(dir);
+    let summary = summary(dir, "s.json");
     let tolerance = summary["clearance"]["tolerance_m"].as_f64().unwrap();
     let (report, first) = library_run(robot, kind, filter, tolerance, &dir.join("t.csv"));
     assert_eq!(summary["clearance"], serde_json::to_value(&report).unwrap());
@@ -73,11 +73,6 @@ fn run_as_library(dir: &Path, args: &[&str], robot: &Robot, kind: ClearanceGeome
         report,
         first,
     }
-}
-
-fn summary(dir: &Path) -> Value {
-    let text = std::fs::read_to_string(dir.join("s.json")).unwrap();
-    serde_json::from_str(&text).unwrap()
 }
 
 /// The closest pair of shapes of links `a`, `b` (either order; a link may have several) in a
@@ -265,7 +260,7 @@ fn collision_pairs_all_checks_the_pairs_a_joint_connects() {
 
     let run = faze4(&dir, &[&base[..], &["--no-collisions"]].concat());
     assert!(run.status.success(), "{}", run.stderr);
-    let s = summary(&dir);
+    let s = summary(&dir, "s.json");
     assert!(s.get("clearance").is_none(), "{s}");
     assert_eq!(s["verdict"]["collides"], false);
     assert!(!run.stdout.contains("self-clearance"));
@@ -328,7 +323,7 @@ fn a_motion_that_folds_the_arm_into_itself_collides_from_when_it_does() {
 
     let hull = faze4(&dir, &[&args[..], &["--collision-geometry", "hull"]].concat());
     assert!(hull.status.success(), "{}", hull.stderr);
-    let h = summary(&dir);
+    let h = summary(&dir, "s.json");
     assert_eq!(
         h["clearance"]["pairs"], s["clearance"]["pairs"],
         "primitives read the same either way"
@@ -377,7 +372,7 @@ fn a_missing_mesh_is_one_warning_and_an_unchecked_link() {
     for part in ["package://no_such_package/meshes/claw.STL", "--package-path", "hand"] {
         assert!(warnings[0].contains(part), "{} should name {part}", warnings[0]);
     }
-    let s = summary(&dir);
+    let s = summary(&dir, "s.json");
     assert_eq!(s["clearance"]["unchecked"], serde_json::json!(["hand"]));
     assert!(
         line(&run.stdout, "self-clearance").ends_with(" · not checked: hand"),
@@ -400,12 +395,12 @@ fn a_missing_mesh_is_one_warning_and_an_unchecked_link() {
         ],
     );
     assert!(plain.status.success());
-    assert_eq!(summary(&dir)["clearance"]["pairs"], s["clearance"]["pairs"]);
+    assert_eq!(summary(&dir, "s.json")["clearance"]["pairs"], s["clearance"]["pairs"]);
 
     let off = faze4(&dir, &[&args[..], &["--no-collisions"]].concat());
     assert!(off.status.success(), "{}", off.stderr);
     assert!(!off.stderr.contains("claw"), "{}", off.stderr);
-    assert!(summary(&dir).get("clearance").is_none());
+    assert!(summary(&dir, "s.json").get("clearance").is_none());
 
     // a sweep reads the meshes once and says so once, whatever its number of runs; a warning
     // that changes the result (a link left unchecked) is printed under --quiet too (issue 21)

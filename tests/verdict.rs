@@ -5,11 +5,6 @@
 mod common;
 
 use common::*;
-use serde_json::Value;
-
-fn summary(dir: &std::path::Path, name: &str) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
-}
 
 fn last_line(text: &str) -> &str {
     text.lines().last().unwrap_or("")

@@ -145,6 +145,22 @@ pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
+/// The JSON file `name` a run wrote into `dir` (its `--summary`).
+pub fn summary(dir: &Path, name: &str) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
+}
+
+/// The trail a run wrote to `dir/trail.csv`, its header checked against the oracle fixture's
+/// `trail.columns`.
+pub fn fixture_trail(dir: &Path, fixture: &Value) -> Vec<Vec<f64>> {
+    let (header, rows) = read_csv(&dir.join("trail.csv"));
+    let columns: Vec<&str> = (fixture["trail"]["columns"].as_array().unwrap().iter())
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    assert_eq!(header, columns);
+    rows
+}
+
 /// Sends SIGINT (what Ctrl-C sends) to process `pid`.
 pub fn interrupt(pid: u32) {
     send(pid, libc::SIGINT);
