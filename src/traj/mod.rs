@@ -6,9 +6,11 @@
 mod linear;
 pub mod npy;
 pub mod shape;
+pub mod timed;
 mod wave;
 
 pub use linear::{Interpolated, Wrap};
+pub use timed::{TimedTrajectory, TrajectoryPoint};
 pub use wave::Wave;
 
 /// A joint-space command q_cmd(t), v_cmd(t).
