@@ -176,9 +176,13 @@ pub fn load_model(run: &RunArgs) -> Result<Robot> {
     };
     // the motors' ratios and rotors, then the command line's overrides of them
     if let Some(motors) = super::motors::motors(run, &model)? {
-        for (joint, m) in model.joints.iter_mut().zip(motors.iter().flatten()) {
-            joint.gear_ratio = m.gear_ratio.unwrap_or(joint.gear_ratio);
-            joint.rotor_inertia = m.rotor_inertia.unwrap_or(joint.rotor_inertia);
+        // joint i's motor is entry i (`None`: the file does not name joint i, which keeps
+        // what it had)
+        for (joint, m) in model.joints.iter_mut().zip(&motors) {
+            if let Some(m) = m {
+                joint.gear_ratio = m.gear_ratio.unwrap_or(joint.gear_ratio);
+                joint.rotor_inertia = m.rotor_inertia.unwrap_or(joint.rotor_inertia);
+            }
         }
     }
     set_rotors("--rotor-inertia", &mut model, run.rotor_inertia.as_ref(), |j| {
