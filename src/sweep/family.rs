@@ -7,10 +7,10 @@ use rayon::prelude::*;
 
 use super::Grid;
 use crate::atomic::Outputs;
+use crate::control::arithmetic_holds;
 use crate::control::{Envelope, Stability};
 use crate::error::{Error, Result, shortest};
 use crate::output::TrailCsv;
-use crate::sim::scenario::arithmetic_holds;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 
 /// A multiplier of a built scenario: the controller's gains and limits (as tuned, or as

@@ -6,10 +6,12 @@
 mod linear;
 pub mod npy;
 pub mod shape;
+mod shape_plan;
 pub mod timed;
 mod wave;
 
 pub use linear::{Interpolated, Wrap};
+pub use shape_plan::ShapeRun;
 pub use timed::{TimedTrajectory, TrajectoryPoint};
 pub use wave::Wave;
 
