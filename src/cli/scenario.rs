@@ -6,12 +6,15 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
-use crate::control::JointMotor;
+use crate::control::{FeedForward, JointMotor};
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, CollisionSet, PairFilter, Robot};
 use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
 use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
-use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
+use crate::sim::{
+    Collisions, DEFAULT_DURATION, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds, TimedCommand,
+};
+use crate::traj::files::{self, Format, Selection};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
@@ -73,9 +76,21 @@ pub fn wave_amplitudes(model: &Model, amp_deg: f64, amp_m: Option<f64>) -> Vec<f
         .collect()
 }
 
-/// `faze4 replay` → scenario.
+/// `faze4 replay` → scenario: a time-stamped trajectory file ([`timed_replay`]), or a `.npy`.
 pub fn replay(args: &ReplayArgs) -> Result<Scenario> {
-    positive("--duration", args.duration)?;
+    if let Some(d) = args.duration {
+        positive("--duration", d)?;
+    }
+    if Format::of(&args.q_traj).is_some() {
+        return timed_replay(args);
+    }
+    if args.message.is_some() || args.topic.is_some() {
+        let option = if args.message.is_some() { "--message" } else { "--topic" };
+        return Err(Error::argument(
+            option,
+            "picks from a .yaml, .json or .mcap file, not a .npy",
+        ));
+    }
     positive("--traj-period", args.traj_period)?;
     let model = load_model(&args.run)?;
     let frames = npy::read_samples(&args.q_traj)?;
@@ -94,7 +109,8 @@ pub fn replay_with(
     frames: &[Vec<f64>],
     set: Option<Arc<CollisionSet>>,
 ) -> Result<Scenario> {
-    positive("--duration", args.duration)?;
+    let duration = args.duration.unwrap_or(DEFAULT_DURATION);
+    positive("--duration", duration)?;
     positive("--traj-period", args.traj_period)?;
     check_samples(&model, frames, &args.q_traj)?;
     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, args.traj_period, Wrap::Repeat));
@@ -102,7 +118,32 @@ pub fn replay_with(
         .geometry(geometry)
         .load_warnings(warnings)
         .command("replay")
-        .duration(args.duration)
+        .duration(duration)
+        .build()
+}
+
+/// `faze4 replay` of a time-stamped trajectory (`--q-traj` a .yaml, .json, .mcap or .csv;
+/// `--message`, `--topic`): its joints matched to the model's by name, played once
+/// ([`TimedCommand`]), for `--duration` or its last time.
+pub fn timed_replay(args: &ReplayArgs) -> Result<Scenario> {
+    let selection = Selection {
+        message: args.message,
+        topic: args.topic.clone(),
+    };
+    let trajectory = files::read(&args.q_traj, &selection)?;
+    let Robot {
+        model,
+        geometry,
+        warnings,
+    } = load_model(&args.run)?;
+    let command = TimedCommand::new(&model, &trajectory, &args.q_traj)?;
+    let held = command.warning(&args.q_traj);
+    builder(model, command.trajectory, &args.run, None)?
+        .geometry(geometry)
+        .load_warnings(warnings)
+        .command_warnings(held)
+        .command("replay")
+        .duration(args.duration.unwrap_or(command.duration))
         .build()
 }
 
@@ -301,7 +342,7 @@ fn builder(
         .record_period(run.record_period)
         .payload_kg(run.payload_kg)
         .gravity(!run.no_gravity)
-        .feedforward(!run.no_ff)
+        .feedforward(feedforward(run))
         .collisions(collisions(run))
         .clearance_tolerance(run.clearance_tolerance * 1e-3)
         .thresholds(Thresholds {
@@ -334,6 +375,15 @@ fn builder(
         builder = builder.kd(kd.0.clone());
     }
     Ok(builder)
+}
+
+/// `--no-ff`, `--ff` → what the controller feeds forward.
+fn feedforward(run: &RunArgs) -> FeedForward {
+    match (run.no_ff, run.ff.as_deref()) {
+        (true, _) => FeedForward::None,
+        (false, Some("full")) => FeedForward::Full,
+        _ => FeedForward::Gravity,
+    }
 }
 
 /// `--collision-geometry`, `--collision-pairs`, `--no-collisions` → the run's clearance

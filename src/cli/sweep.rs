@@ -121,7 +121,7 @@ fn run(c: &mut Command) -> &mut RunArgs {
 fn duration(c: &mut Command) -> &mut f64 {
     match c {
         Command::Wave(a) => &mut a.duration,
-        Command::Replay(a) => &mut a.duration,
+        Command::Replay(a) => a.duration.get_or_insert(crate::sim::DEFAULT_DURATION),
         Command::Shape(a) => &mut a.duration,
         Command::Sweep(_) => unreachable!("a sweep's base is a run command"),
     }

@@ -7,6 +7,7 @@ mod run;
 pub(crate) mod scenario;
 mod stop;
 mod summary;
+mod timed;
 mod verdict;
 
 pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, POINT_STIFFNESS, SelfContact};
@@ -21,4 +22,5 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss, Summary,
     ToolRange, ToolRule,
 };
+pub use timed::TimedCommand;
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

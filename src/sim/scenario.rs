@@ -20,7 +20,7 @@ use nalgebra::DMatrix;
 
 use super::{MeshSource, SelfContact};
 use crate::algo::{Data, crba};
-use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
+use crate::control::{FeedForward, Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
 use crate::error::{Error, Result, shortest};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
@@ -117,6 +117,14 @@ pub enum Warning {
     Clearance(geometry::Warning),
     /// Reading the model skipped or changed something (a transmission, an inertia).
     Model(LoadWarning),
+    /// A time-stamped trajectory names none of these joints of the model: each holds a
+    /// position (see [`super::TimedCommand`]).
+    HeldJoints {
+        /// The trajectory's file.
+        source: String,
+        /// The joints and the positions they hold.
+        joints: Vec<crate::traj::HeldJoint>,
+    },
 }
 
 impl Warning {
@@ -150,6 +158,16 @@ impl fmt::Display for Warning {
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
+            Warning::HeldJoints { source, joints } => write!(
+                f,
+                "warning: {source} gives no values for {}: {} its start position with zero velocity",
+                joints
+                    .iter()
+                    .map(|j| format!("{} ({})", crate::error::quoted(&j.name), shortest(j.position)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if joints.len() == 1 { "it holds" } else { "each holds" }
+            ),
         }
     }
 }
@@ -219,12 +237,13 @@ impl Scenario {
         ScenarioBuilder {
             geometry: GeometryModel::default(),
             load_warnings: Vec::new(),
+            command_warnings: Vec::new(),
             collisions: Some(Collisions::default()),
             collision_set: None,
             clearance_tolerance: DEFAULT_CLEARANCE_TOLERANCE_M,
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
-                Trajectory::Interpolated(_) => "replay",
+                Trajectory::Interpolated(_) | Trajectory::Spline(_) => "replay",
             }),
             model,
             trajectory,
@@ -233,7 +252,7 @@ impl Scenario {
             record_period: DEFAULT_RECORD_PERIOD,
             payload_kg: 0.0,
             gravity: true,
-            feedforward: true,
+            feedforward: FeedForward::Gravity,
             tool_frame: None,
             effort: None,
             kp: Vec::new(),
@@ -256,6 +275,7 @@ pub struct ScenarioBuilder {
     model: Model,
     geometry: GeometryModel,
     load_warnings: Vec<LoadWarning>,
+    command_warnings: Vec<Warning>,
     collisions: Option<Collisions>,
     collision_set: Option<Arc<CollisionSet>>,
     clearance_tolerance: f64,
@@ -265,7 +285,7 @@ pub struct ScenarioBuilder {
     record_period: f64,
     payload_kg: f64,
     gravity: bool,
-    feedforward: bool,
+    feedforward: FeedForward,
     tool_frame: Option<FrameId>,
     effort: Option<Vec<f64>>,
     kp: Vec<Option<f64>>,
@@ -288,6 +308,13 @@ impl ScenarioBuilder {
     /// scenario's warnings start with these.
     pub fn load_warnings(mut self, warnings: Vec<LoadWarning>) -> Self {
         self.load_warnings = warnings;
+        self
+    }
+
+    /// What building the command noticed (e.g. [`Warning::HeldJoints`]): the scenario's
+    /// warnings include these, after the model's.
+    pub fn command_warnings(mut self, warnings: impl IntoIterator<Item = Warning>) -> Self {
+        self.command_warnings.extend(warnings);
         self
     }
 
@@ -355,9 +382,10 @@ impl ScenarioBuilder {
         self
     }
 
-    /// Whether the controller adds g(q) to its torque (default) or not (`--no-ff`).
-    pub fn feedforward(mut self, on: bool) -> Self {
-        self.feedforward = on;
+    /// What the controller adds to its PD torque: g(q) (default), the command's inverse
+    /// dynamics (`--ff full`), or nothing (`--no-ff`).
+    pub fn feedforward(mut self, feedforward: FeedForward) -> Self {
+        self.feedforward = feedforward;
         self
     }
 
@@ -496,6 +524,7 @@ impl ScenarioBuilder {
         }
 
         let mut warnings: Vec<Warning> = self.load_warnings.iter().cloned().map(Warning::Model).collect();
+        warnings.extend(self.command_warnings);
         let explicit_effort = self.effort.is_some();
         let effort = match self.effort {
             Some(effort) => {

@@ -22,12 +22,26 @@ impl Wave {
     /// adds is below the rounding of the argument `ω t + i π/3` itself (see the tests).
     #[inline]
     pub fn eval(&self, t: f64, q: &mut [f64], v: &mut [f64]) {
+        self.eval_into(t, q, v, None);
+    }
+
+    /// [`Wave::eval`], and a_cmd(t) = −A_i ω² sin(ω t + i π/3) into `a`.
+    #[inline]
+    pub fn eval_with_acceleration(&self, t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) {
+        self.eval_into(t, q, v, Some(a));
+    }
+
+    #[inline]
+    fn eval_into(&self, t: f64, q: &mut [f64], v: &mut [f64], mut acc: Option<&mut [f64]>) {
         const COS_STEP: f64 = 0.5;
         let sin_step = 0.75f64.sqrt();
         let (mut s, mut c) = (self.omega * t).sin_cos();
         for (i, (&c_i, &a)) in self.center.iter().zip(&self.amplitude).enumerate() {
             q[i] = c_i + a * s;
             v[i] = a * self.omega * c;
+            if let Some(acc) = acc.as_deref_mut() {
+                acc[i] = -(a * self.omega * self.omega) * s;
+            }
             (s, c) = (s * COS_STEP + c * sin_step, c * COS_STEP - s * sin_step);
         }
     }
