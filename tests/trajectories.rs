@@ -25,8 +25,7 @@ fn against_pinocchio(name: &str) -> f64 {
         })
         .collect();
     args.extend(["-q", "--trail", "trail.csv", "--summary", "s.json"].map(String::from));
-    let words: Vec<&str> = args.iter().map(String::as_str).collect();
-    let run = faze4(&dir, &words);
+    let run = faze4(&dir, &words(&args));
     assert!(run.status.success(), "{name}: {}", run.stderr);
     let summary = summary(&dir, "s.json");
     assert_eq!(summary["feed_forward"], fixture["feed_forward"], "{name}");
@@ -98,21 +97,9 @@ fn mcap_recorded_joint_states() {
 #[test]
 fn held_joints_are_said_and_the_duration_is_the_last_time() {
     let dir = temp_dir("trajectory-held");
-    let urdf = repo_path("tests/urdf/example_robot_data/so101.urdf");
     let input = repo_path("tests/fixtures/trajectories/so101_ruckig.csv");
-    let args = [
-        "replay",
-        "--urdf",
-        urdf.to_str().unwrap(),
-        "--q-traj",
-        input.to_str().unwrap(),
-        "--no-collisions",
-        "--trail",
-        "none",
-        "--summary",
-        "s.json",
-    ];
-    let run = faze4(&dir, &args);
+    let args = replay_args("so101.urdf", &input, &["--trail", "none", "--summary", "s.json"]);
+    let run = faze4(&dir, &words(&args));
     assert!(run.status.success(), "{}", run.stderr);
     let warnings: Vec<&str> = run.stderr.lines().filter(|l| l.contains("gives no values")).collect();
     assert_eq!(warnings.len(), 1, "{}", run.stderr);
@@ -127,10 +114,8 @@ fn held_joints_are_said_and_the_duration_is_the_last_time() {
     assert_eq!(s["steps"].as_u64(), Some(steps));
     // the JointState topic names the gripper: no warning
     let mcap = repo_path("tests/fixtures/trajectories/so101_ruckig.mcap");
-    let mut with_topic = args.to_vec();
-    with_topic[4] = mcap.to_str().unwrap();
-    with_topic.extend(["--topic", "/joint_states"]);
-    let run = faze4(&dir, &with_topic);
+    let with_topic = replay_args("so101.urdf", &mcap, &["--trail", "none", "--topic", "/joint_states"]);
+    let run = faze4(&dir, &words(&with_topic));
     assert!(
         run.status.success() && !run.stderr.contains("gives no values"),
         "{}",
@@ -213,24 +198,33 @@ fn ur5_trajectory() -> TimedTrajectory {
 /// the refusal `parts`.
 fn refused(input: &Path, extra: &[&str], parts: &[&str]) {
     let dir = temp_dir("trajectory-refused");
-    let urdf = repo_path("tests/urdf/example_robot_data/ur5_robot.urdf");
-    let mut args = vec![
+    let outputs = ["--trail", "trail.csv", "--summary", "s.json", "--html", "run.html"];
+    let mut args = replay_args("ur5_robot.urdf", input, &outputs);
+    args.extend(extra.iter().map(|a| a.to_string()));
+    refuses(&dir, &words(&args), parts);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `replay --urdf tests/urdf/example_robot_data/<urdf> --q-traj <input> --no-collisions`, then
+/// `extra`.
+fn replay_args(urdf: &str, input: &Path, extra: &[&str]) -> Vec<String> {
+    let urdf = repo_path(&format!("tests/urdf/example_robot_data/{urdf}"));
+    let mut args: Vec<String> = [
         "replay",
         "--urdf",
         urdf.to_str().unwrap(),
         "--q-traj",
         input.to_str().unwrap(),
-        "--no-collisions",
-        "--trail",
-        "trail.csv",
-        "--summary",
-        "s.json",
-        "--html",
-        "run.html",
-    ];
-    args.extend(extra);
-    refuses(&dir, &args, parts);
-    std::fs::remove_dir_all(&dir).unwrap();
+    ]
+    .map(String::from)
+    .to_vec();
+    args.push("--no-collisions".into());
+    args.extend(extra.iter().map(|a| a.to_string()));
+    args
+}
+
+fn words(args: &[String]) -> Vec<&str> {
+    args.iter().map(String::as_str).collect()
 }
 
 /// `text` as the file `name` in a directory of inputs.
@@ -343,6 +337,15 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
         &bad_topics,
         &["--topic", "/left_arm/joint_states"],
         &["names joint 'gripper', which the model does not have"],
+    );
+    // --ff full and --no-ff together; --message on a .npy
+    refused(&good, &["--ff", "full", "--no-ff"], &["--no-ff"]);
+    let npy = inputs.join("frames.npy");
+    faze4::traj::npy::write_samples(&npy, &[vec![0.0; 6], vec![0.1; 6]]).unwrap();
+    refused(
+        &npy,
+        &["--message", "1"],
+        &["--message: picks from a .yaml, .json or .mcap file, not a .npy"],
     );
     // not an MCAP at all
     refused(

@@ -78,6 +78,32 @@ mod tests {
     }
 
     #[test]
+    fn acceleration_is_the_derivative_of_v_and_q_v_are_evals() {
+        let wave = Wave {
+            amplitude: vec![0.4, 0.3, 0.2],
+            omega: 1.7,
+            center: vec![0.1, 0.0, -0.2],
+        };
+        let (mut q, mut v, mut a) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        let (mut q0, mut v0, mut vp, mut vm, mut scratch) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        let h = 1e-6;
+        for k in 0..50 {
+            let t = k as f64 * 0.13;
+            wave.eval_with_acceleration(t, &mut q, &mut v, &mut a);
+            wave.eval(t, &mut q0, &mut v0);
+            assert_eq!((q, v), (q0, v0));
+            wave.eval(t + h, &mut scratch, &mut vp);
+            wave.eval(t - h, &mut scratch, &mut vm);
+            for i in 0..3 {
+                assert!(
+                    ((vp[i] - vm[i]) / (2.0 * h) - a[i]).abs() < 1e-7,
+                    "joint {i} at t = {t}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn a_centre_shifts_q_and_leaves_v() {
         let about_zero = Wave {
             amplitude: vec![0.3; 3],
