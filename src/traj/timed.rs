@@ -416,6 +416,33 @@ mod tests {
     }
 
     #[test]
+    fn from_arrays_checks_shapes_and_names_by_position() {
+        let q = ndarray::arr2(&[[0.0, 1.0], [0.5, 1.5], [1.0, 2.0]]);
+        let v = ndarray::arr2(&[[0.0, 0.0], [1.0, 1.0], [0.0, 0.0]]);
+        let source = Path::new("q");
+        let t = TimedTrajectory::from_arrays(None, &[0.0, 0.5, 1.0], q.view(), Some(v.view()), None, source).unwrap();
+        assert_eq!(t.joint_names, ["q1", "q2"]);
+        assert_eq!(t.points[1].velocities, [1.0, 1.0]);
+        assert_eq!(t.interpolation(), Interpolation::Cubic);
+        let e = TimedTrajectory::from_arrays(None, &[0.0, 0.5], q.view(), None, None, source).unwrap_err();
+        assert_eq!(e.to_string(), "q: 2 times for 3 rows of positions: one time per row");
+        let a = ndarray::arr2(&[[0.0], [0.0], [0.0]]);
+        let e = TimedTrajectory::from_arrays(None, &[0.0, 0.5, 1.0], q.view(), Some(v.view()), Some(a.view()), source)
+            .unwrap_err();
+        assert!(e.to_string().contains("accelerations are 3×1, positions 3×2"), "{e}");
+        let e = TimedTrajectory::from_arrays(None, &[0.0, 1.0, 0.5], q.view(), None, None, source).unwrap_err();
+        assert!(
+            e.to_string().contains("point 2: time_from_start 0.5 s is not after"),
+            "{e}"
+        );
+        let names = Some(vec!["b".to_string(), "a".to_string()]);
+        let t = TimedTrajectory::from_arrays(names, &[0.0, 0.5, 1.0], q.view(), None, None, source).unwrap();
+        let joints: Vec<String> = ["a", "b"].map(String::from).to_vec();
+        let (ordered, _) = t.in_joint_order(&joints, &[0.0; 2], source).unwrap();
+        assert_eq!(ordered.points[2].positions, [2.0, 1.0]);
+    }
+
+    #[test]
     fn nanoseconds_round_trip() {
         for ns in [0i64, 1, 999_999_999, 1_000_000_001, 123_456_789_012, (1 << 50) - 1] {
             assert_eq!(nanoseconds(seconds_from_nanoseconds(ns)), ns);
