@@ -40,7 +40,8 @@ pub enum Error {
     /// A command-line argument or option value is not acceptable.
     #[error("{option}: {message}")]
     InvalidArgument {
-        /// The option, e.g. `--dt`.
+        /// The run option, named as a field in backticks (`` `dt` ``); each
+        /// front end shows it in its own words ([`in_words`]).
         option: String,
         /// What is wrong with it.
         message: String,
@@ -137,7 +138,7 @@ pub enum Error {
     /// Under `--self-collisions` with exact meshes, two meshes intersect: contact between two
     /// triangle meshes is not modelled (only between convex shapes).
     #[error(
-        "--self-collisions: the exact meshes of '{}' and '{}' intersect at t = {t:.4} s; contact is modelled between convex shapes only: use --collision-geometry hull",
+        "`self_collisions`: the exact meshes of '{}' and '{}' intersect at t = {t:.4} s; contact is modelled between convex shapes only: use `collision_geometry` hull",
         links[0].escape_debug(), links[1].escape_debug()
     )]
     MeshContact {

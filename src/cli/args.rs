@@ -29,7 +29,7 @@ pub struct Cli {
 pub enum Command {
     /// Every joint follows A·sin(ω t + i·π/3) (docs/model.md).
     Wave(WaveArgs),
-    /// Replay an N×dof joint trajectory from a .npy file, repeating every --traj-period.
+    /// Replay a joint trajectory: time-stamped (.yaml, .json, .mcap, .csv; played once as ros2_control plays it), or an N×dof .npy repeating every --traj-period.
     Replay(ReplayArgs),
     /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
     Shape(ShapeArgs),
@@ -65,15 +65,21 @@ pub struct WaveArgs {
 /// `faze4 replay`.
 #[derive(Clone, Debug, Args)]
 pub struct ReplayArgs {
-    /// The trajectory: an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2.
-    #[arg(long = "q-traj", value_name = "F.npy")]
+    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md).
+    #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
     pub q_traj: PathBuf,
-    /// Time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
+    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
     #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
     pub traj_period: f64,
-    /// Simulated time (s).
-    #[arg(long, default_value_t = DEFAULT_DURATION, allow_hyphen_values = true)]
-    pub duration: f64,
+    /// Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the first).
+    #[arg(long, value_name = "K")]
+    pub message: Option<usize>,
+    /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
+    #[arg(long, value_name = "NAME")]
+    pub topic: Option<String>,
+    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
+    #[arg(long, allow_hyphen_values = true)]
+    pub duration: Option<f64>,
     /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
@@ -149,6 +155,9 @@ pub struct RunArgs {
     /// No gravity feed-forward (PD alone holds the arm up).
     #[arg(long = "no-ff")]
     pub no_ff: bool,
+    /// What the controller feeds forward: 'gravity', g(q) at the measured q (the default), or 'full', the inverse dynamics of the commanded q, v, a (computed torque; docs/trajectories.md).
+    #[arg(long, value_name = "gravity|full", value_parser = ["gravity", "full"], conflicts_with = "no_ff")]
+    pub ff: Option<String>,
     /// No gravity field.
     #[arg(long = "no-gravity")]
     pub no_gravity: bool,

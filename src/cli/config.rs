@@ -8,6 +8,7 @@ use crate::config::{
     ArmConfig, Center, ClearanceConfig, ControlConfig, Motion, Motors, OutputConfig, ReplayConfig, RunConfig,
     ShapeConfig, VerdictConfig, WaveConfig,
 };
+use crate::control::FeedForward;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, PairFilter};
 use crate::sim::Thresholds;
@@ -34,13 +35,15 @@ fn wave(a: &WaveArgs) -> Result<RunConfig> {
         amp_m: a.amp_m,
         center,
     });
-    with_run(motion, a.duration, &a.run)
+    with_run(motion, Some(a.duration), &a.run)
 }
 
 fn replay(a: &ReplayArgs) -> Result<RunConfig> {
     let motion = Motion::Replay(ReplayConfig {
         q_traj: a.q_traj.clone(),
         traj_period: a.traj_period,
+        message: a.message,
+        topic: a.topic.clone(),
     });
     with_run(motion, a.duration, &a.run)
 }
@@ -53,11 +56,11 @@ fn shape(a: &ShapeArgs) -> Result<RunConfig> {
         shape_points: a.shape_points,
         save_q: a.save_q.clone().filter(|p| !is_none(p)),
     });
-    with_run(motion, a.duration, &a.run)
+    with_run(motion, Some(a.duration), &a.run)
 }
 
 /// `motion` with the options every run command shares.
-fn with_run(motion: Motion, duration: f64, run: &RunArgs) -> Result<RunConfig> {
+fn with_run(motion: Motion, duration: Option<f64>, run: &RunArgs) -> Result<RunConfig> {
     let per_joint = |v: &Option<JointValues>| v.as_ref().map_or(Vec::new(), |v| v.0.clone());
     let path = |p: &Option<std::path::PathBuf>| p.clone().filter(|p| !is_none(p));
     Ok(RunConfig {
@@ -81,8 +84,13 @@ fn with_run(motion: Motion, duration: f64, run: &RunArgs) -> Result<RunConfig> {
             kd: per_joint(&run.kd),
             max_speed: per_joint(&run.max_speed),
             no_ff: run.no_ff,
+            ff: match run.ff.as_deref() {
+                Some("full") => Some(FeedForward::Full),
+                Some(_) => Some(FeedForward::Gravity),
+                None => None,
+            },
         },
-        duration: Some(duration),
+        duration,
         record_period: run.record_period,
         verdict: VerdictConfig {
             thresholds: Thresholds {

@@ -7,6 +7,7 @@
 use std::path::PathBuf;
 
 use super::{Center, Motion, Motors, RunConfig};
+use crate::control::FeedForward;
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, PairFilter};
 use crate::traj::shape::Shape;
@@ -454,6 +455,40 @@ pub const FIELDS: &[Field] = &[
         || super::DEFAULT_TRAJ_PERIOD
     ),
     Field {
+        name: "message",
+        kind: Kind::Count,
+        commands: Commands::Replay,
+        set: |c, v| {
+            let message = match v {
+                Value::Count(k) => Some(usize::try_from(k).map_err(|_| Error::option("message", "too large"))?),
+                Value::Default => None,
+                other => return Err(wrong("message", Kind::Count, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.message = message;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "topic",
+        kind: Kind::Text,
+        commands: Commands::Replay,
+        set: |c, v| {
+            let topic = match v {
+                Value::Text(t) => Some(t),
+                Value::Default => None,
+                other => return Err(wrong("topic", Kind::Text, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.topic = topic;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
         name: "shape",
         kind: Kind::Choice(&["sine", "circle", "tri"]),
         commands: Commands::Shape,
@@ -573,6 +608,21 @@ pub const FIELDS: &[Field] = &[
     per_joint!("gear_ratio", arm.gear_ratio),
     per_joint!("max_speed", control.max_speed),
     flag!("no_ff", control.no_ff),
+    Field {
+        name: "ff",
+        kind: Kind::Choice(&["gravity", "full"]),
+        commands: Commands::All,
+        set: |c, v| {
+            c.control.ff = match &v {
+                Value::Default => None,
+                Value::Text(t) if t == "gravity" => Some(FeedForward::Gravity),
+                Value::Text(t) if t == "full" => Some(FeedForward::Full),
+                _ => return Err(wrong("ff", Kind::Choice(&["gravity", "full"]), &v)),
+            };
+            Ok(())
+        },
+        number: None,
+    },
     flag!("no_gravity", arm.no_gravity),
     number!("payload_kg", Commands::All, |c| Some(&mut c.arm.payload_kg), || 0.0),
     number!("dt", Commands::All, |c| Some(&mut c.control.dt), || super::DEFAULT_DT),

@@ -8,14 +8,24 @@ use std::sync::Arc;
 
 use super::arm::{Arm, load_arm};
 use super::motors::{fit, resolve};
-use super::{ArmConfig, Center, Motion, RunConfig};
+use super::{ArmConfig, Center, Motion, ReplayConfig, RunConfig};
 use crate::error::{Error, Result};
 use crate::faze4::{BOARD, SHAPE_PERIOD};
 use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
 use crate::sim::check::{finite, non_negative, positive};
-use crate::sim::{Collisions, Scenario, SelfContact, Warning, load_collisions};
-use crate::traj::{Interpolated, ShapeRun, Trajectory, Wave, Wrap, npy};
+use crate::sim::{Collisions, Scenario, SelfContact, TimedCommand, Warning, load_collisions};
+use crate::traj::files::{self, Format, Selection};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
+
+/// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
+#[derive(Clone, Debug)]
+pub enum Replayed {
+    /// Frames played at even spacing over `traj_period`, repeating.
+    Samples(Vec<Vec<f64>>),
+    /// Points at their own times, played once as ros2_control plays them.
+    Timed(TimedTrajectory),
+}
 
 /// A run configuration's inputs, read once.
 #[derive(Clone, Debug)]
@@ -29,8 +39,8 @@ pub struct Loaded {
     arm_config: ArmConfig,
     /// The collision set every run measures its self-clearance with.
     collision_set: Option<Arc<CollisionSet>>,
-    /// A replay's frames (N×dof).
-    frames: Vec<Vec<f64>>,
+    /// What a replay plays.
+    replay: Option<Replayed>,
     /// A shape's plan and the number of samples it was made with.
     plan: Option<(usize, (Trajectory, ShapeRun))>,
     /// What loading found that changes the result (collision meshes not found): said once,
@@ -39,9 +49,9 @@ pub struct Loaded {
 }
 
 impl Loaded {
-    /// Checks `config`'s numbers, then reads its arm (and motors), a replay's frames (from its
-    /// `q_traj`, unless `frames` gives them), a shape's plan and the collision meshes.
-    pub fn load(config: &RunConfig, frames: Option<Vec<Vec<f64>>>) -> Result<Loaded> {
+    /// Checks `config`'s numbers, then reads its arm (and motors), what a replay plays (its
+    /// `q_traj` file, unless `replayed` gives it), a shape's plan and the collision meshes.
+    pub fn load(config: &RunConfig, replayed: Option<Replayed>) -> Result<Loaded> {
         check(config)?;
         let bare = load_arm(&ArmConfig {
             motors: None,
@@ -51,10 +61,10 @@ impl Loaded {
             ..config.arm.clone()
         })?;
         let arm = fitted(&bare, &config.arm)?;
-        let frames = match (&config.motion, frames) {
-            (Motion::Replay(_), Some(frames)) => frames,
-            (Motion::Replay(r), None) => npy::read_samples(&r.q_traj)?,
-            _ => Vec::new(),
+        let replay = match (&config.motion, replayed) {
+            (Motion::Replay(_), Some(given)) => Some(given),
+            (Motion::Replay(r), None) => Some(read_replay(r)?),
+            _ => None,
         };
         let plan = match &config.motion {
             Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
@@ -72,7 +82,7 @@ impl Loaded {
             arm,
             arm_config: config.arm.clone(),
             collision_set,
-            frames,
+            replay,
             plan,
             warnings,
         })
@@ -109,6 +119,8 @@ impl Loaded {
             }
         };
         let model = &arm.robot.model;
+        let mut duration = config.duration;
+        let mut command_warnings = Vec::new();
         let (trajectory, command, shape) = match &config.motion {
             Motion::Wave(w) => (
                 Trajectory::Wave(Wave {
@@ -119,11 +131,20 @@ impl Loaded {
                 "wave".to_string(),
                 None,
             ),
-            Motion::Replay(r) => {
-                check_samples(model, &self.frames, &r.q_traj)?;
-                let trajectory = Trajectory::Interpolated(Interpolated::new(&self.frames, r.traj_period, Wrap::Repeat));
-                (trajectory, "replay".to_string(), None)
-            }
+            Motion::Replay(r) => match &self.replay {
+                Some(Replayed::Timed(timed)) => {
+                    let timed = TimedCommand::new(model, timed, &r.q_traj)?;
+                    command_warnings.extend(timed.warning(&r.q_traj));
+                    duration = duration.or(Some(timed.duration));
+                    (timed.trajectory, "replay".to_string(), None)
+                }
+                Some(Replayed::Samples(frames)) => {
+                    check_samples(model, frames, &r.q_traj)?;
+                    let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
+                    (trajectory, "replay".to_string(), None)
+                }
+                None => unreachable!("a replay's trajectory is loaded"),
+            },
             Motion::Shape(s) => {
                 let (trajectory, run) = match &self.plan {
                     Some((points, planned)) if *points == s.shape_points => planned.clone(),
@@ -140,12 +161,13 @@ impl Loaded {
             .geometry(arm.robot.geometry.clone())
             .load_warnings(arm.robot.warnings.clone())
             .tool_frame(arm.tool)
+            .command_warnings(command_warnings)
             .dt(control.dt)
-            .duration(config.duration())
+            .duration(duration.unwrap_or(config.motion.default_duration()))
             .record_period(config.record_period)
             .payload_kg(config.arm.payload_kg)
             .gravity(!config.arm.no_gravity)
-            .feedforward(!control.no_ff)
+            .feedforward(config.feedforward()?)
             .collisions(collisions(config))
             .clearance_tolerance(clearance.clearance_tolerance * 1e-3)
             .thresholds(config.verdict.thresholds)
@@ -172,6 +194,28 @@ impl Loaded {
         }
         builder.build()
     }
+}
+
+/// What a replay's file holds: a time-stamped trajectory by its extension (`.yaml`, `.json`,
+/// `.mcap`, `.csv`; `message` and `topic` pick from it), else a `.npy`'s frames.
+fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
+    if Format::of(&r.q_traj).is_some() {
+        let selection = Selection {
+            message: r.message,
+            topic: r.topic.clone(),
+        };
+        return Ok(Replayed::Timed(files::read(&r.q_traj, &selection)?));
+    }
+    if let Some(field) = [(r.message.is_some(), "message"), (r.topic.is_some(), "topic")]
+        .iter()
+        .find_map(|(given, field)| given.then_some(*field))
+    {
+        return Err(Error::option(
+            field,
+            "picks from a .yaml, .json or .mcap file, not a .npy",
+        ));
+    }
+    Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
 }
 
 /// `bare` with the motors, ratios and rotors of `config` fitted to its joints.

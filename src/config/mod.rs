@@ -19,13 +19,14 @@ mod motors_file;
 
 use std::path::PathBuf;
 
+use crate::control::FeedForward;
 use crate::geometry::{ClearanceGeometry, PairFilter};
 use crate::sim::Thresholds;
 use crate::traj::shape::Shape;
 
 pub use arm::{Arm, load_arm, tool_frame};
 pub use fields::{Field, Kind, Value};
-pub use loaded::{Loaded, check_samples, wave_amplitudes, wave_center};
+pub use loaded::{Loaded, Replayed, check_samples, wave_amplitudes, wave_center};
 pub use motors::{MotorEntry, Motors, PRESETS};
 
 /// Default control and integration period Δt (s): 5 kHz.
@@ -63,7 +64,8 @@ pub struct RunConfig {
     pub arm: ArmConfig,
     /// The controller and the step.
     pub control: ControlConfig,
-    /// Simulated time (s); `None`: the command's default ([`Motion::default_duration`]).
+    /// Simulated time (s); `None`: the command's default ([`Motion::default_duration`]; a
+    /// time-stamped trajectory's last time).
     pub duration: Option<f64>,
     /// Time between trail samples (s), where the tool range, path deviation and clearance
     /// are taken.
@@ -94,6 +96,18 @@ impl RunConfig {
     /// The simulated time: `duration`, else the command's default.
     pub fn duration(&self) -> f64 {
         self.duration.unwrap_or(self.motion.default_duration())
+    }
+
+    /// What the controller feeds forward: nothing under `no_ff`, else `ff` (default: g(q)).
+    pub fn feedforward(&self) -> crate::Result<FeedForward> {
+        match (self.control.no_ff, self.control.ff) {
+            (true, Some(_)) => Err(crate::Error::option(
+                "ff",
+                "and `no_ff` both say what is fed forward: give one",
+            )),
+            (true, None) => Ok(FeedForward::None),
+            (false, ff) => Ok(ff.unwrap_or_default()),
+        }
     }
 }
 
@@ -170,10 +184,17 @@ pub enum Center {
 /// `replay`'s options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReplayConfig {
-    /// The trajectory file (N×dof `.npy`), or the name arrays given in memory are reported by.
+    /// The trajectory file: time-stamped (`.yaml`, `.json`, `.mcap`, `.csv`; played once), or
+    /// an N×dof `.npy` (evenly spaced, repeating); or the name arrays given in memory are
+    /// reported by.
     pub q_traj: PathBuf,
-    /// Time the frames span (s); the trajectory then repeats.
+    /// A `.npy`'s period: the time its frames span (s); the trajectory then repeats.
     pub traj_period: f64,
+    /// Which message of a `.yaml`, `.json` or `.mcap` file, counted from 1 (`None`: the first).
+    pub message: Option<usize>,
+    /// The topic of an `.mcap` file (`None`: its one JointTrajectory topic, else its one
+    /// JointState topic).
+    pub topic: Option<String>,
 }
 
 impl ReplayConfig {
@@ -182,6 +203,8 @@ impl ReplayConfig {
         ReplayConfig {
             q_traj: q_traj.into(),
             traj_period: DEFAULT_TRAJ_PERIOD,
+            message: None,
+            topic: None,
         }
     }
 }
@@ -249,6 +272,9 @@ pub struct ControlConfig {
     pub max_speed: Vec<Option<f64>>,
     /// No gravity feed-forward.
     pub no_ff: bool,
+    /// What the controller feeds forward (`None`: g(q), the default; `Full`: the command's
+    /// inverse dynamics).
+    pub ff: Option<FeedForward>,
 }
 
 impl Default for ControlConfig {
@@ -260,6 +286,7 @@ impl Default for ControlConfig {
             kd: Vec::new(),
             max_speed: Vec::new(),
             no_ff: false,
+            ff: None,
         }
     }
 }

@@ -31,7 +31,7 @@ use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
 use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea};
 use crate::config::fields::{Kind, Value, field};
-use crate::config::{self, Motion, Motors, RunConfig, ShapeConfig, WaveConfig};
+use crate::config::{self, Motion, Motors, Replayed, RunConfig, ShapeConfig, WaveConfig};
 use crate::error::{Words, in_words};
 use crate::model::Model;
 use crate::output::Capture;
@@ -465,11 +465,13 @@ impl PyRobot {
     }
 }
 
-/// An N×dof float64 array's rows, checked as a `.npy` trajectory is (`label` names it).
-fn frames(label: &str, q_traj: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Vec<Vec<f64>>>> {
+/// An N×dof float64 array's rows, checked as a `.npy` trajectory is (`label` names it), as
+/// what a replay plays.
+fn frames(label: &str, q_traj: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Replayed>> {
     q_traj
         .map(|a| crate::traj::npy::samples_from_array(std::path::Path::new(label), a.as_array()))
         .transpose()
+        .map(|frames| frames.map(Replayed::Samples))
         .map_err(error)
 }
 

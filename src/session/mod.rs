@@ -10,7 +10,7 @@ use std::path::Path;
 pub use report::{divergence_line, done_line};
 
 use crate::atomic::Outputs;
-use crate::config::{Loaded, Motion, RunConfig};
+use crate::config::{Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result};
 use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary, Warning};
@@ -29,10 +29,10 @@ pub struct Prepared {
 }
 
 impl Prepared {
-    /// Loads `config` (a replay's `frames` given in memory, or read from its `q_traj`) and
+    /// Loads `config` (what a replay plays given in memory, or read from its `q_traj`) and
     /// builds its scenario.
-    pub fn new(config: RunConfig, frames: Option<Vec<Vec<f64>>>) -> Result<Prepared> {
-        let loaded = Loaded::load(&config, frames)?;
+    pub fn new(config: RunConfig, replayed: Option<Replayed>) -> Result<Prepared> {
+        let loaded = Loaded::load(&config, replayed)?;
         let scenario = loaded.scenario(&config)?;
         let mut warnings = scenario.warnings.clone();
         warnings.extend(loaded.warnings);

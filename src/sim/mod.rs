@@ -8,6 +8,7 @@ mod run;
 mod scenario;
 mod stop;
 mod summary;
+mod timed;
 mod verdict;
 mod warning;
 
@@ -23,5 +24,6 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss, Summary,
     ToolRange, ToolRule,
 };
+pub use timed::TimedCommand;
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};
 pub use warning::Warning;

@@ -18,7 +18,7 @@ use std::sync::Arc;
 use super::check::{count, non_negative, override_per_joint, positive};
 use super::{MeshSource, SelfContact, Thresholds, Warning, steps_per_record};
 use crate::algo::{Data, crba};
-use crate::control::{Motor, Pd, Stability, arithmetic_holds, tune};
+use crate::control::{FeedForward, Motor, Pd, Stability, arithmetic_holds, tune};
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::model::{FrameId, LoadWarning, Model};
@@ -104,12 +104,13 @@ impl Scenario {
         ScenarioBuilder {
             geometry: GeometryModel::default(),
             load_warnings: Vec::new(),
+            command_warnings: Vec::new(),
             collisions: Some(Collisions::default()),
             collision_set: None,
             clearance_tolerance: DEFAULT_CLEARANCE_TOLERANCE_M,
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
-                Trajectory::Interpolated(_) => "replay",
+                Trajectory::Interpolated(_) | Trajectory::Spline(_) => "replay",
             }),
             model,
             trajectory,
@@ -118,7 +119,7 @@ impl Scenario {
             record_period: DEFAULT_RECORD_PERIOD,
             payload_kg: 0.0,
             gravity: true,
-            feedforward: true,
+            feedforward: FeedForward::Gravity,
             tool_frame: None,
             effort: None,
             kp: Vec::new(),
@@ -142,6 +143,7 @@ pub struct ScenarioBuilder {
     model: Model,
     geometry: GeometryModel,
     load_warnings: Vec<LoadWarning>,
+    command_warnings: Vec<Warning>,
     collisions: Option<Collisions>,
     collision_set: Option<Arc<CollisionSet>>,
     clearance_tolerance: f64,
@@ -151,7 +153,7 @@ pub struct ScenarioBuilder {
     record_period: f64,
     payload_kg: f64,
     gravity: bool,
-    feedforward: bool,
+    feedforward: FeedForward,
     tool_frame: Option<FrameId>,
     effort: Option<Vec<f64>>,
     kp: Vec<Option<f64>>,
@@ -174,6 +176,13 @@ impl ScenarioBuilder {
     /// scenario's warnings start with these.
     pub fn load_warnings(mut self, warnings: Vec<LoadWarning>) -> Self {
         self.load_warnings = warnings;
+        self
+    }
+
+    /// What building the command noticed (e.g. [`Warning::HeldJoints`]): the scenario's
+    /// warnings include these, after the model's.
+    pub fn command_warnings(mut self, warnings: impl IntoIterator<Item = Warning>) -> Self {
+        self.command_warnings.extend(warnings);
         self
     }
 
@@ -241,9 +250,10 @@ impl ScenarioBuilder {
         self
     }
 
-    /// Whether the controller adds g(q) to its torque (default) or not (`no_ff`).
-    pub fn feedforward(mut self, on: bool) -> Self {
-        self.feedforward = on;
+    /// What the controller adds to its PD torque: g(q) (default), the command's inverse
+    /// dynamics (`ff` full), or nothing (`no_ff`).
+    pub fn feedforward(mut self, feedforward: FeedForward) -> Self {
+        self.feedforward = feedforward;
         self
     }
 
@@ -370,6 +380,7 @@ impl ScenarioBuilder {
         model = simulated_model(&model, tool_frame, self.payload_kg, self.gravity);
 
         let mut warnings: Vec<Warning> = self.load_warnings.iter().cloned().map(Warning::Model).collect();
+        warnings.extend(self.command_warnings);
         if let Some(effort) = &self.effort {
             count("effort", effort.len(), n)?;
             if let Some((i, x)) = effort.iter().enumerate().find(|(_, x)| x.is_nan() || **x <= 0.0) {

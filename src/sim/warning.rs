@@ -4,6 +4,7 @@
 use std::fmt;
 
 use crate::control::Stability;
+use crate::error::shortest;
 use crate::geometry;
 use crate::model::LoadWarning;
 
@@ -30,6 +31,14 @@ pub enum Warning {
     Clearance(geometry::Warning),
     /// Reading the model skipped or changed something (a transmission, an inertia).
     Model(LoadWarning),
+    /// A time-stamped trajectory names none of these joints of the model: each holds a
+    /// position (see [`super::TimedCommand`]).
+    HeldJoints {
+        /// The trajectory's file.
+        source: String,
+        /// The joints and the positions they hold.
+        joints: Vec<crate::traj::HeldJoint>,
+    },
 }
 
 impl Warning {
@@ -63,6 +72,16 @@ impl fmt::Display for Warning {
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
+            Warning::HeldJoints { source, joints } => write!(
+                f,
+                "warning: {source} gives no values for {}: {} its start position with zero velocity",
+                joints
+                    .iter()
+                    .map(|j| format!("{} ({})", crate::error::quoted(&j.name), shortest(j.position)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if joints.len() == 1 { "it holds" } else { "each holds" }
+            ),
         }
     }
 }

@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
 use crate::config::fields::{Field, field};
-use crate::config::{Loaded, Motion, RunConfig};
+use crate::config::{Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result, one_line};
 use crate::output::format::exact;
 use crate::sim::{Scenario, StopFlag, Warning};
@@ -64,7 +64,7 @@ impl Family {
     /// `names` (each checked against the base command, with its `values` where given). The
     /// base's single-run outputs (summary, html, plot, live view, joint samples) are refused:
     /// a sweep writes its own.
-    pub fn load(base: RunConfig, frames: Option<Vec<Vec<f64>>>, names: &[(&str, &[f64])]) -> Result<Family> {
+    pub fn load(base: RunConfig, replayed: Option<Replayed>, names: &[(&str, &[f64])]) -> Result<Family> {
         let out = &base.outputs;
         if let Some(path) = &out.summary {
             return Err(Error::option(
@@ -93,7 +93,7 @@ impl Family {
         let knobs = (names.iter())
             .map(|(name, values)| knob(&base, name, values))
             .collect::<Result<Vec<_>>>()?;
-        let loaded = Loaded::load(&base, frames)?;
+        let loaded = Loaded::load(&base, replayed)?;
         Ok(Family { base, loaded, knobs })
     }
 
@@ -162,8 +162,8 @@ const PROBES: usize = 100;
 /// settable, every one a value of the field's kind).
 fn knob(base: &RunConfig, name: &str, values: &[f64]) -> Result<Knob> {
     let knob = Knob::named(name).ok_or_else(|| {
-        Error::argument(
-            "--vary",
+        Error::option(
+            "vary",
             format!("'{name}' is not a numeric option a sweep can vary ({})", known_names()),
         )
     })?;
@@ -173,7 +173,7 @@ fn knob(base: &RunConfig, name: &str, values: &[f64]) -> Result<Knob> {
                 Error::InvalidArgument { message, .. } => message.clone(),
                 other => other.to_string(),
             };
-            Error::argument("--vary", format!("{name} {reason} (faze4 {})", base.motion.name()))
+            Error::option("vary", format!("{name} {reason} (faze4 {})", base.motion.name()))
         };
         for &x in values {
             f.set_number(&mut base.clone(), x).map_err(bad)?;
@@ -205,7 +205,7 @@ pub struct Searched {
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     base: RunConfig,
-    frames: Option<Vec<Vec<f64>>>,
+    replayed: Option<Replayed>,
     name: &str,
     lo: f64,
     hi: f64,
@@ -247,8 +247,8 @@ pub fn search(
             ),
         ));
     }
-    let family = Family::load(base, frames, &[(name, &[lo, hi])]).map_err(|e| match e {
-        Error::InvalidArgument { option: o, message } if o == "--vary" => Error::option(option, message),
+    let family = Family::load(base, replayed, &[(name, &[lo, hi])]).map_err(|e| match e {
+        Error::InvalidArgument { option: o, message } if o == "`vary`" => Error::option(option, message),
         other => other,
     })?;
     warn(family.warnings());

@@ -213,7 +213,7 @@ impl<'a> Runner<'a> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)
             .build()
-            .map_err(|e| Error::argument("--jobs", e.to_string()))?;
+            .map_err(|e| Error::option("jobs", e.to_string()))?;
         Ok(Runner {
             pool,
             build,

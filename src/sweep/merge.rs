@@ -217,7 +217,7 @@ pub struct Merged {
 /// metadata, truncated or changed since written, of another sweep, with other columns, runs held
 /// twice, and — unless `allow_partial` — a partial part or runs no part holds.
 pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged> {
-    let out_format = Format::of(out, "--out")?;
+    let out_format = Format::of(out, "`out`")?;
     if tables.is_empty() {
         return Err(Error::argument(MERGE, "no table to merge"));
     }
