@@ -16,7 +16,7 @@ use self::args::{Cli, Command, RunArgs};
 use crate::atomic::Outputs;
 use crate::error::{Error, Result, escape_controls, quoted};
 use crate::output::format::number;
-use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
+use crate::output::{PRINT_PERIOD, Terminal, TrailCsv, sizing_table};
 use crate::sim::scenario::positive;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 use crate::traj::{Trajectory, npy};
@@ -124,6 +124,12 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
     let mut stdout = String::new();
     if !run.quiet {
         stdout = report_files(&recorders, run, save_q, &summary);
+    }
+    if let (true, Some(motors)) = (run.sizing, &summary.motors) {
+        for line in sizing_table(motors) {
+            stdout.push_str(&line);
+            stdout.push('\n');
+        }
     }
     // the answer, always the last line on stdout
     stdout.push_str(&format!("{}\n", summary.verdict));
@@ -240,6 +246,9 @@ impl Recorders {
         let motor_plot = run.plot_motors.as_deref().filter(|p| !is_none(p));
         if motor_plot.is_some() && scenario.motors.is_none() {
             return Err(Error::argument("--plot-motors", "draws the motors: add --motors"));
+        }
+        if run.sizing && scenario.motors.is_none() {
+            return Err(Error::argument("--sizing", "sizes the motors: add --motors"));
         }
         for (path, option) in [
             (trail, "--trail"),

@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, CollisionSet, PairFilter, Robot};
 use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
 use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
-use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
+use crate::sim::{Collisions, Drive, Scenario, ScenarioBuilder, SelfContact, ShapeRun, Thresholds};
 use crate::traj::shape::Shape;
 use crate::traj::{Interpolated, Trajectory, Wave, Wrap, npy};
 
@@ -328,6 +328,7 @@ fn builder(
     if let Some(motors) = motors {
         builder = builder.motors(motors);
     }
+    builder = builder.drive(drive(run, n)?);
     if let Some(limits) = &run.max_speed {
         builder = builder.max_speed(limits.0.clone());
     }
@@ -338,6 +339,33 @@ fn builder(
         builder = builder.kd(kd.0.clone());
     }
     Ok(builder)
+}
+
+/// `--drive` and `--microsteps` → how the joints are driven.
+fn drive(run: &RunArgs, n: usize) -> Result<Drive> {
+    if run.drive != "stepper" {
+        if run.microsteps.is_some() {
+            return Err(Error::argument("--microsteps", "is for --drive stepper"));
+        }
+        return Ok(Drive::Pd);
+    }
+    let given = run.microsteps.as_ref().map_or(&[][..], |v| v.0.as_slice());
+    let microsteps = (given.iter().enumerate())
+        .map(|(i, v)| match v {
+            None => Ok(None),
+            Some(x) if x.fract() == 0.0 && *x >= 1.0 && *x <= f64::from(u32::MAX) => Ok(Some(*x as u32)),
+            Some(x) => Err(Error::argument(
+                "--microsteps",
+                format!("J{} {x} is not a whole number ≥ 1", i + 1),
+            )),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    // one value: every joint's
+    let microsteps = match microsteps.as_slice() {
+        [one] => vec![*one; n],
+        _ => microsteps,
+    };
+    Ok(Drive::Stepper { microsteps })
 }
 
 /// `--collision-geometry`, `--collision-pairs`, `--no-collisions` → the run's clearance

@@ -1,14 +1,16 @@
 //! The joint controller: the digital PD with gravity feed-forward, and its auto-tuning; the
-//! motors behind it, their torque–speed envelopes (`motor.rs`) and the published figures of
-//! the presets' motors (`catalog.rs`).
+//! motors behind it, their torque–speed envelopes (`motor.rs`), the open-loop stepper drive
+//! (`stepper.rs`) and the published figures of the presets' motors (`catalog.rs`).
 
 pub mod catalog;
 mod motor;
 mod pd;
 mod stability;
+mod stepper;
 mod tuning;
 
-pub use motor::{Envelope, JointMotor, Motor, StepperWinding};
+pub use motor::{Electrics, Envelope, JointMotor, Motor, StepperWinding, Stepping};
 pub use pd::Pd;
 pub use stability::{Stability, lambda_max, spectral_radius, stabilize};
+pub use stepper::{DEFAULT_MICROSTEPS, OpenLoopStepper, STEPS_PER_CYCLE, Slips, detent, torque_angle};
 pub use tuning::{Gains, auto_tune};

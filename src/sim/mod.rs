@@ -5,6 +5,7 @@ mod contact;
 mod record;
 mod run;
 pub(crate) mod scenario;
+mod sizing;
 mod stop;
 mod summary;
 mod verdict;
@@ -13,12 +14,13 @@ pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, POINT_STIFFNESS, SelfC
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
-    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
+    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, Scenario,
     ScenarioBuilder, ShapeRun, Warning, tune,
 };
+pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use stop::{StopFlag, exit_status};
 pub use summary::{
-    ContactSummary, Diverged, DofJoint, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss, Summary,
-    ToolRange, ToolRule,
+    ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss,
+    Summary, ToolRange, ToolRule,
 };
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};

@@ -20,7 +20,9 @@ use nalgebra::DMatrix;
 
 use super::{MeshSource, SelfContact};
 use crate::algo::{Data, crba};
-use crate::control::{Gains, JointMotor, Motor, Pd, Stability, auto_tune, stabilize};
+use crate::control::{
+    DEFAULT_MICROSTEPS, Envelope, Gains, JointMotor, Motor, OpenLoopStepper, Pd, Stability, auto_tune, stabilize,
+};
 use crate::error::{Error, Result, shortest};
 use crate::faze4;
 use crate::geometry::{self, ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
@@ -92,6 +94,25 @@ pub struct Scenario {
     /// for a joint without one: the constant limit alone); `None`: no motors, the constant
     /// limits of the controller.
     pub motors: Option<Vec<Option<Motor>>>,
+    /// `--drive stepper`: per joint the open-loop drive of its stepper (`None` for a joint the
+    /// PD drives); `None`: the PD drives every joint (`--drive pd`).
+    pub stepper_drive: Option<Vec<Option<OpenLoopStepper>>>,
+}
+
+/// How the joints are driven (`--drive`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Drive {
+    /// The PD controller's torque, clipped to each motor's envelope (the original's).
+    #[default]
+    Pd,
+    /// The joints with a stepper driven open loop: the command is the microstep the driver
+    /// holds, the torque the stepper's torque–angle curve (docs/motors.md); the other joints
+    /// stay on the PD.
+    Stepper {
+        /// Microsteps per full step per joint (`--microsteps`; an empty list, or `None` for a
+        /// joint, keeps the motor's own setting, else [`DEFAULT_MICROSTEPS`]).
+        microsteps: Vec<Option<u32>>,
+    },
 }
 
 /// Something a scenario runs with that the user should know about; the builder returns these
@@ -243,6 +264,7 @@ impl Scenario {
             thresholds: Thresholds::default(),
             self_contact: None,
             motors: None,
+            drive: Drive::Pd,
         }
     }
 }
@@ -275,6 +297,7 @@ pub struct ScenarioBuilder {
     thresholds: Thresholds,
     self_contact: Option<SelfContact>,
     motors: Option<Vec<Option<JointMotor>>>,
+    drive: Drive,
 }
 
 impl ScenarioBuilder {
@@ -416,6 +439,13 @@ impl ScenarioBuilder {
         self
     }
 
+    /// How the joints are driven (`--drive`; default [`Drive::Pd`]). [`Drive::Stepper`]
+    /// needs [`ScenarioBuilder::motors`] with at least one stepper whose rotor is known.
+    pub fn drive(mut self, drive: Drive) -> Self {
+        self.drive = drive;
+        self
+    }
+
     /// Contact forces between the checked pairs of the collision geometry given by
     /// [`ScenarioBuilder::geometry`] (`--self-collisions`; off by default).
     pub fn self_contact(mut self, contact: SelfContact) -> Self {
@@ -484,6 +514,7 @@ impl ScenarioBuilder {
             Some(motors) => Some(fit_motors(&mut model, motors)?),
             None => None,
         };
+        let stepper_drive = stepper_drive(&self.drive, motors.as_deref(), n)?;
         let steps = steps(self.duration, self.dt)?;
         check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
         if !self.gravity {
@@ -583,6 +614,7 @@ impl ScenarioBuilder {
             warnings,
             self_contact: self.self_contact,
             motors,
+            stepper_drive,
         })
     }
 }
@@ -613,6 +645,61 @@ fn fit_motors(model: &mut Model, motors: Vec<Option<JointMotor>>) -> Result<Vec<
         out.push(Some(m.motor));
     }
     Ok(out)
+}
+
+/// `--drive stepper`'s open-loop drive of each joint with a stepper (`None`: `--drive pd`):
+/// its microsteps `--microsteps`' where given (≥ 1), else the motor's own, else
+/// [`DEFAULT_MICROSTEPS`].
+fn stepper_drive(
+    drive: &Drive,
+    motors: Option<&[Option<Motor>]>,
+    n: usize,
+) -> Result<Option<Vec<Option<OpenLoopStepper>>>> {
+    let Drive::Stepper { microsteps } = drive else {
+        return Ok(None);
+    };
+    let Some(motors) = motors else {
+        return Err(Error::argument(
+            "--drive",
+            "stepper drives the steppers of --motors: add --motors",
+        ));
+    };
+    if !microsteps.is_empty() {
+        count("--microsteps", microsteps.len(), n)?;
+    }
+    let mut drives = Vec::with_capacity(n);
+    for (i, motor) in motors.iter().enumerate() {
+        let Some(m) = motor
+            .as_ref()
+            .filter(|m| matches!(m.envelope, Envelope::Stepper { .. }))
+        else {
+            drives.push(None);
+            continue;
+        };
+        let Some(stepping) = &m.stepping else {
+            return Err(Error::argument(
+                "--drive",
+                format!(
+                    "stepper: J{}'s stepper ({}) has no step angle: give its step_angle in the motors file",
+                    i + 1,
+                    m.label
+                ),
+            ));
+        };
+        let given = microsteps.get(i).copied().flatten();
+        if given == Some(0) {
+            return Err(Error::argument("--microsteps", format!("J{} 0 must be ≥ 1", i + 1)));
+        }
+        let m = given.or(stepping.microsteps).unwrap_or(DEFAULT_MICROSTEPS);
+        drives.push(Some(OpenLoopStepper::new(stepping, m)));
+    }
+    if drives.iter().all(Option::is_none) {
+        return Err(Error::argument(
+            "--drive",
+            "stepper: none of the joints' motors is a stepper",
+        ));
+    }
+    Ok(Some(drives))
 }
 
 /// Largest Coulomb friction `--friction` takes. The contact step's products of μ overflow
