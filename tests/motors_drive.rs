@@ -237,3 +237,21 @@ fn bad_drive_options_are_refused_in_one_line() {
     refused("no_sizing", &["wave", "--sizing"], "--sizing");
     refused("drive_word", &["wave", "--drive", "servo"], "--drive");
 }
+
+/// A step too coarse for the steppers' ringing is said (once, on stderr); a fine one is not.
+#[test]
+fn a_step_too_coarse_for_the_ringing_is_warned() {
+    let base = ["wave", "--motors", "faze4", "--drive", "stepper", "--duration", "0.01"];
+    let (out, _) = run("drive_coarse", &base);
+    let lines: Vec<&str> = out.stderr.lines().filter(|l| l.contains("rings at")).collect();
+    assert_eq!(lines.len(), 1, "{}", out.stderr);
+    assert!(
+        lines[0].contains("J6 ('hvataljka')") && lines[0].contains("--dt 0.00005"),
+        "{}",
+        lines[0]
+    );
+    let mut fine = base.to_vec();
+    fine.extend(["--dt", "5e-5"]);
+    let (out, _) = run("drive_fine", &fine);
+    assert!(!out.stderr.contains("rings at"), "{}", out.stderr);
+}

@@ -3,6 +3,7 @@
 //! "Sizing").
 
 use super::format::{joint_header, text_row};
+use super::terminal::per_motor;
 use crate::sim::MotorSummary;
 
 /// The inertia ratio (reflected load over rotor) sizing notes keep a stepper at or below.
@@ -13,11 +14,7 @@ pub const INERTIA_RATIO_RULE: f64 = 10.0;
 /// supply current, and the heating check that applies: RMS torque against a continuous rating,
 /// or a stepper's winding loss under its constant-current driver against its rated loss.
 pub fn sizing_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
-    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| -> Vec<String> {
-        (motors.iter())
-            .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
-            .collect()
-    };
+    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| per_motor(motors, f);
     let mut lines = vec![
         format!("[sizing at the motor]{}", &joint_header(motors.len())[21..]),
         text_row(

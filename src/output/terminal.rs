@@ -270,11 +270,7 @@ impl Recorder for Terminal {
 /// rating, when a stepper first lost steps, and under `--drive stepper` the full steps it ends
 /// off its command. Torques and speeds at the motor shaft.
 pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
-    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| -> Vec<String> {
-        (motors.iter())
-            .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
-            .collect()
-    };
+    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| per_motor(motors, f);
     let mut lines = vec![
         text_row("motor", cell(&|m| Some(m.kind.to_string()))),
         text_row("driven by", cell(&|m| Some(m.drive.to_string()))),
@@ -303,6 +299,13 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
         ));
     }
     lines
+}
+
+/// One text per joint: `f` of its motor's summary, `-` where it has no motor or `f` gives none.
+pub(super) fn per_motor(motors: &[Option<MotorSummary>], f: &dyn Fn(&MotorSummary) -> Option<String>) -> Vec<String> {
+    (motors.iter())
+        .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
+        .collect()
 }
 
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the

@@ -14,8 +14,8 @@ pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, POINT_STIFFNESS, SelfC
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
-    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, Scenario,
-    ScenarioBuilder, ShapeRun, Warning, tune,
+    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive,
+    STEPPER_STEPS_PER_RADIAN, Scenario, ScenarioBuilder, ShapeRun, Warning, tune,
 };
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use stop::{StopFlag, exit_status};

@@ -138,7 +138,23 @@ pub enum Warning {
     Clearance(geometry::Warning),
     /// Reading the model skipped or changed something (a transmission, an inertia).
     Model(LoadWarning),
+    /// Under `--drive stepper`, a stepper's rotor rings faster than Δt resolves well: its
+    /// natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) takes fewer than
+    /// ten steps a radian (ω_n·Δt above [`STEPPER_STEPS_PER_RADIAN`]); a run near a slip can
+    /// change with Δt.
+    CoarseStepperStep {
+        /// The joint whose rotor rings fastest, for people (`J6 ('hvataljka')`).
+        joint: String,
+        /// Its natural frequency at the start pose (rad/s).
+        omega: f64,
+        /// The run's Δt (s).
+        dt: f64,
+    },
 }
+
+/// Under `--drive stepper`, the largest ω_n·Δt (a stepper's natural frequency times the step)
+/// the run takes without a [`Warning::CoarseStepperStep`].
+pub const STEPPER_STEPS_PER_RADIAN: f64 = 0.1;
 
 impl Warning {
     /// Whether the run's result differs from what the input says because of it (a mesh left
@@ -168,6 +184,14 @@ impl fmt::Display for Warning {
                 s.spectral_radius,
                 s.b_max,
                 s.b_kd
+            ),
+            Warning::CoarseStepperStep { joint, omega, dt } => write!(
+                f,
+                "warning: under --drive stepper the rotor of {joint} rings at {omega:.0} rad/s ({:.0} Hz): Δt = {dt} s takes {:.0} steps a period, coarse for its microsteps and its ringing; a run near a slip can change with Δt (--dt {} takes {:.0})",
+                omega / std::f64::consts::TAU,
+                std::f64::consts::TAU / (omega * dt),
+                shortest(fine_dt(*omega)),
+                std::f64::consts::TAU / (omega * fine_dt(*omega)),
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
@@ -586,6 +610,9 @@ impl ScenarioBuilder {
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
         }
+        if let Some(w) = coarse_stepper_step(&model, motors.as_deref(), stepper_drive.as_deref(), &gains, self.dt) {
+            warnings.push(w);
+        }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
         let meshes = MeshSource::of(&self.geometry);
         let (geometry, collision_set) = match (self.collisions, self.collision_set) {
@@ -700,6 +727,44 @@ fn stepper_drive(
         ));
     }
     Ok(Some(drives))
+}
+
+/// The fastest-ringing open-loop stepper's [`Warning::CoarseStepperStep`], if its natural
+/// frequency ω_n = √(r²·η·N_r·T_max(0) / I), I the joint's effective inertia at the start pose,
+/// times Δt is above [`STEPPER_STEPS_PER_RADIAN`].
+fn coarse_stepper_step(
+    model: &Model,
+    motors: Option<&[Option<Motor>]>,
+    drives: Option<&[Option<OpenLoopStepper>]>,
+    gains: &Gains,
+    dt: f64,
+) -> Option<Warning> {
+    let (motors, drives) = (motors?, drives?);
+    let (i, omega) = (drives.iter().zip(motors).enumerate())
+        .filter_map(|(i, (d, m))| {
+            let (d, m) = (d.as_ref()?, m.as_ref()?);
+            let r = model.joints[i].gear_ratio;
+            let stiffness = r * r * m.efficiency * d.rotor_teeth * m.envelope.max_torque();
+            Some((i, (stiffness / gains.effective_inertia[i]).sqrt()))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (omega * dt > STEPPER_STEPS_PER_RADIAN).then(|| Warning::CoarseStepperStep {
+        joint: format!("J{} ({})", i + 1, crate::error::quoted(&model.joints[i].name)),
+        omega,
+        dt,
+    })
+}
+
+/// A step that resolves a ringing at `omega` (rad/s): the largest of 1, 2, 5 × 10ᵏ s with
+/// ω·Δt ≤ [`STEPPER_STEPS_PER_RADIAN`].
+fn fine_dt(omega: f64) -> f64 {
+    let most = STEPPER_STEPS_PER_RADIAN / omega;
+    let decade = 10f64.powf(most.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&d| d <= most)
+        .unwrap_or(decade)
 }
 
 /// Largest Coulomb friction `--friction` takes. The contact step's products of μ overflow
