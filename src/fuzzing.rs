@@ -166,7 +166,7 @@ fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, String> {
 /// The name the fuzzed STL goes by in error messages.
 pub const STL_LABEL: &str = "fuzz.stl";
 
-/// `stl_mesh`: bytes → [`parse_mesh`] as an STL. Checks: see [`check_mesh`].
+/// `stl_mesh`: bytes → [`parse_mesh`] as an STL. Checks: see `check_mesh`.
 pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
     check_mesh(parse_mesh(data, Path::new(STL_LABEL)), STL_LABEL)
 }
@@ -175,7 +175,7 @@ pub fn stl_mesh(data: &[u8]) -> Result<Mesh> {
 pub const MESH_LABELS: [&str; 3] = ["fuzz.stl", "fuzz.dae", "fuzz.obj"];
 
 /// `mesh_file`: the first byte picks the format (its value mod 3: STL, COLLADA, OBJ), the rest
-/// is the file → [`parse_mesh`]. Checks: see [`check_mesh`]. `None` for no bytes.
+/// is the file → [`parse_mesh`]. Checks: see `check_mesh`. `None` for no bytes.
 pub fn mesh_file(data: &[u8]) -> Option<Result<Mesh>> {
     let (&first, bytes) = data.split_first()?;
     let label = MESH_LABELS[first as usize % 3];

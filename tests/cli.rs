@@ -613,3 +613,93 @@ fn html_and_plot_are_written_whole() {
     assert_eq!(files.len(), 2, "--html none writes nothing: {files:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Under `--hold` the verdict stays the last line a terminal shows (stdout and stderr on one
+/// pipe, as a terminal has them): the line saying the view is served comes before the result
+/// lines, nothing after the verdict while the view is served, nor once Ctrl-C ends the serving.
+#[test]
+fn the_verdict_is_the_last_line_under_hold() {
+    use std::io::BufRead;
+    let dir = temp_dir("hold-last-line");
+    let (reader, writer) = std::io::pipe().unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args([
+            "wave",
+            "--duration",
+            "0.2",
+            "--hold",
+            "--port",
+            "0",
+            "--no-collisions",
+            "--trail",
+            "none",
+        ])
+        .current_dir(&dir)
+        .stdout(writer.try_clone().unwrap())
+        .stderr(writer)
+        .spawn()
+        .expect("run faze4");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(reader).lines() {
+            tx.send(line.unwrap()).unwrap();
+        }
+    });
+    let timeout = std::time::Duration::from_secs(60);
+    let mut lines = Vec::new();
+    while !lines.last().is_some_and(|l: &String| l.starts_with("verdict: ")) {
+        lines.push(rx.recv_timeout(timeout).expect("a verdict line"));
+    }
+    // served: nothing more comes while it holds
+    let later = rx.recv_timeout(std::time::Duration::from_millis(800));
+    assert!(later.is_err(), "a line after the verdict while holding: {later:?}");
+    assert!(child.try_wait().unwrap().is_none(), "the view should still be served");
+    send(child.id(), libc::SIGINT);
+    let status = child.wait().unwrap();
+    lines.extend(rx.iter());
+    assert_eq!(status.code(), Some(0), "{lines:#?}");
+    assert!(lines.last().unwrap().starts_with("verdict: follows"), "{lines:#?}");
+    let serving =
+        (lines.iter()).position(|l| l.starts_with("viz: serving http://127.0.0.1:") && l.ends_with("until Ctrl-C"));
+    assert!(
+        serving.is_some_and(|k| k < lines.len() - 1),
+        "the serving line before the verdict: {lines:#?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The self-clearance line's bound on the true minimum: a pair apart gets `(true minimum ≥ …
+/// mm)`, never below zero; an intersecting pair (the exact meshes' 0.00 mm, the hulls' negative
+/// signed distance) reads `(intersecting)`, not a negative bound.
+#[test]
+fn an_intersecting_pair_reads_intersecting_not_a_negative_bound() {
+    let dir = temp_dir("clearance-bound");
+    let line = |args: &[&str]| {
+        let run = faze4(&dir, &[args, &["--duration", "1", "--trail", "none"]].concat());
+        assert!(run.status.success(), "{args:?}: {}", run.stderr);
+        let line = (run.stdout.lines())
+            .find(|l| l.starts_with("self-clearance ("))
+            .unwrap_or_else(|| panic!("{args:?}: no self-clearance line in {}", run.stdout))
+            .to_string();
+        assert!(!line.contains("≥ -"), "a negative bound: {line}");
+        line
+    };
+    let apart = line(&["wave"]);
+    assert!(
+        apart.contains(" s (true minimum ≥ ") && !apart.contains("intersecting"),
+        "{apart}"
+    );
+    // the payload folds the arm into itself: the exact meshes cross (0.00 mm)
+    let meshes = line(&["shape", "--shape", "circle", "--payload-kg", "5"]);
+    assert!(
+        meshes.contains(" 0.00 mm at t = ") && meshes.contains(" s (intersecting) · intersecting: "),
+        "{meshes}"
+    );
+    // the hulls overlap from the start (a negative signed distance)
+    let hulls = line(&["shape", "--shape", "circle", "--collision-geometry", "hull"]);
+    assert!(
+        hulls.contains(" -3.") && hulls.contains(" s (intersecting) · intersecting: "),
+        "{hulls}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -912,6 +912,42 @@ fn the_plot_draws_one_option_as_lines_and_two_as_heatmaps() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A heatmap whose figures span decades (the tracking error of a light and of a crushing payload)
+/// says in its caption that its colours are logarithmic; one whose figures do not, does not.
+#[test]
+fn a_heatmap_spanning_decades_has_a_log_colour_scale() {
+    let dir = temp_dir("plot-log");
+    let sweep = |payloads: &str, plot: &str| {
+        ok(&faze4(
+            &dir,
+            &[
+                "sweep",
+                "--vary",
+                payloads,
+                "--vary",
+                "freq=0.5,1",
+                "--plot",
+                plot,
+                "-q",
+                "--",
+                "wave",
+                "--no-collisions",
+                "--duration",
+                "0.5",
+            ],
+        ));
+        std::fs::read_to_string(dir.join(plot)).unwrap()
+    };
+    let decades = sweep("payload-kg=0,4", "decades.svg");
+    assert!(
+        decades.contains("tracking error (mrad): log colour scale: "),
+        "no log scale"
+    );
+    let narrow = sweep("payload-kg=0,0.1", "narrow.svg");
+    assert!(narrow.contains("tracking error (mrad): ") && !narrow.contains("log colour scale"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn bad_input_is_one_line_and_exit_2() {
     let dir = temp_dir("bad");

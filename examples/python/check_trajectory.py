@@ -5,9 +5,10 @@ much payload it takes before they cannot.
     python3 -m venv v && v/bin/pip install . && v/bin/python examples/python/check_trajectory.py
 
 Prints the verdict, the plan's torques by inverse dynamics and a payload sweep, and with
-matplotlib installed (`v/bin/pip install matplotlib`) writes trajectory.png: joint angles
-commanded and followed, and the tool's path. `--out DIR` puts the figure elsewhere; `--quick`
-runs shorter (the test does).
+matplotlib installed (`v/bin/pip install matplotlib`) writes out/trajectory.png (the folder
+`out/` under the current one, which the repository's .gitignore ignores): joint angles commanded
+and followed, and the tool's path. `--out DIR` puts the figure elsewhere; `--quick` runs shorter
+(the test does).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ def planned_trajectory(robot: faze4.Robot, frames: int = 200) -> np.ndarray:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("."))
+    parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out"))
     parser.add_argument("--quick", action="store_true", help="shorter runs")
     args = parser.parse_args()
     duration = 2.0 if args.quick else 6.0

@@ -263,7 +263,7 @@ fn scaled_norm(x: &DVector<f64>, inverse_diagonal: &DVector<f64>) -> f64 {
         .sqrt()
 }
 
-/// The step with the contacts in `solver` (pushed at the current q): [`free_velocity`], then
+/// The step with the contacts in `solver` (pushed at the current q): `free_velocity`, then
 /// the contact problem of this module, then q⁺ = q + Δt v⁺. If q⁺ would leave a joint's limits,
 /// the contact problem is solved again with the joint-limit active set (docs/contact.md): the
 /// clamped joints held at the velocity that lands them on their limit, the contacts and the

@@ -184,7 +184,8 @@ pub struct RunArgs {
     /// Print τ, error, velocity and g(q) with every progress line and add them to the trail.
     #[arg(long)]
     pub debug: bool,
-    /// Print only the verdict and errors.
+    /// Print only the verdict, errors, and the warnings that change the result (a mesh not
+    /// found, a transmission skipped, an inertia balanced).
     #[arg(long, short)]
     pub quiet: bool,
     /// Simulated time between progress lines (s); default 0.5 s, or longer so that a long run

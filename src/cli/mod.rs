@@ -134,8 +134,13 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     }
     // the answer, always the last line on stdout
     stdout.push_str(&format!("{}\n", summary.verdict));
-    print_stdout(&stdout)?;
-    files.commit()?;
+    // --hold: the line saying the view stays up comes before the verdict, which stays the last
+    // line a terminal shows while the view is served and after Ctrl-C ends it
+    let hold = (finished.recorders.live.as_ref()).filter(|_| config.outputs.hold && summary.interrupted_at_s.is_none());
+    if let Some(l) = hold {
+        eprintln!("{}", l.hold_line());
+    }
+    // what ended the run early, on stderr before the result lines: the verdict stays last
     if let Some(d) = &summary.diverged {
         eprintln!("faze4: {}", flags(&divergence_line(&prepared.scenario, d)));
     }
@@ -144,6 +149,10 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
             "faze4: {} at t = {t:.3} s; the outputs are complete up to there",
             stopped_by(&stop)
         );
+    }
+    print_stdout(&stdout)?;
+    files.commit()?;
+    if summary.interrupted_at_s.is_some() {
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     let code = if summary.diverged.is_some() {
@@ -154,8 +163,8 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
         ExitCode::SUCCESS
     };
     // the run's files are written: a signal now only ends the serving
-    if let (Some(l), true) = (&finished.recorders.live, config.outputs.hold) {
-        l.hold_until(|| stop.is_raised());
+    if let Some(l) = hold {
+        l.serve_until(|| stop.is_raised());
     }
     Ok(code)
 }

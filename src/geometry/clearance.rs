@@ -183,7 +183,7 @@ impl<'a> Clearance<'a> {
     }
 
     /// Completes the report after the last [`Clearance::add`]: each pair's waiting samples
-    /// whose lower bound is below the pair's smallest distance so far plus [`ROUND_OFF`] (with
+    /// whose lower bound is below the pair's smallest distance so far plus `ROUND_OFF` (with
     /// a tolerance: less the tolerance) are searched, the smallest upper bound first (none of
     /// them intersects: their hulls were apart, or their triangles were tested apart). The
     /// pairs are searched in parallel.

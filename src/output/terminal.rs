@@ -313,13 +313,26 @@ pub(super) fn per_motor(motors: &[Option<MotorSummary>], f: &dyn Fn(&MotorSummar
         .collect()
 }
 
+/// What a tolerance says about the true minimum over the samples, given the reported minimum
+/// `min_m` (m): `true minimum ≥ 17.85 mm`; `intersecting` when the pair intersects there
+/// (`min_m` ≤ 0: the exact meshes' 0, or the hulls' negative signed distance), where a bound
+/// below zero would say nothing; and never below 0 otherwise, since intersections are decided
+/// exactly whatever the tolerance (a pair that does not intersect is more than 0 apart).
+pub(crate) fn true_minimum_bound(min_m: f64, tolerance_m: f64) -> String {
+    if min_m <= 0.0 {
+        "intersecting".into()
+    } else {
+        format!("true minimum ≥ {:.2} mm", (min_m - tolerance_m).max(0.0) * 1e3)
+    }
+}
+
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the
 /// hulls' penetration depth) and when; the pairs that intersect and from when (from the
 /// verdict's [`Reason::Collides`]); the links not checked. E.g. `self-clearance (exact
 /// meshes): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s`. With a tolerance, the reading
 /// says it and the line ends with the bound it gives the true minimum: `self-clearance (meshes,
 /// tolerance 1.00 mm): 'podlaktica'–'hvataljka' 18.85 mm at t = 4.56 s (true minimum ≥ 17.85
-/// mm)`.
+/// mm)`, or `(intersecting)` ([`true_minimum_bound`]).
 pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
     let what = match (c.geometry, c.tolerance_m > 0.0) {
         (ClearanceGeometry::Mesh, false) => "exact meshes".to_string(),
@@ -329,11 +342,11 @@ pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
     };
     let mut line = match (&c.links, c.min_m, c.t) {
         (Some([a, b]), Some(m), Some(t)) if c.tolerance_m > 0.0 => format!(
-            "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s (true minimum ≥ {:.2} mm)",
+            "self-clearance ({what}): {}–{} {:.2} mm at t = {t:.2} s ({})",
             quoted(a),
             quoted(b),
             m * 1e3,
-            (m - c.tolerance_m) * 1e3
+            true_minimum_bound(m, c.tolerance_m)
         ),
         (Some([a, b]), Some(m), Some(t)) => {
             format!(

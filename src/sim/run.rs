@@ -29,7 +29,7 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 
 /// Runs `scenario` to the end (or until it diverges), reporting to `recorders`.
 ///
-/// Each step k = 0..steps−1, at t_k = k·Δt, runs the stages of [`Pipeline`] in the order
+/// Each step k = 0..steps−1, at t_k = k·Δt, runs the stages of `Pipeline` in the order
 /// MuJoCo's `mj_step` does: *dynamics* (g(q_k), C v + g and M(q_k) from one kinematics pass),
 /// *command* (q_cmd, v_cmd at t_k; under `--ff full` a_cmd too, and the command's inverse
 /// dynamics), *controller* (the PD torque τ_raw), *actuation* (what the

@@ -138,7 +138,7 @@ impl Family {
     }
 
     /// A row with the sweep's columns, for a part none of whose runs ran: the first of the
-    /// sweep's first [`PROBES`] runs that builds, run for one step (the columns depend on the
+    /// sweep's first `PROBES` runs that builds, run for one step (the columns depend on the
     /// model and the base command, not on the values). `None` when none builds.
     pub fn probe(&self, grid: &Grid, total: usize) -> Option<Row> {
         (0..total.min(PROBES)).find_map(|index| {

@@ -97,6 +97,16 @@ impl LiveView {
     pub fn hold_until(&self, stop: impl Fn() -> bool) {
         self.handle().hold_until(stop)
     }
+
+    /// [`LiveHandle::hold_line`].
+    pub fn hold_line(&self) -> String {
+        self.handle().hold_line()
+    }
+
+    /// [`LiveHandle::serve_until`].
+    pub fn serve_until(&self, stop: impl Fn() -> bool) {
+        self.handle().serve_until(stop)
+    }
 }
 
 impl LiveHandle {
@@ -115,7 +125,19 @@ impl LiveHandle {
     /// command line's Ctrl-C flag, since a Ctrl-C handler keeps Ctrl-C from ending the
     /// process) or the server stopped by itself.
     pub fn hold_until(&self, stop: impl Fn() -> bool) {
-        eprintln!("viz: serving {} until Ctrl-C", self.url());
+        eprintln!("{}", self.hold_line());
+        self.serve_until(stop)
+    }
+
+    /// What [`LiveHandle::hold_until`] prints first: `viz: serving http://127.0.0.1:PORT until
+    /// Ctrl-C`. The command line prints it before its verdict and then calls
+    /// [`LiveHandle::serve_until`], so that the verdict stays the last line.
+    pub fn hold_line(&self) -> String {
+        format!("viz: serving {} until Ctrl-C", self.url())
+    }
+
+    /// [`LiveHandle::hold_until`] without its line.
+    pub fn serve_until(&self, stop: impl Fn() -> bool) {
         while !stop() {
             if self.server.is_finished() {
                 return;

@@ -227,11 +227,10 @@ impl SweepPlot {
                     figure(p).map(|v| (p.index / b.values.len() % a.values.len(), p.index % b.values.len(), v))
                 })
                 .collect();
-            let finite = cells.iter().map(|c| c.2).filter(|v| v.is_finite());
-            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
-            let caption = match verdict || !lo.is_finite() {
-                true => caption.to_string(),
-                false => format!("{caption}: {lo:.3} (dark) … {hi:.3} (bright)"),
+            let scale = ColourScale::of(cells.iter().map(|c| c.2));
+            let caption = match (verdict, &scale) {
+                (false, Some(scale)) => format!("{caption}: {}", scale.legend()),
+                _ => caption.to_string(),
             };
             let x = -0.5..a.values.len() as f64 - 0.5;
             let mut chart = chart_area(area, &caption, x, -0.5..b.values.len() as f64 - 0.5)?;
@@ -260,7 +259,7 @@ impl SweepPlot {
                         (true, _) if v > 0.5 => FOLLOWS,
                         (true, _) => CANNOT,
                         (false, false) => RGBColor(0, 0, 0),
-                        (false, true) => heat(if hi > lo { (v - lo) / (hi - lo) } else { 0.0 }),
+                        (false, true) => heat(scale.as_ref().map_or(0.0, |scale| scale.fraction(v))),
                     };
                     let (x, y) = (i as f64, j as f64);
                     Rectangle::new([(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)], colour.filled())
@@ -268,6 +267,61 @@ impl SweepPlot {
                 .map_err(e)?;
         }
         Ok(())
+    }
+}
+
+/// How a heatmap's figure maps to colour: linear from its smallest to its largest value, or, when
+/// its positive values span [`LOG_SPAN`] or more (a tracking error from 0.3 to 971 mrad), linear
+/// in their logarithm, so that the small differences stay visible beside the large ones; values
+/// at or below the smallest positive one (a saturation of 0 %) are then the darkest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ColourScale {
+    lo: f64,
+    hi: f64,
+    log: bool,
+}
+
+/// The ratio of the largest to the smallest positive value from which a heatmap's colours are
+/// logarithmic: two decades.
+const LOG_SPAN: f64 = 100.0;
+
+impl ColourScale {
+    /// The scale of `values` (the non-finite ones left out), `None` when none is finite.
+    fn of(values: impl Iterator<Item = f64> + Clone) -> Option<ColourScale> {
+        let finite = values.filter(|v| v.is_finite());
+        let (lo, hi) = (finite.clone()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        if !lo.is_finite() {
+            return None;
+        }
+        let smallest_positive = finite.filter(|&v| v > 0.0).fold(f64::INFINITY, f64::min);
+        Some(match hi / smallest_positive >= LOG_SPAN {
+            true => ColourScale {
+                lo: smallest_positive,
+                hi,
+                log: true,
+            },
+            false => ColourScale { lo, hi, log: false },
+        })
+    }
+
+    /// Where `v` lies on the scale, 0 (dark) to 1 (bright).
+    fn fraction(&self, v: f64) -> f64 {
+        let f = match (self.log, self.hi > self.lo) {
+            (_, false) => 0.0,
+            (true, true) => (v.max(self.lo) / self.lo).ln() / (self.hi / self.lo).ln(),
+            (false, true) => (v - self.lo) / (self.hi - self.lo),
+        };
+        f.clamp(0.0, 1.0)
+    }
+
+    /// What the figure's caption says of the scale: `0.300 (dark) … 971.000 (bright)`, with
+    /// `log colour scale: ` before it when it is one.
+    fn legend(&self) -> String {
+        let range = format!("{:.3} (dark) … {:.3} (bright)", self.lo, self.hi);
+        match self.log {
+            true => format!("log colour scale: {range}"),
+            false => range,
+        }
     }
 }
 
@@ -280,4 +334,31 @@ fn heat(s: f64) -> RGBColor {
     let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
     let (a, b) = (STOPS[k], STOPS[k + 1]);
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_spanning_decades_get_a_log_scale() {
+        let scale = ColourScale::of([0.0, 0.3, 3.0, 30.0, 971.0].into_iter()).unwrap();
+        assert!(scale.log && scale.lo == 0.3 && scale.hi == 971.0);
+        assert!(
+            scale
+                .legend()
+                .starts_with("log colour scale: 0.300 (dark) … 971.000 (bright)")
+        );
+        // equal ratios, equal steps; zero is the darkest
+        let (a, b, c) = (scale.fraction(0.3), scale.fraction(3.0), scale.fraction(30.0));
+        assert!(a == 0.0 && ((b - a) - (c - b)).abs() < 1e-12 && b > 0.25);
+        assert_eq!(scale.fraction(0.0), 0.0);
+        assert_eq!(scale.fraction(971.0), 1.0);
+        // within a decade or two it stays linear
+        let linear = ColourScale::of([2.0, 5.0, 20.0, f64::NAN].into_iter()).unwrap();
+        assert!(!linear.log && linear.legend() == "2.000 (dark) … 20.000 (bright)");
+        assert!((linear.fraction(11.0) - 0.5).abs() < 1e-12);
+        assert_eq!(ColourScale::of([f64::NAN].into_iter()), None);
+        assert!(!ColourScale::of([0.0, 0.0].into_iter()).unwrap().log);
+    }
 }

@@ -8,7 +8,7 @@
 //!   `sensor_msgs/msg/JointState` topic ([`mcap`]);
 //! * `.csv`: a time column and one column per joint ([`csv`]).
 //!
-//! [`read`] returns a checked trajectory ([`TimedTrajectory::check`]); [`write`] writes one so
+//! [`read`] returns a checked trajectory ([`TimedTrajectory::check`]); [`write()`] writes one so
 //! that [`read`] gives it back bit for bit (the ROS formats hold whole nanoseconds: see
 //! [`TimedTrajectory::round_times_to_nanoseconds`]).
 
@@ -62,7 +62,7 @@ impl Format {
     }
 }
 
-/// The extensions [`read`] and [`write`] know, for messages.
+/// The extensions [`read`] and [`write()`] know, for messages.
 pub const EXTENSIONS: &str = ".yaml, .yml, .json, .mcap or .csv";
 
 /// Reads the trajectory in `path`, its format by extension, the message or topic `selection`
@@ -104,7 +104,7 @@ pub fn write(path: &Path, trajectory: &TimedTrajectory) -> Result<()> {
     write_within(&Outputs::immediate(), path, trajectory)
 }
 
-/// [`write`] as a file of `outputs` (it appears when they are committed).
+/// [`write()`] as a file of `outputs` (it appears when they are committed).
 pub fn write_within(outputs: &Outputs, path: &Path, trajectory: &TimedTrajectory) -> Result<()> {
     let format = format_of(path)?;
     trajectory.check(path)?;
