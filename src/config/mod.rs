@@ -396,7 +396,7 @@ pub struct OutputConfig {
     pub port: u16,
     /// Keep the live view serving after the run.
     pub hold: bool,
-    /// Print only the verdict and errors.
+    /// Print only the verdict, errors, and the warnings that change the result.
     pub quiet: bool,
     /// Add τ, error, velocity and g(q) to the progress lines and the trail.
     pub debug: bool,
