@@ -723,3 +723,38 @@ fn a_tolerance_reports_actual_distances_within_it_and_the_exact_intersections() 
         assert!(crossings >= 60, "{crossings} intersections");
     }
 }
+
+/// Samples queued and folded in together (the pairs in parallel, as a run's clearance worker
+/// does when samples wait for it) give the report of the same samples added one by one, bit
+/// for bit: each pair's minimum and time, and the closest pair overall when several pairs tie
+/// (the Faze4 folding into itself, where pairs touch at the same samples), at the default
+/// tolerance and exactly, with batches of waiting samples searched during the run.
+#[test]
+fn queued_samples_fold_in_as_one_by_one() {
+    let robot = real();
+    let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, ClearanceGeometry::Mesh, PairFilter::All).unwrap();
+    let qs = folding(40);
+    let mut data = Data::new(&robot.model);
+    for (tolerance, batch) in [(1e-3, 1024), (0.0, 5)] {
+        let mut one_by_one = Clearance::with_tolerance(&set, tolerance).batch(batch);
+        let mut queued = Clearance::with_tolerance(&set, tolerance).batch(batch);
+        // queues of 1, 2, …, 9 samples (folded with the pairs in parallel from 8 on)
+        let mut due = 1;
+        for (k, q) in qs.iter().enumerate() {
+            forward_kinematics(&robot.model, &mut data, q);
+            one_by_one.add(&data.frame_pose, k as f64 * 0.04);
+            queued.queue(&data.frame_pose, k as f64 * 0.04);
+            if queued.queued() == due || k + 1 == qs.len() {
+                queued.fold_queued();
+                assert_eq!(queued.intersecting(), one_by_one.intersecting(), "sample {k}");
+                due = due % 9 + 1;
+            }
+        }
+        one_by_one.finish();
+        queued.finish();
+        let firsts: Vec<Option<f64>> = queued.first_intersections().collect();
+        assert_eq!(firsts, one_by_one.first_intersections().collect::<Vec<_>>());
+        assert!(firsts.iter().flatten().count() > 3, "{firsts:?}");
+        assert_eq!(queued.into_report(), one_by_one.into_report());
+    }
+}
