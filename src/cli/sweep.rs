@@ -15,7 +15,7 @@ use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, SweepArgs, Sweep
 use super::{interrupted_status, print_stdout, scenario, stopped_by, warn};
 use crate::atomic::{Outputs, check_output_path};
 use crate::error::{Error, Result};
-use crate::geometry::{CollisionSet, Robot};
+use crate::geometry::{CollisionSet, PathClearance, Robot};
 use crate::output::format::exact;
 use crate::sim::scenario::load_collisions;
 use crate::sim::{Scenario, ShapeRun, StopFlag, Warning};
@@ -65,6 +65,17 @@ enum Knob {
     /// A multiplier of the built scenario.
     Scale(Scale),
 }
+
+/// The options whose values leave the command (and the samples where the clearance is
+/// measured) as they are: the runs of a sweep that varies only these (and the scales) follow
+/// one commanded path.
+const SAME_PATH: &[&str] = &[
+    "payload-kg",
+    "supply-voltage",
+    "max-saturation-pct",
+    "max-error",
+    "max-deviation-mm",
+];
 
 /// The numeric options a sweep can vary, one line each.
 const OPTIONS: &[(&str, Field)] = &[
@@ -161,6 +172,9 @@ struct Base {
     /// What reading the collision geometry found wrong (meshes not found), said once for the
     /// whole sweep.
     warnings: Vec<Warning>,
+    /// The commanded path's clearance, computed once for every run to follow
+    /// ([`Base::share_path`]).
+    path: Option<Arc<PathClearance>>,
 }
 
 impl Base {
@@ -243,7 +257,18 @@ impl Base {
             frames,
             plan,
             warnings,
+            path: None,
         })
+    }
+
+    /// Computes the commanded path's clearance once, at the point `values`, for every run to
+    /// follow, when the varied options `names` leave the command and its samples as they are
+    /// ([`SAME_PATH`], and the scales).
+    fn share_path<'n>(&mut self, mut names: impl Iterator<Item = &'n str>, knobs: &[Knob], values: &[f64]) {
+        let same = names.all(|n| SAME_PATH.contains(&n) || Scale::ALL.iter().any(|(s, _)| *s == n));
+        if let (true, Ok(scenario)) = (same, self.build(knobs, values)) {
+            self.path = crate::sim::commanded_path(&scenario);
+        }
     }
 
     /// The scenario of one point: `knobs[i]` set to `values[i]`.
@@ -273,6 +298,7 @@ impl Base {
         for (scale, x) in scales {
             scale.apply(&mut scenario, x)?;
         }
+        scenario.path_clearance = self.path.clone();
         Ok(scenario)
     }
 }
@@ -466,8 +492,9 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
 /// axes, checked against it.
 fn load_for(grid: &Grid, words: &[String], frames: Option<Vec<Vec<f64>>>) -> Result<(Base, Vec<Knob>)> {
     let replan = grid.axes.iter().any(|a| a.name == "shape-points");
-    let base = Base::load(words, replan, frames)?;
+    let mut base = Base::load(words, replan, frames)?;
     let knobs = knobs(&base.command, &grid.axes)?;
+    base.share_path(grid.axes.iter().map(|a| a.name.as_str()), &knobs, &grid.point(0));
     Ok((base, knobs))
 }
 
@@ -630,7 +657,7 @@ fn search(
         values: vec![lo, hi],
     };
     let replan = name == "shape-points";
-    let base = Base::load(&args.base, replan, frames)?;
+    let mut base = Base::load(&args.base, replan, frames)?;
     let knobs = knobs(&base.command, std::slice::from_ref(&axis)).map_err(|e| match e {
         Error::InvalidArgument { message, .. } => Error::argument(option, message),
         other => other,
@@ -649,6 +676,7 @@ fn search(
             Error::argument(option, format!("{name}={}: {e}", exact(x)))
         })?;
     }
+    base.share_path(std::iter::once(name), &knobs, &[lo]);
     let build = |values: &[f64]| base.build(&knobs, values);
     let runner = Runner::new(&build, args.jobs)?.with_stop(stop);
     let (lo_text, hi_text) = (exact(lo), exact(hi));

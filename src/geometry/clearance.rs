@@ -23,17 +23,18 @@ use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 use rayon::prelude::*;
 
 use super::collision_set::{CollisionSet, TOUCH_BUDGET};
+use super::path::{PathClearance, PathSample};
 use super::report::{ClearanceReport, PairDistance, PairReport};
 use super::search::ROUND_OFF;
 use super::search::Touch;
 use crate::spatial::Pose;
 
 /// The share of the tolerance a search of a waiting sample may use (the rest raises the other waiting samples' lower bounds)
-const SEARCH_SHARE: f64 = 0.25;
+pub(super) const SEARCH_SHARE: f64 = 0.25;
 
 /// How many samples a pair may leave for [`Clearance::finish`] before they are searched at
 /// once: about 0.1 MB a pair (a relative pose and three numbers a sample).
-const BATCH: usize = 1024;
+pub(super) const BATCH: usize = 1024;
 
 /// A run's self-clearance over its samples (the accumulator): [`Clearance::add`] each sample
 /// (or [`Clearance::queue`] several, then [`Clearance::fold_queued`]), then
@@ -51,9 +52,9 @@ pub struct Clearance<'a> {
     /// How many samples a pair may leave for [`Clearance::finish`] before they are searched
     /// at once (memory stays bounded over a run of any length).
     batch: usize,
-    /// The samples queued for [`Clearance::fold_queued`]: each one's time (s) and the world
-    /// pose of each object's shape then.
-    queued: Vec<(f64, Vec<PPose>)>,
+    /// The samples queued for [`Clearance::fold_queued`]: each one's time (s), the world
+    /// pose of each object's shape then, and the sample of the path it follows there.
+    queued: Vec<(f64, Vec<PPose>, Option<usize>)>,
     /// Pose buffers of samples already folded in, for the next ones.
     spare: Vec<Vec<PPose>>,
     /// How many samples were folded in before the queued ones.
@@ -63,6 +64,9 @@ pub struct Clearance<'a> {
     /// Whether each pair intersects at the last sample.
     intersecting: Vec<bool>,
     report: ClearanceReport,
+    /// The path the run follows ([`Clearance::following`]), and the sample of it the next
+    /// sample is likely to be at.
+    path: Option<(&'a PathClearance, usize)>,
 }
 
 /// How many queued samples [`Clearance::fold_queued`] folds with the pairs in parallel (below,
@@ -156,7 +160,23 @@ impl<'a> Clearance<'a> {
             ],
             intersecting: vec![false; pairs],
             report,
+            path: None,
         }
+    }
+
+    /// The same accumulator for a run that follows `path` (a [`PathClearance`] of the same
+    /// set, e.g. the commanded poses at the run's samples): each pair's sample at a pose
+    /// near one of the path's is bounded below by the path's bound less the pair's relative
+    /// motion between the two poses, and above by the distance of the path's parts at the
+    /// run's pose, and is searched only when those leave it looser than the tolerance (see
+    /// [`super::path`]). The report keeps the tolerance's guarantee and the exact
+    /// intersections; at tolerance 0 it is the exact minimum, as without the path (to
+    /// round-off ties). A path of another set is not used.
+    pub fn following(mut self, path: &'a PathClearance) -> Self {
+        if std::ptr::eq(&**path.set(), self.set) {
+            self.path = Some((path, 0));
+        }
+        self
     }
 
     /// At most `samples` (≥ 1) waiting samples per pair before they are searched during the
@@ -200,11 +220,29 @@ impl<'a> Clearance<'a> {
 
     /// Queues the sample at time `t` (s), whose model frames are at `frame_pose`, for
     /// [`Clearance::fold_queued`] (the objects are placed now: `frame_pose` may change after).
+    /// Following a path, the sample is compared with the path's sample at the same time, if
+    /// it has one.
     pub fn queue(&mut self, frame_pose: &[Pose], t: f64) {
+        let near = self.path.and_then(|(path, next)| path.sample_at(t, next));
+        self.queue_near(frame_pose, t, near);
+    }
+
+    /// [`Clearance::queue`], the sample compared with the followed path's sample `near`
+    /// (when it has one; e.g. the path's sample nearest in the path's parameter, for a run
+    /// along the same geometric path with another timing). Any sample of the path gives
+    /// valid bounds; the nearer, the tighter.
+    pub fn queue_near(&mut self, frame_pose: &[Pose], t: f64, near: Option<usize>) {
         let mut poses = self.spare.pop().unwrap_or_default();
         poses.resize(self.set.objects().count(), PPose::IDENTITY);
         self.set.place(frame_pose, &mut poses);
-        self.queued.push((t, poses));
+        let near = self
+            .path
+            .zip(near)
+            .and_then(|((path, _), j)| (j < path.len()).then_some(j));
+        if let (Some((_, next)), Some(j)) = (self.path.as_mut(), near) {
+            *next = j + 1;
+        }
+        self.queued.push((t, poses, near));
     }
 
     /// How many samples are queued.
@@ -217,10 +255,12 @@ impl<'a> Clearance<'a> {
     /// [`Clearance::intersecting`] is then the last one's.
     pub fn fold_queued(&mut self) {
         let (set, tolerance, batch, samples) = (self.set, self.tolerance, self.batch, &self.queued);
+        let path = self.path.map(|(path, _)| path);
         let fold = |(k, (memory, pair)): (usize, (&mut PairMemory, &mut PairReport))| {
             let mut lowerings: Vec<Lowering> = Vec::new();
-            for (i, (t, poses)) in samples.iter().enumerate() {
-                memory.step(set, k, poses, *t, pair, tolerance, batch, |from_batch, d, t| {
+            for (i, (t, poses, near)) in samples.iter().enumerate() {
+                let near = path.zip(*near).and_then(|(path, j)| path.sample(k, j));
+                memory.step(set, k, (poses, near), *t, pair, tolerance, batch, |from_batch, d, t| {
                     lowerings.push((i, from_batch, d, t))
                 });
             }
@@ -250,7 +290,7 @@ impl<'a> Clearance<'a> {
             *now = memory.intersecting;
         }
         self.folded += self.queued.len();
-        self.spare.extend(self.queued.drain(..).map(|(_, poses)| poses));
+        self.spare.extend(self.queued.drain(..).map(|(_, poses, _)| poses));
     }
 
     /// Completes the report after the last [`Clearance::add`]: each pair's waiting samples
@@ -278,23 +318,23 @@ impl<'a> Clearance<'a> {
 }
 
 impl PairMemory {
-    /// Folds pair `k`'s sample at time `t` (s), its objects at world `poses`, into `pair`,
-    /// as [`Clearance::add`] does: `lowered` is told each lowering of the pair's minimum
-    /// (whether it came from the batch of waiting samples searched at once, the distance, its
-    /// time).
+    /// Folds pair `k`'s sample at time `t` (s), its objects at world `poses` (near the
+    /// followed path's sample, if any), into `pair`, as [`Clearance::add`] does: `lowered` is
+    /// told each lowering of the pair's minimum (whether it came from the batch of waiting
+    /// samples searched at once, the distance, its time).
     #[allow(clippy::too_many_arguments)]
     fn step(
         &mut self,
         set: &CollisionSet,
         k: usize,
-        poses: &[PPose],
+        (poses, near): (&[PPose], Option<PathSample>),
         t: f64,
         pair: &mut PairReport,
         tolerance: f64,
         batch: usize,
         mut lowered: impl FnMut(bool, f64, f64),
     ) {
-        let found = self.fold(set, k, poses, t, pair.min_m, tolerance);
+        let found = self.fold(set, k, (poses, near), t, pair.min_m, tolerance);
         self.intersecting = found.is_some_and(|d| d.intersecting);
         if self.intersecting && self.first_intersection.is_none() {
             self.first_intersection = Some(t);
@@ -381,7 +421,7 @@ impl PairMemory {
         &mut self,
         set: &CollisionSet,
         k: usize,
-        poses: &[PPose],
+        (poses, near): (&[PPose], Option<PathSample>),
         t: f64,
         best: f64,
         tolerance: f64,
@@ -407,6 +447,35 @@ impl PairMemory {
         let (lower, then) = &self.reference;
         if skip(*lower - relative_motion(then, &pose_ab, (oa.sphere, ob.sphere))) {
             return None;
+        }
+        // the followed path's bound less the pair's motion between the path's pose and this
+        if let Some(path) = near {
+            let lower = path.bound.lower - relative_motion(&path.pose_ab, &pose_ab, (oa.sphere, ob.sphere));
+            if lower > 0.0 && (oa.exact_mesh || ob.exact_mesh) {
+                // apart. Where the sample could lower the minimum at all, an actual distance
+                // at this pose: the path's parts here (with a tolerance, recorded at once).
+                // The sample waits for finish unless the bound proves it within the
+                // tolerance of the smallest so far (exactly, a distance found here must be
+                // found again by a search: it is this sample's only if the bound meets it)
+                self.reference = (lower, pose_ab);
+                let upper = (lower < least).then(|| set.part_distance(a, b, (pa, pb), path.bound.parts))?;
+                self.upper = self.upper.min(upper);
+                if !(tolerance > 0.0 && lower >= best.min(self.upper) - tolerance) {
+                    self.closest = path.bound.parts;
+                    self.pending.push(Pending {
+                        t,
+                        pose_ab,
+                        lower,
+                        upper,
+                        hulls_apart: true,
+                    });
+                }
+                return upper_bound(upper);
+            }
+            if skip(lower) {
+                self.reference = (lower, pose_ab);
+                return None;
+            }
         }
         let gap = (*pa * oa.sphere.0 - *pb * ob.sphere.0).length() - oa.sphere.1 - ob.sphere.1;
         if skip(gap) {
@@ -552,7 +621,11 @@ fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
 /// of a and of b: the smaller of how far b moved relative to a ([`moved`]) and how far a moved
 /// relative to b (the same bound on the inverse poses, `b_T_a`), since the distance is the
 /// same seen from either. Its smaller shape gives the tighter bound when the pair turns.
-fn relative_motion(then: &PPose, now: &PPose, ((ca, ra), (cb, rb)): ((PVector, f64), (PVector, f64))) -> f64 {
+pub(super) fn relative_motion(
+    then: &PPose,
+    now: &PPose,
+    ((ca, ra), (cb, rb)): ((PVector, f64), (PVector, f64)),
+) -> f64 {
     let b_moved = moved(then, now, cb, rb);
     let a_moved = moved(&then.inverse(), &now.inverse(), ca, ra);
     b_moved.min(a_moved)

@@ -231,7 +231,11 @@ fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result
 /// a run's dynamics need none of it, so they run meanwhile. A query that needs the triangles
 /// waits for them ([`Triangles::get`]). Built from the same points and triangles as in one
 /// piece, so the mesh is the same whichever thread builds it.
-pub(super) struct Triangles(OnceLock<TriMesh>);
+pub(super) struct Triangles {
+    mesh: OnceLock<TriMesh>,
+    /// How many triangles it has.
+    count: usize,
+}
 
 /// What a loader thread builds: the mesh's cell, its points (m, mesh frame) and triangles.
 type Build = (Arc<Triangles>, Vec<PVector>, Vec<[u32; 3]>);
@@ -242,7 +246,7 @@ type Loaded = (MeshShape, Option<Build>);
 impl Triangles {
     /// The triangles with their BVH, once built (waits for the loader thread).
     pub(super) fn get(&self) -> &TriMesh {
-        self.0.wait()
+        self.mesh.wait()
     }
 
     /// Builds each mesh of `builds` (non-empty triangle lists), the largest first, on as many
@@ -259,7 +263,7 @@ impl Triangles {
             std::thread::spawn(move || {
                 while let Some((cell, points, triangles)) = queue.lock().map_or(None, |mut q| q.pop()) {
                     let mesh = TriMesh::new(points, triangles).expect("a mesh with triangles is a TriMesh");
-                    let _ = cell.0.set(mesh);
+                    let _ = cell.mesh.set(mesh);
                 }
             });
         }
@@ -308,7 +312,14 @@ impl MeshShape {
                     message: format!("not a triangle mesh: {}", TriMeshBuilderError::EmptyIndices),
                 });
             }
-            ClearanceGeometry::Mesh => Some((Arc::new(Triangles(OnceLock::new())), points, mesh.triangles)),
+            ClearanceGeometry::Mesh => Some((
+                Arc::new(Triangles {
+                    mesh: OnceLock::new(),
+                    count: mesh.triangles.len(),
+                }),
+                points,
+                mesh.triangles,
+            )),
         };
         let shape = MeshShape {
             hull: Arc::new(hull),
@@ -605,7 +616,7 @@ impl CollisionSet {
 
     /// The distance between part `i` of `a` and part `j` of `b` (a mesh's triangle, or a
     /// primitive whole).
-    fn part_distance(&self, a: usize, b: usize, (pa, pb): (&PPose, &PPose), (i, j): (u32, u32)) -> f64 {
+    pub(super) fn part_distance(&self, a: usize, b: usize, (pa, pb): (&PPose, &PPose), (i, j): (u32, u32)) -> f64 {
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
         let gap = match (oa.mesh(), ob.mesh()) {
             (Some(ma), Some(mb)) => query::distance(pa, &ma.triangle(i), pb, &mb.triangle(j)),
@@ -837,6 +848,14 @@ impl CollisionSet {
     /// The checked pairs as indices into [`CollisionSet::objects`].
     pub(super) fn object_pairs(&self) -> &[(usize, usize)] {
         &self.pairs
+    }
+
+    /// The product of the triangle counts of pair `k`'s objects (a primitive counts 1), for
+    /// ordering work by cost.
+    pub(super) fn pair_triangles(&self, k: usize) -> usize {
+        let count = |o: &Object| o.triangles.as_ref().map_or(1, |t| t.count);
+        let (a, b) = self.pairs[k];
+        count(&self.objects[a]) * count(&self.objects[b])
     }
 }
 

@@ -1,13 +1,13 @@
 //! The closed loop: the discrete step driven by the PD controller (docs/model.md).
 
-use std::sync::mpsc;
+use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use super::{ContactStep, ContactSummary};
 use crate::algo::{Data, State, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
 use crate::control::Envelope;
 use crate::error::{Error, Result};
-use crate::geometry::{Clearance, CollisionSet};
+use crate::geometry::{Clearance, CollisionSet, PathClearance};
 use crate::model::{FrameId, JointId, JointKind, Model};
 use crate::spatial::Pose;
 use crate::spatial::Vec3;
@@ -305,7 +305,7 @@ impl<'a, 's> Records<'a, 's> {
             motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc.model.dof())),
             samples: SampleMetrics::new(),
             clearance: (sc.collision_set.as_deref()).map(|set| {
-                let metrics = ClearanceMetrics::new(set, sc.clearance_tolerance);
+                let metrics = ClearanceMetrics::new(set, sc.clearance_tolerance, sc.path_clearance.as_deref());
                 match inline {
                     true => ClearanceStage::Inline(Box::new(metrics)),
                     false => ClearanceStage::worker(&sc.model, metrics, scope),
@@ -393,6 +393,30 @@ fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<Joi
     }
 }
 
+/// The clearance of `sc`'s commanded path at the run's metric samples (the trail's: step 0,
+/// every `record_every` steps and the last; the command q_cmd(t) there, placed by forward
+/// kinematics), computed once for the runs of the same command to follow
+/// ([`crate::geometry::PathClearance`], [`super::ScenarioBuilder::path_clearance`]): a sweep
+/// whose rows differ by payload, gains or limits shares one. `None` without a collision set.
+/// Returns once the poses are placed; the bounds are computed on threads of their own
+/// ([`crate::geometry::PathBuilder::build`]).
+pub fn commanded_path(sc: &Scenario) -> Option<Arc<PathClearance>> {
+    let set = sc.collision_set.clone()?;
+    let model = &sc.model;
+    let mut data = Data::new(model);
+    let (mut q, mut v) = (vec![0.0; model.dof()], vec![0.0; model.dof()]);
+    let mut path = PathClearance::builder(set, sc.clearance_tolerance);
+    for k in Schedule::metric_steps(sc.steps, sc.record_every) {
+        let t = k as f64 * sc.dt;
+        sc.trajectory.eval(t, &mut q, &mut v);
+        forward_kinematics(model, &mut data, &q);
+        if !path.add(&data.frame_pose, t) {
+            break;
+        }
+    }
+    Some(path.build())
+}
+
 /// When each recorder and the metric samples are due. Each recorder's period in steps, and the
 /// next step it is due: counters, not `k % every` (an integer division per recorder per step is
 /// a measurable share of a 1 µs step).
@@ -411,6 +435,16 @@ impl Schedule {
             metrics_every,
             metrics_due: 0,
         }
+    }
+
+    /// The steps of a run of `steps` steps that take a metric sample when every
+    /// `metrics_every`-th does (as [`Schedule::due`] finds them): 0, `metrics_every`, … and
+    /// the last.
+    fn metric_steps(steps: usize, metrics_every: usize) -> impl Iterator<Item = usize> {
+        let every = metrics_every.max(1);
+        (0..=steps)
+            .step_by(every)
+            .chain((!steps.is_multiple_of(every)).then_some(steps))
     }
 
     /// Whether step k takes a metric sample, and whether any recorder records it (the last step
@@ -672,9 +706,14 @@ struct ClearanceMetrics<'a> {
 }
 
 impl<'a> ClearanceMetrics<'a> {
-    fn new(set: &'a CollisionSet, tolerance: f64) -> Self {
+    /// Measured with `set` to within `tolerance` (m), following `path` if given.
+    fn new(set: &'a CollisionSet, tolerance: f64, path: Option<&'a PathClearance>) -> Self {
+        let clearance = Clearance::with_tolerance(set, tolerance);
         ClearanceMetrics {
-            clearance: Clearance::with_tolerance(set, tolerance),
+            clearance: match path {
+                Some(path) => clearance.following(path),
+                None => clearance,
+            },
             elapsed: Duration::ZERO,
         }
     }
