@@ -1,0 +1,455 @@
+//! A sweep's family of runs: a base configuration, what it reads once ([`Loaded`]: the arm, a
+//! replay's frames, a shape's plan, the collision meshes), and the options its points vary,
+//! each a field of the configuration or a multiplier of the built scenario ([`Knob`]). When
+//! the options varied leave the commanded path as it is ([`SAME_PATH`]), the runs share its
+//! clearance, computed once ([`PathClearance`]).
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
+use crate::config::fields::{Field, field};
+use crate::config::{Loaded, Motion, Replayed, RunConfig};
+use crate::error::{Error, Result, one_line};
+use crate::geometry::PathClearance;
+use crate::output::format::exact;
+use crate::sim::{Scenario, StopFlag, Warning};
+
+/// What a sweep NAME changes.
+#[derive(Clone, Copy, Debug)]
+pub enum Knob {
+    /// A numeric field of the configuration (`payload_kg`, `dt`, `shape_points`, …).
+    Field(&'static Field),
+    /// A multiplier of the built scenario (`kp_scale`, …).
+    Scale(Scale),
+}
+
+/// Numeric fields that say how a run is shown, not what it does: not varied.
+const NOT_VARIED: [&str; 2] = ["port", "print_period"];
+
+/// The numeric fields whose values leave a run's commanded path q_cmd(t) and the times of its
+/// clearance's samples as they are: the arm's dynamics (`payload_kg`), the motors' supply, the
+/// self-contact's friction and the verdict's thresholds. The runs of a sweep or a search that
+/// varies only these and the multipliers ([`Scale`]: gains, limits, masses, motors) follow one
+/// commanded path, whose clearance is computed once and shared ([`PathClearance`];
+/// docs/clearance.md "Sweeps").
+pub const SAME_PATH: [&str; 6] = [
+    "payload_kg",
+    "supply_voltage",
+    "friction",
+    "max_saturation_pct",
+    "max_error",
+    "max_deviation_mm",
+];
+
+/// Whether a sweep varies field `f`.
+fn varies(f: &Field) -> bool {
+    f.is_numeric() && !NOT_VARIED.contains(&f.name)
+}
+
+impl Knob {
+    /// The knob a sweep NAME names, written with dashes (the command line's `payload-kg`) or
+    /// underscores (the field's `payload_kg`).
+    pub fn named(name: &str) -> Option<Knob> {
+        let snake = name.trim().trim_start_matches("--").replace('-', "_");
+        match field(&snake) {
+            Some(f) if varies(f) => Some(Knob::Field(f)),
+            Some(_) => None,
+            None => (Scale::ALL.iter())
+                .find(|(n, _)| n.replace('-', "_") == snake)
+                .map(|(_, s)| Knob::Scale(*s)),
+        }
+    }
+
+    /// Whether it leaves the commanded path and the clearance's samples as they are
+    /// ([`SAME_PATH`], and every multiplier).
+    pub fn keeps_path(&self) -> bool {
+        match self {
+            Knob::Field(f) => SAME_PATH.contains(&f.name),
+            Knob::Scale(_) => true,
+        }
+    }
+}
+
+/// Whether the runs of a family share their commanded path's clearance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sharing {
+    /// Computed once and shared when the options varied keep the path ([`Knob::keeps_path`]):
+    /// each run's clearance is then within the tolerance of its own, with its exact
+    /// intersections (docs/clearance.md "Sweeps").
+    Shared,
+    /// Each run computes its own, as a single run does.
+    Own,
+}
+
+/// The names a sweep can vary, for messages: the numeric fields, then the multipliers.
+pub fn known_names() -> String {
+    let fields = (crate::config::fields::FIELDS.iter())
+        .filter(|f| varies(f))
+        .map(|f| f.name.replace('_', "-"));
+    let scales = Scale::ALL.iter().map(|(n, _)| n.to_string());
+    fields.chain(scales).collect::<Vec<_>>().join(", ")
+}
+
+/// A base configuration, what it read once, and the knobs of a sweep over it.
+pub struct Family {
+    base: RunConfig,
+    loaded: Loaded,
+    knobs: Vec<Knob>,
+    /// The commanded path's clearance, computed once for every run to follow
+    /// ([`Sharing::Shared`]).
+    path: Option<Arc<PathClearance>>,
+}
+
+impl Family {
+    /// Loads `base` (a replay's `frames` given, or read from its `q_traj`) for a sweep varying
+    /// `names` (each checked against the base command, with its `values` where given). The
+    /// base's single-run outputs (summary, html, plot, live view, joint samples) are refused:
+    /// a sweep writes its own. With [`Sharing::Shared`], when every knob keeps the path, the
+    /// path's clearance is computed (on threads of its own) at the point of each name's first
+    /// value, and every run follows it.
+    pub fn load(
+        base: RunConfig,
+        replayed: Option<Replayed>,
+        names: &[(&str, &[f64])],
+        sharing: Sharing,
+    ) -> Result<Family> {
+        let out = &base.outputs;
+        if let Some(path) = &out.summary {
+            return Err(Error::option(
+                "summary",
+                format!(
+                    "{}: a sweep writes its table with `out`, not a summary per run",
+                    path.display()
+                ),
+            ));
+        }
+        let save_q = matches!(&base.motion, Motion::Shape(s) if s.save_q.is_some());
+        for (given, name) in [
+            (out.html.is_some(), "html"),
+            (out.plot.is_some(), "plot"),
+            (out.plot_motors.is_some(), "plot_motors"),
+            (out.view || out.hold, "view"),
+            (save_q, "save_q"),
+        ] {
+            if given {
+                return Err(Error::option(
+                    name,
+                    "is for single runs: a sweep's outputs are `out`, `plot` and `trails` before the `--`",
+                ));
+            }
+        }
+        let knobs = (names.iter())
+            .map(|(name, values)| knob(&base, name, values))
+            .collect::<Result<Vec<_>>>()?;
+        let loaded = Loaded::load(&base, replayed)?;
+        let mut family = Family {
+            base,
+            loaded,
+            knobs,
+            path: None,
+        };
+        if sharing == Sharing::Shared && family.knobs.iter().all(Knob::keeps_path) {
+            let first: Option<Vec<f64>> = names.iter().map(|(_, values)| values.first().copied()).collect();
+            if let Some(Ok(scenario)) = first.map(|values| family.build(&values)) {
+                family.path = crate::sim::commanded_path(&scenario);
+            }
+        }
+        Ok(family)
+    }
+
+    /// The commanded path's clearance its runs share, if they do.
+    pub fn path(&self) -> Option<&Arc<PathClearance>> {
+        self.path.as_ref()
+    }
+
+    /// What loading found that changes every run (meshes not found), said once.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.loaded.warnings
+    }
+
+    /// The knobs, one per varied name.
+    pub fn knobs(&self) -> &[Knob] {
+        &self.knobs
+    }
+
+    /// The scenario of one point: knob i set to `values[i]`.
+    pub fn build(&self, values: &[f64]) -> Result<Scenario> {
+        let mut config = self.base.clone();
+        let mut scales = Vec::new();
+        for (knob, &x) in self.knobs.iter().zip(values) {
+            match knob {
+                Knob::Field(f) => f.set_number(&mut config, x)?,
+                Knob::Scale(scale) => scales.push((*scale, x)),
+            }
+        }
+        let mut scenario = self.loaded.scenario(&config)?;
+        for (scale, x) in scales {
+            scale.apply(&mut scenario, x)?;
+        }
+        scenario.path_clearance = self.path.clone();
+        Ok(scenario)
+    }
+
+    /// The runs `indices` of `grid` on `jobs` threads (0: one per core), in index order, each
+    /// stopping at `stop`; a raised `stop` ends the sweep early (fewer rows than runs).
+    pub fn rows(&self, grid: &Grid, indices: Range<usize>, jobs: usize, stop: &StopFlag) -> Result<Vec<Row>> {
+        let build = |values: &[f64]| self.build(values);
+        let runner = Runner::new(&build, threads(jobs, indices.len()))?.with_stop(stop);
+        let mut rows = Vec::with_capacity(indices.len());
+        runner.sweep(grid, indices, stop, |row| {
+            rows.push(row);
+            Ok(())
+        })?;
+        Ok(rows)
+    }
+
+    /// A row with the sweep's columns, for a part none of whose runs ran: the first of the
+    /// sweep's first [`PROBES`] runs that builds, run for one step (the columns depend on the
+    /// model and the base command, not on the values). `None` when none builds.
+    pub fn probe(&self, grid: &Grid, total: usize) -> Option<Row> {
+        (0..total.min(PROBES)).find_map(|index| {
+            let values = grid.point(index);
+            let mut scenario = self.build(&values).ok()?;
+            scenario.steps = scenario.steps.min(1);
+            let summary = crate::sim::run(&scenario, &mut [], &StopFlag::new()).ok()?;
+            Some(Row {
+                index,
+                values,
+                outcome: Outcome::Ran(Box::new(summary)),
+            })
+        })
+    }
+}
+
+/// Most runs [`Family::probe`] tries to build.
+const PROBES: usize = 100;
+
+/// The knob `name`, checked against `base`'s command with `values` (the first must be
+/// settable, every one a value of the field's kind).
+fn knob(base: &RunConfig, name: &str, values: &[f64]) -> Result<Knob> {
+    let knob = Knob::named(name).ok_or_else(|| {
+        Error::option(
+            "vary",
+            format!("'{name}' is not a numeric option a sweep can vary ({})", known_names()),
+        )
+    })?;
+    if let Knob::Field(f) = knob {
+        let bad = |e: Error| {
+            let reason = match &e {
+                Error::InvalidArgument { message, .. } => message.clone(),
+                other => other.to_string(),
+            };
+            Error::option("vary", format!("{name} {reason} (faze4 {})", base.motion.name()))
+        };
+        for &x in values {
+            f.set_number(&mut base.clone(), x).map_err(bad)?;
+        }
+    }
+    Ok(knob)
+}
+
+/// The threads of a sweep of `runs` runs: `jobs` (0: one per core), never more than the runs.
+pub fn threads(jobs: usize, runs: usize) -> usize {
+    let jobs = match jobs {
+        0 => std::thread::available_parallelism().map_or(1, usize::from),
+        n => n,
+    };
+    jobs.min(runs).max(1)
+}
+
+/// What a search found, with the line that says it.
+pub struct Searched {
+    /// The runs at the boundary (or the end that decides).
+    pub found: Found,
+    /// The answer for people, one line.
+    pub line: String,
+}
+
+/// The largest (or smallest, `seek`) value of `name` in [`lo`, `hi`] at which the arm follows,
+/// to within `resolution` (default 1 % of the range), by parallel bisection over `family`'s
+/// base on `jobs` threads, its steps sharing the path's clearance as `sharing` says.
+#[allow(clippy::too_many_arguments)]
+pub fn search(
+    base: RunConfig,
+    replayed: Option<Replayed>,
+    sharing: Sharing,
+    name: &str,
+    lo: f64,
+    hi: f64,
+    resolution: Option<f64>,
+    seek: Seek,
+    jobs: usize,
+    stop: &StopFlag,
+    warn: impl Fn(&[Warning]),
+) -> Result<Searched> {
+    let option = match seek {
+        Seek::Largest => "find",
+        Seek::Smallest => "find_min",
+    };
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(Error::option(
+            option,
+            format!("{name}={}:{}: the ends must be finite numbers", exact(lo), exact(hi)),
+        ));
+    }
+    if hi <= lo {
+        return Err(Error::option(
+            option,
+            format!(
+                "{name}={}:{}: empty range (the upper end {} is not above the lower {})",
+                exact(lo),
+                exact(hi),
+                exact(hi),
+                exact(lo)
+            ),
+        ));
+    }
+    let resolution = resolution.unwrap_or((hi - lo) / 100.0);
+    if !resolution.is_finite() || resolution <= 0.0 {
+        return Err(Error::option(
+            "resolution",
+            format!(
+                "{}: give a finite width > 0 (default: 1 % of the range)",
+                exact(resolution)
+            ),
+        ));
+    }
+    let family = Family::load(base, replayed, &[(name, &[lo, hi])], sharing).map_err(|e| match e {
+        Error::InvalidArgument { option: o, message } if o == "`vary`" => Error::option(option, message),
+        other => other,
+    })?;
+    warn(family.warnings());
+    if let [Knob::Field(f)] = family.knobs()
+        && f.kind == crate::config::Kind::Count
+    {
+        return Err(Error::option(
+            option,
+            format!("{name} takes whole numbers: list them with `vary` {name}=v1,v2,…"),
+        ));
+    }
+    // each end is a value the option takes, as the command would check it
+    for x in [lo, hi] {
+        family.build(&[x]).map_err(|e| {
+            let e = one_line(&e.to_string());
+            Error::option(option, format!("{name}={}: {e}", exact(x)))
+        })?;
+    }
+    let build = |values: &[f64]| family.build(values);
+    let runner = Runner::new(&build, jobs)?.with_stop(stop);
+    let (lo_text, hi_text) = (exact(lo), exact(hi));
+    let found = find(&runner, lo, hi, resolution, seek);
+    let line = match &found {
+        Found::Boundary { follows, fails } => {
+            let which = match seek {
+                Seek::Largest => "largest",
+                Seek::Smallest => "smallest",
+            };
+            // the values run, each as its shortest round-trip decimal: rerunning either with
+            // the option gives the same row
+            let (follows_at, fails_at) = (exact(follows.values[0]), exact(fails.values[0]));
+            format!(
+                "{which} {name} that follows: {follows_at} (at {fails_at}: {})",
+                fails.reasons()
+            )
+        }
+        Found::NoneFollows(row) => {
+            if let Outcome::Failed(reason) = &row.outcome {
+                return Err(Error::option(
+                    option,
+                    format!("the run at {name}={} could not run: {reason}", exact(row.values[0])),
+                ));
+            }
+            format!(
+                "no {name} in [{lo_text}, {hi_text}] follows: already at {}: {}",
+                exact(row.values[0]),
+                row.reasons()
+            )
+        }
+        Found::AllFollow(row) => {
+            let (end, widen) = match seek {
+                Seek::Largest => ("largest", "raise HI"),
+                Seek::Smallest => ("smallest", "lower LO"),
+            };
+            format!(
+                "every {name} in [{lo_text}, {hi_text}] follows, {} too: the {end} that follows is beyond the range ({widen})",
+                exact(row.values[0])
+            )
+        }
+    };
+    Ok(Searched { found, line })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::fields::FIELDS;
+    use crate::config::{Motion, WaveConfig};
+
+    /// The numeric fields that move the commanded path or its samples: a sweep varying any of them
+    /// lets each run compute its own clearance.
+    /// * `freq`, `amp_deg`, `amp_m`, `traj_period`, `message`, `shape_points`: the command itself;
+    /// * `dt`, `record_period`: the sample times, every round(record_period / dt) steps of dt;
+    /// * `duration`: the samples (the last step is one); a path over the longest run would keep
+    ///   the shorter ones waiting for its bounds over the whole of it;
+    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance.
+    const OWN_PATH: [&str; 10] = [
+        "freq",
+        "amp_deg",
+        "amp_m",
+        "traj_period",
+        "message",
+        "shape_points",
+        "dt",
+        "record_period",
+        "duration",
+        "clearance_tolerance",
+    ];
+
+    /// Every numeric field a sweep varies is said to keep the commanded path or to move it
+    /// (a new field must be decided), never both.
+    #[test]
+    fn every_varied_field_keeps_the_path_or_moves_it() {
+        for f in FIELDS.iter().filter(|f| varies(f)) {
+            let (keeps, moves) = (SAME_PATH.contains(&f.name), OWN_PATH.contains(&f.name));
+            assert!(keeps != moves, "{}: keeps the path {keeps}, moves it {moves}", f.name);
+        }
+        for name in SAME_PATH.iter().chain(&OWN_PATH) {
+            assert!(field(name).is_some_and(varies), "{name} is not a varied field");
+        }
+    }
+
+    /// A family shares one path when every varied name keeps it (and `Sharing::Shared`), and
+    /// every run it builds follows that path; otherwise each run has its own.
+    #[test]
+    fn a_family_shares_its_path_only_when_every_varied_option_keeps_it() {
+        let mut base = RunConfig::new(Motion::Wave(WaveConfig::default()));
+        base.duration = Some(0.05);
+        let values: &[f64] = &[0.0, 0.5];
+        let scales: &[f64] = &[1.0, 2.0];
+        let load = |names: &[(&str, &[f64])], sharing| Family::load(base.clone(), None, names, sharing).unwrap();
+        let shared = load(&[("payload-kg", values), ("kp-scale", scales)], Sharing::Shared);
+        let path = shared.path().expect("payload and a scale keep the path").clone();
+        assert_eq!(path.len(), 4, "the samples at 0, 0.02, 0.04 and the last step, 0.05 s");
+        let run = shared.build(&[0.5, 2.0]).unwrap();
+        assert!(run.path_clearance.as_ref().is_some_and(|p| Arc::ptr_eq(p, &path)));
+        for (names, sharing) in [
+            (&[("payload-kg", values)][..], Sharing::Own),
+            (
+                &[("payload-kg", values), ("dt", &[2e-4, 1e-4][..])][..],
+                Sharing::Shared,
+            ),
+            (&[("amp-deg", values)][..], Sharing::Shared),
+        ] {
+            let family = load(names, sharing);
+            assert!(family.path().is_none(), "{names:?} {sharing:?}");
+            assert!(
+                family
+                    .build(&vec![0.0002; names.len()])
+                    .unwrap()
+                    .path_clearance
+                    .is_none()
+            );
+        }
+    }
+}
