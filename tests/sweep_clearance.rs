@@ -74,6 +74,43 @@ fn rows_match_their_exact_runs(dir: &std::path::Path, values: &str, base: &[&str
     colliding
 }
 
+/// `faze4 sweep --own-clearance`: each row's clearance is the same run's alone at the same
+/// (default) tolerance, to the bit.
+#[test]
+fn with_its_own_clearance_a_row_is_the_run_alone() {
+    let dir = temp_dir("sweep-own-clearance");
+    let base = ["shape", "--shape", "circle", "--duration", "2"];
+    let sweep = faze4(
+        &dir,
+        &[
+            &[
+                "sweep",
+                "--own-clearance",
+                "--vary",
+                "payload-kg=0,0.7",
+                "--out",
+                "t.json",
+                "-q",
+                "--",
+            ],
+            &base[..],
+        ]
+        .concat(),
+    );
+    assert!(sweep.status.success(), "{}", sweep.stderr);
+    let rows: Vec<Value> = serde_json::from_str(&std::fs::read_to_string(dir.join("t.json")).unwrap()).unwrap();
+    for row in &rows {
+        let payload = row["payload-kg"].as_f64().unwrap().to_string();
+        let extra = ["--payload-kg", &payload, "--summary", "s.json", "--trail", "none", "-q"];
+        let alone = faze4(&dir, &[&base[..], &extra].concat());
+        assert!(alone.status.success(), "{}", alone.stderr);
+        let clearance = &summary(&dir, "s.json")["clearance"];
+        assert_eq!(row["clearance_min_m"], clearance["min_m"], "payload {payload}");
+        assert_eq!(row["clearance_t"], clearance["t"], "payload {payload}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The circle with payloads up to 0.9 kg (the runs follow: mesh pairs whose hulls overlap,
 /// derived from the shared path), and the arm folding into itself (`wave --amp-deg 90`: the
 /// runs cannot follow and their links intersect from the first sample).
