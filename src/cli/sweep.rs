@@ -20,8 +20,16 @@ use crate::error::{Error, Result};
 use crate::output::format::exact;
 use crate::sim::StopFlag;
 use crate::sweep::{
-    self, Family, Format, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Seek, Shard, TableWriter, threads,
+    self, Family, Format, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Seek, Shard, Sharing, TableWriter, threads,
 };
+
+/// Whether the runs share their commanded path's clearance (`--own-clearance`: not).
+fn sharing(args: &SweepArgs) -> Sharing {
+    match args.own_clearance {
+        true => Sharing::Own,
+        false => Sharing::Shared,
+    }
+}
 
 /// The base command's words (after `--`) as a run configuration.
 fn base_config(words: &[String]) -> Result<RunConfig> {
@@ -108,7 +116,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let names: Vec<(&str, &[f64])> = (grid.axes.iter())
         .map(|a| (a.name.as_str(), a.values.as_slice()))
         .collect();
-    let family = Family::load(base_config(&args.base)?, None, &names)?;
+    let family = Family::load(base_config(&args.base)?, None, &names, sharing(args))?;
     warn(family.warnings(), args.quiet);
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -249,6 +257,7 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
     let searched = sweep::search(
         base_config(&args.base)?,
         None,
+        sharing(args),
         name,
         lo,
         hi,

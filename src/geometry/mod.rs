@@ -10,6 +10,7 @@
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |
 //! | `clearance.rs` | [`Clearance`]: a run's accumulator, sample by sample, into a [`ClearanceReport`] |
+//! | `path.rs` | [`PathClearance`]: a path's bounds, computed once, shared by the runs that follow it |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
@@ -19,6 +20,7 @@ mod contact;
 mod hull;
 pub mod mesh;
 mod pairs;
+mod path;
 mod report;
 mod search;
 
@@ -26,6 +28,7 @@ pub use clearance::Clearance;
 pub use collision_set::{CollisionSet, GeometryData, Warning};
 pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 pub use pairs::{PairFilter, checked_pairs};
+pub use path::{MAX_PATH_BYTES, PathBuilder, PathClearance};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
 
 use std::path::Path;

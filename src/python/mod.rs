@@ -38,7 +38,7 @@ use crate::model::Model;
 use crate::output::Capture;
 use crate::session::Prepared;
 use crate::sim::{StopFlag, Warning};
-use crate::sweep::{Family, Found, Grid, MAX_RUNS, Outcome, Row, Seek};
+use crate::sweep::{Family, Found, Grid, MAX_RUNS, Outcome, Row, Seek, Sharing};
 use crate::traj::TimedTrajectory;
 
 create_exception!(faze4, Error, PyValueError, "Bad input: one line naming what is wrong.");
@@ -627,7 +627,7 @@ fn _sweep(
         let names: Vec<(&str, &[f64])> = (grid.axes.iter())
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect();
-        let family = Family::load(config, frames, &names)?;
+        let family = Family::load(config, frames, &names, Sharing::Shared)?;
         let rows = family.rows(&grid, indices, jobs, &stop)?;
         Ok::<_, crate::Error>((rows, warning_lines(family.warnings())))
     })?
@@ -666,9 +666,19 @@ fn _find(
     let seek = if smallest { Seek::Smallest } else { Seek::Largest };
     let warnings = Mutex::new(Vec::new());
     let searched = interruptible(py, &stop, || {
-        crate::sweep::search(config, frames, name, lo, hi, resolution, seek, jobs, &stop, |w| {
-            *warnings.lock().unwrap_or_else(|p| p.into_inner()) = warning_lines(w)
-        })
+        crate::sweep::search(
+            config,
+            frames,
+            Sharing::Shared,
+            name,
+            lo,
+            hi,
+            resolution,
+            seek,
+            jobs,
+            &stop,
+            |w| *warnings.lock().unwrap_or_else(|p| p.into_inner()) = warning_lines(w),
+        )
     })?
     .map_err(error)?;
     let (kind, follows, fails) = match &searched.found {

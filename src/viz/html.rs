@@ -75,6 +75,10 @@ impl Recorder for HtmlExport {
         Ok(())
     }
 
+    fn reads_intersections(&self) -> bool {
+        true
+    }
+
     fn record(&mut self, sample: &Sample) -> Result<()> {
         if let Some(enc) = &mut self.encoder {
             enc.push(sample, &mut self.records);
