@@ -29,6 +29,13 @@ urdf_model)
 npy_samples)
     cp -n tests/fixtures/*.npy "$corpus"/
     ;;
+dae_mesh)
+    flags+=(-dict=fuzz/dae.dict)
+    ;;
+motors_file)
+    extra+=(tests/motors)
+    flags+=(-dict=fuzz/motors.dict)
+    ;;
 esac
 
 export RUSTC_BOOTSTRAP=1 # cargo fuzz needs nightly-only flags; see the README

@@ -3,6 +3,7 @@
 //!
 //! Layers, bottom up (each uses only those below it; `ARCHITECTURE.md` has the table):
 //! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
+//! [`input`] (files read whole under a cap),
 //! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
 //! workspace), [`geometry`] (visuals and collision shapes beside the model, self-clearance), [`control`] (PD + tuning), [`traj`] (commands), [`ik`] (inverse kinematics),
 //! [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`sim`] (scenarios, the closed loop, the recorder
@@ -36,6 +37,7 @@ pub mod fuzzing;
 pub mod geometry;
 pub mod id;
 pub mod ik;
+pub mod input;
 pub mod model;
 pub mod output;
 #[cfg(feature = "python")]

@@ -162,6 +162,7 @@ pub fn run(command: &Command, frames: Option<Vec<Vec<f64>>>, stop: &StopFlag) ->
     };
     let mut trail = Capture::new(run.record_period);
     let files = Outputs::new();
+    files.reading(super::inputs(command, &scenario.geometry))?;
     let save_q = save_q.filter(|p| !is_none(p));
     let (summary, recorders) = run_into(&scenario, run, save_q, &files, &mut [&mut trail], stop)?;
     files.commit()?;

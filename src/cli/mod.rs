@@ -13,8 +13,9 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use self::args::{Cli, Command, RunArgs};
-use crate::atomic::Outputs;
-use crate::error::{Error, Result, escape_controls, quoted};
+use crate::atomic::{Inputs, Outputs};
+use crate::error::{Error, Result, escape_controls, escape_lines, quoted};
+use crate::geometry::GeometryModel;
 use crate::output::format::number;
 use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
 use crate::sim::scenario::positive;
@@ -98,7 +99,32 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
         Command::Shape(a) => (scenario::shape(a)?, &a.run, a.save_q.as_deref()),
         Command::Sweep(a) => return sweep::execute(a),
     };
-    run_and_report(&scenario, run, save_q)
+    run_and_report(&scenario, run, save_q, inputs(&cli.command, &scenario.geometry))
+}
+
+/// The files a run of `command` reads, which none of its outputs may replace: `--urdf`, the
+/// meshes of `geometry`, a `--motors` file, `--q-traj`.
+fn inputs(command: &Command, geometry: &GeometryModel) -> Inputs {
+    let mut inputs = Inputs::new();
+    let run = match command {
+        Command::Wave(a) => &a.run,
+        Command::Replay(a) => {
+            inputs.add(&a.q_traj, "--q-traj");
+            &a.run
+        }
+        Command::Shape(a) => &a.run,
+        Command::Sweep(_) => return inputs,
+    };
+    if let Some(urdf) = &run.urdf {
+        inputs.add(urdf, "--urdf");
+    }
+    if let Some(file) = run.motors.as_deref().filter(|m| m.ends_with(".toml")) {
+        inputs.add(Path::new(file), "--motors");
+    }
+    for (link, path) in geometry.mesh_files() {
+        inputs.add(path, format!("the mesh of link {}", quoted(link)));
+    }
+    inputs
 }
 
 /// Prints `warnings` on stderr, one line each; under `quiet`, only those that change the
@@ -116,9 +142,10 @@ fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
 ///
 /// Every file is written into one [`Outputs`] set and appears only once the run, every other
 /// file and the lines on stdout are complete: an error anywhere leaves every file as it was.
-fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
+fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>, inputs: Inputs) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
+    files.reading(inputs)?;
     let save_q = save_q.filter(|p| !is_none(p));
     let (summary, recorders) = run_into(scenario, run, save_q, &files, &mut [], &stop)?;
     let mut stdout = String::new();
@@ -144,6 +171,11 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
             "faze4: {} at t = {t:.3} s; the outputs are complete up to there",
             stopped_by(&stop)
         );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
+    // a signal during the final writes: the outputs are whole, but the status says it came
+    if stop.signal().is_some() {
+        eprintln!("faze4: {} after the run; its outputs are complete", stopped_by(&stop));
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     let code = if summary.diverged.is_some() {
@@ -201,11 +233,13 @@ fn stopped_by(stop: &StopFlag) -> &'static str {
     }
 }
 
-/// Writes `text` on stdout. A failed write (a full disk) is an error; a closed pipe
+/// Writes `text` on stdout, its control and bidirectional characters escaped but its line
+/// breaks. A failed write (a full disk) is an error; a closed pipe
 /// (`faze4 … | head`) is not the run's failure.
 fn print_stdout(text: &str) -> Result<()> {
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+    // paths and names as they are shown: no control or bidirectional character (escape_lines)
+    match out.write_all(escape_lines(text).as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io {
             path: "stdout".into(),
             source: e,

@@ -11,6 +11,7 @@ use crate::control::catalog::{sts3215, xm540_w270};
 use crate::control::{Envelope, JointMotor, Motor};
 use crate::error::{Error, Result, one_line};
 use crate::faze4::motors::{faze4, faze4_bom};
+use crate::input::{MAX_MOTORS_BYTES, into_text, read_capped};
 use crate::model::Model;
 
 /// The presets `--motors` knows, by name.
@@ -85,16 +86,28 @@ struct Entry {
     stall_torque: Option<f64>,
     no_load_speed: Option<f64>,
     peak_torque: Option<f64>,
-    curve: Option<Vec<[f64; 2]>>,
+    /// Points `[speed, torque]`, read as lists so that a point of another length is refused
+    /// (an array `[f64; 2]` took the first two values of `[0.0, 0.3, 7]` and dropped the third).
+    curve: Option<Vec<Vec<f64>>>,
     continuous_torque: Option<f64>,
 }
 
 /// The motors of the file at `path` for `model`: one entry per moving joint in joint order, or
 /// entries naming URDF joints (the joints not named have no motor).
+/// The file is read whole, at most [`MAX_MOTORS_BYTES`] (a stream too).
 pub fn read(path: &Path, model: &Model) -> Result<Vec<Option<JointMotor>>> {
+    let text = read_capped(path, MAX_MOTORS_BYTES, "a motors file").and_then(|b| into_text(path, b));
+    let text = text.map_err(|e| match e {
+        Error::Io { source, .. } => Error::argument("--motors", format!("{}: {source}", path.display())),
+        other => Error::argument("--motors", other.to_string()),
+    })?;
+    parse_text(&text, path, model)
+}
+
+/// [`read`] on the file's text; `path` names it in the errors.
+pub fn parse_text(text: &str, path: &Path, model: &Model) -> Result<Vec<Option<JointMotor>>> {
     let at = |message: String| Error::argument("--motors", format!("{}: {message}", path.display()));
-    let text = std::fs::read_to_string(path).map_err(|e| at(e.to_string()))?;
-    let file: File = toml::from_str(&text).map_err(|e| at(one_line(e.message())))?;
+    let file: File = toml::from_str(text).map_err(|e| at(one_line(e.message())))?;
     parse(file, model).map_err(at)
 }
 
@@ -158,8 +171,17 @@ fn entry(e: Entry, i: usize) -> std::result::Result<JointMotor, String> {
                     "a stepper has a curve, not stall_torque, no_load_speed or peak_torque",
                 ));
             }
+            let curve = e.curve.as_ref().ok_or_else(|| what("kind \"stepper\" needs curve"))?;
+            let points = curve.iter().enumerate().map(|(k, p)| match p[..] {
+                [speed, torque] => Ok([speed, torque]),
+                _ => Err(what(&format!(
+                    "curve point {} has {} values ({p:?}); a point is [speed rad/s, torque N·m]",
+                    k + 1,
+                    p.len()
+                ))),
+            });
             Envelope::Stepper {
-                curve: e.curve.clone().ok_or_else(|| what("kind \"stepper\" needs curve"))?,
+                curve: points.collect::<std::result::Result<_, _>>()?,
             }
         }
         other => return Err(what(&format!("kind \"{other}\" is not \"dc\" or \"stepper\""))),

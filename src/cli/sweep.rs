@@ -13,7 +13,7 @@ use clap::Parser;
 
 use super::args::{Cli, Command, ReplayArgs, RunArgs, ShapeArgs, SweepArgs, SweepCommand, WaveArgs};
 use super::{interrupted_status, print_stdout, scenario, stopped_by, warn};
-use crate::atomic::{Outputs, check_output_path};
+use crate::atomic::{Inputs, Outputs, check_output_path};
 use crate::error::{Error, Result};
 use crate::geometry::{CollisionSet, Robot};
 use crate::output::format::exact;
@@ -161,6 +161,8 @@ struct Base {
     /// What reading the collision geometry found wrong (meshes not found), said once for the
     /// whole sweep.
     warnings: Vec<Warning>,
+    /// The files the runs read, which the sweep's outputs may not replace.
+    inputs: Inputs,
 }
 
 impl Base {
@@ -234,6 +236,7 @@ impl Base {
         // the meshes are read once, not once per run, and a mesh not found is said once
         let collisions = scenario::collisions(run);
         let mut warnings = Vec::new();
+        let inputs = super::inputs(&command, &robot.geometry);
         let (geometry, collision_set) = load_collisions(&robot.model, robot.geometry, collisions, &mut warnings)?;
         robot.geometry = geometry;
         Ok(Base {
@@ -243,6 +246,7 @@ impl Base {
             frames,
             plan,
             warnings,
+            inputs,
         })
     }
 
@@ -330,12 +334,11 @@ pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
             None => format!("{} runs", merged.rows),
             Some(absent) => format!("{} of {} runs (absent: {absent})", merged.rows, merged.total),
         };
-        let _ = writeln!(
-            std::io::stdout().lock(),
-            "[done] {line} from {} tables -> {}",
+        print_stdout(&format!(
+            "[done] {line} from {} tables -> {}\n",
             parts.len(),
             m.out.display()
-        );
+        ))?;
         return Ok(ExitCode::SUCCESS);
     }
     match (&args.find, &args.find_min) {
@@ -376,6 +379,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     };
     check_trails(args.trails.as_deref())?;
     let (base, knobs) = load_for(&grid, &args.base, None)?;
+    files.reading(base.inputs.clone())?;
     warn(&base.warnings, args.quiet);
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -456,6 +460,14 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
             "faze4: {} after {ran} of {} runs; the outputs hold those",
             stopped_by(&stop),
             indices.len()
+        );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
+    // a signal during the final writes: the outputs are whole, but the status says it came
+    if stop.signal().is_some() {
+        eprintln!(
+            "faze4: {} after the last run; the outputs are complete",
+            stopped_by(&stop)
         );
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }

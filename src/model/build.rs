@@ -8,6 +8,7 @@ use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDesc
 use super::{AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result, one_line};
 use crate::id::FrameId;
+use crate::input::MAX_MOVING_JOINTS;
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
 /// Relative tolerance on the triangle inequality of principal moments (rounding in exported
@@ -76,6 +77,17 @@ impl std::fmt::Display for LoadWarning {
 /// bodies and frames; the motors of its transmissions; every moving body checked for mass and
 /// a physical inertia (after the links welded to it are merged in).
 pub(super) fn build(desc: &RobotDescription, options: &LoadOptions) -> Result<(Model, Vec<LoadWarning>)> {
+    // each moving joint is a body: the matrices and the step grow as their number squared and cubed
+    let moving = desc.joints.iter().filter(|j| j.kind != JointType::Fixed).count();
+    if moving > MAX_MOVING_JOINTS {
+        return Err(Error::model(
+            &desc.file,
+            format!("robot '{}'", desc.name),
+            format!(
+                "has {moving} moving joints, more than the {MAX_MOVING_JOINTS} faze4 simulates: a step costs their number cubed (docs/development.md, Caps)"
+            ),
+        ));
+    }
     check_finite(desc)?;
     let tree = Tree::of(desc)?;
     let mut model = walk(desc, &tree)?;
@@ -385,6 +397,19 @@ fn check_inertias(
     for i in 0..model.dof() {
         let inertia = model.inertia[i];
         let i_com = inertia.rot_about_com();
+        // I_com = I_o − m c×ᵀc×: with a huge mass the product overflows, and the moments are NaN
+        if !i_com.iter().all(|x| x.is_finite()) {
+            let c = inertia.com();
+            return Err(Error::model(
+                file,
+                format!("link '{}' <inertial>", model.joints[i].child_link),
+                format!(
+                    "mass {} kg with its centre of mass {} m from its body's joint: its rotational inertia about the centre of mass is not a number, as the square of its first moment m·|c| overflows floating-point numbers",
+                    crate::error::shortest(inertia.mass),
+                    crate::error::shortest(c.norm())
+                ),
+            ));
+        }
         let mut moments = SymmetricEigen::new(i_com).eigenvalues;
         moments.as_mut_slice().sort_by(f64::total_cmp);
         let [a, b, c] = [moments[0], moments[1], moments[2]];

@@ -186,8 +186,11 @@ impl fmt::Display for Reason {
             ),
             Reason::LosesSteps { joint, loss } => write!(
                 f,
-                "{joint}'s stepper loses steps at t = {:.2} s: it needs {:.3} N·m at {:.0} rad/s, its curve gives {:.3}",
-                loss.t, loss.needs, loss.speed, loss.gives
+                "{joint}'s stepper loses steps at t = {:.2} s: it needs {} N·m at {:.0} rad/s, its curve gives {}",
+                loss.t,
+                torque(loss.needs),
+                loss.speed,
+                torque(loss.gives)
             ),
             Reason::Overheats { joint, rms, continuous } => write!(
                 f,
@@ -203,6 +206,15 @@ impl fmt::Display for Reason {
 impl Serialize for Reason {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
+    }
+}
+
+/// A torque for people: to 0.001 N·m, and three significant digits below 0.01 N·m, so that a
+/// small demand never reads as 0.000.
+fn torque(x: f64) -> String {
+    match x == 0.0 || x.abs() >= 0.01 {
+        true => format!("{x:.3}"),
+        false => format!("{x:.2e}"),
     }
 }
 
