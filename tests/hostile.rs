@@ -188,6 +188,8 @@ fn files_read_whole_are_capped_and_streams_read_up_to_the_cap() {
     std::fs::File::create(&big).unwrap().set_len(2 << 30).unwrap();
     let big = big.display().to_string();
     std::fs::write(dir.join("huge.toml"), vec![b'#'; 2 << 20]).unwrap();
+    let far = [vec![1e308, 0.0, 0.0], vec![0.0; 3]];
+    faze4::traj::npy::write_samples(&dir.join("far.npy"), &far).unwrap();
     symlink("/dev/zero", dir.join("zero.toml")).unwrap();
     let replay = |q: &'static str| -> Vec<&'static str> {
         vec![
@@ -231,6 +233,11 @@ fn files_read_whole_are_capped_and_streams_read_up_to_the_cap() {
         (
             vec!["wave", "--urdf", "/dev/zero", "-q"],
             &["/dev/zero: a stream of more than the 16 MiB a URDF may hold"],
+        ),
+        // a value of 1e308 is said in its shortest digits, not 309 of them
+        (
+            replay("far.npy"),
+            &["far.npy: frame 0: joint J1 (j1) is commanded to 1e308 rad, beyond its limits [-3, 3]"],
         ),
     ];
     for (args, parts) in &cases {

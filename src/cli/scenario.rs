@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::args::{JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::control::JointMotor;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, CollisionSet, PairFilter, Robot};
 use crate::model::{FrameId, Joint, JointKind, LoadOptions, Model, PackagePaths};
 use crate::sim::scenario::{count, default_effort, finite, non_negative, override_per_joint, positive};
@@ -402,9 +402,9 @@ pub fn check_samples(model: &Model, frames: &[Vec<f64>], path: &Path) -> Result<
                     "frame {k}: joint J{} ({}) is commanded to {} rad, beyond its limits [{}, {}]",
                     i + 1,
                     joint.name,
-                    frame[i],
-                    joint.lower,
-                    joint.upper
+                    shortest(frame[i]),
+                    shortest(joint.lower),
+                    shortest(joint.upper)
                 )));
             }
         }
