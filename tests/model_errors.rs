@@ -298,6 +298,11 @@ fn overflowing_masses_empty_geometry_and_sizes_are_named() {
         ],
     );
     assert!(!e.contains("NaN"), "{e}");
+    // a number read from the file is said in its shortest digits, not 309 of them
+    let e = error_with("<mass value=\"0.5\"/>", "<mass value=\"-1e308\"/>");
+    assert_mentions(&e, &["mass -1e308 kg is negative"]);
+    let e = error_with("lower=\"-2\"", "lower=\"1e300\"");
+    assert_mentions(&e, &["lower limit 1e300 is above upper limit 2"]);
     for empty in [
         "<geometry/>",
         "<geometry>\n </geometry>",

@@ -6,7 +6,7 @@ use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
 use super::{AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
-use crate::error::{Error, Result, one_line};
+use crate::error::{Error, Result, one_line, shortest};
 use crate::id::FrameId;
 use crate::input::MAX_MOVING_JOINTS;
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
@@ -366,14 +366,14 @@ fn apply_transmissions(desc: &RobotDescription, model: &mut Model) -> Result<Vec
             return Err(Error::model(
                 file,
                 element(),
-                format!("gear ratio {gear_ratio} must be > 0"),
+                format!("gear ratio {} must be > 0", shortest(gear_ratio)),
             ));
         }
         if t.rotor_inertia.is_some() && !(rotor_inertia.is_finite() && rotor_inertia > 0.0) {
             return Err(Error::model(
                 file,
                 element(),
-                format!("rotor inertia {rotor_inertia} kg·m² must be > 0"),
+                format!("rotor inertia {} kg·m² must be > 0", shortest(rotor_inertia)),
             ));
         }
         model.joints[i.0].rotor_inertia = rotor_inertia;
@@ -405,8 +405,8 @@ fn check_inertias(
                 format!("link '{}' <inertial>", model.joints[i].child_link),
                 format!(
                     "mass {} kg with its centre of mass {} m from its body's joint: its rotational inertia about the centre of mass is not a number, as the square of its first moment m·|c| overflows floating-point numbers",
-                    crate::error::shortest(inertia.mass),
-                    crate::error::shortest(c.norm())
+                    shortest(inertia.mass),
+                    shortest(c.norm())
                 ),
             ));
         }
@@ -461,7 +461,8 @@ fn check_masses(desc: &RobotDescription, model: &Model) -> Result<()> {
                 format!("link '{}'", joint.child_link),
                 format!(
                     "is moved by joint '{}' but has no mass (it and the links welded to it weigh {} kg); a moving body needs mass > 0",
-                    joint.name, model.inertia[i].mass
+                    joint.name,
+                    shortest(model.inertia[i].mass)
                 ),
             ));
         }
@@ -526,7 +527,8 @@ fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
                 element(),
                 format!(
                     "multiplier {} and offset {} must be finite",
-                    mimic.multiplier, mimic.offset
+                    shortest(mimic.multiplier),
+                    shortest(mimic.offset)
                 ),
             ));
         }
@@ -564,8 +566,13 @@ fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
                 file,
                 format!("joint '{}' <mimic>", follower.name),
                 format!(
-                    "its limits [{}, {}] through q = {m}·q_{} + {o} leave joint '{}' no position within its own",
-                    follower.lower, follower.upper, leader.name, leader.name
+                    "its limits [{}, {}] through q = {}·q_{} + {} leave joint '{}' no position within its own",
+                    shortest(follower.lower),
+                    shortest(follower.upper),
+                    shortest(m),
+                    leader.name,
+                    shortest(o),
+                    leader.name
                 ),
             ));
         }
@@ -629,14 +636,18 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
         return Err(Error::model(
             file,
             format!("joint '{}' <limit>", joint.name),
-            format!("lower limit {lower} is above upper limit {upper}"),
+            format!(
+                "lower limit {} is above upper limit {}",
+                shortest(lower),
+                shortest(upper)
+            ),
         ));
     }
     if joint.damping < 0.0 {
         return Err(Error::model(
             file,
             format!("joint '{}' <dynamics>", joint.name),
-            format!("damping {} is negative", joint.damping),
+            format!("damping {} is negative", shortest(joint.damping)),
         ));
     }
     Ok(Some(Joint {
@@ -659,7 +670,11 @@ fn link_inertia(file: &str, link: &str, inertial: &InertialDesc) -> Result<Inert
     let element = || format!("link '{link}' <inertial>");
     let m = inertial.mass;
     if m < 0.0 {
-        return Err(Error::model(file, element(), format!("mass {m} kg is negative")));
+        return Err(Error::model(
+            file,
+            element(),
+            format!("mass {} kg is negative", shortest(m)),
+        ));
     }
     let [ixx, ixy, ixz, iyy, iyz, izz] = inertial.inertia;
     let i_frame = Mat3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
@@ -681,7 +696,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
             Some(v) => Err(Error::model(
                 file,
                 element,
-                format!("{field} has a non-finite value ({v})"),
+                format!("{field} has a non-finite value ({})", shortest(*v)),
             )),
             None => Ok(()),
         }
@@ -751,7 +766,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
                 return Err(Error::model(
                     file,
                     format!("joint '{}' <limit>", j.name.escape_debug()),
-                    format!("{attribute}=\"{x}\" must be > 0 (or left out: no limit)"),
+                    format!("{attribute}=\"{}\" must be > 0 (or left out: no limit)", shortest(x)),
                 ));
             }
         }
