@@ -108,7 +108,7 @@ pub const FORMATS: &str = "STL (binary or ASCII), COLLADA (.dae) or Wavefront OB
 /// union. COLLADA's `<unit meter>` scales the vertices and its node transforms place them, and
 /// its `<up_axis>` is ignored, as rviz and MoveIt do (see docs/model.md, "Meshes"). The file
 /// must be a regular file of at most [`MAX_MESH_BYTES`], and what it claims is checked against
-/// what it holds before mesh-loader reads it ([`claims`](super::claims)).
+/// what it holds before mesh-loader reads it (`geometry/claims.rs`).
 ///
 /// Errors: [`Error::Io`] if the file cannot be read, [`Error::InvalidData`] if it is none of
 /// those formats, too large, a directory or a stream, [`Error::MeshNotFinite`] for a NaN or
@@ -235,7 +235,7 @@ fn parse_mesh_file(
 /// The triangle corners of a mesh file's contents (three per triangle, every mesh of the file
 /// in its order, each triangle as stored, degenerate ones included; non-finite coordinates are
 /// passed through, see [`parse_mesh`]), and the diffuse colour of its first material that has
-/// one. What the file claims is checked first ([`claims::check`]). The error is one line.
+/// one. What the file claims is checked first (`geometry/claims.rs`). The error is one line.
 pub fn triangle_corners(
     bytes: &[u8],
     path: &Path,
