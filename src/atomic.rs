@@ -374,8 +374,8 @@ impl Inputs {
         Inputs::default()
     }
 
-    /// Adds the file at `path`, read as `role` (the option that names it, `--urdf`, or what it
-    /// is, `the mesh of link 'base'`). A path that is not an existing regular file is skipped.
+    /// Adds the file at `path`, read as `role` (the field that names it between backticks,
+    /// `` `urdf` ``, or what it is, `the mesh of link 'base'`). A path that is not an existing regular file is skipped.
     pub fn add(&mut self, path: &Path, role: impl Into<String>) {
         use std::os::unix::fs::MetadataExt;
         if let Ok(m) = std::fs::metadata(path)
@@ -403,7 +403,7 @@ impl Inputs {
                 format!(
                     "{} is {}{}: an output never replaces an input of its run; name another file",
                     output.display(),
-                    match role.starts_with("--") {
+                    match role.starts_with('`') {
                         true => format!("the {role} input"),
                         false => role.clone(),
                     },

@@ -210,15 +210,15 @@ fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
 /// The name the fuzzed motors file goes by in error messages.
 pub const MOTORS_LABEL: &str = "fuzz.toml";
 
-/// `motors_file`: bytes → (if UTF-8) the `--motors FILE.toml` parser
-/// ([`crate::cli::motors::parse_text`]) for the bundled Faze4 (six joints, `joint_1` …
-/// `joint_6`). Checks: an error is one line, `--motors: fuzz.toml: …`; accepted motors are one
+/// `motors_file`: bytes → (if UTF-8) the motors file's parser
+/// ([`crate::config::motors::file_motors`]) for the bundled Faze4 (six joints, `joint_1` …
+/// `joint_6`). Checks: an error is one line, `` `motors`: fuzz.toml: … ``; accepted motors are one
 /// per joint, each passing [`crate::control::Motor::check`], with ratios and rotors > 0 (a rotor
 /// may be 0) where given. `None` if the bytes are not UTF-8.
 pub fn motors_file(data: &[u8]) -> Option<Result<Vec<Option<crate::control::JointMotor>>>> {
     let text = std::str::from_utf8(data).ok()?;
     let model = crate::faze4::model();
-    let result = crate::cli::motors::parse_text(text, Path::new(MOTORS_LABEL), &model);
+    let result = crate::config::motors::file_motors(text, Path::new(MOTORS_LABEL), &model);
     match &result {
         Ok(motors) => {
             assert_eq!(motors.len(), model.dof());
@@ -233,7 +233,7 @@ pub fn motors_file(data: &[u8]) -> Option<Result<Vec<Option<crate::control::Join
         }
         Err(e) => {
             let message = e.to_string();
-            assert!(message.starts_with("--motors: fuzz.toml: "), "{message:?}");
+            assert!(message.starts_with("`motors`: fuzz.toml: "), "{message:?}");
             assert!(
                 !message.contains(['\n', '\r']),
                 "the error is not one line: {message:?}"

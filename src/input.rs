@@ -35,6 +35,17 @@ pub const MAX_MESH_TRIANGLES: u64 = 5_000_000;
 pub const MAX_COLLADA_NESTING: usize = 256;
 /// Largest `.npy` trajectory read (256 MiB): an hour at 1 kHz of 7 joints is 200 MB.
 pub const MAX_NPY_BYTES: u64 = 256 << 20;
+/// Largest time-stamped trajectory text read (`.yaml`, `.json`, `.csv`: 64 MiB). The ROS
+/// trajectories we know hold tens to thousands of points (a few hundred bytes each); 64 MiB
+/// is about 300,000 points of 7 joints. YAML and JSON are parsed into a tree first (serde's
+/// event list, its untagged buffering), several times the text (docs/development.md, "Caps").
+pub const MAX_TRAJECTORY_TEXT_BYTES: u64 = 64 << 20;
+/// Largest `.mcap` file read (256 MiB, the `.npy` cap: rosbag2 compresses a recorded motion).
+pub const MAX_MCAP_BYTES: u64 = 256 << 20;
+/// Most bytes an `.mcap` file's trajectory messages may hold once decompressed (256 MiB), and
+/// the largest record it may have: a compressed chunk may claim any size, so what is kept and
+/// each record are bounded, not the file. About 18 minutes of `JointState` at 1 kHz.
+pub const MAX_MCAP_MESSAGE_BYTES: u64 = 256 << 20;
 /// Largest motors file read (1 MiB): one `[[joint]]` takes a few hundred bytes.
 pub const MAX_MOTORS_BYTES: u64 = 1 << 20;
 /// Largest sweep part metadata read (16 MiB): it lists each varied option's values.

@@ -682,3 +682,165 @@ fn model_messages_name_the_cause() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An MCAP record: its opcode, its length (u64 LE), its body.
+fn mcap_record(op: u8, body: &[u8]) -> Vec<u8> {
+    let mut r = vec![op];
+    r.extend((body.len() as u64).to_le_bytes());
+    r.extend(body);
+    r
+}
+
+/// An MCAP string: its length (u32 LE), its bytes.
+fn mcap_string(s: &str) -> Vec<u8> {
+    let mut r = (s.len() as u32).to_le_bytes().to_vec();
+    r.extend(s.as_bytes());
+    r
+}
+
+/// A rosbag2-like MCAP file with a `JointState` channel whose data section is `data` (records),
+/// as the MCAP specification lays it out (https://mcap.dev/spec).
+fn mcap_file(data: &[u8]) -> Vec<u8> {
+    const MAGIC: &[u8] = b"\x89MCAP0\r\n";
+    let mut f = MAGIC.to_vec();
+    f.extend(mcap_record(
+        0x01,
+        &[mcap_string("ros2"), mcap_string("hostile")].concat(),
+    ));
+    let mut schema = 1u16.to_le_bytes().to_vec();
+    schema.extend(mcap_string("sensor_msgs/msg/JointState"));
+    schema.extend(mcap_string("ros2msg"));
+    schema.extend(0u32.to_le_bytes());
+    f.extend(mcap_record(0x03, &schema));
+    let mut channel = [1u16.to_le_bytes(), 1u16.to_le_bytes()].concat();
+    channel.extend(mcap_string("/joint_states"));
+    channel.extend(mcap_string("cdr"));
+    channel.extend(0u32.to_le_bytes());
+    f.extend(mcap_record(0x04, &channel));
+    f.extend(data);
+    f.extend(mcap_record(0x0F, &0u32.to_le_bytes()));
+    f.extend(mcap_record(
+        0x02,
+        &[0u64.to_le_bytes().as_slice(), &0u64.to_le_bytes(), &0u32.to_le_bytes()].concat(),
+    ));
+    f.extend(MAGIC);
+    f
+}
+
+/// A zstd-compressed chunk holding `records` (one raw block of a zstd frame, RFC 8878), its
+/// header claiming they are `uncompressed_size` bytes.
+fn zstd_chunk(records: &[u8], uncompressed_size: u64) -> Vec<u8> {
+    let mut frame = vec![0x28, 0xB5, 0x2F, 0xFD, 0x00, 0x10]; // magic, no size, 64 KiB window
+    frame.extend(&(1 | (records.len() as u32) << 3).to_le_bytes()[..3]); // last, raw block
+    frame.extend(records);
+    let mut chunk = [0u64.to_le_bytes(), 0u64.to_le_bytes(), uncompressed_size.to_le_bytes()].concat();
+    chunk.extend(0u32.to_le_bytes()); // no CRC
+    chunk.extend(mcap_string("zstd"));
+    chunk.extend((frame.len() as u64).to_le_bytes());
+    chunk.extend(frame);
+    mcap_record(0x06, &chunk)
+}
+
+/// A message record's head claiming `len` bytes of body, and a few of them.
+fn message_claiming(len: u64) -> Vec<u8> {
+    let mut r = vec![0x05];
+    r.extend(len.to_le_bytes());
+    r.extend(1u16.to_le_bytes()); // channel
+    r.extend([0; 20]); // sequence, log and publish times
+    r
+}
+
+#[test]
+fn trajectory_files_are_capped_and_checked_before_they_are_built() {
+    let dir = arm_dir("hostile-trajectories");
+    let csv = "t,j1,j2,j3\n0,0,0.1,0.2\n1,0.1,0.2,0.3\n";
+    std::fs::write(dir.join("t.csv"), csv).unwrap();
+    symlink("/dev/zero", dir.join("zero.yaml")).unwrap();
+    symlink("/dev/zero", dir.join("zero.mcap")).unwrap();
+    // a sparse 1 GiB file takes no disk; it lives outside the directory compared before and after
+    let big = temp_dir("hostile-trajectories-big").join("big.json");
+    std::fs::File::create(&big).unwrap().set_len(1 << 30).unwrap();
+    let big = big.display().to_string();
+    let header: Vec<String> = (0..2000).map(|k| format!("j{k}")).collect();
+    std::fs::write(dir.join("wide.csv"), format!("t,{}\n", header.join(","))).unwrap();
+    let names: Vec<String> = (0..200).map(|k| format!("\"j{k}\"")).collect();
+    let point = |t: f64| {
+        format!(
+            "{{\"positions\": [{}], \"time_from_start\": {t}}}",
+            vec!["0"; 200].join(",")
+        )
+    };
+    let many = format!(
+        "{{\"joint_names\": [{}], \"points\": [{}, {}]}}",
+        names.join(","),
+        point(0.0),
+        point(1.0)
+    );
+    std::fs::write(dir.join("many.json"), many).unwrap();
+    // "billion laughs": nine levels of nine aliases, 387 million strings once expanded
+    let mut laughs = String::from("a0: &a0 [\"lol\"]\n");
+    for k in 1..10 {
+        laughs += &format!("a{k}: &a{k} [{}]\n", vec![format!("*a{}", k - 1); 9].join(","));
+    }
+    laughs += "joint_names: *a9\n";
+    std::fs::write(dir.join("laughs.yaml"), laughs).unwrap();
+    // a compressed chunk whose message claims 1 TiB; a message outside chunks claiming 1 EiB
+    let inside = zstd_chunk(&message_claiming(1 << 40), 1 << 40);
+    std::fs::write(dir.join("inside.mcap"), mcap_file(&inside)).unwrap();
+    std::fs::write(dir.join("outside.mcap"), mcap_file(&message_claiming(1 << 60))).unwrap();
+    let replay = |q: &str| -> Vec<String> {
+        [
+            "replay",
+            "--urdf",
+            "arm.urdf",
+            "--package-path",
+            "pkg",
+            "--q-traj",
+            q,
+            "--duration",
+            "0.1",
+            "-q",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let cases: Vec<(Vec<String>, &[&str])> = vec![
+        (
+            replay("zero.yaml"),
+            &["zero.yaml: a stream of more than the 64 MiB a trajectory text file may hold"],
+        ),
+        (
+            replay("zero.mcap"),
+            &["zero.mcap: a stream of more than the 256 MiB an .mcap trajectory may hold"],
+        ),
+        (
+            replay(&big),
+            &["big.json: 1 GiB (1073741824 bytes), more than the 64 MiB"],
+        ),
+        (
+            replay("wide.csv"),
+            &["wide.csv: its header has 2001 columns; a model has at most 128 moving joints"],
+        ),
+        (replay("many.json"), &["many.json: names 200 joints"]),
+        (
+            replay("laughs.yaml"),
+            &["laughs.yaml: document 1 is not a trajectory_msgs/msg/JointTrajectory"],
+        ),
+        (replay("inside.mcap"), &["inside.mcap: not a readable MCAP file"]),
+        (replay("outside.mcap"), &["outside.mcap: not a readable MCAP file"]),
+        // the trajectory file is an input: no output replaces it
+        (
+            [replay("t.csv"), vec!["--trail".into(), "t.csv".into()]].concat(),
+            &["--trail", "t.csv is the --q-traj input"],
+        ),
+    ];
+    for (args, parts) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        fails_leaving_all_as_was(&dir, &args, parts);
+    }
+    // the readable file replays
+    let run = faze4(&dir, &replay("t.csv").iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(run.status.success(), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::remove_dir_all(Path::new(&big).parent().unwrap()).unwrap();
+}
