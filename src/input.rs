@@ -24,6 +24,10 @@ pub const MAX_LINKS: usize = 4096;
 /// as n³ (a 1,000-joint chain took 107 s for 250 steps; 10,000 joints asked for 800 MB
 /// matrices and aborted). A humanoid with its fingers has about 60.
 pub const MAX_MOVING_JOINTS: usize = 128;
+/// Most samples a shape may have (`shape_points`, 100,000): each is an IK solve and about 200
+/// bytes of plan (100 million asked for 19.5 GB). The default loop of 12 s at the default
+/// step of 0.2 ms has 60,000 steps, so more samples than this are finer than the steps.
+pub const MAX_SHAPE_POINTS: usize = 100_000;
 /// Largest mesh file read (256 MiB): a binary STL of [`MAX_MESH_TRIANGLES`] (250 MB) fits.
 pub const MAX_MESH_BYTES: u64 = 256 << 20;
 /// Most triangles one mesh file may hold (5 million). Each triangle costs about 300 bytes while

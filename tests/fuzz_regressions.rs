@@ -159,6 +159,13 @@ fn obj_mesh_inputs() {
 }
 
 #[test]
+fn trajectory_file_inputs() {
+    check_all("trajectory_file", |bytes| {
+        fuzzing::trajectory_file(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))
+    });
+}
+
+#[test]
 fn motors_file_inputs() {
     check_all("motors_file", |bytes| {
         fuzzing::motors_file(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))

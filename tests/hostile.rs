@@ -844,3 +844,88 @@ fn trajectory_files_are_capped_and_checked_before_they_are_built() {
     std::fs::remove_dir_all(&dir).unwrap();
     std::fs::remove_dir_all(Path::new(&big).parent().unwrap()).unwrap();
 }
+
+#[test]
+fn options_beyond_what_a_run_can_do_name_their_cause() {
+    let dir = arm_dir("hostile-options");
+    let cases: Vec<(Vec<&str>, &[&str])> = vec![
+        (
+            vec!["shape", "--shape", "circle", "--shape-points", "100000000", "-q"],
+            &["--shape-points: 100000000 samples: at most 100000"],
+        ),
+        (
+            vec!["shape", "--shape", "circle", "--shape-points", "4294967297", "-q"],
+            &["--shape-points: 4294967297 samples: at most 100000"],
+        ),
+        (
+            vec!["wave", "--freq", "1e308", "-q"],
+            &["--freq: 1e308 rad/s turns the wave more than half a period per step of --dt 0.0002 s"],
+        ),
+        (
+            vec!["wave", "--dt", "1e-320", "-q"],
+            &["--duration: 8 s at --dt 1e-320 s is more than the 10^12 steps a run may take"],
+        ),
+        (
+            vec!["wave", "--amp-deg", "1e308", "-q"],
+            &[
+                "commanded to 1.5114994701951815e306 rad at t = 0 s",
+                "(amplitude 1e308 deg)",
+            ],
+        ),
+        (
+            vec![
+                "replay",
+                "--urdf",
+                "arm.urdf",
+                "--package-path",
+                "pkg",
+                "--q-traj",
+                "q.npy",
+                "--traj-period",
+                "1e-320",
+                "-q",
+            ],
+            &["--traj-period: 1e-320 s is shorter than one step of --dt 0.0002 s"],
+        ),
+        // a sweep writes its runs' trails with --trails DIR: one --trail file would be dropped
+        (
+            vec![
+                "sweep",
+                "--vary",
+                "dt=1e-4,2e-4",
+                "-q",
+                "--out",
+                "s.csv",
+                "--",
+                "wave",
+                "--trail",
+                "t.csv",
+            ],
+            &["--trail: t.csv: a sweep writes one trail per run with --trails DIR"],
+        ),
+    ];
+    for (args, parts) in &cases {
+        fails_leaving_all_as_was(&dir, args, parts);
+    }
+    // a limit of 0: the errors are shown with the digits that tell them from it
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--max-error",
+            "0",
+            "--duration",
+            "0.01",
+            "--trail",
+            "none",
+            "-q",
+        ],
+    );
+    let verdict = run.stdout.lines().last().unwrap_or_default().to_string();
+    assert!(
+        verdict.starts_with("verdict: cannot follow — J1 tracking error "),
+        "{verdict}"
+    );
+    assert!(!verdict.contains(" 0.000 rad (limit 0 rad)"), "{verdict}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -295,12 +295,37 @@ fn check(config: &RunConfig) -> Result<()> {
     match &config.motion {
         Motion::Wave(w) => {
             finite("freq", w.freq)?;
+            // the step must sample the wave: less than half a turn per step (ω·Δt ≤ π)
+            if w.freq.abs() * config.control.dt > std::f64::consts::PI {
+                return Err(Error::option(
+                    "freq",
+                    format!(
+                        "{} rad/s turns the wave more than half a period per step of `dt` {} s (ω·Δt > π): the steps cannot sample it; lower `freq` or `dt`",
+                        shortest(w.freq),
+                        shortest(config.control.dt)
+                    ),
+                ));
+            }
             if let Some(a) = w.amp_m {
                 non_negative("amp_m", a)?;
             }
             non_negative("amp_deg", w.amp_deg)
         }
-        Motion::Replay(r) => positive("traj_period", r.traj_period),
+        Motion::Replay(r) => {
+            positive("traj_period", r.traj_period)?;
+            // a period shorter than a step plays frames between the steps, never at them
+            match r.traj_period < config.control.dt {
+                true => Err(Error::option(
+                    "traj_period",
+                    format!(
+                        "{} s is shorter than one step of `dt` {} s: the steps cannot play the frames",
+                        shortest(r.traj_period),
+                        shortest(config.control.dt)
+                    ),
+                )),
+                false => Ok(()),
+            }
+        }
         Motion::Shape(_) => Ok(()),
     }
 }

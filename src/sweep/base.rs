@@ -3,10 +3,11 @@
 //! each a field of the configuration or a multiplier of the built scenario ([`Knob`]).
 
 use std::ops::Range;
+use std::path::Path;
 
 use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
 use crate::config::fields::{Field, field};
-use crate::config::{Loaded, Motion, Replayed, RunConfig};
+use crate::config::{DEFAULT_TRAIL, Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result, one_line};
 use crate::output::format::exact;
 use crate::sim::{Scenario, StopFlag, Warning};
@@ -71,6 +72,17 @@ impl Family {
                 "summary",
                 format!(
                     "{}: a sweep writes its table with `out`, not a summary per run",
+                    path.display()
+                ),
+            ));
+        }
+        // the command line's default trail is not asked for; another one is, and a sweep would
+        // write none of it: its runs' trails are `trails DIR`, before the `--`
+        if let Some(path) = out.trail.as_ref().filter(|p| **p != Path::new(DEFAULT_TRAIL)) {
+            return Err(Error::option(
+                "trail",
+                format!(
+                    "{}: a sweep writes one trail per run with `trails` DIR before the `--`, not one file",
                     path.display()
                 ),
             ));

@@ -83,10 +83,15 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
         Format::Mcap => read_capped(path, MAX_MCAP_BYTES, "an .mcap trajectory")?,
         _ => read_capped(path, MAX_TRAJECTORY_TEXT_BYTES, "a trajectory text file")?,
     };
+    parse(&bytes, format, selection, path)
+}
+
+/// [`read`] on a file's `bytes` in `format`; `path` names it in the errors.
+pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
     let trajectory = match format {
-        Format::Yaml => yaml::parse(text(&bytes, path)?, selection.message, path)?,
-        Format::Json => json::parse(text(&bytes, path)?, selection.message, path)?,
-        Format::Mcap => mcap::parse(&bytes, selection, path)?,
+        Format::Yaml => yaml::parse(text(bytes, path)?, selection.message, path)?,
+        Format::Json => json::parse(text(bytes, path)?, selection.message, path)?,
+        Format::Mcap => mcap::parse(bytes, selection, path)?,
         Format::Csv => {
             if selection.message.is_some() {
                 return Err(Error::option(
@@ -94,7 +99,7 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
                     "picks a message of a .yaml, .json or .mcap file",
                 ));
             }
-            csv::parse(&bytes, path)?
+            csv::parse(bytes, path)?
         }
     };
     trajectory.check(path)?;
