@@ -15,7 +15,7 @@ use clap::Parser;
 use self::args::{Cli, Command};
 use crate::atomic::Outputs;
 use crate::error::{Error, Result, Words, escape_controls, escape_lines, in_words};
-use crate::session::{Prepared, divergence_line, done_line};
+use crate::session::{Prepared, divergence_line, report_text};
 use crate::sim::{self, StopFlag};
 
 /// Exit status of a run that diverged.
@@ -121,10 +121,7 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     let config = &prepared.config;
     let finished = crate::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
     let summary = &finished.summary;
-    let mut stdout = String::new();
-    if !config.outputs.quiet {
-        stdout = format!("{}\n", done_line(&finished.recorders, config, summary));
-    }
+    let mut stdout = report_text(&finished, config);
     // the answer, always the last line on stdout
     stdout.push_str(&format!("{}\n", summary.verdict));
     print_stdout(&stdout)?;

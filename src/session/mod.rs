@@ -7,7 +7,7 @@ mod report;
 
 use std::path::Path;
 
-pub use report::{divergence_line, done_line};
+pub use report::{divergence_line, done_line, report_text};
 
 use crate::atomic::{Inputs, Outputs};
 use crate::config::{Loaded, Motion, Replayed, RunConfig};
@@ -129,6 +129,9 @@ impl Recorders {
         let out = &config.outputs;
         if out.plot_motors.is_some() && scenario.motors.is_none() {
             return Err(Error::option("plot_motors", "draws the motors: add `motors`"));
+        }
+        if out.sizing && scenario.motors.is_none() {
+            return Err(Error::option("sizing", "sizes the motors: add `motors`"));
         }
         for (path, field) in [
             (&out.trail, "trail"),

@@ -133,6 +133,20 @@ pub enum Reason {
         /// Where and by how much.
         loss: StepLoss,
     },
+    /// A joint's stepper, driven open loop (`--drive stepper`), slipped: its rotor fell past
+    /// the torque–angle curve to another stable point, whole electrical cycles away.
+    Slips {
+        /// The joint.
+        joint: JointId,
+        /// The first slip (s).
+        t: f64,
+        /// Full steps the rotor ends off its command (a multiple of 4).
+        steps_lost: u64,
+        /// The offset the slips left at the joint, actual − commanded (rad or m).
+        position_lost: f64,
+        /// Whether the joint is prismatic (the offset is metres).
+        prismatic: bool,
+    },
     /// A joint's motor ran at an RMS torque above its continuous rating.
     Overheats {
         /// The joint.
@@ -207,12 +221,30 @@ impl fmt::Display for Reason {
             ),
             Reason::LosesSteps { joint, loss } => write!(
                 f,
-                "{joint}'s stepper loses steps at t = {:.2} s: it needs {} N·m at {:.0} rad/s, its curve gives {}",
+                "{joint}'s stepper loses steps at t = {:.2} s: it needs {:.4} N·m at {:.0} rad/s, {} more than its curve gives ({:.4})",
                 loss.t,
-                torque(loss.needs),
+                loss.needs,
                 loss.speed,
-                torque(loss.gives)
+                excess(loss.needs, loss.gives),
+                loss.gives
             ),
+            Reason::Slips {
+                joint,
+                t,
+                steps_lost,
+                position_lost,
+                prismatic,
+            } => {
+                let unit = if prismatic { "m" } else { "rad" };
+                write!(f, "{joint}'s stepper slips at t = {t:.3} s")?;
+                match steps_lost {
+                    0 => write!(f, " and slips back: it ends on its command"),
+                    n => write!(
+                        f,
+                        ": {n} full steps lost, the joint off by {position_lost:.5} {unit} from then on"
+                    ),
+                }
+            }
             Reason::Overheats { joint, rms, continuous } => write!(
                 f,
                 "{joint}'s motor runs at {rms:.3} N·m RMS, above its continuous {continuous} N·m"
@@ -230,12 +262,13 @@ impl Serialize for Reason {
     }
 }
 
-/// A torque for people: to 0.001 N·m, and three significant digits below 0.01 N·m, so that a
-/// small demand never reads as 0.000.
-fn torque(x: f64) -> String {
-    match x == 0.0 || x.abs() >= 0.01 {
-        true => format!("{x:.3}"),
-        false => format!("{x:.2e}"),
+/// How much more `needs` is than `gives`, in percent for people (`+0.05 %`), or `all of it`
+/// where the curve gives nothing.
+fn excess(needs: f64, gives: f64) -> String {
+    if gives > 0.0 {
+        format!("{:.2} %", 100.0 * (needs - gives) / gives)
+    } else {
+        "all of it".into()
     }
 }
 
@@ -302,7 +335,8 @@ impl Verdict {
         for (joint, m) in (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
             .filter_map(|(j, m)| m.as_ref().map(|m| (j, m)))
         {
-            if m.envelope_pct > thresholds.max_saturation_pct {
+            // an open-loop stepper asks for nothing: its slips are the reason, not a demand
+            if m.drive == "pd" && m.envelope_pct > thresholds.max_saturation_pct {
                 reasons.push(Reason::EnvelopeSaturates {
                     joint,
                     pct: m.envelope_pct,
@@ -311,6 +345,17 @@ impl Verdict {
             }
             if let Some(loss) = m.step_loss {
                 reasons.push(Reason::LosesSteps { joint, loss });
+            }
+            if let (Some(Some(t)), Some(steps_lost), Some(position_lost)) =
+                (m.loses_steps_at, m.steps_lost, m.position_lost)
+            {
+                reasons.push(Reason::Slips {
+                    joint,
+                    t,
+                    steps_lost,
+                    position_lost,
+                    prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
+                });
             }
             if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {
                 reasons.push(Reason::Overheats {

@@ -561,6 +561,7 @@ mod tests {
                 q_cmd: &zeros,
                 v_cmd: &zeros,
                 tau: &zeros,
+                tau_raw: &zeros,
                 g: &zeros,
                 tool: Vec3::zeros(),
                 target: None,
