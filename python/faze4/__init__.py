@@ -137,6 +137,9 @@ class Robot(_faze4.Robot):
         """The arm of a URDF file; ``package_path``: where ``package://`` meshes are looked for
         (ROS_PACKAGE_PATH after); ``tool_link``: the link traced as the tool. Other keywords:
         as :meth:`Robot.faze4`."""
+        if not isinstance(path, (str, os.PathLike)):
+            # None would load the bundled arm, not the file meant (Robot.faze4() is that)
+            raise TypeError(f"from_urdf: path is {type(path).__name__}, not a path (Robot.faze4() is the bundled arm)")
         return cls._load(dict(urdf=path, package_path=package_path, tool_link=tool_link, **options))
 
     @classmethod

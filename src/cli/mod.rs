@@ -14,7 +14,7 @@ use clap::Parser;
 
 use self::args::{Cli, Command};
 use crate::atomic::Outputs;
-use crate::error::{Error, Result, Words, escape_controls, in_words};
+use crate::error::{Error, Result, Words, escape_controls, escape_lines, in_words};
 use crate::session::{Prepared, divergence_line, report_text};
 use crate::sim::{self, StopFlag};
 
@@ -145,6 +145,11 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     if summary.interrupted_at_s.is_some() {
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
+    // a signal during the final writes: the outputs are whole, but the status says it came
+    if stop.signal().is_some() {
+        eprintln!("faze4: {} after the run; its outputs are complete", stopped_by(&stop));
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
     let code = if summary.diverged.is_some() {
         ExitCode::from(EXIT_DIVERGED)
     } else if config.verdict.strict && !summary.verdict.follows {
@@ -173,11 +178,13 @@ fn stopped_by(stop: &StopFlag) -> &'static str {
     }
 }
 
-/// Writes `text` on stdout. A failed write (a full disk) is an error; a closed pipe
+/// Writes `text` on stdout, its control and bidirectional characters escaped but its line
+/// breaks. A failed write (a full disk) is an error; a closed pipe
 /// (`faze4 … | head`) is not the run's failure.
 fn print_stdout(text: &str) -> Result<()> {
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+    // paths and names as they are shown: no control or bidirectional character (escape_lines)
+    match out.write_all(escape_lines(text).as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io {
             path: "stdout".into(),
             source: e,

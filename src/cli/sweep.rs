@@ -68,12 +68,11 @@ pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
             None => format!("{} runs", merged.rows),
             Some(absent) => format!("{} of {} runs (absent: {absent})", merged.rows, merged.total),
         };
-        let _ = writeln!(
-            std::io::stdout().lock(),
-            "[done] {line} from {} tables -> {}",
+        print_stdout(&format!(
+            "[done] {line} from {} tables -> {}\n",
             parts.len(),
             m.out.display()
-        );
+        ))?;
         return Ok(ExitCode::SUCCESS);
     }
     match (&args.find, &args.find_min) {
@@ -117,6 +116,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         .map(|a| (a.name.as_str(), a.values.as_slice()))
         .collect();
     let family = Family::load(base_config(&args.base)?, None, &names, sharing(args))?;
+    files.reading(family.inputs().clone())?;
     warn(family.warnings(), args.quiet);
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -198,6 +198,14 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
             "faze4: {} after {ran} of {} runs; the outputs hold those",
             stopped_by(&stop),
             indices.len()
+        );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
+    // a signal during the final writes: the outputs are whole, but the status says it came
+    if stop.signal().is_some() {
+        eprintln!(
+            "faze4: {} after the last run; the outputs are complete",
+            stopped_by(&stop)
         );
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }

@@ -48,12 +48,12 @@ use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
 use super::hull::{Adjacency, Climber};
-use super::mesh::load;
+use super::mesh::load_shape;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
 use super::search::{Touch, mesh_distance, mesh_shape_distance, mesh_touches_shape, meshes_touch};
 use super::{GeometryModel, GeometryObject};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 use crate::model::{Geometry, Model};
 use crate::spatial::{Mat3, Pose, Vec3};
 
@@ -279,22 +279,40 @@ struct MeshShape {
 }
 
 impl MeshShape {
-    /// The mesh `key` names, read by [`load`] (the file, else the built-in Faze4 copy) and
+    /// The mesh `key` names, read by [`load_shape`] (the file, else the built-in Faze4 copy) and
     /// scaled, with (for [`ClearanceGeometry::Mesh`]) what a loader thread builds of its
     /// triangles; `None` when it is found nowhere.
     ///
     /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]);
     /// a mesh whose points span no volume (no convex hull).
     fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<Loaded>> {
-        let Some(mesh) = load(&key.uri, key.path.as_deref()) else {
+        let Some(mesh) = load_shape(&key.uri, key.path.as_deref()) else {
             return Ok(None);
         };
-        let mesh = mesh?.mesh;
+        let mesh = mesh?;
         let path = key.path.clone().unwrap_or_else(|| key.uri.clone().into());
         let scale = key.scale.map(f64::from_bits);
         let points: Vec<PVector> = (mesh.vertices.iter())
             .map(|v| PVector::new(v[0] as f64 * scale[0], v[1] as f64 * scale[1], v[2] as f64 * scale[2]))
             .collect();
+        // the hull's volumes are products of three lengths: a scale that makes them overflow
+        // (or vanish) is said as such, not as a flat mesh
+        let extent = (points.iter()).fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()).max(p.z.abs()));
+        let volume = extent * extent * extent;
+        if !volume.is_finite() || (extent > 0.0 && volume == 0.0) {
+            return Err(Error::InvalidData {
+                path: path.clone(),
+                message: format!(
+                    "<mesh scale=\"{} {} {}\"> makes its coordinates reach {:.3e} m: too {} to compute its hull with (a volume, a length cubed, {} floating-point numbers)",
+                    shortest(scale[0]),
+                    shortest(scale[1]),
+                    shortest(scale[2]),
+                    extent,
+                    if volume == 0.0 { "small" } else { "large" },
+                    if volume == 0.0 { "underflows" } else { "overflows" }
+                ),
+            });
+        }
         // parry's ConvexPolyhedron::from_convex_hull, keeping the hull's triangles for the
         // climb's edges
         let no_hull = || Error::InvalidData {

@@ -735,7 +735,7 @@ fn steps(duration: f64, dt: f64) -> Result<usize> {
         return Err(Error::option(
             "duration",
             format!(
-                "{} s at `dt` {} s is {steps:e} steps: too many",
+                "{} s at `dt` {} s is more than the 10^12 steps a run may take",
                 shortest(duration),
                 shortest(dt)
             ),
@@ -782,10 +782,11 @@ fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t
     let room = (j.upper - c).min(c - j.lower);
     let fits = match room >= 0.0 {
         true => format!(
-            "an amplitude of at most {} {unit} fits about its centre {c} {joint_unit}",
-            room * to_option
+            "an amplitude of at most {} {unit} fits about its centre {} {joint_unit}",
+            shortest(room * to_option),
+            shortest(c)
         ),
-        false => format!("its centre {c} {joint_unit} is itself outside them"),
+        false => format!("its centre {} {joint_unit} is itself outside them", shortest(c)),
     };
     let half_range = 0.5 * (j.upper - j.lower);
     let mid = match c == 0.0 && half_range.is_finite() && half_range >= a {
@@ -795,13 +796,15 @@ fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t
     Error::option(
         field,
         format!(
-            "joint J{} ({}) would be commanded to {q} {joint_unit} at t = {t} s, beyond its limits [{}, {}] {joint_unit}{} (amplitude {} {unit}): {fits}{mid}",
+            "joint J{} ({}) would be commanded to {} {joint_unit} at t = {} s, beyond its limits [{}, {}] {joint_unit}{} (amplitude {} {unit}): {fits}{mid}",
             i + 1,
             j.name,
-            j.lower,
-            j.upper,
+            shortest(q),
+            shortest(t),
+            shortest(j.lower),
+            shortest(j.upper),
             model.mimic_note(i),
-            a * to_option,
+            shortest(a * to_option),
         ),
     )
 }

@@ -5,11 +5,12 @@
 //! clearance, computed once ([`PathClearance`]).
 
 use std::ops::Range;
+use std::path::Path;
 use std::sync::Arc;
 
 use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
 use crate::config::fields::{Field, field};
-use crate::config::{Loaded, Motion, Replayed, RunConfig};
+use crate::config::{DEFAULT_TRAIL, Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result, one_line};
 use crate::geometry::PathClearance;
 use crate::output::format::exact;
@@ -124,6 +125,17 @@ impl Family {
                 ),
             ));
         }
+        // the command line's default trail is not asked for; another one is, and a sweep would
+        // write none of it: its runs' trails are `trails DIR`, before the `--`
+        if let Some(path) = out.trail.as_ref().filter(|p| **p != Path::new(DEFAULT_TRAIL)) {
+            return Err(Error::option(
+                "trail",
+                format!(
+                    "{}: a sweep writes one trail per run with `trails` DIR before the `--`, not one file",
+                    path.display()
+                ),
+            ));
+        }
         let save_q = matches!(&base.motion, Motion::Shape(s) if s.save_q.is_some());
         for (given, name) in [
             (out.html.is_some(), "html"),
@@ -166,6 +178,11 @@ impl Family {
     /// What loading found that changes every run (meshes not found), said once.
     pub fn warnings(&self) -> &[Warning] {
         &self.loaded.warnings
+    }
+
+    /// The files the base loaded, which no output of the sweep may replace.
+    pub fn inputs(&self) -> &crate::atomic::Inputs {
+        self.loaded.inputs()
     }
 
     /// The knobs, one per varied name.
