@@ -40,6 +40,7 @@ pub mod model;
 pub mod output;
 #[cfg(feature = "python")]
 mod python;
+pub mod retime;
 pub mod sim;
 pub mod spatial;
 pub mod sweep;
