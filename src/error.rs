@@ -40,7 +40,8 @@ pub enum Error {
     /// A command-line argument or option value is not acceptable.
     #[error("{option}: {message}")]
     InvalidArgument {
-        /// The option, e.g. `--dt`.
+        /// The run option, named as a field in backticks (`` `dt` ``); each
+        /// front end shows it in its own words ([`in_words`]).
         option: String,
         /// What is wrong with it.
         message: String,
@@ -163,7 +164,7 @@ pub enum Error {
     /// Under `--self-collisions` with exact meshes, two meshes intersect: contact between two
     /// triangle meshes is not modelled (only between convex shapes).
     #[error(
-        "--self-collisions: the exact meshes of '{}' and '{}' intersect at t = {t:.4} s; contact is modelled between convex shapes only: use --collision-geometry hull",
+        "`self_collisions`: the exact meshes of '{}' and '{}' intersect at t = {t:.4} s; contact is modelled between convex shapes only: use `collision_geometry` hull",
         links[0].escape_debug(), links[1].escape_debug()
     )]
     MeshContact {
@@ -201,13 +202,70 @@ impl Error {
         }
     }
 
-    /// An [`Error::InvalidArgument`] for `option`.
+    /// An [`Error::InvalidArgument`] for `option`, named as the front end writes it
+    /// (`--vary`, `sweep`); a run option is [`Error::option`].
     pub fn argument(option: impl Into<String>, message: impl Into<String>) -> Self {
         Error::InvalidArgument {
             option: option.into(),
             message: message.into(),
         }
     }
+
+    /// An [`Error::InvalidArgument`] for the run option `field` (a field of
+    /// [`crate::config::RunConfig`], `dt`, `payload_kg`): the message names it `` `dt` ``, which
+    /// each front end shows in its own words ([`in_words`]: `--dt` on the command line, `dt` in
+    /// Python). `message` names other options the same way.
+    pub fn option(field: &str, message: impl Into<String>) -> Self {
+        Error::InvalidArgument {
+            option: format!("`{field}`"),
+            message: message.into(),
+        }
+    }
+}
+
+/// How a front end names the run options a message refers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Words {
+    /// The command line's: `--payload-kg`.
+    Flags,
+    /// Python's keywords, the fields' own names: `payload_kg`.
+    Keywords,
+}
+
+/// `text` (a message of the library) with every run option it names as `` `field` `` (a
+/// lower-case snake_case name between backticks) written in `words`. Anything else between
+/// backticks is left as it is.
+pub fn in_words(text: &str, words: Words) -> String {
+    let mut out = String::with_capacity(text.len() + 8);
+    let mut rest = text;
+    while let Some(open) = rest.find('`') {
+        out.push_str(&rest[..open]);
+        let after = &rest[open + 1..];
+        let field = after.find('`').map(|close| &after[..close]).filter(|name| {
+            name.starts_with(|c: char| c.is_ascii_lowercase())
+                && name
+                    .chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+        });
+        match field {
+            Some(name) => {
+                match words {
+                    Words::Flags => {
+                        out.push_str("--");
+                        out.push_str(&name.replace('_', "-"));
+                    }
+                    Words::Keywords => out.push_str(name),
+                }
+                rest = &after[name.len() + 1..];
+            }
+            None => {
+                out.push('`');
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 /// `x` as its shortest decimal that reads back to the same `f64` (Ryū): positional from 1e-5
@@ -245,3 +303,26 @@ pub(crate) fn one_line(text: &str) -> String {
 
 /// `Result` with faze4's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_are_shown_in_each_front_ends_words() {
+        let e = Error::option(
+            "payload_kg",
+            "-1 must be ≥ 0 (or lower `dt`; see `not an option` and `Dt`)",
+        );
+        let text = e.to_string();
+        assert_eq!(
+            in_words(&text, Words::Flags),
+            "--payload-kg: -1 must be ≥ 0 (or lower --dt; see `not an option` and `Dt`)"
+        );
+        assert_eq!(
+            in_words(&text, Words::Keywords),
+            "payload_kg: -1 must be ≥ 0 (or lower dt; see `not an option` and `Dt`)"
+        );
+        assert_eq!(in_words("a ` lone backtick", Words::Flags), "a ` lone backtick");
+    }
+}

@@ -4,10 +4,13 @@
 //! Layers, bottom up (each uses only those below it; `ARCHITECTURE.md` has the table):
 //! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
 //! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
-//! workspace), [`geometry`] (visuals and collision shapes beside the model, self-clearance), [`control`] (PD + tuning), [`traj`] (commands), [`ik`] (inverse kinematics),
-//! [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`sim`] (scenarios, the closed loop, the recorder
-//! interface, the summary and verdict), [`output`] (terminal and trail recorders), [`viz`]
-//! (the 3D view, live and exported, and the plot), [`cli`] (the command line).
+//! workspace), [`control`] (PD, tuning, motors), [`ik`] (inverse kinematics), [`traj`]
+//! (commands), [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`geometry`] (visuals
+//! and collision shapes beside the model, self-clearance), [`sim`] (scenarios, the closed loop,
+//! the recorder interface, the summary and verdict), [`config`] (one run's configuration, read
+//! once into scenarios), [`output`] (terminal and trail recorders), [`sweep`] (many runs of one
+//! configuration), [`viz`] (the 3D view, live and exported, and the plots), [`session`] (a run
+//! with its output files, as every front end runs it), [`cli`] (the command line).
 //!
 //! A run from the library, without the command line:
 //!
@@ -28,6 +31,7 @@
 pub mod algo;
 pub mod atomic;
 pub mod cli;
+pub mod config;
 pub mod control;
 pub mod error;
 pub mod faze4;
@@ -41,6 +45,7 @@ pub mod output;
 #[cfg(feature = "python")]
 mod python;
 pub mod retime;
+pub mod session;
 pub mod sim;
 pub mod spatial;
 pub mod sweep;

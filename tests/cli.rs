@@ -66,6 +66,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
             "dt",
             "effective_inertia",
             "effort",
+            "feed_forward",
             "joints",
             "kd",
             "kp",
@@ -86,6 +87,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
         ]
     );
     assert_eq!(s["steps"], 5000);
+    assert_eq!(s["feed_forward"], "gravity");
     assert!(s["diverged"].is_null());
     // the printed banner and summary
     for part in [

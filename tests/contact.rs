@@ -11,7 +11,8 @@ use faze4::algo::{
 };
 use faze4::geometry::{ClearanceGeometry, CollisionSet, ContactGeometry, GeometryData, PairFilter, Robot};
 use faze4::model::{Model, PackagePaths};
-use faze4::sim::{Collisions, Scenario, SelfContact, ShapeRun, StopFlag, run};
+use faze4::sim::{Collisions, Scenario, SelfContact, StopFlag, run};
+use faze4::traj::ShapeRun;
 use faze4::traj::shape::Shape;
 use serde_json::Value;
 
@@ -464,7 +465,15 @@ fn circle_summary(settings: SelfContact) -> faze4::sim::Summary {
     let packages = PackagePaths::new(vec![repo_path("assets")]);
     let Robot { model, geometry, .. } = Robot::from_urdf_file(&repo_path("urdf/faze4_real.urdf"), &packages).unwrap();
     let tool = model.default_tool_frame();
-    let (trajectory, shape) = ShapeRun::plan(&model, tool, Shape::Circle, 240).unwrap();
+    let (trajectory, shape) = ShapeRun::plan(
+        &model,
+        tool,
+        Shape::Circle,
+        240,
+        faze4::faze4::BOARD,
+        faze4::faze4::SHAPE_PERIOD,
+    )
+    .unwrap();
     let scenario = Scenario::builder(model, trajectory)
         .geometry(geometry)
         .collisions(Some(Collisions {

@@ -927,7 +927,7 @@ fn bad_input_is_one_line_and_exit_2() {
         ),
         (
             &["sweep", "--vary", "freq=1,2", "--", "shape", "--shape", "circle"],
-            "freq is not an option of this command",
+            "freq is not an option of shape",
         ),
         (
             &[

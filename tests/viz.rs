@@ -94,7 +94,7 @@ fn html_export_of_a_12_s_circle_with_real_meshes_is_under_10_mb() {
 #[test]
 fn html_export_refuses_a_missing_directory_before_the_run() {
     let err = HtmlExport::new("/nonexistent-dir/x.html").unwrap_err().to_string();
-    assert!(err.starts_with("--html: ") && err.contains("does not exist"), "{err}");
+    assert!(err.starts_with("`html`: ") && err.contains("does not exist"), "{err}");
     let err = PlotRecorder::new("plot.pdf").unwrap_err().to_string();
     assert!(err.contains(".svg or .png"), "{err}");
 }
@@ -241,7 +241,7 @@ fn a_port_in_use_is_a_clear_error() {
     let err = LiveView::start(first.port()).err().expect("the port is taken");
     let message = err.to_string();
     assert!(
-        matches!(err, faze4::Error::InvalidArgument { ref option, .. } if option == "--port"),
+        matches!(err, faze4::Error::InvalidArgument { ref option, .. } if option == "`port`"),
         "{message}"
     );
     assert!(message.contains(&format!("port {} ", first.port())) && message.contains("already in use"));

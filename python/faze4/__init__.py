@@ -9,12 +9,13 @@ digital PD controller, from Python::
     run.follows, run.summary["max_tracking_error_rad"], run.q.shape
 
 Every option of the command line is a keyword of ``wave``, ``replay``, ``shape``, ``sweep`` and
-``find``: the same name with underscores, the same default, the same checks and messages. The
-keywords become the words of the same subcommand, parsed by the binary's own definitions, and
-the run is the binary's: its summary equals the binary's ``--summary`` JSON. Two defaults
-differ, because a Python call returns what the binary writes: ``trail="none"`` (the trail is in
-``Run.t``, ``Run.q``, ...; give a path to write the CSV too) and ``quiet=True`` (nothing is
-printed; ``quiet=False`` prints the progress lines). Bad input raises :class:`Error`.
+``find``: the same name with underscores, the same default, the same checks. The keywords fill
+the library's own run configuration, field by field, and the run is the binary's: its summary
+equals the binary's ``--summary`` JSON. Messages name options as keywords (``dt``) where the
+binary names flags (``--dt``). Two defaults differ, because a Python call returns what the
+binary writes: ``trail="none"`` (the trail is in ``Run.t``, ``Run.q``, ...; give a path to write
+the CSV too) and ``quiet=True`` (nothing is printed; ``quiet=False`` prints the progress lines).
+Bad input raises :class:`Error`; a value of the wrong type raises ``TypeError``.
 """
 
 from __future__ import annotations
@@ -60,92 +61,16 @@ def options(command: str) -> list[Option]:
     return list(_TABLES[command].values())
 
 
-def _text(option: Option | None, value: Any) -> str:
-    """One value as the command line writes it (floats exactly: repr round-trips)."""
-    if isinstance(value, (str, os.PathLike)):
-        return os.fspath(value)
-    if isinstance(value, (bool, np.bool_)):
-        return str(bool(value)).lower()
-    kind = option.kind if option else None
-    if kind in ("joints", "str") or isinstance(value, (list, tuple, np.ndarray)):
-        items = np.asarray(value, dtype=object).ravel() if isinstance(value, np.ndarray) else value
-        if isinstance(items, (list, tuple, np.ndarray)):
-            return ",".join("auto" if x is None else _text(None, x) for x in items)
-    if isinstance(value, (int, np.integer)):
+def _text(value: Any) -> str:
+    """A number as the binary's ``--vary`` writes it (floats exactly: repr round-trips)."""
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
         return str(int(value))
-    if isinstance(value, (float, np.floating)):
-        return repr(float(value))
-    return str(value)
+    return repr(float(value))
 
 
-def _toml_value(value: Any) -> str:
-    """One TOML value of a motors table: a string, a number, a boolean or a list of them."""
-    if isinstance(value, (bool, np.bool_)):
-        return str(bool(value)).lower()
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, (int, np.integer)):
-        return str(int(value))
-    if isinstance(value, (float, np.floating)):
-        return repr(float(value))
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    raise Error(f"--motors: a dict's value {value!r} is not a string, number, boolean or list")
-
-
-_MOTOR_FILES: list[str] = []
-
-
-def _motors_file(motors: dict[str, Any]) -> str:
-    """``motors={"joint": [{...}, ...]}`` (the ``--motors FILE.toml`` schema as a dict, docs/motors.md)
-    written as a TOML file for the command line's ``--motors``; the file lives as long as the
-    interpreter (a Robot keeps its words)."""
-    import atexit
-    import tempfile
-
-    joints = motors.get("joint")
-    if set(motors) != {"joint"} or not isinstance(joints, (list, tuple)):
-        raise Error('--motors: a dict holds one key, "joint": a list of one dict per moving joint')
-    lines = []
-    for entry in joints:
-        if not isinstance(entry, dict):
-            raise Error(f"--motors: each joint is a dict of its motor's figures, not {entry!r}")
-        lines.append("[[joint]]")
-        lines.extend(f"{key} = {_toml_value(value)}" for key, value in entry.items())
-        lines.append("")
-    handle, path = tempfile.mkstemp(prefix="faze4-motors-", suffix=".toml")
-    with os.fdopen(handle, "w", encoding="utf-8") as file:
-        file.write("\n".join(lines))
-    if not _MOTOR_FILES:
-        atexit.register(lambda: [os.remove(f) for f in _MOTOR_FILES if os.path.exists(f)])
-    _MOTOR_FILES.append(path)
-    return path
-
-
-def _words(table: dict[str, Option], options: dict[str, Any]) -> list[str]:
-    """Keywords → the option words of the command line: ``amp_deg=25.0`` → ``--amp-deg=25.0``,
-    ``True`` a flag, a list comma-joined (``None`` in it: ``auto``), ``None`` omitted. A name
-    the command does not have goes through as ``--name`` so that the parser says so, as the
-    binary does."""
-    words = []
-    for name, value in options.items():
-        if value is None:
-            continue
-        if name == "motors" and isinstance(value, dict):
-            value = _motors_file(value)
-        option = table.get(name)
-        long = option.long if option else name.replace("_", "-")
-        if option is not None and option.kind == "flag":
-            if not isinstance(value, (bool, np.bool_)):
-                raise Error(f"--{long}: is a flag: True or False, not {value!r}")
-            if value:
-                words.append(f"--{long}")
-            continue
-        if option is not None and option.repeated and isinstance(value, (list, tuple)):
-            words.extend(f"--{long}={_text(option, v)}" for v in value)
-            continue
-        words.append(f"--{long}={_text(option, value)}")
-    return words
+def _given(options: dict[str, Any]) -> dict[str, Any]:
+    """The keywords given a value: ``None`` means the option's default."""
+    return {name: value for name, value in options.items() if value is not None}
 
 
 class Robot(_faze4.Robot):
@@ -185,11 +110,11 @@ class Robot(_faze4.Robot):
         for name in options:
             if name not in table:
                 raise Error(
-                    f"--{name.replace('_', '-')}: not an option a robot takes "
-                    f"(the options every run command shares: {', '.join(table)})"
+                    f"{name}: not an option a robot takes (the options every run command shares: {', '.join(table)})"
                 )
-        robot = cls(_words(table, options))
-        robot._options = {k: v for k, v in options.items() if v is not None}
+        options = _given(options)
+        robot = cls(options)
+        robot._options = options
         return robot
 
 
@@ -237,13 +162,18 @@ def _q_traj(q_traj: Any):
     return "q_traj", array.astype(np.float64, copy=False)
 
 
-def _command_words(command: str, robot: Robot, options: dict[str, Any]) -> list[str]:
-    merged = {**PYTHON_DEFAULTS, **_robot_options(robot), **options}
-    return [command, *_words(_TABLES[command], merged)]
+def _options(command: str, robot: Robot, options: dict[str, Any]) -> dict[str, Any]:
+    """The keywords of a run: Python's defaults, then the robot's, then the call's (each one a
+    keyword of ``command``, as a Python function's would be)."""
+    table = _TABLES[command]
+    for name in options:
+        if name not in table:
+            raise TypeError(f"{command}() got an unexpected keyword argument '{name}'")
+    return {**PYTHON_DEFAULTS, **_robot_options(robot), **_given(options)}
 
 
 def _run(command: str, robot: Robot, options: dict[str, Any], frames=None) -> Run:
-    return Run(*_faze4._run(_command_words(command, robot, options), frames))
+    return Run(*_faze4._run(command, _options(command, robot, options), frames))
 
 
 def wave(robot: Robot, **options: Any) -> Run:
@@ -268,7 +198,7 @@ def _base(command: str, robot: Robot, options: dict[str, Any]):
             raise Error("q_traj: a replay sweep needs q_traj=")
         path, frames = _q_traj(options["q_traj"])
         options = {**options, "q_traj": path}
-    return _command_words(command, robot, options), frames
+    return _options(command, robot, options), frames
 
 
 def _row(names, values, summary_json, failure) -> dict[str, Any]:
@@ -277,12 +207,8 @@ def _row(names, values, summary_json, failure) -> dict[str, Any]:
     return row
 
 
-def _name(name: str) -> str:
-    return name.replace("_", "-")
-
-
 def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **options: Any) -> list[dict[str, Any]]:
-    words, frames = _base(command, robot, options)
+    merged, frames = _base(command, robot, options)
     if not vary:
         raise Error("vary: nothing to vary: give vary={'payload_kg': [...]}")
     specs = []
@@ -290,10 +216,12 @@ def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **opt
         if isinstance(values, str):
             text = values
         else:
-            text = ",".join(_text(None, v) for v in np.asarray(values, dtype=np.float64).ravel())
-        specs += [f"--vary={_name(name)}={text}"]
-    sweep_words = ["sweep", *specs, f"--jobs={int(jobs)}", "--quiet", "--", *words]
-    rows, warnings = _faze4._sweep(sweep_words, frames)
+            array = np.asarray(values, dtype=np.float64)
+            if array.ndim != 1:
+                raise Error(f"vary: {name}: shape {array.shape}; give a list of values")
+            text = ",".join(_text(v) for v in array)
+        specs += [f"{name}={text}"]
+    rows, warnings = _faze4._sweep(command, merged, specs, int(jobs), frames)
     names = list(vary)
     return [_row(names, *r) for r in rows]
 
@@ -309,12 +237,11 @@ def find(
     jobs: int = 0,
     **options: Any,
 ) -> dict[str, Any]:
-    words, frames = _base(command, robot, options)
-    spec = f"{_name(name)}={_text(None, float(lo))}:{_text(None, float(hi))}"
-    find_words = ["sweep", f"--find-min={spec}" if smallest else f"--find={spec}", f"--jobs={int(jobs)}", "--quiet"]
-    if resolution is not None:
-        find_words.append(f"--resolution={_text(None, float(resolution))}")
-    kind, line, follows, fails, warnings = _faze4._find([*find_words, "--", *words], frames)
+    merged, frames = _base(command, robot, options)
+    resolution = None if resolution is None else float(resolution)
+    kind, line, follows, fails, warnings = _faze4._find(
+        command, merged, name, float(lo), float(hi), resolution, bool(smallest), int(jobs), frames
+    )
     follows_row = _row([name], *follows) if follows else None
     fails_row = _row([name], *fails) if fails else None
     reason = ""

@@ -4,6 +4,7 @@ equal bit for bit (wall-clock times aside), and so are the errors' messages and 
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -109,11 +110,16 @@ def test_the_trail_arrays_are_the_binarys_trail(binary, tmp_path):
     assert run.q_cmd.shape == run.q.shape and np.abs(run.q_cmd - run.q).max() < 0.05
 
 
+def keywords(line: str) -> str:
+    """The binary's line with each flag written as Python's keyword (--payload-kg → payload_kg)."""
+    return re.sub(r"--([a-z][a-z0-9-]*)", lambda m: m.group(1).replace("-", "_"), line)
+
+
 @pytest.mark.parametrize(
     "options",
-    [{"dt": -1.0}, {"amp_deg": -3.0}, {"effort": [1.0, 2.0]}, {"amp_dgr": 3.0}, {"urdf": "/no/such.urdf"}, {"collision_geometry": "box"}],
+    [{"dt": -1.0}, {"amp_deg": -3.0}, {"effort": [1.0, 2.0]}, {"kp": [1.0, 2.0]}, {"urdf": "/no/such.urdf"}],
 )
-def test_bad_input_raises_the_binarys_message(options, binary, tmp_path):
+def test_bad_input_raises_the_binarys_message_in_keywords(options, binary, tmp_path):
     proc, _ = run_binary(binary, ["wave", *words_of(options)], tmp_path)
     assert proc.returncode == 2
     line = proc.stderr.strip().splitlines()[-1]
@@ -122,7 +128,20 @@ def test_bad_input_raises_the_binarys_message(options, binary, tmp_path):
         robot = faze4.Robot.faze4(**robot_options)
         faze4.wave(robot, **{k: v for k, v in options.items() if k != "urdf"})
     assert isinstance(caught.value, ValueError)
-    assert line == f"faze4: error: {caught.value}"
+    message = str(caught.value)
+    name = next(iter(options))
+    if name != "urdf":  # an option's value: named by the option; a file: by its path
+        assert line.startswith(f"faze4: error: --{name.replace('_', '-')}: "), line
+        assert message.startswith(f"{name}: ") and "--" not in message, message
+    assert keywords(line) == f"faze4: error: {message}"
+
+
+def test_what_clap_refuses_python_refuses_in_its_own_words():
+    robot = faze4.Robot.faze4()
+    with pytest.raises(TypeError, match="unexpected keyword argument 'amp_dgr'"):
+        faze4.wave(robot, amp_dgr=3.0)
+    with pytest.raises(faze4.Error, match="^collision_geometry: 'box' is not one of mesh, hull$"):
+        faze4.wave(robot, collision_geometry="box")
 
 
 def test_find_says_what_the_binary_says(binary, tmp_path):
@@ -130,7 +149,8 @@ def test_find_says_what_the_binary_says(binary, tmp_path):
     proc = __import__("subprocess").run([binary, *words], capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     best = faze4.find(faze4.Robot.faze4(), "shape", "payload_kg", 0.0, 3.0, resolution=0.1, jobs=2, shape="circle", duration=2.0)
-    assert best["line"] == proc.stdout.strip().splitlines()[-1]
+    # the line names the option as each caller wrote it
+    assert best["line"] == proc.stdout.strip().splitlines()[-1].replace("payload-kg", "payload_kg")
     if best["found"] == "boundary":
         assert best["value"] < best["fails_at"] and best["reason"] in best["line"]
 

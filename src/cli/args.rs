@@ -1,10 +1,18 @@
-//! The command line, as clap sees it. Values are parsed here and validated in
-//! [`super::scenario`].
+//! The command line, as clap sees it: every option of a run is a field of
+//! [`crate::config::RunConfig`] of the same name (with dashes), its default read from there;
+//! [`super::config`] maps the parsed arguments onto a configuration, which checks them.
 
 use std::path::PathBuf;
 use std::str::FromStr;
 
 use clap::{Args, Parser, Subcommand};
+
+use crate::config::{
+    DEFAULT_AMP_DEG, DEFAULT_CLEARANCE_TOLERANCE_MM, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_FREQ, DEFAULT_FRICTION,
+    DEFAULT_PORT, DEFAULT_RECORD_PERIOD, DEFAULT_SHAPE_DURATION, DEFAULT_SHAPE_POINTS, DEFAULT_TRAIL,
+    DEFAULT_TRAJ_PERIOD,
+};
+use crate::sim::Thresholds;
 
 /// faze4: can the motors of a real arm follow this trajectory? A fast, exact dynamics
 /// simulator of the Faze4 six-axis arm (or any URDF arm) under a 5 kHz digital PD controller.
@@ -21,7 +29,7 @@ pub struct Cli {
 pub enum Command {
     /// Every joint follows A·sin(ω t + i·π/3) (docs/model.md).
     Wave(WaveArgs),
-    /// Replay an N×dof joint trajectory from a .npy file, repeating every --traj-period.
+    /// Replay a joint trajectory: time-stamped (.yaml, .json, .mcap, .csv; played once as ros2_control plays it), or an N×dof .npy repeating every --traj-period.
     Replay(ReplayArgs),
     /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
     Shape(ShapeArgs),
@@ -34,13 +42,13 @@ pub enum Command {
 #[derive(Clone, Debug, Args)]
 pub struct WaveArgs {
     /// Simulated time (s).
-    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULT_DURATION, allow_hyphen_values = true)]
     pub duration: f64,
     /// Angular frequency ω of the wave (rad/s, as the original).
-    #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULT_FREQ, allow_hyphen_values = true)]
     pub freq: f64,
     /// Amplitude A of the revolute and continuous joints (degrees).
-    #[arg(long = "amp-deg", default_value_t = 25.0, allow_hyphen_values = true)]
+    #[arg(long = "amp-deg", default_value_t = DEFAULT_AMP_DEG, allow_hyphen_values = true)]
     pub amp_deg: f64,
     /// Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it
     /// has limits, else 0.05 m.
@@ -57,15 +65,21 @@ pub struct WaveArgs {
 /// `faze4 replay`.
 #[derive(Clone, Debug, Args)]
 pub struct ReplayArgs {
-    /// The trajectory: an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2.
-    #[arg(long = "q-traj", value_name = "F.npy")]
+    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md).
+    #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
     pub q_traj: PathBuf,
-    /// Time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
-    #[arg(long = "traj-period", default_value_t = 5.0, allow_hyphen_values = true)]
+    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
+    #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
     pub traj_period: f64,
-    /// Simulated time (s).
-    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
-    pub duration: f64,
+    /// Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the first).
+    #[arg(long, value_name = "K")]
+    pub message: Option<usize>,
+    /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
+    #[arg(long, value_name = "NAME")]
+    pub topic: Option<String>,
+    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
+    #[arg(long, allow_hyphen_values = true)]
+    pub duration: Option<f64>,
     /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
@@ -80,13 +94,13 @@ pub struct ShapeArgs {
     /// Samples along the path (IK targets), played one loop every 5 s.
     #[arg(
         long = "shape-points",
-        default_value_t = 240,
+        default_value_t = DEFAULT_SHAPE_POINTS,
         value_name = "N",
         allow_hyphen_values = true
     )]
     pub shape_points: usize,
     /// Simulated time (s).
-    #[arg(long, default_value_t = 12.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULT_SHAPE_DURATION, allow_hyphen_values = true)]
     pub duration: f64,
     /// Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it).
     #[arg(long = "save-q", value_name = "F.npy")]
@@ -141,6 +155,9 @@ pub struct RunArgs {
     /// No gravity feed-forward (PD alone holds the arm up).
     #[arg(long = "no-ff")]
     pub no_ff: bool,
+    /// What the controller feeds forward: 'gravity', g(q) at the measured q (the default), or 'full', the inverse dynamics of the commanded q, v, a (computed torque; docs/trajectories.md).
+    #[arg(long, value_name = "gravity|full", value_parser = ["gravity", "full"], conflicts_with = "no_ff")]
+    pub ff: Option<String>,
     /// No gravity field.
     #[arg(long = "no-gravity")]
     pub no_gravity: bool,
@@ -153,7 +170,7 @@ pub struct RunArgs {
     )]
     pub payload_kg: f64,
     /// Control and integration period (s); 2e-4 is 5 kHz.
-    #[arg(long, default_value_t = 2e-4, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULT_DT, allow_hyphen_values = true)]
     pub dt: f64,
     /// Print τ, error, velocity and g(q) with every progress line and add them to the trail.
     #[arg(long)]
@@ -168,7 +185,7 @@ pub struct RunArgs {
     /// The verdict "follows" allows each joint to saturate at most this share of the steps (%).
     #[arg(
         long = "max-saturation-pct",
-        default_value_t = 5.0,
+        default_value_t = Thresholds::DEFAULT.max_saturation_pct,
         value_name = "PCT",
         allow_hyphen_values = true
     )]
@@ -176,7 +193,7 @@ pub struct RunArgs {
     /// The verdict "follows" allows tracking errors up to this (rad, or m for a prismatic joint).
     #[arg(
         long = "max-error",
-        default_value_t = 0.05,
+        default_value_t = Thresholds::DEFAULT.max_error,
         value_name = "RAD",
         allow_hyphen_values = true
     )]
@@ -184,7 +201,7 @@ pub struct RunArgs {
     /// The verdict "follows" allows a shape's path deviation up to this (mm).
     #[arg(
         long = "max-deviation-mm",
-        default_value_t = 5.0,
+        default_value_t = Thresholds::DEFAULT.max_deviation_mm,
         value_name = "MM",
         allow_hyphen_values = true
     )]
@@ -193,7 +210,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub strict: bool,
     /// Trail CSV (t, x, y, z, q1…); 'none' writes none.
-    #[arg(long, default_value = "faze4_trail.csv", value_name = "F.csv")]
+    #[arg(long, default_value = DEFAULT_TRAIL, value_name = "F.csv")]
     pub trail: PathBuf,
     /// Summary JSON (the machine-readable result).
     #[arg(long, value_name = "F.json")]
@@ -201,7 +218,7 @@ pub struct RunArgs {
     /// Time between trail rows (s).
     #[arg(
         long = "record-period",
-        default_value_t = 0.02,
+        default_value_t = DEFAULT_RECORD_PERIOD,
         value_name = "S",
         allow_hyphen_values = true
     )]
@@ -217,7 +234,7 @@ pub struct RunArgs {
     /// How far (mm) the reported self-clearance may be above the true minimum over the
     /// samples: it is the distance of two actual parts, and the true minimum is at most this
     /// much below it. 0 is exact. Intersections are decided exactly whatever it is.
-    #[arg(long = "clearance-tolerance", value_name = "MM", default_value_t = crate::sim::DEFAULT_CLEARANCE_TOLERANCE_M * 1e3, allow_hyphen_values = true)]
+    #[arg(long = "clearance-tolerance", value_name = "MM", default_value_t = DEFAULT_CLEARANCE_TOLERANCE_MM, allow_hyphen_values = true)]
     pub clearance_tolerance: f64,
     /// No self-clearance: the collision geometry is skipped altogether (its meshes not read).
     #[arg(long = "no-collisions", conflicts_with_all = ["collision_geometry", "collision_pairs", "clearance_tolerance"])]
@@ -230,7 +247,7 @@ pub struct RunArgs {
     /// Coulomb friction of --self-collisions contacts.
     #[arg(
         long,
-        default_value_t = 1.0,
+        default_value_t = DEFAULT_FRICTION,
         value_name = "MU",
         requires = "self_collisions",
         allow_hyphen_values = true
@@ -240,7 +257,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub view: bool,
     /// Port of the live view (127.0.0.1 only; 0 picks a free one).
-    #[arg(long, default_value_t = crate::viz::DEFAULT_PORT, value_name = "P")]
+    #[arg(long, default_value_t = DEFAULT_PORT, value_name = "P")]
     pub port: u16,
     /// Keep the live view serving after the run until Ctrl-C (implies --view).
     #[arg(long)]
@@ -257,7 +274,8 @@ pub struct RunArgs {
     pub plot_motors: Option<PathBuf>,
 }
 
-/// A comma-separated value per joint; `auto` (or nothing) leaves a joint's value alone.
+/// A comma-separated value per joint; `auto` leaves a joint's value alone
+/// ([`crate::config::fields::parse_per_joint`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointValues(pub Vec<Option<f64>>);
 
@@ -265,16 +283,7 @@ impl FromStr for JointValues {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        s.split(',')
-            .map(|item| match item.trim() {
-                "" | "auto" => Ok(None),
-                text => text
-                    .parse::<f64>()
-                    .map(Some)
-                    .map_err(|_| format!("'{text}' is not a number")),
-            })
-            .collect::<Result<Vec<_>, _>>()
-            .map(JointValues)
+        crate::config::fields::parse_per_joint(s).map(JointValues)
     }
 }
 

@@ -1,26 +1,22 @@
-//! The command line: clap arguments → a validated scenario → the run → its outputs.
+//! The command line: clap arguments → the library's configuration → the run with its outputs
+//! ([`crate::session`]) → the lines and the exit status. The library names options as fields
+//! (`` `dt` ``); every line printed here shows them as flags (`--dt`, [`flags`]).
 
 pub mod args;
-pub mod call;
-pub mod motors;
-pub mod scenario;
+pub mod config;
+pub mod options;
 pub mod sweep;
 
 use std::io::Write;
-use std::path::Path;
 use std::process::ExitCode;
 
 use clap::Parser;
 
-use self::args::{Cli, Command, RunArgs};
+use self::args::{Cli, Command};
 use crate::atomic::Outputs;
-use crate::error::{Error, Result, escape_controls, quoted};
-use crate::output::format::number;
-use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
-use crate::sim::scenario::positive;
-use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
-use crate::traj::{Trajectory, npy};
-use crate::viz::{HtmlExport, LiveView, MotorPlot, PlotRecorder};
+use crate::error::{Error, Result, Words, escape_controls, in_words};
+use crate::session::{Prepared, divergence_line, done_line};
+use crate::sim::{self, StopFlag};
 
 /// Exit status of a run that diverged.
 pub const EXIT_DIVERGED: u8 = 1;
@@ -40,7 +36,7 @@ pub fn main() -> ExitCode {
     match execute(&cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("faze4: error: {}", escape_controls(&e.to_string()));
+            eprintln!("faze4: error: {}", escape_controls(&flags(&e.to_string())));
             ExitCode::from(EXIT_INPUT)
         }
     }
@@ -87,57 +83,54 @@ pub fn usage_line(e: &clap::Error) -> String {
     }
 }
 
+/// A library message with the options it names shown as the command line's flags.
+pub fn flags(text: &str) -> String {
+    in_words(text, Words::Flags)
+}
+
 fn execute(cli: &Cli) -> Result<ExitCode> {
     // the signal handlers go in before the model and its meshes load: a Ctrl-C (or SIGTERM)
     // while they load stops the run before its first step (exit 130, the files as a stopped
     // run writes them) instead of killing the process with nothing written
     let _ = StopFlag::ctrl_c();
-    let (scenario, run, save_q) = match &cli.command {
-        Command::Wave(a) => (scenario::wave(a)?, &a.run, None),
-        Command::Replay(a) => (scenario::replay(a)?, &a.run, None),
-        Command::Shape(a) => (scenario::shape(a)?, &a.run, a.save_q.as_deref()),
-        Command::Sweep(a) => return sweep::execute(a),
-    };
-    run_and_report(&scenario, run, save_q)
+    if let Command::Sweep(a) = &cli.command {
+        return sweep::execute(a);
+    }
+    let prepared = Prepared::new(config::run_config(&cli.command)?, None)?;
+    run_and_report(&prepared)
 }
 
-/// Prints `warnings` on stderr, one line each; under `quiet`, only those that change the
-/// result ([`crate::sim::Warning::changes_result`]).
+/// Prints `warnings` on stderr, one line each, options as flags; under `quiet`, only those that
+/// change the result ([`crate::sim::Warning::changes_result`]).
 fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
     for warning in warnings.iter().filter(|w| !quiet || w.changes_result()) {
-        eprintln!("faze4: {}", escape_controls(&warning.to_string()));
+        eprintln!("faze4: {}", escape_controls(&flags(&warning.to_string())));
     }
 }
 
-/// Runs `scenario` with the outputs `run` asks for (and, with `save_q`, first writes the
-/// command's joint samples there). The last line says whether the arm follows its command; the
-/// exit status says whether the run diverged (1), was stopped by a signal (128 + its number:
-/// 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP), or, with `--strict`, cannot follow or collides (3).
+/// Runs `prepared` with the outputs its configuration asks for. The last line says whether the
+/// arm follows its command; the exit status says whether the run diverged (1), was stopped by a
+/// signal (128 + its number: 130 Ctrl-C, 143 SIGTERM, 129 SIGHUP), or, with `--strict`, cannot
+/// follow or collides (3).
 ///
 /// Every file is written into one [`Outputs`] set and appears only once the run, every other
 /// file and the lines on stdout are complete: an error anywhere leaves every file as it was.
-fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> Result<ExitCode> {
+fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
-    let save_q = save_q.filter(|p| !is_none(p));
-    let (summary, recorders) = run_into(scenario, run, save_q, &files, &mut [], &stop)?;
+    let config = &prepared.config;
+    let finished = crate::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
+    let summary = &finished.summary;
     let mut stdout = String::new();
-    if !run.quiet {
-        stdout = report_files(&recorders, run, save_q, &summary);
+    if !config.outputs.quiet {
+        stdout = format!("{}\n", done_line(&finished.recorders, config, summary));
     }
     // the answer, always the last line on stdout
     stdout.push_str(&format!("{}\n", summary.verdict));
     print_stdout(&stdout)?;
     files.commit()?;
     if let Some(d) = &summary.diverged {
-        let joint = scenario.model.joint(d.joint);
-        eprintln!(
-            "faze4: diverged at t = {:.4} s on joint {} ({}): {} (the tuning rule keeps b ≤ 0.4: lower --dt or --kp); the outputs keep the steps before it",
-            d.t,
-            d.joint,
-            quoted(&joint.name),
-            stiffest_joints(scenario, &d.stiffness_b)
-        );
+        eprintln!("faze4: {}", flags(&divergence_line(&prepared.scenario, d)));
     }
     if let Some(t) = summary.interrupted_at_s {
         eprintln!(
@@ -148,43 +141,16 @@ fn run_and_report(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>) -> 
     }
     let code = if summary.diverged.is_some() {
         ExitCode::from(EXIT_DIVERGED)
-    } else if run.strict && !summary.verdict.follows {
+    } else if config.verdict.strict && !summary.verdict.follows {
         ExitCode::from(EXIT_CANNOT_FOLLOW)
     } else {
         ExitCode::SUCCESS
     };
     // the run's files are written: a signal now only ends the serving
-    if let (Some(l), true) = (&recorders.live, run.hold) {
+    if let (Some(l), true) = (&finished.recorders.live, config.outputs.hold) {
         l.hold_until(|| stop.is_raised());
     }
     Ok(code)
-}
-
-/// The part of a run every caller shares (the binary, [`call::run`]): opens the recorders
-/// `run` asks for in `files`, says the scenario's warnings (unless quiet), writes `save_q`,
-/// runs with those recorders and `extra`, and writes the summary file, all into `files` (the
-/// caller commits them). The recorders are returned for the report and the live view's hold.
-fn run_into(
-    scenario: &Scenario,
-    run: &RunArgs,
-    save_q: Option<&Path>,
-    files: &Outputs,
-    extra: &mut [&mut dyn Recorder],
-    stop: &StopFlag,
-) -> Result<(Summary, Recorders)> {
-    let mut recorders = Recorders::open(scenario, run, save_q, files)?;
-    warn(&scenario.warnings, run.quiet);
-    if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {
-        let rows: Vec<Vec<f64>> = (0..samples.rows()).map(|k| samples.row(k).to_vec()).collect();
-        npy::write_samples_within(files, path, &rows)?;
-    }
-    let mut all = recorders.recorders();
-    all.extend(extra.iter_mut().map(|r| &mut **r as &mut dyn Recorder));
-    let summary = sim::run(scenario, &mut all, stop)?;
-    if let Some(path) = summary_path(run) {
-        write_summary(files, path, &summary)?;
-    }
-    Ok((summary, recorders))
 }
 
 /// The exit status of a run or sweep `stop` ended: 128 + the signal's number.
@@ -212,209 +178,4 @@ fn print_stdout(text: &str) -> Result<()> {
         }),
         _ => Ok(()),
     }
-}
-
-/// `--summary`, unless absent or `none`.
-fn summary_path(run: &RunArgs) -> Option<&Path> {
-    run.summary.as_deref().filter(|p| !is_none(p))
-}
-
-/// The recorders a run writes to, opened (and every output path and the port checked) before
-/// it starts.
-struct Recorders {
-    terminal: Option<Terminal>,
-    trail: Option<TrailCsv>,
-    html: Option<HtmlExport>,
-    plot: Option<PlotRecorder>,
-    motor_plot: Option<MotorPlot>,
-    live: Option<LiveView>,
-}
-
-impl Recorders {
-    /// Claims every output path in `files` (two options naming one file are refused) and
-    /// opens the recorders, their files in `files`.
-    fn open(scenario: &Scenario, run: &RunArgs, save_q: Option<&Path>, files: &Outputs) -> Result<Recorders> {
-        let trail = Some(run.trail.as_path()).filter(|p| !is_none(p));
-        let html = run.html.as_deref().filter(|p| !is_none(p));
-        let plot = run.plot.as_deref().filter(|p| !is_none(p));
-        let motor_plot = run.plot_motors.as_deref().filter(|p| !is_none(p));
-        if motor_plot.is_some() && scenario.motors.is_none() {
-            return Err(Error::argument("--plot-motors", "draws the motors: add --motors"));
-        }
-        for (path, option) in [
-            (trail, "--trail"),
-            (summary_path(run), "--summary"),
-            (save_q, "--save-q"),
-            (html, "--html"),
-            (plot, "--plot"),
-            (motor_plot, "--plot-motors"),
-        ] {
-            if let Some(path) = path {
-                files.claim(path, option)?;
-            }
-        }
-        let print_period = match run.print_period {
-            Some(p) => {
-                positive("--print-period", p)?;
-                p
-            }
-            None => default_print_period(scenario.steps as f64 * scenario.dt),
-        };
-        let live = match run.view || run.hold {
-            true => Some(LiveView::start(run.port)?.with_period(run.record_period)),
-            false => None,
-        };
-        let html = match html {
-            Some(path) => Some(HtmlExport::new(path)?.with_period(run.record_period).within(files)),
-            None => None,
-        };
-        let plot = match plot {
-            Some(path) => Some(PlotRecorder::new(path)?.with_period(run.record_period).within(files)),
-            None => None,
-        };
-        let motor_plot = match motor_plot {
-            Some(path) => Some(MotorPlot::new(path)?.within(files)),
-            None => None,
-        };
-        let trail = match trail {
-            Some(path) => Some(TrailCsv::within(files, path, run.record_period, run.debug)?),
-            None => None,
-        };
-        Ok(Recorders {
-            terminal: (!run.quiet).then(|| Terminal::new(run.debug, print_period)),
-            trail,
-            html,
-            plot,
-            motor_plot,
-            live,
-        })
-    }
-
-    fn recorders(&mut self) -> Vec<&mut dyn Recorder> {
-        let mut recorders: Vec<&mut dyn Recorder> = Vec::new();
-        if let Some(t) = self.terminal.as_mut() {
-            recorders.push(t);
-        }
-        if let Some(t) = self.trail.as_mut() {
-            recorders.push(t);
-        }
-        if let Some(h) = self.html.as_mut() {
-            recorders.push(h);
-        }
-        if let Some(p) = self.plot.as_mut() {
-            recorders.push(p);
-        }
-        if let Some(p) = self.motor_plot.as_mut() {
-            recorders.push(p);
-        }
-        if let Some(l) = self.live.as_mut() {
-            recorders.push(l);
-        }
-        recorders
-    }
-}
-
-/// Progress lines every 0.5 s of simulated time, or, for runs longer than 20 s, at the first
-/// of 1, 2, 5, 10, 20, 50… seconds that keeps them to at most 40.
-fn default_print_period(duration: f64) -> f64 {
-    const MOST_LINES: f64 = 40.0;
-    if duration <= PRINT_PERIOD * MOST_LINES {
-        return PRINT_PERIOD;
-    }
-    let wanted = duration / MOST_LINES;
-    let mut decade = 1.0;
-    loop {
-        for step in [1.0, 2.0, 5.0] {
-            if step * decade >= wanted {
-                return step * decade;
-            }
-        }
-        decade *= 10.0;
-    }
-}
-
-/// The `[done]` line: the files written and the run's speed.
-fn report_files(outputs: &Recorders, run: &RunArgs, save_q: Option<&Path>, summary: &Summary) -> String {
-    let mut written = Vec::new();
-    if let Some(t) = &outputs.trail {
-        written.push(format!("trail -> {} ({} rows)", run.trail.display(), t.rows()));
-    }
-    if let Some(path) = summary_path(run) {
-        written.push(format!("summary -> {}", path.display()));
-    }
-    if let Some(path) = save_q {
-        written.push(format!("joint samples -> {}", path.display()));
-    }
-    if let Some(h) = &outputs.html {
-        written.push(format!("html -> {}", h.path().display()));
-    }
-    if let Some(p) = &outputs.plot {
-        written.push(format!("plot -> {}", p.path().display()));
-    }
-    if let Some(path) = run.plot_motors.as_deref().filter(|_| outputs.motor_plot.is_some()) {
-        written.push(format!("motor plot -> {}", path.display()));
-    }
-    let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
-    let clearance = match summary.clearance_wall_time_s {
-        Some(s) => format!("; self-clearance {s:.3} s of it"),
-        None => String::new(),
-    };
-    written.push(format!(
-        "{} steps in {:.3} s ({:.2} µs/step{clearance})",
-        summary.steps,
-        summary.wall_time_s,
-        per_step * 1e6
-    ));
-    format!("[done] {}\n", written.join(" · "))
-}
-
-/// Writes the summary JSON to `path`, a file of `files`.
-pub fn write_summary(files: &Outputs, path: &Path, summary: &Summary) -> Result<()> {
-    let mut json = serde_json::to_vec_pretty(summary).map_err(|e| Error::Io {
-        path: path.to_path_buf(),
-        source: std::io::Error::other(e),
-    })?;
-    json.push(b'\n');
-    files.write(path, &json)
-}
-
-/// Whether an output path means "do not write it".
-fn is_none(path: &Path) -> bool {
-    path.as_os_str() == "none"
-}
-
-/// How many of the stiffest joints a divergence message names.
-const STIFFEST_NAMED: usize = 3;
-
-/// The divergence message's account of the gains, one line on any arm: the coupled figures,
-/// then b = Δt²·kp/I of the [`STIFFEST_NAMED`] largest joints (all of them on a small arm).
-fn stiffest_joints(scenario: &Scenario, b: &[f64]) -> String {
-    let mut order: Vec<usize> = (0..b.len()).collect();
-    order.sort_by(|&x, &y| b[y].total_cmp(&b[x]));
-    let named: Vec<String> = order
-        .iter()
-        .take(STIFFEST_NAMED)
-        .map(|&i| {
-            format!(
-                "J{} ({}) {}",
-                i + 1,
-                quoted(&scenario.model.joints[i].name),
-                number(b[i], 0)
-            )
-        })
-        .collect();
-    let more = if b.len() > STIFFEST_NAMED {
-        format!(" and {} more", b.len() - STIFFEST_NAMED)
-    } else {
-        String::new()
-    };
-    let coupled = match &scenario.controller.gains.stability {
-        Some(s) => format!(
-            "b_max = {}, spectral radius {}; ",
-            number(s.b_max, 0),
-            number(s.spectral_radius, 0)
-        ),
-        None => String::new(),
-    };
-    format!("{coupled}b = Δt²·kp/I largest at {}{more}", named.join(", "))
 }

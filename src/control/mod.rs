@@ -1,4 +1,5 @@
-//! The joint controller: the digital PD with gravity feed-forward, and its auto-tuning; the
+//! The joint controller: the digital PD with its feed-forward (gravity or computed torque), and
+//! its auto-tuning (at a start pose of a model, `tune`); the
 //! motors behind it, their torque–speed envelopes (`motor.rs`) and the published figures of
 //! the presets' motors (`catalog.rs`).
 
@@ -9,6 +10,6 @@ mod stability;
 mod tuning;
 
 pub use motor::{Envelope, JointMotor, Motor, StepperWinding};
-pub use pd::Pd;
+pub use pd::{FeedForward, Pd};
 pub use stability::{Stability, lambda_max, spectral_radius, stabilize};
-pub use tuning::{Gains, auto_tune};
+pub use tuning::{Gains, arithmetic_holds, auto_tune, tune};

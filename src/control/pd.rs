@@ -1,29 +1,61 @@
-//! The PD law with gravity feed-forward and torque clipping.
+//! The PD law with a feed-forward (gravity, or computed torque) and torque clipping.
+
+use serde::Serialize;
 
 use super::Gains;
 
-/// The controller of one run: gains and limits, and whether g(q) is fed forward.
+/// What the controller adds to its PD torque (docs/trajectories.md, "Feed-forward").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeedForward {
+    /// Nothing: the PD alone holds the arm up (`--no-ff`).
+    None,
+    /// g(q) at the measured q (the original's; `--ff gravity`, the default).
+    #[default]
+    Gravity,
+    /// The inverse dynamics of the command, `M(q_cmd) a_cmd + C(q_cmd, v_cmd) v_cmd + g(q_cmd)`
+    /// by RNEA, the motors' reflected inertia included, joint damping not (computed torque, what
+    /// a drive with velocity and acceleration feed-forward does; `--ff full`).
+    Full,
+}
+
+impl FeedForward {
+    /// `none`, `gravity` or `full`, as the option and the summary spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FeedForward::None => "none",
+            FeedForward::Gravity => "gravity",
+            FeedForward::Full => "full",
+        }
+    }
+}
+
+/// The controller of one run: gains and limits, and what it feeds forward.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pd {
     /// kp, kd, the torque limits E (+∞: unlimited) and the inertias they were tuned from.
     pub gains: Gains,
-    /// Add g(q) to the command (gravity feed-forward; `--no-ff` turns it off).
-    pub feedforward: bool,
+    /// What is added to the PD torque.
+    pub feedforward: FeedForward,
 }
 
 impl Pd {
     /// The controller's torque for one zero-order-hold period, unclipped, into `tau_raw`:
     ///
     /// ```text
-    ///   τ_raw = kp∘(q_cmd − q) + kd∘(v_cmd − v) + g(q)      (g only with feed-forward)
+    ///   τ_raw = kp∘(q_cmd − q) + kd∘(v_cmd − v) + τ_ff
     /// ```
+    ///
+    /// τ_ff is `ff`, the torque [`Pd::feedforward`] names (g(q), or the command's inverse
+    /// dynamics), added unless it is [`FeedForward::None`].
     #[inline]
-    pub fn torque(&self, q: &[f64], v: &[f64], q_cmd: &[f64], v_cmd: &[f64], g: &[f64], tau_raw: &mut [f64]) {
+    pub fn torque(&self, q: &[f64], v: &[f64], q_cmd: &[f64], v_cmd: &[f64], ff: &[f64], tau_raw: &mut [f64]) {
         let Gains { kp, kd, .. } = &self.gains;
+        let with_ff = self.feedforward != FeedForward::None;
         for i in 0..q.len() {
             let mut t = kp[i] * (q_cmd[i] - q[i]) + kd[i] * (v_cmd[i] - v[i]);
-            if self.feedforward {
-                t += g[i];
+            if with_ff {
+                t += ff[i];
             }
             tau_raw[i] = t;
         }

@@ -1,8 +1,11 @@
 //! The auto-tuning rule (docs/model.md).
 
+use nalgebra::DMatrix;
 use serde::Serialize;
 
-use super::Stability;
+use super::{Stability, stabilize};
+use crate::algo::{Data, crba};
+use crate::model::Model;
 
 /// Per-joint controller gains and the figures they came from. All vectors have one entry per
 /// joint.
@@ -61,4 +64,27 @@ pub fn auto_tune(inertia: &[f64], effort: &[f64], dt: f64) -> Gains {
         effort: effort.to_vec(),
         stability: None,
     }
+}
+
+/// The tuning recipe at a start pose: [`auto_tune`] from the effective inertias
+/// I_i = M_ii(`q_start`) with the torque limits `effort` at step `dt`, then [`stabilize`] for
+/// the coupled arm (the gains then carry their `stability`). Returns the gains and M(q_start).
+pub fn tune(model: &Model, q_start: &[f64], effort: &[f64], dt: f64) -> (Gains, DMatrix<f64>) {
+    let mut data = Data::new(model);
+    let m = crba(model, &mut data, q_start).clone();
+    let inertia: Vec<f64> = m.diagonal().iter().copied().collect();
+    let damping: Vec<f64> = model.damping().collect();
+    let mut gains = auto_tune(&inertia, effort, dt);
+    stabilize(&mut gains, &m, &damping, dt);
+    (gains, m)
+}
+
+/// Whether the mass matrix at the start pose `m`, the gains and their stability figures are
+/// all finite: inputs too large for f64 (a payload of 1e300 kg, a gear ratio of 1e160) make
+/// one of them overflow, and the run would end as "diverged" with a NaN spectral radius.
+pub fn arithmetic_holds(m: &DMatrix<f64>, gains: &Gains) -> bool {
+    m.iter().chain(&gains.kp).chain(&gains.kd).all(|x| x.is_finite())
+        && gains
+            .stability
+            .is_none_or(|s| s.b_max.is_finite() && s.spectral_radius.is_finite())
 }

@@ -8,7 +8,7 @@ pub mod motors;
 
 use crate::error::Result;
 use crate::ik::IkTask;
-use crate::model::{JointId, Model, PackagePaths, urdf};
+use crate::model::{ArmDefaults, JointId, Model, PackagePaths, ShapeIk, urdf};
 use crate::spatial::Vec3;
 use crate::traj::shape::Board;
 
@@ -49,14 +49,40 @@ pub const SHAPE_FREE_JOINTS: [JointId; 4] = [JointId(0), JointId(1), JointId(2),
 /// Time for one loop of a shape (s).
 pub const SHAPE_PERIOD: f64 = 5.0;
 
-/// The bundled Faze4 model (`urdf/faze4_arm.urdf`).
+/// The bundled Faze4 model (`urdf/faze4_arm.urdf`), with its [`defaults`].
 pub fn model() -> Model {
-    urdf::read_str(URDF, SOURCE, None, &PackagePaths::default()).expect("the bundled URDF is valid (tested)")
+    let mut model =
+        urdf::read_str(URDF, SOURCE, None, &PackagePaths::default()).expect("the bundled URDF is valid (tested)");
+    model.defaults = defaults();
+    model
 }
 
 /// Whether `model` is one of the Faze4 models (by robot name and degrees of freedom).
 pub fn is_faze4(model: &Model) -> bool {
     ROBOT_NAMES.contains(&model.name.as_str()) && model.dof() == 6
+}
+
+/// What the Faze4's makers know beyond its URDF: its motors' torque limits ([`EFFORT`]), no
+/// speed limits (its URDF gives every joint the same `velocity="3.0"`, a placeholder rather
+/// than a motor's figure), and the shapes' IK ([`SHAPE_FREE_JOINTS`] from [`Q_SEED`]).
+pub fn defaults() -> ArmDefaults {
+    ArmDefaults {
+        effort: Some(EFFORT.to_vec()),
+        speed_limit: Some(vec![f64::INFINITY; 6]),
+        shape_ik: Some(ShapeIk {
+            free_joints: SHAPE_FREE_JOINTS.to_vec(),
+            seed: Q_SEED.to_vec(),
+        }),
+    }
+}
+
+/// The defaults of a model read from a file: the Faze4's ([`defaults`]) for one of the Faze4
+/// models ([`is_faze4`]), none for any other arm.
+pub fn defaults_for(model: &Model) -> ArmDefaults {
+    match is_faze4(model) {
+        true => defaults(),
+        false => ArmDefaults::default(),
+    }
 }
 
 /// The shapes' IK task on a Faze4 model: its tool frame ([`Model::default_tool_frame`]) with

@@ -95,7 +95,9 @@ impl Robot {
         options: &LoadOptions,
     ) -> Result<Robot> {
         let desc = urdf::describe(text, file, base_dir, packages)?;
-        let (model, warnings) = Model::from_description_with(&desc, options)?;
+        let (mut model, warnings) = Model::from_description_with(&desc, options)?;
+        // what the arm's maker knows beyond the file, when this is an arm faze4 knows
+        model.defaults = faze4::defaults_for(&model);
         let geometry = GeometryModel::new(&model, &desc);
         Ok(Robot {
             model,

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
-use super::{AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
+use super::{ArmDefaults, AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
 use crate::error::{Error, Result, one_line};
 use crate::id::FrameId;
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
@@ -216,6 +216,7 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
         inertia: Vec::new(),
         gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
         frames: Vec::with_capacity(desc.links.len()),
+        defaults: ArmDefaults::default(),
     };
     let mut frame_of_link = vec![usize::MAX; desc.links.len()];
     let mut stack = vec![(root, None::<usize>)];

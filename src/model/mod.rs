@@ -17,10 +17,12 @@
 
 mod build;
 pub use build::{LoadOptions, LoadWarning};
+mod defaults;
 mod description;
 mod package;
 pub mod urdf;
 
+pub use defaults::{ArmDefaults, ShapeIk};
 pub use description::{
     Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
     Visual,
@@ -267,6 +269,9 @@ pub struct Model {
     pub gravity: Vec3,
     /// Every URDF link as a frame, root first, in depth-first order.
     pub frames: Vec<Frame>,
+    /// What the arm's maker knows beyond the URDF (default limits, the shapes' IK pose): none
+    /// for a model read from a file, unless its loader knows the arm.
+    pub defaults: ArmDefaults,
 }
 
 impl Model {

@@ -6,6 +6,7 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
+use crate::control::FeedForward;
 use crate::error::quoted;
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
@@ -156,9 +157,13 @@ impl Recorder for Terminal {
             _ => "",
         };
         out(&format!(
-            "[faze4] tool {}{how} · gravity feed-forward {}",
+            "[faze4] tool {}{how} · {}",
             m.frame(run.tool_frame).name,
-            if run.feedforward { "on" } else { "off" }
+            match run.feedforward {
+                FeedForward::None => "gravity feed-forward off",
+                FeedForward::Gravity => "gravity feed-forward on",
+                FeedForward::Full => "full feed-forward (the command's inverse dynamics)",
+            }
         ))?;
         let gains = run.gains;
         out(&joint_header(m.dof()))?;

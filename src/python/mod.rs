@@ -1,12 +1,13 @@
 //! The Python module `faze4._faze4` (cargo feature `python`; `pyproject.toml` builds it with
 //! maturin; `python/faze4/__init__.py` is the API on top). Thin by design:
 //!
-//! * the runs, sweeps and searches are the command line's, called as a library
-//!   ([`crate::cli::call`]): the Python keywords become the words of the same subcommand, parsed
-//!   by the binary's clap definitions, so options, defaults, checks, messages and summaries are
-//!   the binary's;
-//! * `Robot` holds the model the same words load (`--urdf`, `--motors`, …; `--payload-kg` and
-//!   `--no-gravity` applied as a run applies them) and one `Data` workspace for the dynamics
+//! * the keywords fill the library's own configuration ([`crate::config::RunConfig`]) field by
+//!   field ([`crate::config::fields`]), each value converted by the field's kind (a value of
+//!   another type is a `TypeError`); the runs, sweeps and searches are then the library's, as
+//!   the binary's are, so defaults, checks, summaries are the binary's, and a message names
+//!   options as keywords (`dt`) where the binary writes flags (`--dt`);
+//! * `Robot` holds the model its keywords load (`urdf`, `motors`, …; `payload_kg` and
+//!   `no_gravity` applied as a run applies them) and one `Data` workspace for the dynamics
 //!   calls.
 //!
 //! A run releases the GIL and looks for signals at every look at its stop flag (every 1,024
@@ -26,22 +27,201 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
-use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea};
-use crate::cli::args::Command;
-use crate::cli::{call, scenario};
-use crate::model::Model;
-use crate::sim::StopFlag;
-use crate::sweep::{Found, Outcome, Row};
+use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
-create_exception!(faze4, Error, PyValueError, "Bad input: the binary's one-line message.");
+use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea};
+use crate::config::fields::{Kind, Value, field};
+use crate::config::{self, Motion, Motors, Replayed, RunConfig, ShapeConfig, WaveConfig};
+use crate::error::{Words, in_words};
+use crate::model::Model;
+use crate::output::Capture;
+use crate::session::Prepared;
+use crate::sim::{StopFlag, Warning};
+use crate::sweep::{Family, Found, Grid, MAX_RUNS, Outcome, Row, Seek};
+
+create_exception!(faze4, Error, PyValueError, "Bad input: one line naming what is wrong.");
 
 /// How often a waiting call looks for Ctrl-C.
 const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
-/// `faze4.Error` with the line the binary prints after `faze4: error: ` (control characters
-/// escaped as there).
+/// `faze4.Error` with the library's line, the options it names as keywords (control
+/// characters escaped as the binary does).
 fn error(message: impl std::fmt::Display) -> PyErr {
-    Error::new_err(crate::error::escape_controls(&message.to_string()))
+    Error::new_err(crate::error::escape_controls(&keywords(&message.to_string())))
+}
+
+/// A library message with the options it names as Python keywords.
+fn keywords(text: &str) -> String {
+    in_words(text, Words::Keywords)
+}
+
+/// The type error for keyword `name` given `obj`, which its kind does not take.
+fn type_error(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyErr {
+    let got = obj.get_type().name().map(|s| s.to_string()).unwrap_or_default();
+    PyTypeError::new_err(format!("{name}: takes {}, not {got}", config::fields::kind_name(kind)))
+}
+
+/// The keyword `name`'s value `obj` as a value of its field's kind: None is the default; a
+/// value of another type is a `TypeError`.
+fn value(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Value> {
+    if obj.is_none() {
+        return Ok(Value::Default);
+    }
+    let is_bool = obj.is_instance_of::<PyBool>() || obj.get_type().name().is_ok_and(|n| n == "bool_");
+    let text = || obj.cast::<PyString>().ok().map(|s| s.to_string());
+    let path = || -> Option<std::path::PathBuf> {
+        match obj.is_instance_of::<PyString>() {
+            true => None,
+            false => obj.extract::<std::path::PathBuf>().ok(),
+        }
+    };
+    let bad = || type_error(name, kind, obj);
+    Ok(match kind {
+        Kind::Flag => match is_bool {
+            true => Value::Flag(obj.is_truthy()?),
+            false => return Err(bad()),
+        },
+        Kind::Number => match (is_bool, obj.extract::<f64>()) {
+            (false, Ok(x)) if !obj.is_instance_of::<PyString>() => Value::Number(x),
+            _ => return Err(bad()),
+        },
+        Kind::Count => match (is_bool, obj.extract::<i128>()) {
+            (false, Ok(n)) => {
+                Value::Count(u64::try_from(n).map_err(|_| error(format!("{name}: {n} must be a whole number ≥ 0")))?)
+            }
+            _ => return Err(bad()),
+        },
+        Kind::Text | Kind::Choice(_) => Value::Text(text().ok_or_else(bad)?),
+        Kind::Path => match (text(), path()) {
+            (Some(t), _) => Value::Text(t),
+            (None, Some(p)) => Value::Path(p),
+            _ => return Err(bad()),
+        },
+        Kind::Paths => match (text(), path()) {
+            (Some(t), _) => Value::Path(t.into()),
+            (None, Some(p)) => Value::Path(p),
+            _ => Value::Paths(
+                (obj.try_iter().map_err(|_| bad())?)
+                    .map(|item| item.and_then(|i| i.extract::<std::path::PathBuf>()).map_err(|_| bad()))
+                    .collect::<PyResult<_>>()?,
+            ),
+        },
+        Kind::PerJoint | Kind::Numbers | Kind::Center => match text() {
+            Some(t) => Value::Text(t),
+            None => Value::PerJoint(per_joint(name, kind, obj)?),
+        },
+        Kind::Motors => match (text(), path()) {
+            (Some(t), _) => Value::Text(t),
+            (None, Some(p)) => Value::Path(p),
+            _ if obj.is_instance_of::<PyDict>() => Value::Motors(Motors::Entries(motor_entries(obj)?)),
+            _ => return Err(bad()),
+        },
+    })
+}
+
+/// One value per joint from a sequence or a 1-D array of numbers (None: keep a joint's own).
+fn per_joint(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Option<f64>>> {
+    if let Ok(array) = obj.cast::<PyUntypedArray>()
+        && array.ndim() != 1
+    {
+        return Err(error(format!(
+            "{name}: shape {:?}; expected one value per joint",
+            array.shape()
+        )));
+    }
+    let items = obj.try_iter().map_err(|_| type_error(name, kind, obj))?;
+    items
+        .map(|item| {
+            let item = item?;
+            if item.is_none() {
+                return Ok(None);
+            }
+            match (
+                item.is_instance_of::<PyBool>() || item.is_instance_of::<PyString>(),
+                item.extract::<f64>(),
+            ) {
+                (false, Ok(x)) => Ok(Some(x)),
+                _ => Err(type_error(name, kind, obj)),
+            }
+        })
+        .collect()
+}
+
+/// A motors dict (`{"joint": [{...}, ...]}`, the motors file's schema) as its entries.
+fn motor_entries(obj: &Bound<'_, PyAny>) -> PyResult<Vec<config::MotorEntry>> {
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Table {
+        joint: Vec<config::MotorEntry>,
+    }
+    let json = to_json(obj)?;
+    serde_json::from_value::<Table>(json)
+        .map(|t| t.joint)
+        .map_err(|e| error(format!("motors: {}", crate::error::one_line(&e.to_string()))))
+}
+
+/// A Python value of dicts, lists, strings, numbers, booleans and None as JSON.
+fn to_json(obj: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
+    use serde_json::Value as J;
+    if obj.is_none() {
+        return Ok(J::Null);
+    }
+    if obj.is_instance_of::<PyBool>() {
+        return Ok(J::Bool(obj.is_truthy()?));
+    }
+    if let Ok(s) = obj.cast::<PyString>() {
+        return Ok(J::String(s.to_string()));
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        let mut map = serde_json::Map::new();
+        for (k, v) in d.iter() {
+            map.insert(k.str()?.to_string(), to_json(&v)?);
+        }
+        return Ok(J::Object(map));
+    }
+    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() || obj.cast::<PyUntypedArray>().is_ok() {
+        return Ok(J::Array(
+            obj.try_iter()?.map(|i| to_json(&i?)).collect::<PyResult<_>>()?,
+        ));
+    }
+    if let Ok(i) = obj.extract::<i64>() {
+        return Ok(J::from(i));
+    }
+    if let Ok(x) = obj.extract::<f64>() {
+        return serde_json::Number::from_f64(x)
+            .map(J::Number)
+            .ok_or_else(|| error(format!("motors: {x} is not a finite number")));
+    }
+    Err(PyTypeError::new_err(format!(
+        "motors: a value of type {} is not a string, number, boolean, list or dict",
+        obj.get_type().name()?
+    )))
+}
+
+/// The configuration of `command` (`wave`, `replay`, `shape`) with the keywords of `options`,
+/// each set by name.
+fn run_config(command: &str, options: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
+    let motion = match command {
+        "wave" => Motion::Wave(WaveConfig::default()),
+        "replay" => Motion::Replay(config::ReplayConfig::new("q_traj")),
+        "shape" => Motion::Shape(ShapeConfig::new(crate::traj::shape::Shape::Circle)),
+        other => return Err(error(format!("command: '{other}' is not one of wave, replay, shape"))),
+    };
+    let mut config = RunConfig::new(motion);
+    for (key, obj) in options.iter() {
+        let name: String = key.extract()?;
+        let v = match field(&name) {
+            Some(f) => value(&name, f.kind, &obj)?,
+            None => Value::Default,
+        };
+        config.set(&name, v).map_err(error)?;
+    }
+    Ok(config)
+}
+
+/// Warnings as Python's lines.
+fn warning_lines(warnings: &[Warning]) -> Vec<String> {
+    warnings.iter().map(|w| keywords(&w.to_string())).collect()
 }
 
 /// Runs `work` on a worker thread with the GIL released, looking for signals every
@@ -136,7 +316,6 @@ pub struct PyRobot {
     model: Model,
     data: Mutex<Data>,
     effort: Vec<f64>,
-    words: Vec<String>,
 }
 
 impl PyRobot {
@@ -149,38 +328,20 @@ impl PyRobot {
 
 #[pymethods]
 impl PyRobot {
-    /// Loads the arm the option words describe (`--urdf F --motors faze4 …`, as a run takes
-    /// them). `faze4.Robot.faze4()` and `faze4.Robot.from_urdf()` build the words.
+    /// Loads the arm the keywords describe (`urdf`, `motors`, `payload_kg`, …, the options every
+    /// run command shares). `faze4.Robot.faze4()` and `faze4.Robot.from_urdf()` call it.
     #[new]
-    fn new(words: Vec<String>) -> PyResult<Self> {
-        let mut argv = vec!["wave".to_string()];
-        argv.extend(words.iter().cloned());
-        let Command::Wave(args) = call::parse(&argv).map_err(error)? else {
-            unreachable!("parsed as wave")
-        };
-        let run = &args.run;
-        let robot = scenario::load_model(run).map_err(error)?;
-        let effort = call::effort(run, &robot.model).map_err(error)?;
-        let mut model = robot.model;
-        let tool = scenario::tool_frame(&model, run.tool_link.as_deref()).map_err(error)?;
-        if run.no_gravity {
-            model.gravity = Default::default();
-        }
-        if run.payload_kg > 0.0 {
-            model = model.with_point_mass(tool, run.payload_kg);
-        }
+    fn new(options: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let config = run_config("wave", options)?;
+        let arm = config::load_arm(&config.arm).map_err(error)?;
+        let model = &arm.robot.model;
+        let effort = crate::sim::effort_limits(model, config.control.effort.as_deref(), arm.motors.as_deref());
+        let model = crate::sim::simulated_model(model, arm.tool, config.arm.payload_kg, !config.arm.no_gravity);
         Ok(PyRobot {
             data: Mutex::new(Data::new(&model)),
             model,
             effort,
-            words,
         })
-    }
-
-    /// The option words the robot was loaded with (every run of it starts from them).
-    #[getter]
-    fn _words(&self) -> Vec<String> {
-        self.words.clone()
     }
 
     /// Degrees of freedom (moving joints).
@@ -278,7 +439,7 @@ impl PyRobot {
         link: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let q = vector(q, "q", self.model.dof())?;
-        let frame = scenario::tool_frame(&self.model, Some(link)).map_err(|_| {
+        let frame = config::tool_frame(&self.model, Some(link)).map_err(|_| {
             error(format!(
                 "link: no link '{link}' in {} (links: {})",
                 self.model.source,
@@ -304,11 +465,13 @@ impl PyRobot {
     }
 }
 
-/// An N×dof float64 array's rows, checked as a `.npy` trajectory is (`label` names it).
-fn frames(label: &str, q_traj: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Vec<Vec<f64>>>> {
+/// An N×dof float64 array's rows, checked as a `.npy` trajectory is (`label` names it), as
+/// what a replay plays.
+fn frames(label: &str, q_traj: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Replayed>> {
     q_traj
         .map(|a| crate::traj::npy::samples_from_array(std::path::Path::new(label), a.as_array()))
         .transpose()
+        .map(|frames| frames.map(Replayed::Samples))
         .map_err(error)
 }
 
@@ -317,16 +480,17 @@ fn summary_json(summary: &crate::sim::Summary) -> String {
     serde_json::to_string(summary).expect("a summary serialises")
 }
 
-/// A run (`words`: the subcommand and its options): (summary JSON, verdict line, t, q, q_cmd,
-/// tool_xyz, warnings, the seconds [`call::run`] took: scenario, run and outputs, what the
-/// binary does too; the rest of the call is the binding's, which tools/bench/python_api.py
-/// measures).
+/// A run of `command` with the keywords `options` (a replay's frames given as `q_traj`, or read
+/// from its path): (summary JSON, verdict line, t, q, q_cmd, tool_xyz, warnings, the seconds
+/// the library's load, run and outputs took: what the binary does too; the rest of the call is
+/// the binding's, which tools/bench/python_api.py measures).
 #[pyfunction]
-#[pyo3(signature = (words, q_traj=None))]
+#[pyo3(signature = (command, options, q_traj=None))]
 #[allow(clippy::type_complexity)]
 fn _run<'py>(
     py: Python<'py>,
-    words: Vec<String>,
+    command: &str,
+    options: &Bound<'py, PyDict>,
     q_traj: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<(
     String,
@@ -338,7 +502,7 @@ fn _run<'py>(
     Vec<String>,
     f64,
 )> {
-    let command = call::parse(&words).map_err(error)?;
+    let config = run_config(command, options)?;
     let frames = frames("q_traj", q_traj)?;
     // the run stays on this thread, the GIL released; at every look at the stop flag (every
     // 1,024 steps) it takes the GIL back for a moment and runs Python's signal handlers
@@ -359,25 +523,40 @@ fn _run<'py>(
     };
     let (finished, engine) = py.detach(|| {
         let started = Instant::now();
-        (call::run(&command, frames, &stop), started.elapsed())
+        let mut trail = Capture::new(config.record_period);
+        let finished = Prepared::new(config, frames).and_then(|prepared| {
+            let files = crate::atomic::Outputs::new();
+            let mut warnings = Vec::new();
+            let finished = crate::session::run(&prepared, &files, &mut [&mut trail], &stop, |w| {
+                warnings = warning_lines(w)
+            })?;
+            files.commit()?;
+            if let (Some(live), true) = (&finished.recorders.live, prepared.config.outputs.hold) {
+                live.hold_until(|| stop.is_raised());
+            }
+            Ok((finished.summary, warnings))
+        });
+        (
+            finished.map(|(summary, warnings)| (summary, trail, warnings)),
+            started.elapsed(),
+        )
     });
     if let Some(interrupt) = caught.lock().unwrap_or_else(|p| p.into_inner()).take() {
         return Err(interrupt);
     }
     // a signal that came while the run was being built or its files written
     py.check_signals()?;
-    let finished = finished.map_err(error)?;
-    let trail = finished.trail;
+    let (summary, trail, warnings) = finished.map_err(error)?;
     let rows = trail.rows();
     let table = |v: Vec<f64>, columns: usize| PyArray1::from_vec(py, v).reshape([rows, columns]);
     Ok((
-        summary_json(&finished.summary),
-        finished.summary.verdict.to_string(),
+        summary_json(&summary),
+        summary.verdict.to_string(),
         PyArray1::from_vec(py, trail.t),
         table(trail.q, trail.dof)?,
         table(trail.q_cmd, trail.dof)?,
         table(trail.tool_xyz, 3)?,
-        finished.warnings,
+        warnings,
         engine.as_secs_f64(),
     ))
 }
@@ -386,38 +565,55 @@ fn _run<'py>(
 fn row_tuple(row: &Row) -> (Vec<f64>, Option<String>, Option<String>) {
     match &row.outcome {
         Outcome::Ran(summary) => (row.values.clone(), Some(summary_json(summary)), None),
-        Outcome::Failed(reason) => (row.values.clone(), None, Some(reason.clone())),
+        Outcome::Failed(reason) => (row.values.clone(), None, Some(keywords(reason))),
     }
 }
 
-/// A sweep (`words`: `sweep --vary … -- COMMAND …`): its rows and warnings.
+/// A sweep of `command` with the keywords `options`, over the grid of `vary` (`NAME=v1,v2,…` or
+/// `NAME=LO:HI:STEP` each) on `jobs` threads: its rows and warnings.
 #[pyfunction]
-#[pyo3(signature = (words, q_traj=None))]
+#[pyo3(signature = (command, options, vary, jobs, q_traj=None))]
 #[allow(clippy::type_complexity)]
 fn _sweep(
     py: Python<'_>,
-    words: Vec<String>,
+    command: &str,
+    options: &Bound<'_, PyDict>,
+    vary: Vec<String>,
+    jobs: usize,
     q_traj: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<(Vec<(Vec<f64>, Option<String>, Option<String>)>, Vec<String>)> {
-    let args = call::parse_sweep(&words).map_err(error)?;
+    let config = run_config(command, options)?;
     let frames = frames("q_traj", q_traj)?;
     let stop = StopFlag::new();
-    let (rows, warnings) =
-        interruptible(py, &stop, || crate::cli::sweep::rows(&args, frames, &stop))?.map_err(error)?;
-    Ok((
-        rows.iter().map(row_tuple).collect(),
-        warnings.iter().map(ToString::to_string).collect(),
-    ))
+    let (rows, warnings) = interruptible(py, &stop, || {
+        let (grid, indices) = Grid::parse(&vary, None, MAX_RUNS)?;
+        let names: Vec<(&str, &[f64])> = (grid.axes.iter())
+            .map(|a| (a.name.as_str(), a.values.as_slice()))
+            .collect();
+        let family = Family::load(config, frames, &names)?;
+        let rows = family.rows(&grid, indices, jobs, &stop)?;
+        Ok::<_, crate::Error>((rows, warning_lines(family.warnings())))
+    })?
+    .map_err(error)?;
+    Ok((rows.iter().map(row_tuple).collect(), warnings))
 }
 
-/// A search (`words`: `sweep --find NAME=LO:HI … -- COMMAND …`): (what was found, the
-/// binary's line, the run that follows, the run that does not, warnings).
+/// A search of `command` with the keywords `options` for the largest (`smallest`: smallest)
+/// value of `name` in [`lo`, `hi`] that follows: (what was found, the line, the run that
+/// follows, the run that does not, warnings).
 #[pyfunction]
-#[pyo3(signature = (words, q_traj=None))]
-#[allow(clippy::type_complexity)]
+#[pyo3(signature = (command, options, name, lo, hi, resolution, smallest, jobs, q_traj=None))]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn _find(
     py: Python<'_>,
-    words: Vec<String>,
+    command: &str,
+    options: &Bound<'_, PyDict>,
+    name: &str,
+    lo: f64,
+    hi: f64,
+    resolution: Option<f64>,
+    smallest: bool,
+    jobs: usize,
     q_traj: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<(
     &'static str,
@@ -426,23 +622,24 @@ fn _find(
     Option<(Vec<f64>, Option<String>, Option<String>)>,
     Vec<String>,
 )> {
-    let args = call::parse_sweep(&words).map_err(error)?;
+    let config = run_config(command, options)?;
     let frames = frames("q_traj", q_traj)?;
     let stop = StopFlag::new();
-    let (found, line, warnings) =
-        interruptible(py, &stop, || crate::cli::sweep::find_line(&args, frames, &stop))?.map_err(error)?;
-    let (kind, follows, fails) = match &found {
+    let seek = if smallest { Seek::Smallest } else { Seek::Largest };
+    let warnings = Mutex::new(Vec::new());
+    let searched = interruptible(py, &stop, || {
+        crate::sweep::search(config, frames, name, lo, hi, resolution, seek, jobs, &stop, |w| {
+            *warnings.lock().unwrap_or_else(|p| p.into_inner()) = warning_lines(w)
+        })
+    })?
+    .map_err(error)?;
+    let (kind, follows, fails) = match &searched.found {
         Found::Boundary { follows, fails } => ("boundary", Some(row_tuple(follows)), Some(row_tuple(fails))),
         Found::NoneFollows(row) => ("none_follows", None, Some(row_tuple(row))),
         Found::AllFollow(row) => ("all_follow", Some(row_tuple(row)), None),
     };
-    Ok((
-        kind,
-        line,
-        follows,
-        fails,
-        warnings.iter().map(ToString::to_string).collect(),
-    ))
+    let warnings = warnings.into_inner().unwrap_or_else(|p| p.into_inner());
+    Ok((kind, keywords(&searched.line), follows, fails, warnings))
 }
 
 /// The options of a command as clap declares them: (long name, kind, repeated, required,
@@ -450,7 +647,7 @@ fn _find(
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 fn _options(command: &str) -> PyResult<Vec<(String, &'static str, bool, bool, Option<String>, Vec<String>, String)>> {
-    let options = call::options(command).ok_or_else(|| error(format!("no command '{command}'")))?;
+    let options = crate::cli::options::options(command).ok_or_else(|| error(format!("no command '{command}'")))?;
     Ok(options
         .into_iter()
         .map(|o| {

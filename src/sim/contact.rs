@@ -4,8 +4,10 @@
 use crate::algo::{
     ContactPoint, ContactSolver, Data, State, forward_kinematics_from_transforms, integrate_discrete_with_contacts,
 };
-use crate::error::Result;
+use crate::error::{Error, Result, shortest};
 use std::sync::Arc;
+
+use super::check::non_negative;
 
 use crate::geometry::{CollisionSet, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 use crate::model::{JointId, JointKind, Model};
@@ -45,6 +47,41 @@ impl Default for SelfContact {
             refresh_every: REFRESH_EVERY,
             refresh_motion: REFRESH_MOTION,
         }
+    }
+}
+
+/// Largest Coulomb friction `friction` takes. The contact step's products of μ overflow
+/// between 1e150 and 1e200 (μ = 1e200 gave the frictionless result); every μ from about 1e10
+/// gave the same sticking run as 1e100 (the circle shape with `self_collisions`).
+pub const MAX_FRICTION: f64 = 1e100;
+
+impl SelfContact {
+    /// Checks the settings, naming `friction` (≥ 0, at most [`MAX_FRICTION`]) and the
+    /// contact's stiffness (> 0) and dissipation (≥ 0).
+    pub fn check(&self) -> Result<()> {
+        non_negative("friction", self.friction)?;
+        if self.friction > MAX_FRICTION {
+            return Err(Error::option(
+                "friction",
+                format!(
+                    "{}: at most {MAX_FRICTION:e}: beyond it the contact solver's arithmetic overflows (any μ above about 1e10 already sticks)",
+                    shortest(self.friction)
+                ),
+            ));
+        }
+        let contact = |what: &str, x: f64, rule: &str| {
+            Error::option(
+                "self_collisions",
+                format!("the contact's {what} {} must be {rule}", shortest(x)),
+            )
+        };
+        if !(self.stiffness.is_finite() && self.stiffness > 0.0) {
+            return Err(contact("stiffness", self.stiffness, "finite and > 0"));
+        }
+        if !(self.dissipation.is_finite() && self.dissipation >= 0.0) {
+            return Err(contact("dissipation", self.dissipation, "finite and ≥ 0"));
+        }
+        Ok(())
     }
 }
 

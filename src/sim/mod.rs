@@ -1,24 +1,29 @@
 //! Closed-loop runs: a [`Scenario`] (model, command, controller) stepped at Δt by [`run`],
 //! reported to recorders, summarised in a [`Summary`].
 
+pub mod check;
 mod contact;
 mod record;
 mod run;
-pub(crate) mod scenario;
+mod scenario;
 mod stop;
 mod summary;
+mod timed;
 mod verdict;
+mod warning;
 
-pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, POINT_STIFFNESS, SelfContact};
+pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_STIFFNESS, SelfContact};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
     Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
-    ScenarioBuilder, ShapeRun, Warning, tune,
+    ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
 };
 pub use stop::{StopFlag, exit_status};
 pub use summary::{
     ContactSummary, Diverged, DofJoint, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss, Summary,
     ToolRange, ToolRule,
 };
+pub use timed::TimedCommand;
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};
+pub use warning::Warning;

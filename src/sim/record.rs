@@ -27,8 +27,8 @@ pub struct RunInfo<'a> {
     pub steps: usize,
     /// Gains and limits in use.
     pub gains: &'a Gains,
-    /// Whether g(q) is fed forward.
-    pub feedforward: bool,
+    /// What the controller feeds forward.
+    pub feedforward: crate::control::FeedForward,
     /// The start state q (= q_cmd(0)).
     pub start_q: &'a [f64],
     /// For shapes: the drawing board.

@@ -3,13 +3,14 @@
 use std::time::{Duration, Instant};
 
 use super::{ContactStep, ContactSummary};
-use crate::algo::{Data, State, compute_all_terms, forward_kinematics, frame_position, integrate_discrete};
-use crate::control::Envelope;
+use crate::algo::{Data, State, compute_all_terms, forward_kinematics, frame_position, integrate_discrete, rnea};
+use crate::control::{Envelope, FeedForward};
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet};
 use crate::model::{FrameId, JointId, JointKind};
 use crate::spatial::Pose;
 use crate::spatial::Vec3;
+use crate::traj::Trajectory;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
@@ -28,7 +29,8 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 ///
 /// Each step k = 0..steps−1, at t_k = k·Δt, runs the stages of [`Pipeline`] in the order
 /// MuJoCo's `mj_step` does: *dynamics* (g(q_k), C v + g and M(q_k) from one kinematics pass),
-/// *command* (q_cmd, v_cmd at t_k), *controller* (the PD torque τ_raw), *actuation* (what the
+/// *command* (q_cmd, v_cmd at t_k; under `--ff full` a_cmd too, and the command's inverse
+/// dynamics), *controller* (the PD torque τ_raw), *actuation* (what the
 /// actuators give of it, τ, held over the step), *record* (metrics and recorders), *integrate*
 /// (the discrete step). The summary's tracking error, saturation, speed and time over the
 /// speed limit are over those steps; tool range and path deviation over the samples every
@@ -126,6 +128,11 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         dt,
         steps: done,
         gains: sc.controller.gains.clone(),
+        feed_forward: sc.controller.feedforward,
+        interpolation: match &sc.trajectory {
+            Trajectory::Spline(s) => Some(s.interpolation()),
+            _ => None,
+        },
         max_tracking_error_rad: steps.max_error,
         saturation_pct: (steps.saturated.iter())
             .map(|&s| 100.0 * s as f64 / done.max(1) as f64)
@@ -180,6 +187,10 @@ struct Pipeline<'a> {
     /// The command at the step's time.
     q_cmd: Vec<f64>,
     v_cmd: Vec<f64>,
+    /// Under `--ff full`: the command's acceleration a_cmd (n), and the workspace of its
+    /// inverse dynamics, `τ_ff` in its `tau` (a second `Data`: the first holds the measured
+    /// state's terms for the step).
+    full_ff: Option<(Vec<f64>, Data)>,
     /// The controller's torque before actuation (N·m or N).
     tau_raw: Vec<f64>,
     /// `--self-collisions`: the step with contact.
@@ -203,6 +214,7 @@ impl<'a> Pipeline<'a> {
             state,
             q_cmd: vec![0.0; n],
             v_cmd: vec![0.0; n],
+            full_ff: (sc.controller.feedforward == FeedForward::Full).then(|| (vec![0.0; n], Data::new(model))),
             tau_raw: vec![0.0; n],
             contact,
             bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
@@ -215,24 +227,29 @@ impl<'a> Pipeline<'a> {
         compute_all_terms(&self.sc.model, &mut self.data, &self.state.q, &self.state.v);
     }
 
-    /// The command at time `t` (s).
+    /// The command at time `t` (s); under `--ff full` also a_cmd and
+    /// `τ_ff = M(q_cmd) a_cmd + C(q_cmd, v_cmd) v_cmd + g(q_cmd)` (RNEA).
     #[inline]
     fn command(&mut self, t: f64) {
-        self.sc.trajectory.eval(t, &mut self.q_cmd, &mut self.v_cmd);
+        let trajectory = &self.sc.trajectory;
+        match &mut self.full_ff {
+            None => trajectory.eval(t, &mut self.q_cmd, &mut self.v_cmd),
+            Some((a_cmd, data)) => {
+                trajectory.eval_with_acceleration(t, &mut self.q_cmd, &mut self.v_cmd, a_cmd);
+                rnea(&self.sc.model, data, &self.q_cmd, &self.v_cmd, a_cmd);
+            }
+        }
     }
 
-    /// The PD torque τ_raw.
+    /// The PD torque τ_raw, with g(q) or the command's inverse dynamics fed forward.
     #[inline]
     fn controller(&mut self) {
         let State { q, v, .. } = &self.state;
-        (self.sc.controller).torque(
-            q,
-            v,
-            &self.q_cmd,
-            &self.v_cmd,
-            self.data.g.as_slice(),
-            &mut self.tau_raw,
-        );
+        let ff = match &self.full_ff {
+            Some((_, data)) => data.tau.as_slice(),
+            None => self.data.g.as_slice(),
+        };
+        (self.sc.controller).torque(q, v, &self.q_cmd, &self.v_cmd, ff, &mut self.tau_raw);
     }
 
     /// The torque the joints get, held over the step: τ_raw clipped to the limits, and under

@@ -3,10 +3,11 @@
 use serde::Serialize;
 
 use super::{Scenario, Verdict};
-use crate::control::Gains;
+use crate::control::{FeedForward, Gains};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
 use crate::model::{Geometry, JointId, ToolChoice};
+use crate::traj::Interpolation;
 
 /// What a run simulated: the robot, its degrees of freedom and their units, the tool, and where
 /// each collision mesh came from (the summary's first keys), so that summaries of several arms
@@ -167,6 +168,13 @@ pub struct Summary {
     /// `stability`, the coupled loop's figures at the start pose).
     #[serde(flatten)]
     pub gains: Gains,
+    /// What the controller fed forward: `"gravity"` (g(q), the default), `"full"` (the
+    /// command's inverse dynamics, `--ff full`) or `"none"` (`--no-ff`).
+    pub feed_forward: FeedForward,
+    /// A time-stamped trajectory's interpolation between its points (`"linear"`, `"cubic"`,
+    /// `"quintic"`); absent for the other commands.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interpolation: Option<Interpolation>,
     /// max over steps of |q_cmd − q| per joint (rad or m).
     pub max_tracking_error_rad: Vec<f64>,
     /// Share of steps with |τ_raw| ≥ E per joint (%).

@@ -17,6 +17,7 @@ use std::fmt;
 
 use serde::{Serialize, Serializer};
 
+use super::check::non_negative;
 use super::{StepLoss, Summary};
 use crate::error::quoted;
 use crate::model::JointId;
@@ -33,13 +34,27 @@ pub struct Thresholds {
     pub max_deviation_mm: f64,
 }
 
+impl Thresholds {
+    /// Checks each limit is finite and ≥ 0, naming its field.
+    pub fn check(&self) -> crate::Result<()> {
+        non_negative("max_saturation_pct", self.max_saturation_pct)?;
+        non_negative("max_error", self.max_error)?;
+        non_negative("max_deviation_mm", self.max_deviation_mm)
+    }
+}
+
+impl Thresholds {
+    /// The defaults: 5 % saturation, 0.05 rad (or m), 5 mm.
+    pub const DEFAULT: Thresholds = Thresholds {
+        max_saturation_pct: 5.0,
+        max_error: 0.05,
+        max_deviation_mm: 5.0,
+    };
+}
+
 impl Default for Thresholds {
     fn default() -> Self {
-        Thresholds {
-            max_saturation_pct: 5.0,
-            max_error: 0.05,
-            max_deviation_mm: 5.0,
-        }
+        Thresholds::DEFAULT
     }
 }
 

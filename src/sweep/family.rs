@@ -7,10 +7,10 @@ use rayon::prelude::*;
 
 use super::Grid;
 use crate::atomic::Outputs;
+use crate::control::arithmetic_holds;
 use crate::control::{Envelope, Stability};
 use crate::error::{Error, Result, shortest};
 use crate::output::TrailCsv;
-use crate::sim::scenario::arithmetic_holds;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
 
 /// A multiplier of a built scenario: the controller's gains and limits (as tuned, or as
@@ -213,7 +213,7 @@ impl<'a> Runner<'a> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)
             .build()
-            .map_err(|e| Error::argument("--jobs", e.to_string()))?;
+            .map_err(|e| Error::option("jobs", e.to_string()))?;
         Ok(Runner {
             pool,
             build,

@@ -10,7 +10,7 @@ use crate::error::{Error, Result, shortest};
 pub const MAX_AXIS_VALUES: usize = 10_000_000;
 
 /// The option every axis error names.
-const VARY: &str = "--vary";
+const VARY: &str = "`vary`";
 
 /// One varied option and its values, in the order they run.
 #[derive(Clone, Debug, PartialEq)]
@@ -191,7 +191,7 @@ impl Grid {
                     total.div_ceil(max_runs)
                 ),
             };
-            let option = if shard.is_some() { "--shard" } else { VARY };
+            let option = if shard.is_some() { "`shard`" } else { VARY };
             return Err(Error::argument(option, message));
         }
         let grid = Grid::new(specs.iter().map(|s| Axis::parse(s)).collect::<Result<_>>()?)?;
@@ -245,7 +245,7 @@ impl FromStr for Shard {
 
     /// `K/N` with 1 ≤ K ≤ N.
     fn from_str(text: &str) -> Result<Shard> {
-        let bad = || Error::argument("--shard", format!("'{text}' is not K/N with 1 ≤ K ≤ N (e.g. 3/8)"));
+        let bad = || Error::option("shard", format!("'{text}' is not K/N with 1 ≤ K ≤ N (e.g. 3/8)"));
         let (k, n) = text.split_once('/').ok_or_else(bad)?;
         let (k, n): (usize, usize) = (
             k.trim().parse().map_err(|_| bad())?,

@@ -3,23 +3,32 @@
 //! A [`Trajectory`] is a closed set of kinds (an enum, so evaluating one inside the 5 kHz loop
 //! is a `match`, not a virtual call).
 
+pub mod files;
 mod linear;
 pub mod npy;
 pub mod shape;
+mod shape_plan;
+mod spline;
 pub mod timed;
 mod wave;
 
 pub use linear::{Interpolated, Wrap};
-pub use timed::{TimedTrajectory, TrajectoryPoint};
+pub use shape_plan::ShapeRun;
+pub use spline::Spline;
+pub use timed::{HeldJoint, Interpolation, TimedTrajectory, TrajectoryPoint};
 pub use wave::Wave;
 
-/// A joint-space command q_cmd(t), v_cmd(t).
+/// A joint-space command q_cmd(t), v_cmd(t), and its acceleration a_cmd(t) for the full
+/// feed-forward.
 #[derive(Clone, Debug)]
 pub enum Trajectory {
     /// Phase-shifted sines on every joint (`faze4 wave`).
     Wave(Wave),
     /// Linear interpolation of samples (`faze4 replay`, `faze4 shape`).
     Interpolated(Interpolated),
+    /// A time-stamped trajectory played once as `joint_trajectory_controller` plays it
+    /// (`faze4 replay` of a `.yaml`, `.json`, `.mcap` or `.csv` file).
+    Spline(Spline),
 }
 
 impl Trajectory {
@@ -29,6 +38,23 @@ impl Trajectory {
         match self {
             Trajectory::Wave(w) => w.eval(t, q, v),
             Trajectory::Interpolated(p) => p.eval(t, q, v),
+            Trajectory::Spline(s) => s.eval(t, q, v),
+        }
+    }
+
+    /// [`Trajectory::eval`], and a_cmd(t) into `a`: the wave's
+    /// `−A_i ω² sin(ω t + i π/3)`, 0 for linearly interpolated samples (their slope is constant
+    /// between samples), the spline's second derivative. q and v are those of
+    /// [`Trajectory::eval`], bit for bit.
+    #[inline]
+    pub fn eval_with_acceleration(&self, t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) {
+        match self {
+            Trajectory::Wave(w) => w.eval_with_acceleration(t, q, v, a),
+            Trajectory::Interpolated(p) => {
+                p.eval(t, q, v);
+                a.fill(0.0);
+            }
+            Trajectory::Spline(s) => s.eval_with_acceleration(t, q, v, a),
         }
     }
 
@@ -37,6 +63,7 @@ impl Trajectory {
         match self {
             Trajectory::Wave(w) => w.center.len(),
             Trajectory::Interpolated(p) => p.columns(),
+            Trajectory::Spline(s) => s.columns(),
         }
     }
 }

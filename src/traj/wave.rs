@@ -22,12 +22,26 @@ impl Wave {
     /// adds is below the rounding of the argument `ω t + i π/3` itself (see the tests).
     #[inline]
     pub fn eval(&self, t: f64, q: &mut [f64], v: &mut [f64]) {
+        self.eval_into(t, q, v, None);
+    }
+
+    /// [`Wave::eval`], and a_cmd(t) = −A_i ω² sin(ω t + i π/3) into `a`.
+    #[inline]
+    pub fn eval_with_acceleration(&self, t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) {
+        self.eval_into(t, q, v, Some(a));
+    }
+
+    #[inline]
+    fn eval_into(&self, t: f64, q: &mut [f64], v: &mut [f64], mut acc: Option<&mut [f64]>) {
         const COS_STEP: f64 = 0.5;
         let sin_step = 0.75f64.sqrt();
         let (mut s, mut c) = (self.omega * t).sin_cos();
         for (i, (&c_i, &a)) in self.center.iter().zip(&self.amplitude).enumerate() {
             q[i] = c_i + a * s;
             v[i] = a * self.omega * c;
+            if let Some(acc) = acc.as_deref_mut() {
+                acc[i] = -(a * self.omega * self.omega) * s;
+            }
             (s, c) = (s * COS_STEP + c * sin_step, c * COS_STEP - s * sin_step);
         }
     }
@@ -58,6 +72,32 @@ mod tests {
                 assert!(
                     (v[i] - wave.amplitude[i] * wave.omega * c).abs() <= tol,
                     "v{i} at t = {t}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn acceleration_is_the_derivative_of_v_and_q_v_are_evals() {
+        let wave = Wave {
+            amplitude: vec![0.4, 0.3, 0.2],
+            omega: 1.7,
+            center: vec![0.1, 0.0, -0.2],
+        };
+        let (mut q, mut v, mut a) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        let (mut q0, mut v0, mut vp, mut vm, mut scratch) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        let h = 1e-6;
+        for k in 0..50 {
+            let t = k as f64 * 0.13;
+            wave.eval_with_acceleration(t, &mut q, &mut v, &mut a);
+            wave.eval(t, &mut q0, &mut v0);
+            assert_eq!((q, v), (q0, v0));
+            wave.eval(t + h, &mut scratch, &mut vp);
+            wave.eval(t - h, &mut scratch, &mut vm);
+            for i in 0..3 {
+                assert!(
+                    ((vp[i] - vm[i]) / (2.0 * h) - a[i]).abs() < 1e-7,
+                    "joint {i} at t = {t}"
                 );
             }
         }

@@ -29,7 +29,7 @@ impl HtmlExport {
     /// run) when the file's directory does not exist.
     pub fn new(path: impl Into<PathBuf>) -> Result<HtmlExport> {
         let path = path.into();
-        check_output_path(&path, "--html")?;
+        check_output_path(&path, "`html`")?;
         Ok(HtmlExport {
             path,
             outputs: Outputs::immediate(),

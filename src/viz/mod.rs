@@ -70,8 +70,7 @@ pub use plot::PlotRecorder;
 pub use sweep_plot::SweepPlot;
 pub use util::base64;
 
-/// The live view's port unless `--port` says otherwise (the original's).
-pub const DEFAULT_PORT: u16 = 7000;
+pub use crate::config::DEFAULT_PORT;
 
 /// Recording period of the 3D views (s): 50 samples per simulated second, the original's
 /// publishing period.

@@ -44,8 +44,8 @@ impl MotorPlot {
     /// missing directory.
     pub fn new(path: impl Into<PathBuf>) -> Result<MotorPlot> {
         let path = path.into();
-        check_output_path(&path, "--plot-motors")?;
-        let svg = super::plot::is_svg(&path, "--plot-motors")?;
+        check_output_path(&path, "`plot_motors`")?;
+        let svg = super::plot::is_svg(&path, "`plot_motors`")?;
         Ok(MotorPlot {
             path,
             outputs: Outputs::immediate(),
@@ -72,7 +72,7 @@ impl Recorder for MotorPlot {
 
     fn begin(&mut self, run: &RunInfo) -> Result<()> {
         let Some(motors) = run.motors else {
-            return Err(Error::argument("--plot-motors", "draws the motors: add --motors"));
+            return Err(Error::option("plot_motors", "draws the motors: add `motors`"));
         };
         self.title = format!("faze4 · {} · {} · motor operating points", run.model.name, run.command);
         self.joints = (motors.iter().enumerate())

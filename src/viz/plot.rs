@@ -13,7 +13,7 @@ use plotters::prelude::*;
 
 use super::figure::{Chart, FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart, err, range, titled, write_figure};
 use crate::atomic::{Outputs, check_output_path};
-use crate::control::Motor;
+use crate::control::{FeedForward, Motor};
 use crate::error::{Error, Result};
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample};
@@ -76,8 +76,8 @@ impl PlotRecorder {
     /// extension or a missing directory.
     pub fn new(path: impl Into<PathBuf>) -> Result<PlotRecorder> {
         let path = path.into();
-        check_output_path(&path, "--plot")?;
-        let format = if is_svg(&path, "--plot")? {
+        check_output_path(&path, "`plot`")?;
+        let format = if is_svg(&path, "`plot`")? {
             Format::Svg
         } else {
             Format::Png
@@ -132,7 +132,11 @@ impl Recorder for PlotRecorder {
             run.model.name,
             run.command,
             run.dt,
-            if run.feedforward { "" } else { " · no feed-forward" }
+            match run.feedforward {
+                FeedForward::Gravity => "",
+                FeedForward::None => " · no feed-forward",
+                FeedForward::Full => " · full feed-forward",
+            }
         );
         self.joints = run.model.joints.iter().map(|j| j.name.clone()).collect();
         self.effort = run.gains.effort.clone();

@@ -65,7 +65,7 @@ fn lock(shared: &Shared) -> MutexGuard<'_, State> {
 
 impl Server {
     /// Starts serving `page` on `127.0.0.1:port` (0: any free port). A port already in use is an
-    /// [`Error::InvalidArgument`] for `--port`.
+    /// [`Error::InvalidArgument`] for `port`.
     pub(super) fn start(port: u16, page: String) -> Result<Server> {
         let listener = TcpListener::bind((Ipv4Addr::LOCALHOST, port)).map_err(|e| {
             let message = if e.kind() == std::io::ErrorKind::AddrInUse {
@@ -73,11 +73,11 @@ impl Server {
             } else {
                 format!("cannot listen on 127.0.0.1:{port}: {e}")
             };
-            Error::argument("--port", message)
+            Error::option("port", message)
         })?;
         let addr = listener
             .local_addr()
-            .map_err(|e| Error::argument("--port", format!("cannot listen on 127.0.0.1:{port}: {e}")))?;
+            .map_err(|e| Error::option("port", format!("cannot listen on 127.0.0.1:{port}: {e}")))?;
         let shared = Arc::new(Shared {
             state: Mutex::new(State::default()),
             wake: Condvar::new(),
@@ -89,7 +89,7 @@ impl Server {
             std::thread::Builder::new()
                 .name("faze4-live".into())
                 .spawn(move || accept(listener, shared))
-                .map_err(|e| Error::argument("--port", format!("cannot start the live view: {e}")))?
+                .map_err(|e| Error::option("port", format!("cannot start the live view: {e}")))?
         };
         Ok(Server {
             shared,

@@ -55,7 +55,7 @@ impl SweepPlot {
     /// A plot of a sweep over `grid` (one or two varied options) to `path`, `.svg` or `.png`;
     /// fails at once on another extension, a missing directory, or more than two options.
     pub fn new(path: &Path, grid: &Grid) -> Result<SweepPlot> {
-        check_output_path(path, "--plot")?;
+        check_output_path(path, "`plot`")?;
         let svg = match path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -65,14 +65,14 @@ impl SweepPlot {
             Some("png") => false,
             _ => {
                 return Err(Error::argument(
-                    "--plot",
+                    "`plot`",
                     format!("{}: the plot is written as .svg or .png", path.display()),
                 ));
             }
         };
         if grid.axes.is_empty() || grid.axes.len() > 2 {
             return Err(Error::argument(
-                "--plot",
+                "`plot`",
                 format!("draws one or two varied options; this sweep varies {}", grid.axes.len()),
             ));
         }

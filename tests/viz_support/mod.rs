@@ -7,10 +7,10 @@ use faze4::faze4::{Q_SEED, shape_ik_task};
 use faze4::geometry::Robot;
 use faze4::ik::solve_path;
 use faze4::model::{Model, PackagePaths};
-use faze4::sim::{Recorder, Scenario, ShapeRun, StopFlag, Summary};
+use faze4::sim::{Recorder, Scenario, StopFlag, Summary};
 use faze4::spatial::Vec3;
 use faze4::traj::shape::Shape;
-use faze4::traj::{Trajectory, Wave};
+use faze4::traj::{ShapeRun, Trajectory, Wave};
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -55,7 +55,15 @@ impl SyntheticRun {
     /// The tool draws the circle on the board (240 points, exact IK) for `duration` s.
     pub fn circle(Robot { model, geometry, .. }: Robot, duration: f64) -> SyntheticRun {
         let tool = model.default_tool_frame();
-        let (trajectory, shape) = ShapeRun::plan(&model, tool, Shape::Circle, 240).unwrap();
+        let (trajectory, shape) = ShapeRun::plan(
+            &model,
+            tool,
+            Shape::Circle,
+            240,
+            faze4::faze4::BOARD,
+            faze4::faze4::SHAPE_PERIOD,
+        )
+        .unwrap();
         let scenario = Scenario::builder(model, trajectory)
             .geometry(geometry)
             .collisions(None) // the outputs are tested here: self-clearance has its own tests

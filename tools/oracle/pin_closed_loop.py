@@ -50,6 +50,7 @@ Exact definitions (the Rust side implements the same):
 """
 
 import argparse
+import bisect
 import json
 import math
 import os
@@ -289,6 +290,77 @@ def wave_command(amplitude, center, freq=0.5):
     return command
 
 
+def spline_command(times, q, v=None, a=None):
+    """A time-stamped trajectory played as joint_trajectory_controller plays it, exactly as
+    faze4's src/traj/spline.rs does (the same coefficients of `interpolate_between_points`, the
+    same order of floating-point operations): times shifted so the first is 0; segment i for
+    t_i <= t < t_i+1, tau = t - t_i; linear with positions only (v the slope, a = 0), cubic
+    Hermite with velocities, quintic Hermite with velocities and accelerations; from the last
+    time on, the last positions with zero velocity and acceleration. times: N, q (and v, a):
+    N x n in faze4's joint order. Returns command(t) -> (q, v, a)."""
+    q = np.asarray(q, dtype=float)
+    n_points, n = q.shape
+    times = [float(x) for x in times]
+    t0 = times[0]
+    times = [t - t0 for t in times]
+    kind = "linear" if v is None else ("cubic" if a is None else "quintic")
+    v = None if v is None else np.asarray(v, dtype=float)
+    a = None if a is None else np.asarray(a, dtype=float)
+    coefficients = []
+    for i in range(n_points - 1):
+        T = times[i + 1] - times[i]
+        t = [1.0]
+        for _ in range(5):
+            t.append(t[-1] * T)
+        sp, ep = q[i], q[i + 1]
+        c = np.zeros((6, n))
+        c[0] = sp
+        if kind == "linear":
+            c[1] = (ep - sp) / T
+        elif kind == "cubic":
+            sv, ev = v[i], v[i + 1]
+            c[1] = sv
+            c[2] = (-3.0 * sp + 3.0 * ep - 2.0 * sv * t[1] - ev * t[1]) / t[2]
+            c[3] = (2.0 * sp - 2.0 * ep + sv * t[1] + ev * t[1]) / t[3]
+        else:
+            sv, ev, sa, ea = v[i], v[i + 1], a[i], a[i + 1]
+            c[1] = sv
+            c[2] = 0.5 * sa
+            c[3] = (-20.0 * sp + 20.0 * ep - 3.0 * sa * t[2] + ea * t[2] - 12.0 * sv * t[1]
+                    - 8.0 * ev * t[1]) / (2.0 * t[3])
+            c[4] = (30.0 * sp - 30.0 * ep + 3.0 * sa * t[2] - 2.0 * ea * t[2] + 16.0 * sv * t[1]
+                    + 14.0 * ev * t[1]) / (2.0 * t[4])
+            c[5] = (-12.0 * sp + 12.0 * ep - sa * t[2] + ea * t[2] - 6.0 * sv * t[1]
+                    - 6.0 * ev * t[1]) / (2.0 * t[5])
+        coefficients.append(c)
+    last, end = q[-1].copy(), times[-1]
+    zeros = np.zeros(n)
+
+    def command(time):
+        if time >= end:
+            return last.copy(), zeros.copy(), zeros.copy()
+        i = max(bisect.bisect_right(times, time) - 1, 0)
+        tau = time - times[i]
+        p1 = 1.0 * tau
+        p2 = p1 * tau
+        p3 = p2 * tau
+        p4 = p3 * tau
+        c = coefficients[i]
+        if kind == "linear":
+            return 1.0 * c[0] + p1 * c[1], 1.0 * c[1], zeros.copy()
+        if kind == "cubic":
+            return (1.0 * c[0] + p1 * c[1] + p2 * c[2] + p3 * c[3],
+                    1.0 * c[1] + p1 * 2.0 * c[2] + p2 * 3.0 * c[3],
+                    1.0 * 2.0 * c[2] + p1 * 6.0 * c[3])
+        return (1.0 * c[0] + p1 * c[1] + p2 * c[2] + p3 * c[3] + p4 * c[4] + p4 * tau * c[5],
+                1.0 * c[1] + p1 * 2.0 * c[2] + p2 * 3.0 * c[3] + p3 * 4.0 * c[4] + p4 * 5.0 * c[5],
+                1.0 * 2.0 * c[2] + p1 * 6.0 * c[3] + p2 * 12.0 * c[4] + p3 * 20.0 * c[5])
+
+    command.kind = kind
+    command.duration = end
+    return command
+
+
 def auto_tune(arm, q_start, dt, effort):
     M, _, _ = arm.terms(q_start, np.zeros(len(q_start)))
     inertia = np.diag(M).copy()
@@ -392,11 +464,17 @@ def envelope_of(motors, ratios, effort):
 def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_forward=True,
                     record_period=0.02, tool="tool_link", verbose=True, step_hook=None,
                     envelope=None):
-    """Run the closed loop on a PinArm; returns (summary dict, trail ndarray)."""
+    """Run the closed loop on a PinArm; returns (summary dict, trail ndarray).
+
+    feed_forward: True or "gravity" adds g(q) at the measured q; "full" adds the inverse
+    dynamics of the command, rnea(q_cmd, v_cmd, a_cmd) with the motors' reflected inertia (faze4's
+    --ff full), the command then returning (q, v, a); False or "none" adds nothing."""
     kp, kd = np.asarray(kp, dtype=float), np.asarray(kd, dtype=float)
     effort = np.asarray(effort, dtype=float)
     dof = len(kp)
-    q, v = command(0.0)
+    full = feed_forward == "full"
+    gravity_ff = feed_forward is True or feed_forward == "gravity"
+    q, v = command(0.0)[:2]
     M0, _, _ = arm.terms(q, np.zeros(dof))
     inertia = np.diag(M0).copy()
     steps = int(round(duration / dt))
@@ -415,10 +493,13 @@ def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_fo
     record(0, q)
     done = 0
     for k in range(steps):
-        q_cmd, v_cmd = command(k * dt)
+        cmd = command(k * dt)
+        q_cmd, v_cmd = cmd[0], cmd[1]
         err = q_cmd - q
         tau_raw = kp * err + kd * (v_cmd - v)
-        if feed_forward:
+        if full:
+            tau_raw = tau_raw + arm.rnea(q_cmd, v_cmd, cmd[2])
+        elif gravity_ff:
             tau_raw = tau_raw + arm.gravity(q)
         if envelope is None:
             tau = np.clip(tau_raw, -effort, effort)

@@ -1,0 +1,370 @@
+//! A configuration with what it reads once: the arm, a replay's frames, a shape's plan and the
+//! collision set. Each run of it (one, or the many of a sweep, each with its own numbers) is a
+//! [`Scenario`] built on them by [`Loaded::scenario`].
+
+use std::borrow::Cow;
+use std::path::Path;
+use std::sync::Arc;
+
+use super::arm::{Arm, load_arm};
+use super::motors::{fit, resolve};
+use super::{ArmConfig, Center, Motion, ReplayConfig, RunConfig};
+use crate::error::{Error, Result};
+use crate::faze4::{BOARD, SHAPE_PERIOD};
+use crate::geometry::CollisionSet;
+use crate::model::{JointKind, Model};
+use crate::sim::check::{finite, non_negative, positive};
+use crate::sim::{Collisions, Scenario, SelfContact, TimedCommand, Warning, load_collisions};
+use crate::traj::files::{self, Format, Selection};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
+
+/// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
+#[derive(Clone, Debug)]
+pub enum Replayed {
+    /// Frames played at even spacing over `traj_period`, repeating.
+    Samples(Vec<Vec<f64>>),
+    /// Points at their own times, played once as ros2_control plays them.
+    Timed(TimedTrajectory),
+}
+
+/// A run configuration's inputs, read once.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The arm as its file gives it, before the motors (a run that gives other motors or
+    /// supply voltage fits them to this).
+    bare: Arm,
+    /// The arm with the configuration's motors.
+    arm: Arm,
+    /// The configuration's arm options, as loaded.
+    arm_config: ArmConfig,
+    /// The collision set every run measures its self-clearance with.
+    collision_set: Option<Arc<CollisionSet>>,
+    /// What a replay plays.
+    replay: Option<Replayed>,
+    /// A shape's plan and the number of samples it was made with.
+    plan: Option<(usize, (Trajectory, ShapeRun))>,
+    /// What loading found that changes the result (collision meshes not found): said once,
+    /// after the first run's own warnings.
+    pub warnings: Vec<Warning>,
+}
+
+impl Loaded {
+    /// Checks `config`'s numbers, then reads its arm (and motors), what a replay plays (its
+    /// `q_traj` file, unless `replayed` gives it), a shape's plan and the collision meshes.
+    pub fn load(config: &RunConfig, replayed: Option<Replayed>) -> Result<Loaded> {
+        check(config)?;
+        let bare = load_arm(&ArmConfig {
+            motors: None,
+            supply_voltage: None,
+            gear_ratio: Vec::new(),
+            rotor_inertia: Vec::new(),
+            ..config.arm.clone()
+        })?;
+        let arm = fitted(&bare, &config.arm)?;
+        let replay = match (&config.motion, replayed) {
+            (Motion::Replay(_), Some(given)) => Some(given),
+            (Motion::Replay(r), None) => Some(read_replay(r)?),
+            _ => None,
+        };
+        let plan = match &config.motion {
+            Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
+            _ => None,
+        };
+        let mut warnings = Vec::new();
+        let (_, collision_set) = load_collisions(
+            &arm.robot.model,
+            arm.robot.geometry.clone(),
+            collisions(config),
+            &mut warnings,
+        )?;
+        Ok(Loaded {
+            bare,
+            arm,
+            arm_config: config.arm.clone(),
+            collision_set,
+            replay,
+            plan,
+            warnings,
+        })
+    }
+
+    /// The arm, with the loaded configuration's motors.
+    pub fn arm(&self) -> &Arm {
+        &self.arm
+    }
+
+    /// The scenario of `config` on what was loaded: `config` is the loaded one, or the same
+    /// with other numbers (a sweep's point: durations, periods, the payload, limits, a shape's
+    /// samples, the motors' supply voltage); another arm file is refused.
+    pub fn scenario(&self, config: &RunConfig) -> Result<Scenario> {
+        check(config)?;
+        let arm: Cow<Arm> = match config.arm == self.arm_config {
+            true => Cow::Borrowed(&self.arm),
+            false => {
+                let file = |a: &ArmConfig| {
+                    (
+                        a.urdf.clone(),
+                        a.package_path.clone(),
+                        a.balance_inertia,
+                        a.tool_link.clone(),
+                    )
+                };
+                if file(&config.arm) != file(&self.arm_config) {
+                    return Err(Error::option(
+                        "urdf",
+                        "the arm was loaded from another file or tool link",
+                    ));
+                }
+                Cow::Owned(fitted(&self.bare, &config.arm)?)
+            }
+        };
+        let model = &arm.robot.model;
+        let mut duration = config.duration;
+        let mut command_warnings = Vec::new();
+        let (trajectory, command, shape) = match &config.motion {
+            Motion::Wave(w) => (
+                Trajectory::Wave(Wave {
+                    amplitude: wave_amplitudes(model, w.amp_deg, w.amp_m),
+                    omega: w.freq,
+                    center: wave_center(model, &w.center)?,
+                }),
+                "wave".to_string(),
+                None,
+            ),
+            Motion::Replay(r) => match &self.replay {
+                Some(Replayed::Timed(timed)) => {
+                    let timed = TimedCommand::new(model, timed, &r.q_traj)?;
+                    command_warnings.extend(timed.warning(&r.q_traj));
+                    duration = duration.or(Some(timed.duration));
+                    (timed.trajectory, "replay".to_string(), None)
+                }
+                Some(Replayed::Samples(frames)) => {
+                    check_samples(model, frames, &r.q_traj)?;
+                    let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
+                    (trajectory, "replay".to_string(), None)
+                }
+                None => unreachable!("a replay's trajectory is loaded"),
+            },
+            Motion::Shape(s) => {
+                let (trajectory, run) = match &self.plan {
+                    Some((points, planned)) if *points == s.shape_points => planned.clone(),
+                    _ => plan(&arm, s.shape, s.shape_points)?,
+                };
+                let command = format!("shape {} ({} points)", s.shape.name(), s.shape_points);
+                (trajectory, command, Some(run))
+            }
+        };
+        let control = &config.control;
+        let clearance = &config.clearance;
+        let mut builder = Scenario::builder(model.clone(), trajectory)
+            .command(command)
+            .geometry(arm.robot.geometry.clone())
+            .load_warnings(arm.robot.warnings.clone())
+            .tool_frame(arm.tool)
+            .command_warnings(command_warnings)
+            .dt(control.dt)
+            .duration(duration.unwrap_or(config.motion.default_duration()))
+            .record_period(config.record_period)
+            .payload_kg(config.arm.payload_kg)
+            .gravity(!config.arm.no_gravity)
+            .feedforward(config.feedforward()?)
+            .collisions(collisions(config))
+            .clearance_tolerance(clearance.clearance_tolerance * 1e-3)
+            .thresholds(config.verdict.thresholds)
+            .kp(control.kp.clone())
+            .kd(control.kd.clone())
+            .max_speed(control.max_speed.clone());
+        if let Some(set) = &self.collision_set {
+            builder = builder.collision_set(set.clone());
+        }
+        if clearance.self_collisions {
+            builder = builder.self_contact(SelfContact {
+                friction: clearance.friction,
+                ..SelfContact::default()
+            });
+        }
+        if let Some(effort) = &control.effort {
+            builder = builder.effort(effort.clone());
+        }
+        if let Some(motors) = &arm.motors {
+            builder = builder.motors(motors.clone());
+        }
+        if let Some(run) = shape {
+            builder = builder.shape(run);
+        }
+        builder.build()
+    }
+}
+
+/// What a replay's file holds: a time-stamped trajectory by its extension (`.yaml`, `.json`,
+/// `.mcap`, `.csv`; `message` and `topic` pick from it), else a `.npy`'s frames.
+fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
+    if Format::of(&r.q_traj).is_some() {
+        let selection = Selection {
+            message: r.message,
+            topic: r.topic.clone(),
+        };
+        return Ok(Replayed::Timed(files::read(&r.q_traj, &selection)?));
+    }
+    if let Some(field) = [(r.message.is_some(), "message"), (r.topic.is_some(), "topic")]
+        .iter()
+        .find_map(|(given, field)| given.then_some(*field))
+    {
+        return Err(Error::option(
+            field,
+            "picks from a .yaml, .json or .mcap file, not a .npy",
+        ));
+    }
+    Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
+}
+
+/// `bare` with the motors, ratios and rotors of `config` fitted to its joints.
+fn fitted(bare: &Arm, config: &ArmConfig) -> Result<Arm> {
+    let mut arm = bare.clone();
+    let motors = resolve(config.motors.as_ref(), config.supply_voltage, &arm.robot.model)?;
+    arm.motors = fit(&mut arm.robot.model, motors, &config.gear_ratio, &config.rotor_inertia)?;
+    Ok(arm)
+}
+
+/// The shape's plan on the original's board ([`crate::faze4::BOARD`], a loop every
+/// [`crate::faze4::SHAPE_PERIOD`]).
+fn plan(arm: &Arm, shape: crate::traj::shape::Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
+    ShapeRun::plan(&arm.robot.model, arm.tool, shape, points, BOARD, SHAPE_PERIOD)
+}
+
+/// The clearance settings of `config` (`None`: no clearance).
+fn collisions(config: &RunConfig) -> Option<Collisions> {
+    let c = &config.clearance;
+    (!c.no_collisions).then_some(Collisions {
+        geometry: c.collision_geometry,
+        pairs: c.collision_pairs,
+    })
+}
+
+/// The numbers of `config` that need no model, each checked naming its field: a bad one is
+/// reported before any file is read.
+fn check(config: &RunConfig) -> Result<()> {
+    positive("dt", config.control.dt)?;
+    positive("record_period", config.record_period)?;
+    if let Some(d) = config.duration {
+        positive("duration", d)?;
+    }
+    non_negative("payload_kg", config.arm.payload_kg)?;
+    non_negative("clearance_tolerance", config.clearance.clearance_tolerance)?;
+    config.verdict.thresholds.check()?;
+    if let Some(p) = config.outputs.print_period {
+        positive("print_period", p)?;
+    }
+    SelfContact {
+        friction: config.clearance.friction,
+        ..SelfContact::default()
+    }
+    .check()?;
+    match &config.motion {
+        Motion::Wave(w) => {
+            finite("freq", w.freq)?;
+            if let Some(a) = w.amp_m {
+                non_negative("amp_m", a)?;
+            }
+            non_negative("amp_deg", w.amp_deg)
+        }
+        Motion::Replay(r) => positive("traj_period", r.traj_period),
+        Motion::Shape(_) => Ok(()),
+    }
+}
+
+/// Each joint's wave amplitude in its own unit: `amp_deg` in radians for a revolute or
+/// continuous joint; for a prismatic one `amp_m`, else a quarter of its range where both
+/// limits are finite, else [`super::DEFAULT_AMP_M`] (docs/model.md, 4.1).
+pub fn wave_amplitudes(model: &Model, amp_deg: f64, amp_m: Option<f64>) -> Vec<f64> {
+    (model.joints.iter())
+        .map(|j| match j.kind {
+            JointKind::Prismatic => amp_m.unwrap_or(match (j.lower.is_finite(), j.upper.is_finite()) {
+                (true, true) => 0.25 * (j.upper - j.lower),
+                _ => super::DEFAULT_AMP_M,
+            }),
+            _ => amp_deg.to_radians(),
+        })
+        .collect()
+}
+
+/// The pose `center` names on `model`, each value inside its joint's limits.
+pub fn wave_center(model: &Model, center: &Center) -> Result<Vec<f64>> {
+    let n = model.dof();
+    let center: Vec<f64> = match center {
+        Center::Zero => return Ok(vec![0.0; n]),
+        Center::Mid => (model.joints.iter())
+            .map(|j| match (j.lower.is_finite(), j.upper.is_finite()) {
+                (true, true) => 0.5 * (j.lower + j.upper),
+                (true, false) => j.lower,
+                (false, true) => j.upper,
+                (false, false) => 0.0,
+            })
+            .collect(),
+        Center::Given(values) => values.clone(),
+    };
+    if center.len() != n {
+        return Err(Error::option(
+            "center",
+            format!("{} values given; the model has {n} joints", center.len()),
+        ));
+    }
+    for (i, (j, &c)) in model.joints.iter().zip(&center).enumerate() {
+        if !c.is_finite() {
+            return Err(Error::option(
+                "center",
+                format!("J{} value {c} is not a finite number (or use 'mid')", i + 1),
+            ));
+        }
+        if !j.within_limits(c) {
+            return Err(Error::option(
+                "center",
+                format!(
+                    "J{} ({}) {c} is outside its limits [{}, {}]{}",
+                    i + 1,
+                    j.name,
+                    j.lower,
+                    j.upper,
+                    model.mimic_note(i)
+                ),
+            ));
+        }
+    }
+    Ok(center)
+}
+
+/// Joint samples (replay frames) must fit the model and its limits.
+pub fn check_samples(model: &Model, frames: &[Vec<f64>], path: &Path) -> Result<()> {
+    let bad = |message: String| Error::InvalidData {
+        path: path.to_path_buf(),
+        message,
+    };
+    let n = model.dof();
+    if frames.len() < 2 {
+        return Err(bad(format!(
+            "has {} frames; a trajectory needs at least 2",
+            frames.len()
+        )));
+    }
+    if frames[0].len() != n {
+        return Err(bad(format!(
+            "has {} columns; the model has {n} joints",
+            frames[0].len()
+        )));
+    }
+    for (k, frame) in frames.iter().enumerate() {
+        for (i, joint) in model.joints.iter().enumerate() {
+            if !joint.within_limits(frame[i]) {
+                return Err(bad(format!(
+                    "frame {k}: joint J{} ({}) is commanded to {} rad, beyond its limits [{}, {}]",
+                    i + 1,
+                    joint.name,
+                    frame[i],
+                    joint.lower,
+                    joint.upper
+                )));
+            }
+        }
+    }
+    Ok(())
+}

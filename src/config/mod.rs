@@ -1,0 +1,376 @@
+//! One run's configuration: every option a run takes, typed, with its default written once.
+//!
+//! The command line fills a [`RunConfig`] from its arguments (clap shows the same defaults,
+//! read from the constants here), the Python binding fills one from keywords through the field
+//! table ([`fields`]), and a sweep varies one field by field. From a configuration,
+//! [`load_arm`] reads the arm once (its URDF, the motors resolved onto its joints, the
+//! payload and gravity applied) and [`Loaded`] builds the [`crate::sim::Scenario`] of each
+//! run on it.
+//!
+//! Errors name the field the user set, as [`crate::error::Error::option`] does: the library's
+//! message writes it `` `dt` ``, the command line shows it as `--dt` and Python as `dt`
+//! ([`crate::error::in_words`]).
+
+mod arm;
+pub mod fields;
+mod loaded;
+pub mod motors;
+mod motors_file;
+
+use std::path::PathBuf;
+
+use crate::control::FeedForward;
+use crate::geometry::{ClearanceGeometry, PairFilter};
+use crate::sim::Thresholds;
+use crate::traj::shape::Shape;
+
+pub use arm::{Arm, load_arm, tool_frame};
+pub use fields::{Field, Kind, Value};
+pub use loaded::{Loaded, Replayed, check_samples, wave_amplitudes, wave_center};
+pub use motors::{MotorEntry, Motors, PRESETS};
+
+/// Default control and integration period Δt (s): 5 kHz.
+pub const DEFAULT_DT: f64 = crate::sim::DEFAULT_DT;
+/// Default time between two trail samples (s).
+pub const DEFAULT_RECORD_PERIOD: f64 = crate::sim::DEFAULT_RECORD_PERIOD;
+/// Default self-clearance tolerance (mm; docs/clearance.md, "Speed").
+pub const DEFAULT_CLEARANCE_TOLERANCE_MM: f64 = crate::sim::DEFAULT_CLEARANCE_TOLERANCE_M * 1e3;
+/// Default simulated time of `wave` and `replay` (s).
+pub const DEFAULT_DURATION: f64 = crate::sim::DEFAULT_DURATION;
+/// Default simulated time of `shape` (s): the original's 12 s.
+pub const DEFAULT_SHAPE_DURATION: f64 = 12.0;
+/// Default angular frequency of `wave` (rad/s, the original's convention).
+pub const DEFAULT_FREQ: f64 = 0.5;
+/// Default amplitude of `wave`'s revolute and continuous joints (degrees).
+pub const DEFAULT_AMP_DEG: f64 = 25.0;
+/// Default time the frames of a `.npy` replay span (s).
+pub const DEFAULT_TRAJ_PERIOD: f64 = 5.0;
+/// Default samples along a shape's path.
+pub const DEFAULT_SHAPE_POINTS: usize = 240;
+/// Default Coulomb friction of `self_collisions` contacts.
+pub const DEFAULT_FRICTION: f64 = 1.0;
+/// Default trail file of the command line.
+pub const DEFAULT_TRAIL: &str = "faze4_trail.csv";
+/// Default port of the live view (127.0.0.1 only).
+pub const DEFAULT_PORT: u16 = 7000;
+
+/// Everything one run takes: what the joints are asked to do, the arm, the controller, the
+/// verdict's limits, the clearance, and the outputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunConfig {
+    /// The command: `wave`, `replay` or `shape`, with its own options.
+    pub motion: Motion,
+    /// The arm and its motors.
+    pub arm: ArmConfig,
+    /// The controller and the step.
+    pub control: ControlConfig,
+    /// Simulated time (s); `None`: the command's default ([`Motion::default_duration`]; a
+    /// time-stamped trajectory's last time).
+    pub duration: Option<f64>,
+    /// Time between trail samples (s), where the tool range, path deviation and clearance
+    /// are taken.
+    pub record_period: f64,
+    /// The limits within which the arm is judged to follow, and `strict`.
+    pub verdict: VerdictConfig,
+    /// Self-clearance and self-contact.
+    pub clearance: ClearanceConfig,
+    /// The files and lines a run writes.
+    pub outputs: OutputConfig,
+}
+
+impl RunConfig {
+    /// The defaults of every option for `motion`.
+    pub fn new(motion: Motion) -> RunConfig {
+        RunConfig {
+            motion,
+            arm: ArmConfig::default(),
+            control: ControlConfig::default(),
+            duration: None,
+            record_period: DEFAULT_RECORD_PERIOD,
+            verdict: VerdictConfig::default(),
+            clearance: ClearanceConfig::default(),
+            outputs: OutputConfig::default(),
+        }
+    }
+
+    /// The simulated time: `duration`, else the command's default.
+    pub fn duration(&self) -> f64 {
+        self.duration.unwrap_or(self.motion.default_duration())
+    }
+
+    /// What the controller feeds forward: nothing under `no_ff`, else `ff` (default: g(q)).
+    pub fn feedforward(&self) -> crate::Result<FeedForward> {
+        match (self.control.no_ff, self.control.ff) {
+            (true, Some(_)) => Err(crate::Error::option(
+                "ff",
+                "and `no_ff` both say what is fed forward: give one",
+            )),
+            (true, None) => Ok(FeedForward::None),
+            (false, ff) => Ok(ff.unwrap_or_default()),
+        }
+    }
+}
+
+/// What the joints are asked to do.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motion {
+    /// Every joint follows A·sin(ω t + i·π/3) about a centre (docs/model.md).
+    Wave(WaveConfig),
+    /// Joint positions from a file (or arrays), played as a command.
+    Replay(ReplayConfig),
+    /// The tool draws a shape on the board: exact IK, then the samples as a loop.
+    Shape(ShapeConfig),
+}
+
+impl Motion {
+    /// The command's name: `wave`, `replay`, `shape`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Motion::Wave(_) => "wave",
+            Motion::Replay(_) => "replay",
+            Motion::Shape(_) => "shape",
+        }
+    }
+
+    /// Simulated time when none is given (s).
+    pub fn default_duration(&self) -> f64 {
+        match self {
+            Motion::Shape(_) => DEFAULT_SHAPE_DURATION,
+            _ => DEFAULT_DURATION,
+        }
+    }
+}
+
+/// `wave`'s options.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WaveConfig {
+    /// Angular frequency ω (rad/s).
+    pub freq: f64,
+    /// Amplitude of the revolute and continuous joints (degrees).
+    pub amp_deg: f64,
+    /// Amplitude of the prismatic joints (m); `None`: a quarter of each limited range, else
+    /// [`DEFAULT_AMP_M`].
+    pub amp_m: Option<f64>,
+    /// The pose waved about.
+    pub center: Center,
+}
+
+impl Default for WaveConfig {
+    fn default() -> Self {
+        WaveConfig {
+            freq: DEFAULT_FREQ,
+            amp_deg: DEFAULT_AMP_DEG,
+            amp_m: None,
+            center: Center::Zero,
+        }
+    }
+}
+
+/// Default amplitude of a prismatic joint without `amp_m` and without limits (m).
+pub const DEFAULT_AMP_M: f64 = 0.05;
+
+/// The pose a wave is centred on.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Center {
+    /// Every joint at zero.
+    #[default]
+    Zero,
+    /// The middle of each limited joint's range (0 for an unlimited one).
+    Mid,
+    /// One value per joint (rad or m).
+    Given(Vec<f64>),
+}
+
+/// `replay`'s options.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReplayConfig {
+    /// The trajectory file: time-stamped (`.yaml`, `.json`, `.mcap`, `.csv`; played once), or
+    /// an N×dof `.npy` (evenly spaced, repeating); or the name arrays given in memory are
+    /// reported by.
+    pub q_traj: PathBuf,
+    /// A `.npy`'s period: the time its frames span (s); the trajectory then repeats.
+    pub traj_period: f64,
+    /// Which message of a `.yaml`, `.json` or `.mcap` file, counted from 1 (`None`: the first).
+    pub message: Option<usize>,
+    /// The topic of an `.mcap` file (`None`: its one JointTrajectory topic, else its one
+    /// JointState topic).
+    pub topic: Option<String>,
+}
+
+impl ReplayConfig {
+    /// A replay of `q_traj` with the default period.
+    pub fn new(q_traj: impl Into<PathBuf>) -> ReplayConfig {
+        ReplayConfig {
+            q_traj: q_traj.into(),
+            traj_period: DEFAULT_TRAJ_PERIOD,
+            message: None,
+            topic: None,
+        }
+    }
+}
+
+/// `shape`'s options.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeConfig {
+    /// The path the tool draws.
+    pub shape: Shape,
+    /// Samples along the path (IK targets).
+    pub shape_points: usize,
+    /// Where to write the IK joint samples (`.npy`), if anywhere.
+    pub save_q: Option<PathBuf>,
+}
+
+impl ShapeConfig {
+    /// `shape` with the default samples.
+    pub fn new(shape: Shape) -> ShapeConfig {
+        ShapeConfig {
+            shape,
+            shape_points: DEFAULT_SHAPE_POINTS,
+            save_q: None,
+        }
+    }
+}
+
+/// The arm: its file, its motors, and what is added to it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ArmConfig {
+    /// The URDF (`None`: the bundled Faze4).
+    pub urdf: Option<PathBuf>,
+    /// Where `package://` meshes are looked for (before ROS_PACKAGE_PATH).
+    pub package_path: Vec<PathBuf>,
+    /// Balance a body's inertia that no rigid body has instead of refusing the model.
+    pub balance_inertia: bool,
+    /// The link traced as the tool (`None`: the model's default).
+    pub tool_link: Option<String>,
+    /// The motors behind the joints.
+    pub motors: Option<Motors>,
+    /// Supply voltage of the presets' drives (V; `None`: the preset's).
+    pub supply_voltage: Option<f64>,
+    /// Rotor inertia per joint (kg·m² at the motor; `None` keeps the model's or the motor's;
+    /// empty: none given).
+    pub rotor_inertia: Vec<Option<f64>>,
+    /// Gear ratio per joint (motor turns per joint turn; as `rotor_inertia`).
+    pub gear_ratio: Vec<Option<f64>>,
+    /// A point mass at the tool link (kg).
+    pub payload_kg: f64,
+    /// No gravity field.
+    pub no_gravity: bool,
+}
+
+/// The controller and the step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ControlConfig {
+    /// Control and integration period Δt (s).
+    pub dt: f64,
+    /// Torque limits per joint (N·m or N; `None`: the motors', else the arm's default).
+    pub effort: Option<Vec<f64>>,
+    /// Proportional gains per joint (`None` keeps the tuned value; empty: all tuned).
+    pub kp: Vec<Option<f64>>,
+    /// Derivative gains per joint, as `kp`.
+    pub kd: Vec<Option<f64>>,
+    /// Speed limits per joint (rad/s or m/s; `None` keeps the arm's; empty: all the arm's).
+    pub max_speed: Vec<Option<f64>>,
+    /// No gravity feed-forward.
+    pub no_ff: bool,
+    /// What the controller feeds forward (`None`: g(q), the default; `Full`: the command's
+    /// inverse dynamics).
+    pub ff: Option<FeedForward>,
+}
+
+impl Default for ControlConfig {
+    fn default() -> Self {
+        ControlConfig {
+            dt: DEFAULT_DT,
+            effort: None,
+            kp: Vec::new(),
+            kd: Vec::new(),
+            max_speed: Vec::new(),
+            no_ff: false,
+            ff: None,
+        }
+    }
+}
+
+/// The verdict's limits, and whether "cannot follow" fails the command (`strict`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VerdictConfig {
+    /// The limits of "follows".
+    pub thresholds: Thresholds,
+    /// Exit with status 3 (Python: raise) when the verdict is not "follows".
+    pub strict: bool,
+}
+
+/// Self-clearance and self-contact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClearanceConfig {
+    /// Exact triangles or convex hulls.
+    pub collision_geometry: ClearanceGeometry,
+    /// Which pairs are checked.
+    pub collision_pairs: PairFilter,
+    /// How far (mm) the reported clearance may be above the true minimum.
+    pub clearance_tolerance: f64,
+    /// No self-clearance at all (no mesh read).
+    pub no_collisions: bool,
+    /// Contact forces between the checked pairs.
+    pub self_collisions: bool,
+    /// Coulomb friction of those contacts.
+    pub friction: f64,
+}
+
+impl Default for ClearanceConfig {
+    fn default() -> Self {
+        ClearanceConfig {
+            collision_geometry: ClearanceGeometry::default(),
+            collision_pairs: PairFilter::default(),
+            clearance_tolerance: DEFAULT_CLEARANCE_TOLERANCE_MM,
+            no_collisions: false,
+            self_collisions: false,
+            friction: DEFAULT_FRICTION,
+        }
+    }
+}
+
+/// The files and lines a run writes. A path `None` writes nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputConfig {
+    /// Trail CSV.
+    pub trail: Option<PathBuf>,
+    /// Summary JSON.
+    pub summary: Option<PathBuf>,
+    /// One self-contained HTML playback.
+    pub html: Option<PathBuf>,
+    /// The figure (.svg or .png).
+    pub plot: Option<PathBuf>,
+    /// The motors' sizing plot (.svg or .png).
+    pub plot_motors: Option<PathBuf>,
+    /// Show the run live in the browser.
+    pub view: bool,
+    /// The live view's port (0 picks a free one).
+    pub port: u16,
+    /// Keep the live view serving after the run.
+    pub hold: bool,
+    /// Print only the verdict and errors.
+    pub quiet: bool,
+    /// Add τ, error, velocity and g(q) to the progress lines and the trail.
+    pub debug: bool,
+    /// Simulated time between progress lines (s; `None`: 0.5 s, or longer for long runs).
+    pub print_period: Option<f64>,
+}
+
+impl Default for OutputConfig {
+    fn default() -> Self {
+        OutputConfig {
+            trail: Some(PathBuf::from(DEFAULT_TRAIL)),
+            summary: None,
+            html: None,
+            plot: None,
+            plot_motors: None,
+            view: false,
+            port: DEFAULT_PORT,
+            hold: false,
+            quiet: false,
+            debug: false,
+            print_period: None,
+        }
+    }
+}

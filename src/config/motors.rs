@@ -1,0 +1,246 @@
+//! The motors behind the joints (`motors`, `supply_voltage`, `gear_ratio`, `rotor_inertia`),
+//! resolved once into one value per joint: its gear ratio and rotor inertia, put on the model's
+//! joint, and its motor, whose envelope clips the joint's torque ([`fit`]). docs/motors.md.
+
+use std::path::{Path, PathBuf};
+
+use crate::control::catalog::{sts3215, xm540_w270};
+use crate::control::{Envelope, JointMotor, Motor};
+use crate::error::{Error, Result};
+use crate::faze4::motors::{faze4, faze4_bom};
+use crate::model::{Joint, Model};
+use crate::sim::check::override_per_joint;
+
+pub use super::motors_file::MotorEntry;
+
+/// The presets `motors` knows, by name.
+pub const PRESETS: [&str; 4] = ["faze4", "faze4-bom", "sts3215", "xm540-w270"];
+
+/// Where a run's motors come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motors {
+    /// A preset of [`PRESETS`], by name.
+    Preset(String),
+    /// A motors file (TOML, docs/motors.md).
+    File(PathBuf),
+    /// The entries of a motors file, given as values (Python's dict of the file's schema).
+    Entries(Vec<MotorEntry>),
+}
+
+impl Motors {
+    /// A preset's name or a `.toml` file's path, as the command line and Python write it.
+    pub fn named(text: &str) -> Result<Motors> {
+        if PRESETS.contains(&text) {
+            Ok(Motors::Preset(text.to_string()))
+        } else if text.ends_with(".toml") {
+            Ok(Motors::File(PathBuf::from(text)))
+        } else {
+            Err(Error::option(
+                "motors",
+                format!("'{text}' is not a preset ({}) nor a .toml file", PRESETS.join(", ")),
+            ))
+        }
+    }
+}
+
+/// The motor per joint of `motors` on `model` (`None` for a joint it leaves out): a preset
+/// (at `supply` volts where given), or a file's or the given entries, paired with the joints
+/// by name where they name them, else in order. `None` for no motors.
+pub fn resolve(motors: Option<&Motors>, supply: Option<f64>, model: &Model) -> Result<Option<Vec<Option<JointMotor>>>> {
+    let Some(motors) = motors else {
+        if supply.is_some() {
+            return Err(Error::option("supply_voltage", "is for `motors`' presets"));
+        }
+        return Ok(None);
+    };
+    if let Some(v) = supply
+        && !(v.is_finite() && v > 0.0)
+    {
+        return Err(Error::option(
+            "supply_voltage",
+            format!("{} must be > 0", crate::error::shortest(v)),
+        ));
+    }
+    let n = model.dof();
+    let set = match motors {
+        Motors::Preset(name) => {
+            let six = |set: Vec<Option<JointMotor>>| {
+                if n == set.len() {
+                    Ok(set)
+                } else {
+                    Err(Error::option(
+                        "motors",
+                        format!("{name}'s motors are for a 6-joint arm; {} has {n} joints", model.source),
+                    ))
+                }
+            };
+            let every = |m: JointMotor| vec![Some(m); n];
+            match name.as_str() {
+                "faze4" => six(faze4(supply))?,
+                "faze4-bom" => six(faze4_bom(supply))?,
+                "sts3215" => every(sts3215(supply)),
+                "xm540-w270" => every(xm540_w270(supply)),
+                other => return Err(Motors::named(other).err().unwrap_or_else(|| unknown(other))),
+            }
+        }
+        Motors::File(path) => {
+            no_supply(supply)?;
+            let entries = super::motors_file::read(path)?;
+            pair(entries, model).map_err(|e| at(path, e))?
+        }
+        Motors::Entries(entries) => {
+            no_supply(supply)?;
+            pair(entries.clone(), model).map_err(|e| Error::option("motors", e))?
+        }
+    };
+    Ok(Some(set))
+}
+
+fn unknown(name: &str) -> Error {
+    Error::option("motors", format!("'{name}' is not a preset ({})", PRESETS.join(", ")))
+}
+
+fn no_supply(supply: Option<f64>) -> Result<()> {
+    match supply {
+        Some(_) => Err(Error::option(
+            "supply_voltage",
+            "is for `motors`' presets: a file gives its motors' figures",
+        )),
+        None => Ok(()),
+    }
+}
+
+fn at(path: &Path, message: String) -> Error {
+    Error::option("motors", format!("{}: {message}", path.display()))
+}
+
+/// The entries on the joints of `model`: by name when every entry names one (a joint not named
+/// has no motor), in order when none does (then one per joint).
+fn pair(entries: Vec<MotorEntry>, model: &Model) -> std::result::Result<Vec<Option<JointMotor>>, String> {
+    let n = model.dof();
+    let named = entries.iter().filter(|e| e.name.is_some()).count();
+    let mut out: Vec<Option<JointMotor>> = vec![None; n];
+    if named == 0 {
+        if entries.len() != n {
+            return Err(format!(
+                "{} [[joint]] entries without names; {} has {n} moving joints (give one per joint, or name them)",
+                entries.len(),
+                model.source
+            ));
+        }
+        for (i, e) in entries.into_iter().enumerate() {
+            out[i] = Some(entry(e, i)?);
+        }
+    } else if named == entries.len() {
+        for (k, e) in entries.into_iter().enumerate() {
+            let name = e.name.clone().unwrap_or_default();
+            let i = (model.joints.iter()).position(|j| j.name == name).ok_or_else(|| {
+                let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+                format!(
+                    "joint {} names '{name}', not a moving joint of {} ({})",
+                    k + 1,
+                    model.source,
+                    names.join(", ")
+                )
+            })?;
+            if out[i].is_some() {
+                return Err(format!("'{name}' has two [[joint]] entries"));
+            }
+            out[i] = Some(entry(e, i)?);
+        }
+    } else {
+        return Err("name every [[joint]] or none".into());
+    }
+    Ok(out)
+}
+
+/// One entry as joint i's motor.
+fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
+    let what = |m: &str| format!("J{} ({}): {m}", i + 1, e.name.as_deref().unwrap_or("by order"));
+    let need = |field: Option<f64>, name: &str| field.ok_or_else(|| what(&format!("kind \"{}\" needs {name}", e.kind)));
+    let envelope = match e.kind.as_str() {
+        "dc" => {
+            if e.curve.is_some() {
+                return Err(what("a dc motor has no curve (that is a stepper's)"));
+            }
+            let stall_torque = need(e.stall_torque, "stall_torque")?;
+            Envelope::Dc {
+                stall_torque,
+                no_load_speed: need(e.no_load_speed, "no_load_speed")?,
+                peak_torque: e.peak_torque.unwrap_or(stall_torque),
+            }
+        }
+        "stepper" => {
+            if e.stall_torque.is_some() || e.no_load_speed.is_some() || e.peak_torque.is_some() {
+                return Err(what(
+                    "a stepper has a curve, not stall_torque, no_load_speed or peak_torque",
+                ));
+            }
+            Envelope::Stepper {
+                curve: e.curve.clone().ok_or_else(|| what("kind \"stepper\" needs curve"))?,
+            }
+        }
+        other => return Err(what(&format!("kind \"{other}\" is not \"dc\" or \"stepper\""))),
+    };
+    let motor = Motor {
+        label: e.label.clone().unwrap_or_else(|| e.kind.clone()),
+        envelope,
+        efficiency: e.efficiency.unwrap_or(1.0),
+        continuous_torque: e.continuous_torque,
+    };
+    motor.check().map_err(|m| what(&m))?;
+    for (name, x) in [("gear_ratio", e.gear_ratio), ("rotor_inertia", e.rotor_inertia)] {
+        if let Some(x) = x
+            && !(x.is_finite() && (x > 0.0 || (name == "rotor_inertia" && x == 0.0)))
+        {
+            return Err(what(&format!("{name} {x} must be > 0")));
+        }
+    }
+    Ok(JointMotor {
+        gear_ratio: e.gear_ratio,
+        rotor_inertia: e.rotor_inertia,
+        motor,
+    })
+}
+
+/// Puts the motors on `model`, once: each joint's ratio and rotor from its motor where the
+/// motor gives them (a joint without a motor, or a figure the motor leaves out, keeps the
+/// model's), then the per-joint overrides `gear_ratio` and `rotor_inertia` (> 0; `None` keeps
+/// a joint's; empty: none). Returns the motors' envelopes, one per joint (`None` without
+/// motors).
+pub fn fit(
+    model: &mut Model,
+    motors: Option<Vec<Option<JointMotor>>>,
+    gear_ratio: &[Option<f64>],
+    rotor_inertia: &[Option<f64>],
+) -> Result<Option<Vec<Option<Motor>>>> {
+    let envelopes = motors.map(|motors| {
+        (model.joints.iter_mut().zip(motors))
+            .map(|(joint, m)| {
+                m.map(|m| {
+                    joint.gear_ratio = m.gear_ratio.unwrap_or(joint.gear_ratio);
+                    joint.rotor_inertia = m.rotor_inertia.unwrap_or(joint.rotor_inertia);
+                    m.motor
+                })
+            })
+            .collect()
+    });
+    set_per_joint("gear_ratio", model, gear_ratio, |j| &mut j.gear_ratio)?;
+    set_per_joint("rotor_inertia", model, rotor_inertia, |j| &mut j.rotor_inertia)?;
+    Ok(envelopes)
+}
+
+/// Sets each joint's value that `values` gives (finite, > 0; `None` keeps the model's).
+fn set_per_joint(
+    field: &str,
+    model: &mut Model,
+    values: &[Option<f64>],
+    slot: fn(&mut Joint) -> &mut f64,
+) -> Result<()> {
+    let mut current: Vec<f64> = model.joints.iter_mut().map(|j| *slot(j)).collect();
+    override_per_joint(field, &mut current, values, |v| v.is_finite() && v > 0.0, "> 0")?;
+    for (joint, x) in model.joints.iter_mut().zip(current) {
+        *slot(joint) = x;
+    }
+    Ok(())
+}

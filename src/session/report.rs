@@ -1,0 +1,93 @@
+//! The lines a run prints after its progress: the files it wrote with its speed (`[done]`), and
+//! why it diverged. Options are named as fields (`` `dt` ``), shown by each front end in its
+//! own words.
+
+use super::{Recorders, save_q};
+use crate::config::RunConfig;
+use crate::error::quoted;
+use crate::output::format::number;
+use crate::sim::{Diverged, Scenario, Summary};
+
+/// The `[done]` line: the files written and the run's speed.
+pub fn done_line(outputs: &Recorders, config: &RunConfig, summary: &Summary) -> String {
+    let out = &config.outputs;
+    let mut written = Vec::new();
+    if let (Some(t), Some(path)) = (&outputs.trail, &out.trail) {
+        written.push(format!("trail -> {} ({} rows)", path.display(), t.rows()));
+    }
+    if let Some(path) = &out.summary {
+        written.push(format!("summary -> {}", path.display()));
+    }
+    if let Some(path) = save_q(config) {
+        written.push(format!("joint samples -> {}", path.display()));
+    }
+    if let Some(h) = &outputs.html {
+        written.push(format!("html -> {}", h.path().display()));
+    }
+    if let Some(p) = &outputs.plot {
+        written.push(format!("plot -> {}", p.path().display()));
+    }
+    if let Some(path) = out.plot_motors.as_deref().filter(|_| outputs.motor_plot.is_some()) {
+        written.push(format!("motor plot -> {}", path.display()));
+    }
+    let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
+    let clearance = match summary.clearance_wall_time_s {
+        Some(s) => format!("; self-clearance {s:.3} s of it"),
+        None => String::new(),
+    };
+    written.push(format!(
+        "{} steps in {:.3} s ({:.2} µs/step{clearance})",
+        summary.steps,
+        summary.wall_time_s,
+        per_step * 1e6
+    ));
+    format!("[done] {}", written.join(" · "))
+}
+
+/// How many of the stiffest joints a divergence message names.
+const STIFFEST_NAMED: usize = 3;
+
+/// The line that says where and why `scenario`'s run diverged (`d`).
+pub fn divergence_line(scenario: &Scenario, d: &Diverged) -> String {
+    let joint = scenario.model.joint(d.joint);
+    format!(
+        "diverged at t = {:.4} s on joint {} ({}): {} (the tuning rule keeps b ≤ 0.4: lower `dt` or `kp`); the outputs keep the steps before it",
+        d.t,
+        d.joint,
+        quoted(&joint.name),
+        stiffest_joints(scenario, &d.stiffness_b)
+    )
+}
+
+/// The divergence message's account of the gains, one line on any arm: the coupled figures,
+/// then b = Δt²·kp/I of the [`STIFFEST_NAMED`] largest joints (all of them on a small arm).
+fn stiffest_joints(scenario: &Scenario, b: &[f64]) -> String {
+    let mut order: Vec<usize> = (0..b.len()).collect();
+    order.sort_by(|&x, &y| b[y].total_cmp(&b[x]));
+    let named: Vec<String> = order
+        .iter()
+        .take(STIFFEST_NAMED)
+        .map(|&i| {
+            format!(
+                "J{} ({}) {}",
+                i + 1,
+                quoted(&scenario.model.joints[i].name),
+                number(b[i], 0)
+            )
+        })
+        .collect();
+    let more = if b.len() > STIFFEST_NAMED {
+        format!(" and {} more", b.len() - STIFFEST_NAMED)
+    } else {
+        String::new()
+    };
+    let coupled = match &scenario.controller.gains.stability {
+        Some(s) => format!(
+            "b_max = {}, spectral radius {}; ",
+            number(s.b_max, 0),
+            number(s.spectral_radius, 0)
+        ),
+        None => String::new(),
+    };
+    format!("{coupled}b = Δt²·kp/I largest at {}{more}", named.join(", "))
+}

@@ -1,0 +1,87 @@
+//! What a scenario runs with that the user should know about: the builder returns these as
+//! values instead of printing them.
+
+use std::fmt;
+
+use crate::control::Stability;
+use crate::error::shortest;
+use crate::geometry;
+use crate::model::LoadWarning;
+
+/// Something a scenario runs with that the user should know about; the builder returns these
+/// instead of printing them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Warning {
+    /// The model gives no torque limit for these joints (by name): their torque is not clipped.
+    UnlimitedEffort {
+        /// The model's source (file).
+        source: String,
+        /// The joints without a limit.
+        joints: Vec<String>,
+    },
+    /// The gains make the linearised loop unstable about the start pose (ρ not below 1); the
+    /// run goes ahead.
+    UnstableGains {
+        /// The loop's figures with these gains.
+        stability: Stability,
+        /// Whether the gains were given (`kp`/`kd`) rather than tuned.
+        given: bool,
+    },
+    /// Part of the collision geometry is left out of the clearance (a mesh not found).
+    Clearance(geometry::Warning),
+    /// Reading the model skipped or changed something (a transmission, an inertia).
+    Model(LoadWarning),
+    /// A time-stamped trajectory names none of these joints of the model: each holds a
+    /// position (see [`super::TimedCommand`]).
+    HeldJoints {
+        /// The trajectory's file.
+        source: String,
+        /// The joints and the positions they hold.
+        joints: Vec<crate::traj::HeldJoint>,
+    },
+}
+
+impl Warning {
+    /// Whether the run's result differs from what the input says because of it (a mesh left
+    /// out, a transmission skipped, an inertia balanced): such a warning is printed even under
+    /// `-q`.
+    pub fn changes_result(&self) -> bool {
+        matches!(self, Warning::Clearance(_) | Warning::Model(_))
+    }
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::UnlimitedEffort { source, joints } => write!(
+                f,
+                "{source} gives no effort limit for {}: their torque is not clipped (set `effort`)",
+                joints
+                    .iter()
+                    .map(|j| crate::error::quoted(j))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Warning::UnstableGains { stability: s, given } => write!(
+                f,
+                "warning: with the {} gains the linearised loop's spectral radius is {:.3} (not below 1: unstable about the start pose; b_max = {:.3}, b_kd = {:.3}); running anyway",
+                if *given { "given `kp`/`kd`" } else { "tuned" },
+                s.spectral_radius,
+                s.b_max,
+                s.b_kd
+            ),
+            Warning::Clearance(w) => write!(f, "warning: {w}"),
+            Warning::Model(w) => write!(f, "warning: {w}"),
+            Warning::HeldJoints { source, joints } => write!(
+                f,
+                "warning: {source} gives no values for {}: {} its start position with zero velocity",
+                joints
+                    .iter()
+                    .map(|j| format!("{} ({})", crate::error::quoted(&j.name), shortest(j.position)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if joints.len() == 1 { "it holds" } else { "each holds" }
+            ),
+        }
+    }
+}

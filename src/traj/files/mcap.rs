@@ -1,0 +1,370 @@
+//! `.mcap`: a rosbag2 MCAP file (the default storage since ROS 2 Iron), read with the `mcap`
+//! crate; its messages are plain CDR (`message_encoding` `cdr`: a 4-byte encapsulation header,
+//! `00 01` little-endian or `00 00` big-endian, then the fields in order, each aligned to its
+//! size from the end of the header), decoded with the `cdr-encoding` crate into the structs of
+//! [`super::ros`].
+//!
+//! The topic: `--topic NAME`, else the file's one `trajectory_msgs/msg/JointTrajectory` topic,
+//! else its one `sensor_msgs/msg/JointState` topic (several candidates: an error that lists
+//! them). A JointTrajectory topic gives one message (`--message K`, in log-time order); a
+//! JointState topic is a recorded motion: every message a point, its header stamp the time
+//! (from the first), its positions (and its velocities when every message has them).
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+use std::path::Path;
+
+use byteorder::{BigEndian, LittleEndian};
+use serde::de::DeserializeOwned;
+
+use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JOINT_TRAJECTORY_DEFINITION, JointStateMsg, JointTrajectoryMsg};
+use super::{Selection, invalid, pick};
+use crate::error::{Error, Result, quoted};
+use crate::traj::timed::seconds_from_nanoseconds;
+use crate::traj::{TimedTrajectory, TrajectoryPoint};
+
+/// The topic [`to_bytes`] writes the trajectory on.
+pub const TOPIC: &str = "/joint_trajectory";
+
+/// A topic of the file: its name, type (the schema's name) and message encoding.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Topic {
+    name: String,
+    kind: String,
+    encoding: String,
+}
+
+impl Topic {
+    fn describe(&self) -> String {
+        format!("{} ({})", self.name, self.kind)
+    }
+}
+
+/// The trajectory `selection` picks in an MCAP file's bytes, unchecked.
+pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
+    let bad_mcap = |e: ::mcap::McapError| invalid(path, format!("not a readable MCAP file: {e}"));
+    // every topic with its messages' count; the messages of the JointTrajectory and JointState
+    // topics (small), with their log times
+    let mut topics: BTreeMap<Topic, usize> = BTreeMap::new();
+    let mut candidates: BTreeMap<String, Vec<(u64, Vec<u8>)>> = BTreeMap::new();
+    for message in ::mcap::MessageStream::new(bytes).map_err(bad_mcap)? {
+        let message = message.map_err(bad_mcap)?;
+        let channel = &message.channel;
+        let topic = Topic {
+            name: channel.topic.clone(),
+            kind: channel.schema.as_ref().map_or(String::new(), |s| s.name.clone()),
+            encoding: channel.message_encoding.clone(),
+        };
+        if [JOINT_TRAJECTORY, JOINT_STATE].contains(&topic.kind.as_str()) {
+            (candidates.entry(topic.name.clone()).or_default()).push((message.log_time, message.data.into_owned()));
+        }
+        *topics.entry(topic).or_default() += 1;
+    }
+    let listed = |topics: &mut dyn Iterator<Item = &Topic>| topics.map(Topic::describe).collect::<Vec<_>>().join(", ");
+    let topic = match &selection.topic {
+        Some(name) => topics.keys().find(|t| &t.name == name).cloned().ok_or_else(|| {
+            Error::option(
+                "topic",
+                format!(
+                    "{name}: {} has no such topic (its topics: {})",
+                    path.display(),
+                    listed(&mut topics.keys())
+                ),
+            )
+        })?,
+        None => {
+            let of = |kind: &str| topics.keys().filter(|t| t.kind == kind).cloned().collect::<Vec<_>>();
+            let (trajectories, states) = (of(JOINT_TRAJECTORY), of(JOINT_STATE));
+            let found = if trajectories.is_empty() { states } else { trajectories };
+            match found.as_slice() {
+                [one] => one.clone(),
+                [] => {
+                    return Err(invalid(
+                        path,
+                        format!(
+                            "has no {JOINT_TRAJECTORY} or {JOINT_STATE} topic (its topics: {})",
+                            match topics.is_empty() {
+                                true => "none".to_string(),
+                                false => listed(&mut topics.keys()),
+                            }
+                        ),
+                    ));
+                }
+                several => {
+                    return Err(invalid(
+                        path,
+                        format!(
+                            "has {} candidate topics: {}; pick one with --topic",
+                            several.len(),
+                            listed(&mut several.iter())
+                        ),
+                    ));
+                }
+            }
+        }
+    };
+    if topic.kind != JOINT_TRAJECTORY && topic.kind != JOINT_STATE {
+        return Err(Error::option(
+            "topic",
+            format!(
+                "{} in {} is of type {}; faze4 reads {JOINT_TRAJECTORY} or {JOINT_STATE}",
+                topic.name,
+                path.display(),
+                if topic.kind.is_empty() {
+                    "unknown (no schema)"
+                } else {
+                    &topic.kind
+                }
+            ),
+        ));
+    }
+    if topic.encoding != "cdr" {
+        return Err(invalid(
+            path,
+            format!(
+                "topic {} is encoded as {}; faze4 reads ROS 2's cdr",
+                topic.name,
+                quoted(&topic.encoding)
+            ),
+        ));
+    }
+    let mut messages = candidates.remove(&topic.name).unwrap_or_default();
+    // log-time order (a stable sort keeps the file's order among equal times)
+    messages.sort_by_key(|(log_time, _)| *log_time);
+    if topic.kind == JOINT_TRAJECTORY {
+        let k = pick(messages.len(), selection.message, "messages on the topic", path)?;
+        let msg: JointTrajectoryMsg = decode(&messages[k].1, path, &topic, k)?;
+        return Ok(msg.into_trajectory());
+    }
+    if selection.message.is_some() {
+        return Err(Error::option(
+            "message",
+            format!(
+                "{} is a {JOINT_STATE} topic: its messages together are one recorded motion",
+                topic.name
+            ),
+        ));
+    }
+    let states = (messages.iter().enumerate())
+        .map(|(k, (_, data))| decode::<JointStateMsg>(data, path, &topic, k))
+        .collect::<Result<Vec<_>>>()?;
+    recorded_motion(states, &topic, path)
+}
+
+/// JointState messages as a trajectory: the first message's joints, each later message's
+/// values put in that order; its velocities when every message has them.
+fn recorded_motion(states: Vec<JointStateMsg>, topic: &Topic, path: &Path) -> Result<TimedTrajectory> {
+    let Some(first) = states.first() else {
+        return Err(invalid(path, format!("topic {} has no messages", topic.name)));
+    };
+    let start = first.header.stamp.nanoseconds();
+    let names = first.name.clone();
+    let with_velocity = states.iter().all(|s| !s.velocity.is_empty());
+    let mut points = Vec::with_capacity(states.len());
+    for (k, s) in states.iter().enumerate() {
+        let bad = |what: String| invalid(path, format!("topic {}, message {}: {what}", topic.name, k + 1));
+        if s.position.len() != s.name.len() {
+            return Err(bad(format!(
+                "{} positions for {} joint names",
+                s.position.len(),
+                s.name.len()
+            )));
+        }
+        if with_velocity && s.velocity.len() != s.name.len() {
+            return Err(bad(format!(
+                "{} velocities for {} joint names",
+                s.velocity.len(),
+                s.name.len()
+            )));
+        }
+        let order = (names.iter())
+            .map(|n| s.name.iter().position(|m| m == n))
+            .collect::<Option<Vec<_>>>()
+            .filter(|_| s.name.len() == names.len())
+            .ok_or_else(|| {
+                bad(format!(
+                    "names the joints {:?}; the first message names {names:?}",
+                    s.name
+                ))
+            })?;
+        points.push(TrajectoryPoint {
+            // from the first stamp in whole nanoseconds: an absolute stamp in s would round to 0.2 µs
+            time_from_start: seconds_from_nanoseconds(s.header.stamp.nanoseconds() - start),
+            positions: order.iter().map(|&i| s.position[i]).collect(),
+            velocities: match with_velocity {
+                true => order.iter().map(|&i| s.velocity[i]).collect(),
+                false => Vec::new(),
+            },
+            accelerations: Vec::new(),
+        });
+    }
+    Ok(TimedTrajectory {
+        joint_names: names,
+        points,
+    })
+}
+
+/// A CDR message (encapsulation header, then the fields) of `topic`, its `k`-th (0-based).
+fn decode<T: DeserializeOwned>(data: &[u8], path: &Path, topic: &Topic, k: usize) -> Result<T> {
+    let bad = |what: String| {
+        invalid(
+            path,
+            format!(
+                "topic {}, message {}: not a {} in CDR: {what}",
+                topic.name,
+                k + 1,
+                topic.kind
+            ),
+        )
+    };
+    let (header, body) = data
+        .split_at_checked(4)
+        .ok_or_else(|| bad("shorter than its header".into()))?;
+    let decoded = match header[..2] {
+        [0, 1] => cdr_encoding::from_bytes::<T, LittleEndian>(body),
+        [0, 0] => cdr_encoding::from_bytes::<T, BigEndian>(body),
+        _ => {
+            return Err(bad(format!(
+                "encapsulation {:02x} {:02x} is not plain CDR (00 00 or 00 01)",
+                header[0], header[1]
+            )));
+        }
+    };
+    decoded.map(|(value, _)| value).map_err(|e| bad(e.to_string()))
+}
+
+/// `trajectory` as a rosbag2 MCAP file: profile `ros2`, one schema
+/// (`trajectory_msgs/msg/JointTrajectory`, encoding `ros2msg`), one channel on [`TOPIC`]
+/// (`cdr`), one message at log time 0 (header stamp 0, times in whole nanoseconds), zstd chunks.
+pub fn to_bytes(trajectory: &TimedTrajectory, path: &Path) -> Result<Vec<u8>> {
+    let bad = |e: ::mcap::McapError| invalid(path, format!("writing MCAP: {e}"));
+    let msg = JointTrajectoryMsg::of(trajectory)
+        .ok_or_else(|| invalid(path, "a time is beyond the ±68 years a ROS Duration holds"))?;
+    let mut data = vec![0u8, 1, 0, 0];
+    data.extend(cdr_encoding::to_vec::<_, LittleEndian>(&msg).map_err(|e| invalid(path, format!("CDR: {e}")))?);
+    let mut writer = ::mcap::WriteOptions::new()
+        .profile("ros2")
+        .create(Cursor::new(Vec::new()))
+        .map_err(bad)?;
+    let schema =
+        (writer.add_schema(JOINT_TRAJECTORY, "ros2msg", JOINT_TRAJECTORY_DEFINITION.as_bytes())).map_err(bad)?;
+    let channel = writer
+        .add_channel(schema, TOPIC, "cdr", &BTreeMap::new())
+        .map_err(bad)?;
+    let header = ::mcap::records::MessageHeader {
+        channel_id: channel,
+        sequence: 0,
+        log_time: 0,
+        publish_time: 0,
+    };
+    writer.write_to_known_channel(&header, &data).map_err(bad)?;
+    writer.finish().map_err(bad)?;
+    Ok(writer.into_inner().into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::traj::files::ros::{Header, RosTime};
+
+    /// An MCAP file with the given topics, each `(topic, type, messages' CDR bodies)`.
+    fn bag(topics: &[(&str, &str, Vec<Vec<u8>>)]) -> Vec<u8> {
+        let mut w = ::mcap::WriteOptions::new()
+            .profile("ros2")
+            .create(Cursor::new(Vec::new()))
+            .unwrap();
+        for (topic, kind, messages) in topics {
+            let schema = w.add_schema(kind, "ros2msg", b"").unwrap();
+            let channel = w.add_channel(schema, topic, "cdr", &BTreeMap::new()).unwrap();
+            for (k, body) in messages.iter().enumerate() {
+                let mut data = vec![0u8, 1, 0, 0];
+                data.extend(body);
+                let header = ::mcap::records::MessageHeader {
+                    channel_id: channel,
+                    sequence: k as u32,
+                    log_time: k as u64,
+                    publish_time: k as u64,
+                };
+                w.write_to_known_channel(&header, &data).unwrap();
+            }
+        }
+        w.finish().unwrap();
+        w.into_inner().into_inner()
+    }
+
+    fn state(sec: i32, nanosec: u32, names: &[&str], q: &[f64], v: &[f64]) -> Vec<u8> {
+        let msg = JointStateMsg {
+            header: Header {
+                stamp: RosTime { sec, nanosec },
+                frame_id: String::new(),
+            },
+            name: names.iter().map(|s| s.to_string()).collect(),
+            position: q.to_vec(),
+            velocity: v.to_vec(),
+            effort: Vec::new(),
+        };
+        cdr_encoding::to_vec::<_, LittleEndian>(&msg).unwrap()
+    }
+
+    fn read(bytes: &[u8], topic: Option<&str>) -> Result<TimedTrajectory> {
+        let selection = Selection {
+            topic: topic.map(String::from),
+            message: None,
+        };
+        parse(bytes, &selection, Path::new("b.mcap"))
+    }
+
+    #[test]
+    fn joint_states_are_a_recorded_motion() {
+        let states = vec![
+            state(1_700_000_000, 999_000_000, &["a", "b"], &[1.0, 2.0], &[0.5, 0.25]),
+            state(1_700_000_001, 1_000_000, &["b", "a"], &[4.0, 3.0], &[0.0, 0.125]),
+        ];
+        let t = read(&bag(&[("/joint_states", JOINT_STATE, states)]), None).unwrap();
+        assert_eq!(t.joint_names, ["a", "b"]);
+        assert_eq!(t.points[1].time_from_start, 0.002);
+        assert_eq!(t.points[1].positions, [3.0, 4.0]);
+        assert_eq!(t.points[1].velocities, [0.125, 0.0]);
+    }
+
+    #[test]
+    fn topics_are_picked_or_listed() {
+        let s = || vec![state(0, 0, &["a"], &[1.0], &[])];
+        let two = bag(&[
+            ("/left", JOINT_STATE, s()),
+            ("/right", JOINT_STATE, s()),
+            ("/chatter", "std_msgs/msg/String", vec![vec![1, 0, 0, 0, 0]]),
+        ]);
+        let e = read(&two, None).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState), /right (sensor_msgs/msg/JointState); pick one with --topic"
+        );
+        assert_eq!(read(&two, Some("/right")).unwrap().joint_names, ["a"]);
+        let e = read(&two, Some("/chatter")).unwrap_err().to_string();
+        assert!(
+            e.starts_with("`topic`: /chatter in b.mcap is of type std_msgs/msg/String"),
+            "{e}"
+        );
+        let e = read(&two, Some("/nope")).unwrap_err().to_string();
+        assert!(
+            e.contains("no such topic (its topics: /chatter (std_msgs/msg/String), /left"),
+            "{e}"
+        );
+        let none = bag(&[("/chatter", "std_msgs/msg/String", vec![vec![1, 0, 0, 0, 0]])]);
+        assert!(
+            read(&none, None)
+                .unwrap_err()
+                .to_string()
+                .contains("has no trajectory_msgs/msg/JointTrajectory or sensor_msgs/msg/JointState topic")
+        );
+        let e = read(b"not an mcap", None).unwrap_err().to_string();
+        assert!(e.starts_with("b.mcap: not a readable MCAP file"), "{e}");
+        let broken = bag(&[("/j", JOINT_TRAJECTORY, vec![vec![7, 0, 0, 0]])]);
+        let e = read(&broken, None).unwrap_err().to_string();
+        assert!(
+            e.starts_with("b.mcap: topic /j, message 1: not a trajectory_msgs/msg/JointTrajectory in CDR"),
+            "{e}"
+        );
+    }
+}

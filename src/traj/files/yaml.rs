@@ -1,0 +1,214 @@
+//! `.yaml`/`.yml`: `trajectory_msgs/msg/JointTrajectory` messages as `ros2 topic echo` prints
+//! them (PyYAML's block style, each message followed by a line `---`), read with serde_norway.
+//! `time_from_start` is `{sec, nanosec}` or a number of seconds; `header` and `effort` are
+//! ignored.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::ros::{JointTrajectoryMsg, LooseJointTrajectory};
+use super::{invalid, pick};
+use crate::error::Result;
+use crate::traj::TimedTrajectory;
+
+/// The `message`-th (from 1; `None`: the first) JointTrajectory of a YAML text (documents
+/// separated by `---`; empty documents are skipped), unchecked.
+pub fn parse(text: &str, message: Option<usize>, path: &Path) -> Result<TimedTrajectory> {
+    let mut messages = Vec::new();
+    for (d, document) in serde_norway::Deserializer::from_str(text).enumerate() {
+        let parsed = Option::<LooseJointTrajectory>::deserialize(document).map_err(|e| {
+            invalid(
+                path,
+                format!("document {} is not a trajectory_msgs/msg/JointTrajectory: {e}", d + 1),
+            )
+        })?;
+        messages.extend(parsed);
+    }
+    let k = pick(messages.len(), message, "JointTrajectory messages", path)?;
+    Ok(messages.swap_remove(k).into_trajectory())
+}
+
+/// `trajectory` as one JointTrajectory message the way `ros2 topic echo` prints it (header
+/// stamp 0, empty efforts, times in whole nanoseconds), followed by `---`. Floats are written
+/// with the fewest digits that read back to the same `f64`, always with a `.` and a signed
+/// exponent (`1.0e-20`), so that PyYAML (YAML 1.1) reads them as floats too.
+pub fn to_string(trajectory: &TimedTrajectory, path: &Path) -> Result<String> {
+    let msg = JointTrajectoryMsg::of(trajectory)
+        .ok_or_else(|| invalid(path, "a time is beyond the ±68 years a ROS Duration holds"))?;
+    let mut out = String::new();
+    let o = &mut out;
+    let _ = write!(
+        o,
+        "header:\n  stamp:\n    sec: {}\n    nanosec: {}\n  frame_id: ''\n",
+        msg.header.stamp.sec, msg.header.stamp.nanosec
+    );
+    o.push_str("joint_names:");
+    list(o, "", msg.joint_names.iter().map(|n| name(n)));
+    o.push_str("points:");
+    if msg.points.is_empty() {
+        o.push_str(" []\n");
+    } else {
+        o.push('\n');
+    }
+    for p in &msg.points {
+        for (i, (key, values)) in [
+            ("positions", &p.positions),
+            ("velocities", &p.velocities),
+            ("accelerations", &p.accelerations),
+            ("effort", &p.effort),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            o.push_str(if i == 0 { "- " } else { "  " });
+            o.push_str(key);
+            o.push(':');
+            list(o, "  ", values.iter().map(|&x| float(x)));
+        }
+        let _ = write!(
+            o,
+            "  time_from_start:\n    sec: {}\n    nanosec: {}\n",
+            p.time_from_start.sec, p.time_from_start.nanosec
+        );
+    }
+    o.push_str("---\n");
+    Ok(out)
+}
+
+/// A block sequence after its key (`key:` already written): ` []` when empty, else one
+/// `indent- item` line per item.
+fn list(out: &mut String, indent: &str, items: impl ExactSizeIterator<Item = String>) {
+    if items.len() == 0 {
+        out.push_str(" []\n");
+        return;
+    }
+    out.push('\n');
+    for item in items {
+        let _ = writeln!(out, "{indent}- {item}");
+    }
+}
+
+/// `x` as PyYAML writes a float: the shortest decimal that reads back to `x`, with a `.` in
+/// the mantissa and a sign on the exponent.
+fn float(x: f64) -> String {
+    if !x.is_finite() {
+        return match x {
+            _ if x.is_nan() => ".nan".into(),
+            _ if x > 0.0 => ".inf".into(),
+            _ => "-.inf".into(),
+        };
+    }
+    let text = ryu::Buffer::new().format_finite(x).to_string();
+    let Some((mantissa, exponent)) = text.split_once('e') else {
+        return text;
+    };
+    let dot = if mantissa.contains('.') { "" } else { ".0" };
+    let sign = if exponent.starts_with('-') { "" } else { "+" };
+    format!("{mantissa}{dot}e{sign}{exponent}")
+}
+
+/// A joint name as a YAML scalar: plain where it reads back as the same string (letters,
+/// digits, `_`, `/`, `.`, `-`, not starting with a digit, `.` or `-`, not a YAML 1.1 keyword),
+/// else double-quoted with JSON's escapes (valid YAML).
+fn name(name: &str) -> String {
+    const KEYWORDS: [&str; 11] = ["y", "n", "yes", "no", "true", "false", "on", "off", "null", "~", ""];
+    let plain = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_' || c == '/')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || "_/.-".contains(c))
+        && !KEYWORDS.contains(&name.to_ascii_lowercase().as_str());
+    match plain {
+        true => name.to_string(),
+        false => serde_json::to_string(name).unwrap_or_default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_as_pyyaml_writes_them() {
+        assert_eq!(float(1e-20), "1.0e-20");
+        assert_eq!(float(1.5e300), "1.5e+300");
+        assert_eq!(float(-0.0), "-0.0");
+        assert_eq!(float(0.25), "0.25");
+        for x in [1e-310, 123_456_789.123_456_79, -1.0 / 3.0, 2.5e-17, 1e16, 5e-324] {
+            assert_eq!(float(x).parse::<f64>().unwrap().to_bits(), x.to_bits());
+        }
+    }
+
+    #[test]
+    fn names_are_quoted_where_yaml_would_read_something_else() {
+        assert_eq!(name("shoulder_pan_joint"), "shoulder_pan_joint");
+        assert_eq!(name("yes"), "\"yes\"");
+        assert_eq!(name("1"), "\"1\"");
+        assert_eq!(name("a: b"), "\"a: b\"");
+    }
+
+    /// What `ros2 topic echo /joint_trajectory` prints (Humble; two messages, the second one
+    /// without velocities), and a message with times in seconds.
+    const ECHOED: &str = "header:
+  stamp:
+    sec: 0
+    nanosec: 0
+  frame_id: ''
+joint_names:
+- shoulder_pan_joint
+- elbow_joint
+points:
+- positions:
+  - 0.0
+  - -1.57
+  velocities:
+  - 0.0
+  - 0.0
+  accelerations: []
+  effort: []
+  time_from_start:
+    sec: 0
+    nanosec: 0
+- positions:
+  - 0.5
+  - -1.2
+  velocities:
+  - 0.1
+  - 0.2
+  accelerations: []
+  effort: []
+  time_from_start:
+    sec: 1
+    nanosec: 500000000
+---
+joint_names: [elbow_joint, shoulder_pan_joint]
+points:
+- {positions: [1, 2], time_from_start: 0.25}
+- {positions: [3, 4], time_from_start: 0.75}
+---
+";
+
+    #[test]
+    fn reads_what_ros2_topic_echo_prints() {
+        let path = Path::new("echo.yaml");
+        let t = parse(ECHOED, None, path).unwrap();
+        assert_eq!(t.joint_names, ["shoulder_pan_joint", "elbow_joint"]);
+        assert_eq!(t.points[1].time_from_start, 1.5);
+        assert_eq!(t.points[1].positions, [0.5, -1.2]);
+        assert_eq!(t.points[1].velocities, [0.1, 0.2]);
+        let second = parse(ECHOED, Some(2), path).unwrap();
+        assert_eq!(second.points[1].positions, [3.0, 4.0]);
+        assert_eq!(second.points[1].time_from_start, 0.75);
+        let e = parse(ECHOED, Some(3), path).unwrap_err().to_string();
+        assert_eq!(e, "`message`: 3: echo.yaml holds 2 JointTrajectory messages");
+        let e = parse("joint_names: [a]\npoints: 3\n", None, path)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("echo.yaml: document 1 is not a trajectory_msgs/msg/JointTrajectory"),
+            "{e}"
+        );
+    }
+}

@@ -1,0 +1,392 @@
+#!/usr/bin/env python3
+"""Fixtures for time-stamped trajectories (issue 31, docs/trajectories.md): trajectories made by
+TOPP-RA (`toppra`) on example-robot-data's UR5 and by Ruckig (`ruckig`) on its SO-101, saved as
+ROS 2 tools save them (YAML as `ros2 topic echo` prints it, JSON, rosbag2 MCAP written with
+`mcap` + `mcap-ros2-support`, CSV), played by the faze4 binary and by a Pinocchio closed loop
+with the same interpolation (pin_closed_loop.spline_command: joint_trajectory_controller's
+linear / cubic / quintic Hermite rule) and faze4's gains, for both feed-forwards.
+
+Run from the repository root with the oracle venv, after `cargo build --example convert_trajectory`
+(and `cargo build`):
+
+    tools/oracle/.venv/bin/python tools/oracle/trajectory_fixtures.py [--faze4 target/debug/faze4]
+
+Writes:
+
+* tests/fixtures/trajectories/ur5_toppra.{yaml,json,mcap,csv}, so101_ruckig.{csv,mcap}: the
+  input files (the YAML holds two messages: positions only, then positions, velocities and
+  accelerations; the SO-101 MCAP holds a JointTrajectory topic and a recorded JointState
+  topic, stamps at an epoch time, joints in another order, the gripper too);
+  bad_topics.mcap: two JointState topics and a std_msgs/msg/String one (the refusals);
+* tests/fixtures/trajectory_<case>.json: per case, faze4's arguments, the interpolation and
+  feed-forward it must report, and Pinocchio's trail (t, tool x y z, q1..qn);
+* tests/fixtures/trajectories/written/ur5_toppra.{yaml,json,mcap,csv}: the quintic UR5
+  trajectory as faze4 writes it (examples/convert_trajectory.rs from the MCAP), each read back
+  here with PyYAML, json, csv and mcap_ros2's reader (the rosbag2 profile, the ros2msg schema)
+  and checked equal to the trajectory to the last bit; tests/trajectories.rs checks that faze4
+  still writes those bytes.
+
+Times are whole nanoseconds (as ROS stores them) from the start: t = ns / 1e9. The URDFs are the
+copies in tests/urdf/example_robot_data/ (see its README.md); the runs use --no-collisions.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+import pinocchio as pin
+import ruckig
+import toppra
+import toppra.algorithm
+import toppra.constraint
+import yaml
+from mcap.reader import make_reader
+from mcap_ros2.reader import read_ros2_messages
+from mcap_ros2.writer import Writer
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools/oracle"))
+import pin_closed_loop as pcl  # noqa: E402
+
+FIXTURES = os.path.join(ROOT, "tests/fixtures")
+FILES = os.path.join(FIXTURES, "trajectories")
+UR5 = "tests/urdf/example_robot_data/ur5_robot.urdf"
+SO101 = "tests/urdf/example_robot_data/so101.urdf"
+TOL = 1e-9
+
+SEPARATOR = "=" * 80
+TIME = "int32 sec\nuint32 nanosec\n"
+HEADER = f"builtin_interfaces/Time stamp\nstring frame_id\n{SEPARATOR}\nMSG: builtin_interfaces/Time\n{TIME}"
+JOINT_TRAJECTORY = (
+    "std_msgs/Header header\nstring[] joint_names\nJointTrajectoryPoint[] points\n"
+    f"{SEPARATOR}\nMSG: std_msgs/Header\n{HEADER}"
+    f"{SEPARATOR}\nMSG: trajectory_msgs/JointTrajectoryPoint\n"
+    "float64[] positions\nfloat64[] velocities\nfloat64[] accelerations\nfloat64[] effort\n"
+    "builtin_interfaces/Duration time_from_start\n"
+    f"{SEPARATOR}\nMSG: builtin_interfaces/Duration\n{TIME}")
+JOINT_STATE = (
+    "std_msgs/Header header\nstring[] name\nfloat64[] position\nfloat64[] velocity\nfloat64[] effort\n"
+    f"{SEPARATOR}\nMSG: std_msgs/Header\n{HEADER}")
+STRING = "string data\n"
+
+
+# --------------------------------------------------------------------------------------------
+# The trajectories.
+# --------------------------------------------------------------------------------------------
+
+class Plan:
+    """A sampled trajectory: joint names, times (whole ns), positions, velocities, accelerations."""
+
+    def __init__(self, names, ns, q, v, a):
+        self.names, self.ns = list(names), [int(x) for x in ns]
+        self.q, self.v, self.a = np.asarray(q), np.asarray(v), np.asarray(a)
+
+    @property
+    def t(self):
+        return [n / 1e9 for n in self.ns]
+
+
+def uneven_times(duration, seed, low, high):
+    """Whole-nanosecond times from 0 to `duration` with seeded uneven steps in [low, high] s."""
+    rng = np.random.default_rng(seed)
+    end = int(round(duration * 1e9))
+    ns = [0]
+    while True:
+        step = int(round(rng.uniform(low, high) * 1e9))
+        if ns[-1] + step >= end - int(low * 1e9) // 2:
+            break
+        ns.append(ns[-1] + step)
+    return ns + [end]
+
+
+def toppra_ur5():
+    """TOPP-RA through four joint-space waypoints of the UR5 (|v| ≤ 1.5 rad/s, |a| ≤ 3 rad/s²),
+    sampled at uneven times as a planner's points are."""
+    toppra.setup_logging("WARNING")
+    names = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+             "wrist_3_joint"]
+    way = np.array([[0.0, -1.2, 1.0, -1.4, -1.57, 0.0], [0.6, -1.5, 1.4, -1.2, -1.3, 0.4],
+                    [1.1, -1.0, 0.8, -1.6, -1.0, 0.9], [0.4, -0.8, 0.5, -1.3, -1.57, 0.2]])
+    path = toppra.SplineInterpolator(np.linspace(0.0, 1.0, len(way)), way)
+    vlim = np.array([[-1.5, 1.5]] * 6)
+    alim = np.array([[-3.0, 3.0]] * 6)
+    instance = toppra.algorithm.TOPPRA(
+        [toppra.constraint.JointVelocityConstraint(vlim), toppra.constraint.JointAccelerationConstraint(alim)],
+        path, parametrizer="ParametrizeConstAccel")
+    trajectory = instance.compute_trajectory()
+    ns = uneven_times(trajectory.duration, 31, 0.05, 0.2)
+    ts = np.array([n / 1e9 for n in ns])
+    return Plan(names, ns, trajectory(ts), trajectory(ts, 1), trajectory(ts, 2))
+
+
+def ruckig_so101():
+    """Ruckig (jerk-limited) on the SO-101's five arm joints: rest → a pose passed through at
+    speed → rest at another pose; sampled at uneven times. The gripper is not named."""
+    names = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll"]
+    legs = [([0.0, 0.0, 0.0, 0.0, 0.0], [0.0] * 5, [0.5, -0.4, 0.6, 0.3, -0.8], [0.3, 0.0, -0.2, 0.2, 0.0]),
+            ([0.5, -0.4, 0.6, 0.3, -0.8], [0.3, 0.0, -0.2, 0.2, 0.0], [1.0, 0.3, -0.2, -0.5, 0.4], [0.0] * 5)]
+    pieces = []
+    for start, v0, goal, v1 in legs:
+        otg, inp, out = ruckig.Ruckig(5), ruckig.InputParameter(5), ruckig.Trajectory(5)
+        inp.current_position, inp.current_velocity, inp.current_acceleration = start, v0, [0.0] * 5
+        inp.target_position, inp.target_velocity, inp.target_acceleration = goal, v1, [0.0] * 5
+        inp.max_velocity, inp.max_acceleration, inp.max_jerk = [2.0] * 5, [6.0] * 5, [40.0] * 5
+        assert otg.calculate(inp, out) in (ruckig.Result.Working, ruckig.Result.Finished)
+        pieces.append(out)
+    total = sum(p.duration for p in pieces)
+    ns = uneven_times(total, 101, 0.04, 0.12)
+
+    def at(t):
+        for p in pieces:
+            if t <= p.duration:
+                return p.at_time(t)
+            t -= p.duration
+        return pieces[-1].at_time(pieces[-1].duration)
+
+    samples = [at(n / 1e9) for n in ns]
+    return Plan(names, ns, [s[0] for s in samples], [s[1] for s in samples], [s[2] for s in samples])
+
+
+# --------------------------------------------------------------------------------------------
+# The files, as ROS 2 tools write them.
+# --------------------------------------------------------------------------------------------
+
+def message(plan, level, order=None):
+    """A JointTrajectory dict: positions, + velocities (level >= 2), + accelerations (3)."""
+    order = list(range(len(plan.names))) if order is None else order
+    points = []
+    for k, n in enumerate(plan.ns):
+        points.append({
+            "positions": [float(plan.q[k][i]) for i in order],
+            "velocities": [float(plan.v[k][i]) for i in order] if level >= 2 else [],
+            "accelerations": [float(plan.a[k][i]) for i in order] if level >= 3 else [],
+            "effort": [],
+            "time_from_start": {"sec": n // 10**9, "nanosec": n % 10**9},
+        })
+    return {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
+            "joint_names": [plan.names[i] for i in order], "points": points}
+
+
+def echo_yaml(messages):
+    """Messages as `ros2 topic echo` prints them (rosidl_runtime_py's message_to_yaml: PyYAML
+    block style, insertion order, each message followed by ---)."""
+    return "".join(yaml.dump(m, default_flow_style=False, sort_keys=False, width=sys.maxsize) + "---\n"
+                   for m in messages)
+
+
+def write_csv(path, plan, level, order):
+    columns = ["time_from_start"] + [plan.names[i] for i in order]
+    rows_of = [plan.q]
+    if level >= 2:
+        columns += [plan.names[i] + ".velocity" for i in order]
+        rows_of.append(plan.v)
+    if level >= 3:
+        columns += [plan.names[i] + ".acceleration" for i in order]
+        rows_of.append(plan.a)
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(columns)
+        for k, t in enumerate(plan.t):
+            w.writerow([repr(t)] + [repr(float(x[k][i])) for x in rows_of for i in order])
+
+
+def write_mcap(path, topics):
+    """A rosbag2 MCAP: topics = [(name, type, msgdef, [(log_time_ns, message dict)])]."""
+    with open(path, "wb") as f:
+        writer = Writer(f)
+        for name, kind, definition, messages in topics:
+            schema = writer.register_msgdef(kind, definition)
+            for log_time, msg in messages:
+                writer.write_message(name, schema, msg, log_time=log_time, publish_time=log_time)
+        writer.finish()
+
+
+def joint_states(plan, hold, epoch_ns):
+    """The plan as a recorded /joint_states: every joint (the held ones too), in reverse order,
+    header stamps from `epoch_ns`, positions and velocities."""
+    names = list(reversed(plan.names + list(hold)))
+    out = []
+    for k, n in enumerate(plan.ns):
+        q = dict(zip(plan.names, plan.q[k]))
+        v = dict(zip(plan.names, plan.v[k]))
+        q.update(hold)
+        stamp = epoch_ns + n
+        out.append((stamp, {"header": {"stamp": {"sec": stamp // 10**9, "nanosec": stamp % 10**9}, "frame_id": ""},
+                            "name": names, "position": [float(q[j]) for j in names],
+                            "velocity": [float(v.get(j, 0.0)) for j in names], "effort": []}))
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# The runs.
+# --------------------------------------------------------------------------------------------
+
+def model_order(urdf_path, plan, level):
+    """(names of faze4's coordinates, times, q, v, a) in faze4's order, the joints the plan does
+    not name held at 0 clamped into their limits, as faze4's TimedCommand does."""
+    arm = pcl.UrdfArm(os.path.join(ROOT, urdf_path), mimic=True)
+    n, rows = len(arm.coords), len(plan.ns)
+    q, v, a = np.zeros((rows, n)), np.zeros((rows, n)), np.zeros((rows, n))
+    for i, j in enumerate(arm.coords):
+        if j.name in plan.names:
+            c = plan.names.index(j.name)
+            q[:, i], v[:, i], a[:, i] = plan.q[:, c], plan.v[:, c], plan.a[:, c]
+        else:
+            q[:, i] = min(max(0.0, j.lower), j.upper)
+    return plan.t, q, (v if level >= 2 else None), (a if level >= 3 else None)
+
+
+def run_case(faze4, case):
+    """faze4 (for its gains), then Pinocchio's loop with them; the fixture."""
+    name, urdf, input_file, extra, plan, level, ff = case
+    args = ["replay", "--urdf", urdf, "--q-traj", input_file, "--no-collisions"] + extra
+    if ff == "full":
+        args += ["--ff", "full"]
+    with tempfile.TemporaryDirectory() as tmp:
+        summary_path = os.path.join(tmp, "s.json")
+        subprocess.run([faze4] + args + ["-q", "--trail", "none", "--summary", summary_path],
+                       cwd=ROOT, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        summary = json.load(open(summary_path))
+    arm = pcl.PinArm(os.path.join(ROOT, urdf), mimic=True)
+    t, q, v, a = model_order(urdf, plan, level)
+    command = pcl.spline_command(t, q, v, a)
+    effort = [math.inf if e is None else e for e in summary["effort"]]
+    duration = command.duration
+    pin_summary, trail = pcl.run_closed_loop(
+        arm, command, summary["kp"], summary["kd"], effort, duration=duration, dt=summary["dt"],
+        feed_forward=ff, tool=summary["tool_link"], verbose=False)
+    assert summary["steps"] == pin_summary["steps"], (summary["steps"], pin_summary["steps"])
+    return {
+        "generator": "tools/oracle/trajectory_fixtures.py",
+        "pinocchio_version": pin.__version__,
+        "faze4_args": args,
+        "interpolation": command.kind,
+        "feed_forward": ff,
+        "max_tracking_error_rad": pin_summary["max_tracking_error_rad"],
+        "trail": {"columns": pcl.trail_columns(pin_summary["dof"]), "rows": trail.tolist()},
+    }
+
+
+# --------------------------------------------------------------------------------------------
+# What faze4 writes, read by the ROS 2 readers.
+# --------------------------------------------------------------------------------------------
+
+def check_written(convert, plan):
+    """faze4 converts the quintic UR5 MCAP into every format; each is read back here and must
+    hold the plan exactly (names, whole-ns times, every float to the last bit)."""
+    out = os.path.join(FILES, "written")
+    os.makedirs(out, exist_ok=True)
+    want = message(plan, 3)
+
+    def same(got, what):
+        assert got["joint_names"] == want["joint_names"], what
+        assert len(got["points"]) == len(want["points"]), what
+        for p, w in zip(got["points"], want["points"]):
+            for key in ("positions", "velocities", "accelerations", "time_from_start"):
+                assert p[key] == w[key], f"{what}: {key} {p[key]} != {w[key]}"
+
+    for ext in ("yaml", "json", "mcap", "csv"):
+        path = os.path.join(out, f"ur5_toppra.{ext}")
+        subprocess.run([convert, os.path.join(FILES, "ur5_toppra.mcap"), path], cwd=ROOT, check=True)
+        if ext == "yaml":
+            docs = [d for d in yaml.safe_load_all(open(path)) if d is not None]
+            assert len(docs) == 1
+            same(docs[0], "PyYAML")
+        elif ext == "json":
+            same(json.load(open(path)), "json")
+        elif ext == "csv":
+            rows = list(csv.reader(open(path)))
+            names = want["joint_names"]
+            assert rows[0] == ["time_from_start"] + names + [j + ".velocity" for j in names] + \
+                [j + ".acceleration" for j in names], rows[0]
+            got = {"joint_names": names, "points": []}
+            for r in rows[1:]:
+                x = [float(s) for s in r]
+                n = len(names)
+                ns = int(round(x[0] * 1e9))
+                assert ns / 1e9 == x[0]
+                got["points"].append({"positions": x[1:1 + n], "velocities": x[1 + n:1 + 2 * n],
+                                      "accelerations": x[1 + 2 * n:], "time_from_start":
+                                      {"sec": ns // 10**9, "nanosec": ns % 10**9}})
+            same(got, "csv")
+        else:
+            with open(path, "rb") as f:
+                reader = make_reader(f)
+                assert reader.get_header().profile == "ros2"
+                summary = reader.get_summary()
+                (schema,) = summary.schemas.values()
+                (channel,) = summary.channels.values()
+                assert (schema.name, schema.encoding) == ("trajectory_msgs/msg/JointTrajectory", "ros2msg")
+                assert channel.message_encoding == "cdr"
+            (msg,) = list(read_ros2_messages(path))
+            m = msg.ros_msg
+            got = {"joint_names": list(m.joint_names), "points": [
+                {"positions": list(p.positions), "velocities": list(p.velocities),
+                 "accelerations": list(p.accelerations),
+                 "time_from_start": {"sec": p.time_from_start.sec, "nanosec": p.time_from_start.nanosec}}
+                for p in m.points]}
+            same(got, "mcap_ros2")
+        print(f"{os.path.relpath(path, ROOT)}: read back exactly ({ext})")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--faze4", default=os.path.join(ROOT, "target/debug/faze4"))
+    ap.add_argument("--convert", default=os.path.join(ROOT, "target/debug/examples/convert_trajectory"))
+    args = ap.parse_args()
+    os.makedirs(FILES, exist_ok=True)
+    ur5, so101 = toppra_ur5(), ruckig_so101()
+    rel = lambda name: f"tests/fixtures/trajectories/{name}"  # noqa: E731
+    shuffled = [2, 0, 5, 1, 4, 3]
+
+    with open(os.path.join(FILES, "ur5_toppra.yaml"), "w") as f:
+        f.write(echo_yaml([message(ur5, 1), message(ur5, 3)]))
+    with open(os.path.join(FILES, "ur5_toppra.json"), "w") as f:
+        json.dump(message(ur5, 2, shuffled), f, indent=1)
+    write_mcap(os.path.join(FILES, "ur5_toppra.mcap"),
+               [("/scaled_joint_trajectory_controller/joint_trajectory", "trajectory_msgs/msg/JointTrajectory",
+                 JOINT_TRAJECTORY, [(0, message(ur5, 3))])])
+    write_csv(os.path.join(FILES, "ur5_toppra.csv"), ur5, 1, shuffled)
+    write_csv(os.path.join(FILES, "so101_ruckig.csv"), so101, 2, [3, 1, 4, 0, 2])
+    epoch = 1_767_225_600_123_456_789
+    write_mcap(os.path.join(FILES, "so101_ruckig.mcap"), [
+        ("/arm_controller/joint_trajectory", "trajectory_msgs/msg/JointTrajectory", JOINT_TRAJECTORY,
+         [(epoch, message(so101, 3))]),
+        ("/joint_states", "sensor_msgs/msg/JointState", JOINT_STATE, joint_states(so101, {"gripper": 0.0}, epoch)),
+    ])
+    states = joint_states(so101, {"gripper": 0.0}, epoch)
+    write_mcap(os.path.join(FILES, "bad_topics.mcap"), [
+        ("/chatter", "std_msgs/msg/String", STRING, [(epoch, {"data": "hello"})]),
+        ("/left_arm/joint_states", "sensor_msgs/msg/JointState", JOINT_STATE, states[:3]),
+        ("/right_arm/joint_states", "sensor_msgs/msg/JointState", JOINT_STATE, states[:3]),
+    ])
+
+    # name, URDF, input, options, plan, level (1 linear, 2 cubic, 3 quintic), feed-forward
+    cases = [
+        ("ur5_yaml_linear_full", UR5, rel("ur5_toppra.yaml"), [], ur5, 1, "full"),
+        ("ur5_yaml_quintic_gravity", UR5, rel("ur5_toppra.yaml"), ["--message", "2"], ur5, 3, "gravity"),
+        ("ur5_json_cubic_gravity", UR5, rel("ur5_toppra.json"), [], ur5, 2, "gravity"),
+        ("ur5_mcap_quintic_full", UR5, rel("ur5_toppra.mcap"), [], ur5, 3, "full"),
+        ("ur5_csv_linear_gravity", UR5, rel("ur5_toppra.csv"), [], ur5, 1, "gravity"),
+        ("so101_csv_cubic_full", SO101, rel("so101_ruckig.csv"), [], so101, 2, "full"),
+        ("so101_mcap_quintic_gravity", SO101, rel("so101_ruckig.mcap"), [], so101, 3, "gravity"),
+        ("so101_mcap_joint_states_cubic_full", SO101, rel("so101_ruckig.mcap"), ["--topic", "/joint_states"],
+         so101, 2, "full"),
+    ]
+    for case in cases:
+        fixture = run_case(args.faze4, case)
+        out = os.path.join(FIXTURES, f"trajectory_{case[0]}.json")
+        with open(out, "w") as f:
+            json.dump(fixture, f)
+        print(f"{os.path.relpath(out, ROOT)}: {len(fixture['trail']['rows'])} rows, {fixture['interpolation']}, "
+              f"ff {fixture['feed_forward']}")
+    check_written(args.convert, ur5)
+
+
+if __name__ == "__main__":
+    main()
