@@ -12,6 +12,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use faze4::config::motors::fit;
 use faze4::model::{PackagePaths, urdf};
 use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
 use faze4::sim::Scenario;
@@ -63,9 +64,14 @@ fn main() -> faze4::Result<()> {
     for _ in 0..repeat {
         let started = Instant::now();
         let spline = PathSpline::through(&points)?;
-        let mut base = Scenario::builder(model.clone(), hold(&spline));
-        if motors {
-            base = base.motors(faze4::faze4::motors::faze4(None));
+        let mut motored = model.clone();
+        let fitted = match motors {
+            true => fit(&mut motored, Some(faze4::faze4::motors::faze4(None)), &[], &[])?,
+            false => None,
+        };
+        let mut base = Scenario::builder(motored, hold(&spline));
+        if let Some(fitted) = fitted {
+            base = base.motors(fitted);
         }
         if let Some(v) = max_speed {
             base = base.max_speed(vec![Some(v); dof]);

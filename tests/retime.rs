@@ -17,8 +17,11 @@ fn circle() -> PathSpline {
     PathSpline::through(&points).unwrap()
 }
 
+/// `model` behind the Faze4's steppers (`--motors faze4`): their ratios and rotors fitted to it.
 fn with_motors(model: &Model, path: &PathSpline) -> ScenarioBuilder {
-    Scenario::builder(model.clone(), hold(path)).motors(faze4::faze4::motors::faze4(None))
+    let mut motored = model.clone();
+    let motors = faze4::config::motors::fit(&mut motored, Some(faze4::faze4::motors::faze4(None)), &[], &[]);
+    Scenario::builder(motored, hold(path)).motors(motors.unwrap().unwrap())
 }
 
 fn no_check() -> RetimeOptions {
@@ -134,8 +137,9 @@ fn the_phase_plane_holds_the_profile_under_its_limits() {
     assert!(touches);
 }
 
-/// The trajectory for the writers: one point per grid point, times increasing from 0, the
-/// spline's positions, velocities q'ṡ, at rest at both ends.
+/// The trajectory for the writers: one point per grid point, times increasing from 0 (the
+/// profile's, to the nanosecond the ROS formats hold), the spline's positions, velocities q'ṡ,
+/// at rest at both ends.
 #[test]
 fn the_trajectory_is_the_timing_at_the_grid_points() {
     let model = faze4::faze4::model();
@@ -147,7 +151,15 @@ fn the_trajectory_is_the_timing_at_the_grid_points() {
     assert_eq!(t.points.len(), 201);
     assert_eq!(t.points[0].time_from_start, 0.0);
     assert!(t.points.windows(2).all(|w| w[1].time_from_start > w[0].time_from_start));
-    assert_eq!(t.points[200].time_from_start, timed.profile.duration());
+    for (point, &ti) in t.points.iter().zip(&timed.profile.t) {
+        assert!(
+            (point.time_from_start - ti).abs() <= 0.5e-9,
+            "{} vs {ti}",
+            point.time_from_start
+        );
+        let ns = faze4::traj::timed::nanoseconds(point.time_from_start);
+        assert_eq!(point.time_from_start, faze4::traj::timed::seconds_from_nanoseconds(ns));
+    }
     let (mut q, mut dq, mut ddq) = (vec![0.0; 6], vec![0.0; 6], vec![0.0; 6]);
     for (i, point) in t.points.iter().enumerate() {
         path.eval(timed.profile.s[i], &mut q, &mut dq, &mut ddq);
@@ -228,7 +240,7 @@ fn the_phase_plane_figure_is_written() {
         .unwrap();
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     let wrong = PhasePlot::new(dir.join("phase.jpg")).unwrap_err();
-    assert!(wrong.to_string().contains("--plot"), "{wrong}");
+    assert!(wrong.to_string().starts_with("`plot`"), "{wrong}");
 }
 
 /// Each bad input: its error, one line naming the cause.
@@ -321,28 +333,28 @@ fn bad_paths_and_limits_give_one_line() {
                 margin: 1.0,
                 ..no_check()
             },
-            "--margin",
+            "`margin`",
         ),
         (
             RetimeOptions {
                 margin: f64::NAN,
                 ..no_check()
             },
-            "--margin",
+            "`margin`",
         ),
         (
             RetimeOptions {
                 intervals: 0,
                 ..no_check()
             },
-            "--grid",
+            "`grid`",
         ),
         (
             RetimeOptions {
                 attempts: 0,
                 ..no_check()
             },
-            "--attempts",
+            "`attempts`",
         ),
     ] {
         let text = one_line(retime(&base, &path, &options).unwrap_err());
@@ -378,4 +390,101 @@ fn a_line_under_a_constant_acceleration_is_bang_bang() {
     let expected = 2.0 * (1.0_f64 / a).sqrt(); // L = 1 rad: accelerate over 0.5, brake over 0.5
     let got = timed.profile.duration();
     assert!((got - expected).abs() < 1e-9 * expected, "{got} vs {expected}");
+}
+
+/// The walk-through on the real binary: `retime` of the circle's samples under the
+/// Faze4's steppers writes a timing that `replay` plays to "follows", as the same run as retime's
+/// check (the summaries agree); every output format plays back alike; a bad path is one line
+/// with status 2; a path nothing follows is its reason, status 3 under `--strict`.
+#[test]
+fn retime_then_replay_follows_on_the_binary() {
+    let dir = common::temp_dir("retime-cli");
+    let circle = repo_path("tests/fixtures/shape_circle_q.npy");
+    let circle = circle.to_str().unwrap();
+    let run = common::faze4(
+        &dir,
+        &[
+            "retime",
+            "--q-traj",
+            circle,
+            "--motors",
+            "faze4",
+            "--out",
+            "circle.yaml",
+            "--summary",
+            "retimed.json",
+            "--trail",
+            "none",
+            "--plot",
+            "phase.svg",
+        ],
+    );
+    assert!(run.status.success(), "{}{}", run.stdout, run.stderr);
+    let last = run.stdout.lines().last().unwrap();
+    assert_eq!(last, "verdict: follows", "{}", run.stdout);
+    assert!(run.stdout.starts_with("retime: "), "{}", run.stdout);
+    assert!(std::fs::read_to_string(dir.join("phase.svg")).unwrap().contains("<svg"));
+    let retimed = common::summary(&dir, "retimed.json");
+    let played = common::faze4(
+        &dir,
+        &[
+            "replay",
+            "--q-traj",
+            "circle.yaml",
+            "--motors",
+            "faze4",
+            "--summary",
+            "replayed.json",
+            "--trail",
+            "none",
+            "--quiet",
+        ],
+    );
+    assert!(played.status.success(), "{}", played.stderr);
+    assert_eq!(played.stdout.trim(), "verdict: follows");
+    let replayed = common::summary(&dir, "replayed.json");
+    assert_eq!(retimed["verdict"], replayed["verdict"]);
+    assert_eq!(retimed["joints"], replayed["joints"], "the check is the replay's run");
+    // the other formats hold the same timing
+    let timed = faze4::traj::files::read(&dir.join("circle.yaml"), &Default::default()).unwrap();
+    for out in ["circle.json", "circle.csv", "circle.mcap"] {
+        let run = common::faze4(
+            &dir,
+            &[
+                "retime", "--q-traj", circle, "--motors", "faze4", "--out", out, "--trail", "none", "--quiet",
+            ],
+        );
+        assert!(run.status.success(), "{out}: {}", run.stderr);
+        let again = faze4::traj::files::read(&dir.join(out), &Default::default()).unwrap();
+        assert_eq!(again.points.len(), timed.points.len(), "{out}");
+        let (a, b) = (&again.points.last().unwrap(), &timed.points.last().unwrap());
+        assert_eq!(a.time_from_start, b.time_from_start, "{out}");
+    }
+    // bad paths: one line, status 2
+    faze4::traj::npy::write_samples(&dir.join("one.npy"), &[vec![0.0; 6]]).unwrap();
+    let bad = common::faze4(&dir, &["retime", "--q-traj", "one.npy", "--out", "x.yaml"]);
+    assert_eq!(bad.status.code(), Some(2), "{}", bad.stderr);
+    assert_eq!(bad.stderr.lines().count(), 1, "{}", bad.stderr);
+    assert!(!dir.join("x.yaml").exists());
+    // nothing follows: a payload the motors cannot hold up
+    for (strict, code) in [(true, 3), (false, 2)] {
+        let mut args = vec![
+            "retime",
+            "--q-traj",
+            circle,
+            "--motors",
+            "faze4",
+            "--payload-kg",
+            "30",
+            "--out",
+            "x.yaml",
+        ];
+        if strict {
+            args.push("--strict");
+        }
+        let run = common::faze4(&dir, &args);
+        assert_eq!(run.status.code(), Some(code), "{}", run.stderr);
+        assert!(run.stderr.contains("nothing follows"), "{}", run.stderr);
+        assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    }
 }

@@ -174,7 +174,11 @@ fn circle_with_steppers_beats_toppra_constants() {
             assert!(relative(tau, ours) < 1e-9, "{case} J{}: {tau} vs faze4's {ours}", j + 1);
         }
     }
-    let base = Scenario::builder(model, hold(&path)).motors(motors);
+    let mut motored = model;
+    let fitted = faze4::config::motors::fit(&mut motored, Some(motors), &[], &[])
+        .unwrap()
+        .unwrap();
+    let base = Scenario::builder(motored, hold(&path)).motors(fitted);
     let grid = vec_f64(&f["gridpoints"]);
     let toppra = |case: &str| Profile::from_x(grid.clone(), vec_f64(&f[case]["x"]));
     let stop = StopFlag::new();

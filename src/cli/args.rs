@@ -8,9 +8,9 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 
 use crate::config::{
-    DEFAULT_AMP_DEG, DEFAULT_CLEARANCE_TOLERANCE_MM, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_FREQ, DEFAULT_FRICTION,
-    DEFAULT_PORT, DEFAULT_RECORD_PERIOD, DEFAULT_SHAPE_DURATION, DEFAULT_SHAPE_POINTS, DEFAULT_TRAIL,
-    DEFAULT_TRAJ_PERIOD,
+    DEFAULT_AMP_DEG, DEFAULT_ATTEMPTS, DEFAULT_CLEARANCE_TOLERANCE_MM, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_FREQ,
+    DEFAULT_FRICTION, DEFAULT_GRID, DEFAULT_MARGIN, DEFAULT_PORT, DEFAULT_RECORD_PERIOD, DEFAULT_SHAPE_DURATION,
+    DEFAULT_SHAPE_POINTS, DEFAULT_TRAIL, DEFAULT_TRAJ_PERIOD,
 };
 use crate::sim::Thresholds;
 
@@ -33,6 +33,8 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
     Shape(ShapeArgs),
+    /// The fastest timing of a path that the motors follow (TOPP-RA on the motors' torque–speed envelopes, checked in the closed loop; docs/retime.md): the path is --q-traj's points (times ignored), the timing goes to --out (replay plays it); --plot draws the phase plane.
+    Retime(RetimeArgs),
     /// Many runs at once: vary options over a grid (--vary), or find the largest value that
     /// still follows (--find); after `--`, the command to run: sweep --vary payload-kg=0:2:0.5 -- shape --shape circle.
     Sweep(SweepArgs),
@@ -105,6 +107,38 @@ pub struct ShapeArgs {
     /// Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it).
     #[arg(long = "save-q", value_name = "F.npy")]
     pub save_q: Option<PathBuf>,
+    /// Options every run command shares.
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// `faze4 retime`.
+#[derive(Clone, Debug, Args)]
+pub struct RetimeArgs {
+    /// The path: its points in order, times ignored; any file replay reads (.yaml, .json, .mcap, .csv, or an N×dof .npy), joined by a C² cubic spline over their cumulative joint-space distance.
+    #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
+    pub q_traj: PathBuf,
+    /// .npy: the time its frames span (s), the input's own timing the speed-up is reported against.
+    #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
+    pub traj_period: f64,
+    /// Which JointTrajectory message of a .yaml, .json or .mcap file to read, counted from 1 (default: the first).
+    #[arg(long, value_name = "K")]
+    pub message: Option<usize>,
+    /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
+    #[arg(long, value_name = "NAME")]
+    pub topic: Option<String>,
+    /// Where the timing is written, by extension: a JointTrajectory as .yaml or .json, a rosbag2 .mcap, or a .csv (positions, velocities, accelerations, time from start); `faze4 replay --q-traj` plays it.
+    #[arg(long, value_name = "F.yaml|F.json|F.mcap|F.csv")]
+    pub out: PathBuf,
+    /// Grid intervals in s: the limits are kept at the grid's points.
+    #[arg(long, default_value_t = DEFAULT_GRID, value_name = "N", allow_hyphen_values = true)]
+    pub grid: usize,
+    /// The share of every torque limit (each motor's envelope at its speed, or the constant limit) left for the feedback, in [0, 1).
+    #[arg(long, default_value_t = DEFAULT_MARGIN, value_name = "SHARE", allow_hyphen_values = true)]
+    pub margin: f64,
+    /// Most closed-loop checks: the first timing's, then one per slowed timing.
+    #[arg(long, default_value_t = DEFAULT_ATTEMPTS, value_name = "N", allow_hyphen_values = true)]
+    pub attempts: usize,
     /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,

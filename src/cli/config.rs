@@ -2,11 +2,11 @@
 //! configuration checks its values, each error naming the field, which [`super::main`] shows
 //! as its flag.
 
-use super::args::{Command, JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
+use super::args::{Command, JointValues, ReplayArgs, RetimeArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::config::fields::{all_given, parse_center};
 use crate::config::{
-    ArmConfig, Center, ClearanceConfig, ControlConfig, Motion, Motors, OutputConfig, ReplayConfig, RunConfig,
-    ShapeConfig, VerdictConfig, WaveConfig,
+    ArmConfig, Center, ClearanceConfig, ControlConfig, Motion, Motors, OutputConfig, ReplayConfig, RetimeConfig,
+    RunConfig, ShapeConfig, VerdictConfig, WaveConfig,
 };
 use crate::control::FeedForward;
 use crate::error::{Error, Result};
@@ -14,12 +14,13 @@ use crate::geometry::{ClearanceGeometry, PairFilter};
 use crate::sim::Thresholds;
 use crate::traj::shape::Shape;
 
-/// The configuration of a run command (`wave`, `replay`, `shape`).
+/// The configuration of a run command (`wave`, `replay`, `shape`, `retime`).
 pub fn run_config(command: &Command) -> Result<RunConfig> {
     match command {
         Command::Wave(a) => wave(a),
         Command::Replay(a) => replay(a),
         Command::Shape(a) => shape(a),
+        Command::Retime(a) => retime(a),
         Command::Sweep(_) => Err(Error::argument("sweep", "is a sweep of runs, not a run")),
     }
 }
@@ -57,6 +58,22 @@ fn shape(a: &ShapeArgs) -> Result<RunConfig> {
         save_q: a.save_q.clone().filter(|p| !is_none(p)),
     });
     with_run(motion, Some(a.duration), &a.run)
+}
+
+fn retime(a: &RetimeArgs) -> Result<RunConfig> {
+    let motion = Motion::Retime(RetimeConfig {
+        path: ReplayConfig {
+            q_traj: a.q_traj.clone(),
+            traj_period: a.traj_period,
+            message: a.message,
+            topic: a.topic.clone(),
+        },
+        out: Some(a.out.clone()),
+        grid: a.grid,
+        margin: a.margin,
+        attempts: a.attempts,
+    });
+    with_run(motion, None, &a.run)
 }
 
 /// `motion` with the options every run command shares.

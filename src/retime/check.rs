@@ -6,38 +6,24 @@
 //! those change: [`command`] (how a timing becomes a command the loop plays) and [`scenario`]
 //! (how the check's scenario is built).
 
+use std::path::Path;
 use std::sync::Arc;
 
-use super::spline::PathSpline;
-use super::timing::samples;
-use super::{Profile, SLOWDOWN};
+use super::SLOWDOWN;
 use crate::control::Motor;
 use crate::error::Result;
 use crate::geometry::CollisionSet;
-use crate::sim::{Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, run};
-use crate::traj::{Interpolated, Trajectory, Wrap};
+use crate::model::Model;
+use crate::sim::{Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, TimedCommand, run};
+use crate::traj::{TimedTrajectory, Trajectory};
 
-/// Time the check goes on after the motion ends, the command holding the last point (s): the
-/// arm must settle there within the thresholds too (several time constants of the tuned
-/// loops, whose natural periods are a few tens of milliseconds).
-pub const SETTLE_S: f64 = 0.1;
-
-/// How often the check looks for a failure (s of simulated time): saturation, step loss,
-/// tracking error beyond half the threshold, a speed limit passed.
-const LOOK_PERIOD: f64 = 1e-3;
-
-/// The command that plays `profile` along `spline` in the loop, and the run's duration (s): the
-/// path sampled exactly every `dt` (one sample per control step) from the start to
-/// [`SETTLE_S`] past the end, played by linear interpolation (the command's velocity is then
-/// the path's over one step). One sample more than the run reaches, so that it never wraps.
-pub fn command(profile: &Profile, spline: &PathSpline, dt: f64) -> (Trajectory, f64) {
-    let rows = samples(profile, spline, dt, SETTLE_S + dt);
-    let period = (rows.len() - 1) as f64 * dt;
-    let duration = (rows.len() - 2) as f64 * dt;
-    (
-        Trajectory::Interpolated(Interpolated::new(&rows, period, Wrap::Repeat)),
-        duration,
-    )
+/// The command `faze4 replay` makes of `trajectory` (the file retime writes) on `model`: the
+/// points joined as `joint_trajectory_controller` joins them ([`TimedCommand`]), and the run's
+/// duration, the last point's time (replay's default). The check plays exactly this, so the
+/// file plays back to the check's verdict.
+pub fn command(model: &Model, trajectory: &TimedTrajectory) -> Result<(Trajectory, f64)> {
+    let timed = TimedCommand::new(model, trajectory, Path::new("retime"))?;
+    Ok((timed.trajectory, timed.duration))
 }
 
 /// The check's scenario: `base` with `trajectory` for `duration` seconds, sharing an already
@@ -58,6 +44,10 @@ pub(crate) fn scenario(
     }
     builder.build()
 }
+
+/// How often the check looks for a failure (s of simulated time): saturation, step loss,
+/// tracking error beyond half the threshold, a speed limit passed.
+const LOOK_PERIOD: f64 = 1e-3;
 
 /// A speed found beyond its limit is capped at this share of x below what would have kept it
 /// (1 % of speed): room for the next check's own overshoot.

@@ -12,10 +12,11 @@
 //! use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
 //! use faze4::sim::Scenario;
 //! # fn main() -> faze4::Result<()> {
-//! let model = faze4::faze4::model();
+//! let mut model = faze4::faze4::model();
+//! let motors = faze4::config::motors::fit(&mut model, Some(faze4::faze4::motors::faze4(None)), &[], &[])?;
 //! let points: Vec<Vec<f64>> = vec![vec![0.0; 6], vec![0.3, 0.4, -0.5, 0.0, 0.2, 0.0], vec![0.6, 0.1, -0.2, 0.0, 0.0, 0.0]];
 //! let path = PathSpline::through(&points)?;
-//! let base = Scenario::builder(model, hold(&path)).motors(faze4::faze4::motors::faze4(None));
+//! let base = Scenario::builder(model, hold(&path)).motors(motors.unwrap());
 //! let timed = retime(&base, &path, &RetimeOptions::default())?;
 //! println!("{:.3} s, {}", timed.profile.duration(), timed.check.as_ref().unwrap().summary.verdict);
 //! # Ok(()) }
@@ -33,11 +34,12 @@ mod timing;
 
 use std::fmt;
 
-pub use check::{SETTLE_S, command};
+pub use check::command;
 pub use limits::SpeedSource;
 pub use phase::PhasePlane;
 pub use solve::{MAX_ITERATIONS, SETTLED};
 pub use spline::PathSpline;
+pub use timing::timed_trajectory;
 
 use crate::error::{Error, Result};
 use crate::id::JointId;
@@ -83,6 +85,26 @@ impl Default for RetimeOptions {
             attempts: DEFAULT_ATTEMPTS,
             stop: StopFlag::new(),
         }
+    }
+}
+
+impl RetimeOptions {
+    /// Every option within its range, an error naming the field otherwise (`grid`, `margin`,
+    /// `attempts`).
+    pub fn check(&self) -> Result<()> {
+        if self.intervals == 0 {
+            return Err(Error::option("grid", "0 intervals: at least 1"));
+        }
+        if !(self.margin >= 0.0 && self.margin < 1.0) {
+            return Err(Error::option(
+                "margin",
+                format!("{} is not in [0, 1)", crate::error::shortest(self.margin)),
+            ));
+        }
+        if self.attempts == 0 {
+            return Err(Error::option("attempts", "0 checks: at least 1"));
+        }
+        Ok(())
     }
 }
 
@@ -170,12 +192,13 @@ pub struct Retimed {
     /// The timing on the grid.
     pub profile: Profile,
     /// The timing at the grid points as a joint trajectory (positions, velocities,
-    /// accelerations, times), for the file writers.
+    /// accelerations, times to the nanosecond; [`timed_trajectory`]): what the check played
+    /// and the file writers write.
     pub trajectory: TimedTrajectory,
     /// Per segment, what shapes it.
     pub bindings: Vec<Binding>,
-    /// The duration with each motor's torque at standstill (its holding torque), constant (s):
-    /// no timing that keeps the envelopes is faster.
+    /// The duration with each torque limit at its standstill value (a motor's holding torque),
+    /// constant, and no cap from the check (s): no timing that keeps the envelopes is faster.
     pub relaxed_duration: f64,
     /// Rounds of the envelopes' bounds (0 when no limit depends on speed).
     pub iterations: usize,
@@ -204,13 +227,31 @@ pub fn hold(path: &PathSpline) -> Trajectory {
 }
 
 /// Plays `profile` along `path` in the closed loop of the scenario `base` builds, as
-/// [`retime`]'s check does ([`command`]), and returns the run's summary: how a timing found
-/// elsewhere (a file, another retimer) fares in faze4's loop.
+/// [`retime`]'s check does (the timing at its grid points, [`timed_trajectory`], played as
+/// `faze4 replay` plays a file, [`command`]), and returns the run's summary: how a timing
+/// found elsewhere (another retimer) fares in faze4's loop.
 pub fn play(base: &ScenarioBuilder, path: &PathSpline, profile: &Profile, stop: &StopFlag) -> Result<Summary> {
     let start = check::scenario(base, hold(path), 1.0, None)?;
-    let (command, duration) = command(profile, path, start.dt);
+    let trajectory = timed_trajectory(profile, path, joint_names(&start.model));
+    let (command, duration) = command(&start.model, &trajectory)?;
     let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
     Ok(check::run_check(&scenario, stop)?.0)
+}
+
+/// The scenario that plays `trajectory` (a timing of [`retime`]) on `base` as `faze4 replay`
+/// plays its file: the check's, for a front end that records the run.
+pub fn replay_scenario(base: &ScenarioBuilder, trajectory: &TimedTrajectory) -> Result<crate::sim::Scenario> {
+    let (command, duration) = command(base.model(), trajectory)?;
+    base.clone()
+        .trajectory(command)
+        .duration(duration)
+        .command("replay (retimed)")
+        .build()
+}
+
+/// The model's joint names, in its order (the trajectory's columns).
+fn joint_names(model: &crate::model::Model) -> Vec<String> {
+    model.joints.iter().map(|j| j.name.clone()).collect()
 }
 
 /// The fastest timing of `path` that keeps the limits of the scenario `base` builds (its
@@ -224,18 +265,7 @@ pub fn play(base: &ScenarioBuilder, path: &PathSpline, profile: &Profile, stop: 
 /// ([`Error::NothingFollows`]); and whatever building the scenario reports. A timing that the
 /// checks never see follow is returned, its check's verdict saying why.
 pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions) -> Result<Retimed> {
-    if options.intervals == 0 {
-        return Err(Error::argument("--grid", "0 intervals: at least 1"));
-    }
-    if !(options.margin >= 0.0 && options.margin < 1.0) {
-        return Err(Error::argument(
-            "--margin",
-            format!("{} must be in [0, 1)", options.margin),
-        ));
-    }
-    if options.attempts == 0 {
-        return Err(Error::argument("--attempts", "0 checks: at least 1"));
-    }
+    options.check()?;
     check_points(base.model(), path)?;
     let start = check::scenario(base, hold(path), 1.0, None)?;
     let model = &start.model;
@@ -263,10 +293,14 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         e => e,
     };
     let mut solved = solver.solve(&cap).map_err(located)?;
+    // the bound without the check's caps (a capped solve's relaxed profile is capped too)
+    let relaxed_duration = solved.relaxed_duration;
+    let names = joint_names(model);
+    let mut trajectory = timed_trajectory(&solved.profile, path, names.clone());
     let mut check = None;
     if options.check {
         for attempt in 1..=options.attempts {
-            let (command, duration) = command(&solved.profile, path, start.dt);
+            let (command, duration) = command(model, &trajectory)?;
             let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
             let (summary, failed_at) = check::run_check(&scenario, &options.stop)?;
             let done = summary.verdict.follows || attempt == options.attempts || summary.interrupted_at_s.is_some();
@@ -283,16 +317,16 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
                 break;
             }
             solved = solver.solve(&cap).map_err(located)?;
+            trajectory = timed_trajectory(&solved.profile, path, names.clone());
         }
     }
     let bindings = solver.bindings(&solved.profile, &slowed);
     let controllable = solver.controllable().to_vec();
-    let names = model.joints.iter().map(|j| j.name.clone()).collect();
     Ok(Retimed {
-        trajectory: timing::timed_trajectory(&solved.profile, &grid, names),
+        trajectory,
         profile: solved.profile,
         bindings,
-        relaxed_duration: solved.relaxed_duration,
+        relaxed_duration,
         iterations: solved.iterations,
         check,
         controllable,

@@ -9,7 +9,6 @@
 //! ```
 
 use super::Profile;
-use super::grid::PathGrid;
 use super::spline::PathSpline;
 use crate::traj::{TimedTrajectory, TrajectoryPoint};
 
@@ -56,52 +55,31 @@ impl Profile {
     }
 }
 
-/// The timing at the grid points as a trajectory of `joint_names`: positions, velocities
-/// q' ṡ and accelerations q' s̈ + q'' ṡ², with s̈ at a point that of the interval starting there
-/// (the pair (s̈, ṡ²) TOPP-RA's stage keeps within the limits; the last point takes the last
-/// interval's).
-pub(crate) fn timed_trajectory(profile: &Profile, grid: &PathGrid, joint_names: Vec<String>) -> TimedTrajectory {
-    let dof = grid.dof;
+/// The timing at its grid points as a trajectory of `joint_names`, as a controller is given it
+/// and `faze4 replay` plays it (a quintic between the points): positions q(s_i), velocities
+/// q'(s_i) ṡ_i and accelerations q'(s_i) s̈ + q''(s_i) ṡ_i², with s̈ at a point that of the
+/// interval starting there (the pair (s̈, ṡ²) TOPP-RA's stage keeps within the limits; the last
+/// point takes the last interval's). Times are rounded to whole nanoseconds, as the ROS formats
+/// hold them, so the file written plays what the check played.
+pub fn timed_trajectory(profile: &Profile, spline: &PathSpline, joint_names: Vec<String>) -> TimedTrajectory {
+    let dof = spline.dof();
     let n = profile.x.len();
+    let (mut q, mut dq, mut ddq) = (vec![0.0; dof], vec![0.0; dof], vec![0.0; dof]);
     let points = (0..n)
         .map(|i| {
-            let sd = profile.x[i].sqrt();
-            let sdd = profile.u[i.min(n - 2)];
-            let at = i * dof..(i + 1) * dof;
+            spline.eval(profile.s[i], &mut q, &mut dq, &mut ddq);
+            let (x, sd, sdd) = (profile.x[i], profile.x[i].sqrt(), profile.u[i.min(n - 2)]);
             TrajectoryPoint {
                 time_from_start: profile.t[i],
-                positions: grid.q[at.clone()].to_vec(),
-                velocities: grid.dq[at.clone()].iter().map(|d| d * sd).collect(),
-                accelerations: (grid.dq[at.clone()].iter().zip(&grid.ddq[at]))
-                    .map(|(d1, d2)| d1 * sdd + d2 * profile.x[i])
-                    .collect(),
+                positions: q.clone(),
+                velocities: dq.iter().map(|d| d * sd).collect(),
+                accelerations: dq.iter().zip(&ddq).map(|(d1, d2)| d1 * sdd + d2 * x).collect(),
             }
         })
         .collect();
-    TimedTrajectory { joint_names, points }
-}
-
-/// q(t) every `dt` seconds from 0 to the duration and then `hold` more seconds at the end
-/// point, as rows: the path followed exactly at each sample.
-pub(crate) fn samples(profile: &Profile, spline: &PathSpline, dt: f64, hold: f64) -> Vec<Vec<f64>> {
-    let duration = profile.duration();
-    let count = ((duration + hold) / dt).ceil() as usize + 1;
-    let mut rows = Vec::with_capacity(count);
-    let mut i = 0;
-    for k in 0..count {
-        let t = k as f64 * dt;
-        while i + 1 < profile.u.len() && profile.t[i + 1] <= t {
-            i += 1;
-        }
-        let s = match t >= duration {
-            true => spline.length(),
-            false => profile.within(i, t - profile.t[i]).0,
-        };
-        let mut q = vec![0.0; spline.dof()];
-        spline.position(s, &mut q);
-        rows.push(q);
-    }
-    rows
+    let mut trajectory = TimedTrajectory { joint_names, points };
+    trajectory.round_times_to_nanoseconds();
+    trajectory
 }
 
 #[cfg(test)]

@@ -34,8 +34,8 @@ impl PhasePlot {
     /// directory.
     pub fn new(path: impl Into<PathBuf>) -> Result<PhasePlot> {
         let path = path.into();
-        check_output_path(&path, "--plot")?;
-        let svg = super::plot::is_svg(&path, "--plot")?;
+        check_output_path(&path, "`plot`")?;
+        let svg = super::plot::is_svg(&path, "`plot`")?;
         Ok(PhasePlot {
             path,
             outputs: Outputs::immediate(),
