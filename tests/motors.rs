@@ -234,6 +234,18 @@ fn bad_motor_files_are_refused_in_one_line() {
             "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3]]\n".into(),
             vec!["1 [[joint]] entries", "3 moving joints"],
         ),
+        (
+            good.replace("no_load_speed = 250.0", "no_load_speed = 250.0\nstep_angle = 1.8"),
+            vec!["a dc motor has no step_angle"],
+        ),
+        (
+            "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3]]\nstep_angle = 0.0\n".repeat(3),
+            vec!["J1 (by order)", "step_angle 0 must be in (0, 90]"],
+        ),
+        (
+            "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3]]\nmicrosteps = 8\n".repeat(3),
+            vec!["J1 (by order)", "need the stepper's step_angle"],
+        ),
         ("[[joint]\n".into(), vec!["m.toml"]),
     ];
     for (text, parts) in &cases {
@@ -340,19 +352,24 @@ fn sweeps_vary_supply_efficiency_and_stall_torque() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `--plot-motors` draws each motored joint's envelope, operating points and RMS point; it
-/// needs `--motors`. `--plot` draws the envelope on the torque panels.
+/// `--plot-motors` draws each motored joint's envelope, operating points (given, and apart
+/// from them the demands the clip cut), continuous line and RMS point, its axes named with
+/// their units, motoring and braking apart; a stepper's panel says why it has no continuous
+/// line; it needs `--motors`. `--plot` draws the envelope on the torque panels.
 #[test]
 fn the_sizing_plot_draws_envelopes_and_needs_motors() {
     let dir = temp_dir("motor-plot");
     let urdf = repo_path(URDF).display().to_string();
     let dc = repo_path("tests/motors/dc_arm.toml").display().to_string();
+    // fast enough that the envelope clips the shoulder
     let args = [
         "wave",
         "--urdf",
         urdf.as_str(),
         "--duration",
         "0.5",
+        "--freq",
+        "8",
         "--no-collisions",
         "--trail",
         "none",
@@ -367,13 +384,25 @@ fn the_sizing_plot_draws_envelopes_and_needs_motors() {
         "J1 yaw",
         "J2 shoulder",
         "J3 elbow",
-        "envelope",
-        "operating points",
+        "envelope: motoring (above), braking (below)",
+        "given (after the clip)",
+        "asked (before the clip)",
         "RMS (",
-        "continuous 0.05 N·m",
+        "continuous ±0.05 N·m",
+        "motor speed |ω_m| (rad/s)",
+        "torque along the motion τ_m·sgn(ω_m) (N·m)",
     ] {
         assert!(svg.contains(part), "the sizing plot should show {part:?}");
     }
+    assert!(!svg.contains("no continuous line"), "DC motors have their line or none");
+    let stepper = repo_path("tests/motors/stepper_arm.toml").display().to_string();
+    let mut run_args = with(&["--plot-motors", "s.svg", "--motors"]);
+    run_args.push(&stepper);
+    let run = faze4(&dir, &run_args);
+    assert!(run.status.success(), "{}", run.stderr);
+    let svg = std::fs::read_to_string(dir.join("s.svg")).unwrap();
+    assert!(svg.contains("no continuous line: a constant-current driver heats a stepper alike at any torque"));
+    std::fs::remove_file(dir.join("s.svg")).unwrap();
     let plot = std::fs::read_to_string(dir.join("p.svg")).unwrap();
     assert!(
         plot.contains("envelope at q̇ (grey)"),

@@ -140,8 +140,8 @@ fn an_override_on_a_preset_changes_the_joints_it_gives() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// The `faze4-bom` preset, whose J2 has no motor: each motored joint gets its own motor's limit
-/// and rotor, J2 the default limit and no rotor.
+/// The `faze4-bom` preset: each joint gets its own motor's limit and rotor (J1's and J2's
+/// rotors are not published: none), a joint without a motor the default limit and no rotor.
 #[test]
 fn the_bom_preset_lands_on_its_joints() {
     let dir = temp_dir("pairing_bom");

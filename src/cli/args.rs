@@ -177,6 +177,15 @@ pub struct RunArgs {
     /// Supply voltage of the --motors presets' drives, V (default: the preset's, 24 V for the Faze4's steppers).
     #[arg(long = "supply-voltage", value_name = "V")]
     pub supply_voltage: Option<f64>,
+    /// How the joints with a stepper are driven: 'pd', the controller's torque clipped to the envelope (the original's; the default), or 'stepper', open loop: the driver's microstep through the torque–angle curve, slips and all (with --motors; docs/motors.md).
+    #[arg(long, value_name = "pd|stepper", value_parser = ["pd", "stepper"])]
+    pub drive: Option<String>,
+    /// Microsteps per full step of the steppers' drivers under --drive stepper: one value for every joint or one per joint ('auto' keeps the motor's: the Faze4 presets' firmware 8,8,4,2,2,2; else 16).
+    #[arg(long, value_name = "N|N1,N2,…", allow_hyphen_values = true)]
+    pub microsteps: Option<JointValues>,
+    /// Print the motors' sizing report (with --motors): per joint at the motor peak and RMS torque, peak speed, inertia ratio, peak power, braking energy, supply current, heating.
+    #[arg(long)]
+    pub sizing: bool,
     /// Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or --motors'); overrides the URDF.
     #[arg(long = "rotor-inertia", value_name = "I1,I2,…", allow_hyphen_values = true)]
     pub rotor_inertia: Option<JointValues>,

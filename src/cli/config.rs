@@ -5,7 +5,8 @@
 use super::args::{Command, JointValues, ReplayArgs, RetimeArgs, RunArgs, ShapeArgs, WaveArgs};
 use crate::config::fields::{all_given, parse_center};
 use crate::config::{
-    ArmConfig, Center, ClearanceConfig, ControlConfig, Motion, Motors, OutputConfig, ReplayConfig, RetimeConfig,
+    ArmConfig, Center, ClearanceConfig, ControlConfig, DriveMode, Motion, Motors, OutputConfig, ReplayConfig,
+    RetimeConfig,
     RunConfig, ShapeConfig, VerdictConfig, WaveConfig,
 };
 use crate::control::FeedForward;
@@ -106,6 +107,11 @@ fn with_run(motion: Motion, duration: Option<f64>, run: &RunArgs) -> Result<RunC
                 Some(_) => Some(FeedForward::Gravity),
                 None => None,
             },
+            drive: match run.drive.as_deref() {
+                Some("stepper") => DriveMode::Stepper,
+                _ => DriveMode::Pd,
+            },
+            microsteps: per_joint(&run.microsteps),
         },
         duration,
         record_period: run.record_period,
@@ -143,6 +149,7 @@ fn with_run(motion: Motion, duration: Option<f64>, run: &RunArgs) -> Result<RunC
             quiet: run.quiet,
             debug: run.debug,
             print_period: run.print_period,
+            sizing: run.sizing,
         },
     })
 }

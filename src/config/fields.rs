@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use super::{Center, Motion, Motors, RunConfig};
+use super::{Center, DriveMode, Motion, Motors, RunConfig};
 use crate::control::FeedForward;
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, PairFilter};
@@ -695,6 +695,23 @@ pub const FIELDS: &[Field] = &[
         },
         number: None,
     },
+    Field {
+        name: "drive",
+        kind: Kind::Choice(&["pd", "stepper"]),
+        commands: Commands::All,
+        set: |c, v| {
+            c.control.drive = match &v {
+                Value::Default => DriveMode::Pd,
+                Value::Text(t) if t == "pd" => DriveMode::Pd,
+                Value::Text(t) if t == "stepper" => DriveMode::Stepper,
+                _ => return Err(wrong("drive", Kind::Choice(&["pd", "stepper"]), &v)),
+            };
+            Ok(())
+        },
+        number: None,
+    },
+    per_joint!("microsteps", control.microsteps),
+    flag!("sizing", outputs.sizing),
     flag!("no_gravity", arm.no_gravity),
     number!("payload_kg", Commands::All, |c| Some(&mut c.arm.payload_kg), || 0.0),
     number!("dt", Commands::All, |c| Some(&mut c.control.dt), || super::DEFAULT_DT),

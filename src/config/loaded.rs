@@ -207,6 +207,7 @@ impl Loaded {
             .payload_kg(config.arm.payload_kg)
             .gravity(!config.arm.no_gravity)
             .feedforward(config.feedforward()?)
+            .drive(config.drive(arm.robot.model.dof())?)
             .collisions(collisions(config))
             .clearance_tolerance(clearance.clearance_tolerance * 1e-3)
             .thresholds(config.verdict.thresholds)

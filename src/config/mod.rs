@@ -21,7 +21,7 @@ use std::path::PathBuf;
 
 use crate::control::FeedForward;
 use crate::geometry::{ClearanceGeometry, PairFilter};
-use crate::sim::Thresholds;
+use crate::sim::{Drive, Thresholds};
 use crate::traj::shape::Shape;
 
 pub use arm::{Arm, load_arm, tool_frame};
@@ -108,6 +108,34 @@ impl RunConfig {
             (true, None) => Ok(FeedForward::None),
             (false, ff) => Ok(ff.unwrap_or_default()),
         }
+    }
+
+    /// How the `n` joints are driven: `drive` with its `microsteps` (whole numbers ≥ 1; one
+    /// value is every joint's). `microsteps` without `drive` stepper is an error.
+    pub fn drive(&self, n: usize) -> crate::Result<Drive> {
+        let given = &self.control.microsteps;
+        if self.control.drive == DriveMode::Pd {
+            if !given.is_empty() {
+                return Err(crate::Error::option("microsteps", "is for `drive` stepper"));
+            }
+            return Ok(Drive::Pd);
+        }
+        let microsteps = (given.iter().enumerate())
+            .map(|(i, v)| match v {
+                None => Ok(None),
+                Some(x) if x.fract() == 0.0 && *x >= 1.0 && *x <= f64::from(u32::MAX) => Ok(Some(*x as u32)),
+                Some(x) => Err(crate::Error::option(
+                    "microsteps",
+                    format!("J{} {} is not a whole number ≥ 1", i + 1, crate::error::shortest(*x)),
+                )),
+            })
+            .collect::<crate::Result<Vec<_>>>()?;
+        Ok(Drive::Stepper {
+            microsteps: match microsteps.as_slice() {
+                [one] => vec![*one; n],
+                _ => microsteps,
+            },
+        })
     }
 }
 
@@ -330,6 +358,23 @@ pub struct ControlConfig {
     /// What the controller feeds forward (`None`: g(q), the default; `Full`: the command's
     /// inverse dynamics).
     pub ff: Option<FeedForward>,
+    /// How the joints with a stepper are driven: the PD's torque clipped to the envelope, or
+    /// open loop (docs/motors.md).
+    pub drive: DriveMode,
+    /// Microsteps per full step of the steppers' drivers under [`DriveMode::Stepper`]: one
+    /// value for every joint or one per joint (`None` keeps the motor's; empty: all the
+    /// motors').
+    pub microsteps: Vec<Option<f64>>,
+}
+
+/// How the joints with a stepper are driven (`drive`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DriveMode {
+    /// The controller's torque clipped to each motor's envelope (the original's).
+    #[default]
+    Pd,
+    /// Open loop: the driver's microstep through the stepper's torque–angle curve.
+    Stepper,
 }
 
 impl Default for ControlConfig {
@@ -342,6 +387,8 @@ impl Default for ControlConfig {
             max_speed: Vec::new(),
             no_ff: false,
             ff: None,
+            drive: DriveMode::Pd,
+            microsteps: Vec::new(),
         }
     }
 }
@@ -410,6 +457,8 @@ pub struct OutputConfig {
     pub debug: bool,
     /// Simulated time between progress lines (s; `None`: 0.5 s, or longer for long runs).
     pub print_period: Option<f64>,
+    /// Print the motors' sizing report (needs `motors`).
+    pub sizing: bool,
 }
 
 impl Default for OutputConfig {
@@ -426,6 +475,7 @@ impl Default for OutputConfig {
             quiet: false,
             debug: false,
             print_period: None,
+            sizing: false,
         }
     }
 }

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::control::catalog::{sts3215, xm540_w270};
-use crate::control::{Envelope, JointMotor, Motor};
+use crate::control::{Envelope, JointMotor, Motor, Stepping};
 use crate::error::{Error, Result};
 use crate::faze4::motors::{faze4, faze4_bom};
 use crate::model::{Joint, Model};
@@ -163,6 +163,11 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
             if e.curve.is_some() {
                 return Err(what("a dc motor has no curve (that is a stepper's)"));
             }
+            if e.step_angle.is_some() || e.detent_torque.is_some() || e.microsteps.is_some() {
+                return Err(what(
+                    "a dc motor has no step_angle, detent_torque or microsteps (those are a stepper's)",
+                ));
+            }
             let stall_torque = need(e.stall_torque, "stall_torque")?;
             Envelope::Dc {
                 stall_torque,
@@ -182,11 +187,33 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
         }
         other => return Err(what(&format!("kind \"{other}\" is not \"dc\" or \"stepper\""))),
     };
+    let stepping = match e.step_angle {
+        Some(a) if !(a.is_finite() && a > 0.0 && a <= 90.0) => {
+            return Err(what(&format!("step_angle {a} must be in (0, 90] degrees")));
+        }
+        Some(a) => Some(Stepping {
+            rotor_teeth: Stepping::rotor_teeth_of(a),
+            detent_torque: e.detent_torque.unwrap_or(0.0),
+            microsteps: e.microsteps,
+        }),
+        None if e.detent_torque.is_some() || e.microsteps.is_some() => {
+            return Err(what("detent_torque and microsteps need the stepper's step_angle"));
+        }
+        None => None,
+    };
+    if let Some(t) = e.detent_torque.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+        return Err(what(&format!("detent_torque {t} must be ≥ 0")));
+    }
+    if e.microsteps == Some(0) {
+        return Err(what("microsteps 0 must be ≥ 1"));
+    }
     let motor = Motor {
         label: e.label.clone().unwrap_or_else(|| e.kind.clone()),
         envelope,
         efficiency: e.efficiency.unwrap_or(1.0),
         continuous_torque: e.continuous_torque,
+        stepping,
+        electrics: None,
     };
     motor.check().map_err(|m| what(&m))?;
     for (name, x) in [("gear_ratio", e.gear_ratio), ("rotor_inertia", e.rotor_inertia)] {

@@ -32,6 +32,12 @@ pub struct MotorEntry {
     pub peak_torque: Option<f64>,
     /// A stepper's pull-out curve: (speed rad/s, torque N·m) points.
     pub curve: Option<Vec<[f64; 2]>>,
+    /// A stepper's full step (degrees, in (0, 90]), for the open-loop drive.
+    pub step_angle: Option<f64>,
+    /// A stepper's unpowered detent torque (N·m, ≥ 0; default 0).
+    pub detent_torque: Option<f64>,
+    /// A stepper driver's microsteps per full step (≥ 1; default the drive's).
+    pub microsteps: Option<u32>,
     /// The continuous torque rating (N·m), for the heating check.
     pub continuous_torque: Option<f64>,
 }

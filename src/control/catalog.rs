@@ -1,7 +1,7 @@
 //! Published figures of the motors the presets use, each with its source (docs/motors.md has
-//! the table and the links). A figure no source gives is left out, and the doc says so.
+//! the table and the addresses). A figure no source gives is left out, and the doc says so.
 
-use super::motor::{Envelope, JointMotor, Motor, StepperWinding};
+use super::motor::{Electrics, Envelope, JointMotor, Motor, StepperWinding, Stepping};
 
 /// Points of a preset's pull-out curve (evenly spaced speeds).
 pub const CURVE_POINTS: usize = 256;
@@ -24,7 +24,7 @@ pub const NEMA17_17HS16_2004S1_ROTOR: f64 = 54e-7;
 
 /// StepperOnline 23HM22-2804S (NEMA23, 0.9°): 1.26 N·m, 2.8 A (StepperOnline's listing, linked
 /// from the Faze4 BOM), 1.16 Ω and 4.2 mH per phase, 100 pole pairs (Source Robotics' STEPFOC
-/// table). Rotor inertia: not found.
+/// table).
 pub const NEMA23_23HM22_2804S: StepperWinding = StepperWinding {
     holding_torque: 1.26,
     rated_current: 2.8,
@@ -32,10 +32,13 @@ pub const NEMA23_23HM22_2804S: StepperWinding = StepperWinding {
     inductance: 4.2e-3,
     rotor_teeth: 100.0,
 };
+/// Its rotor inertia, 300 g·cm² (kg·m²; StepperOnline's datasheet).
+pub const NEMA23_23HM22_2804S_ROTOR: f64 = 300e-7;
 
 /// StepperOnline 23HS22-1504S (NEMA23, 1.8°): 1.16 N·m, 1.5 A, 5.4 V (StepperOnline's listing,
-/// linked from the Faze4 BOM), 3.6 Ω and 13 mH per phase (a design note quoting that listing),
-/// 50 rotor teeth (a 1.8° hybrid). Rotor inertia: not found.
+/// linked from the Faze4 BOM; R = 5.4 V / 1.5 A = 3.6 Ω), 13 mH per phase (StepperOnline's
+/// datasheet as quoted by a public design note), 50 rotor teeth (a 1.8° hybrid). Rotor
+/// inertia: not found.
 pub const NEMA23_23HS22_1504S: StepperWinding = StepperWinding {
     holding_torque: 1.16,
     rated_current: 1.5,
@@ -44,9 +47,22 @@ pub const NEMA23_23HS22_1504S: StepperWinding = StepperWinding {
     rotor_teeth: 50.0,
 };
 
+/// StepperOnline 23HS33-4008D (NEMA23, 1.8°, 8 wires, dual shaft): 2.83 N·m at 4.0 A and
+/// 2.26 V (its listing's title and the Faze4 BOM), so R = 2.26 V / 4.0 A = 0.565 Ω; 50 rotor
+/// teeth (a 1.8° hybrid). Its inductance was not found: 0 here, which makes the pull-out
+/// model an upper bound at speed (an inductance only lowers it), its torque still falling to
+/// zero where the back-EMF K·ω reaches the supply. Rotor inertia: not found.
+pub const NEMA23_23HS33_4008D: StepperWinding = StepperWinding {
+    holding_torque: 2.83,
+    rated_current: 4.0,
+    resistance: 2.26 / 4.0,
+    inductance: 0.0,
+    rotor_teeth: 50.0,
+};
+
 /// StepperOnline 14HS13-0804S (NEMA14, 1.8°, the motor of the 14HS13-0804S-PG19): 0.18 N·m,
-/// 0.8 A, 6.8 Ω, 10 mH, rotor 14 g·cm² (StepperOnline's figures as quoted by two public
-/// projects), 50 rotor teeth.
+/// 0.8 A, 6.8 Ω, 10 mH, rotor 14 g·cm² (StepperOnline's figures as tabulated by the public
+/// stepper-simulator database), 50 rotor teeth.
 pub const NEMA14_14HS13_0804S: StepperWinding = StepperWinding {
     holding_torque: 0.18,
     rated_current: 0.8,
@@ -54,14 +70,16 @@ pub const NEMA14_14HS13_0804S: StepperWinding = StepperWinding {
     inductance: 10e-3,
     rotor_teeth: 50.0,
 };
-/// Its rotor inertia, 14 g·cm² (kg·m²).
+/// Its rotor inertia, 14 g·cm² (kg·m²; the PG19 gearbox's own inertia is not published).
 pub const NEMA14_14HS13_0804S_ROTOR: f64 = 14e-7;
 
 /// One kilogram-force centimetre in N·m.
 const KGF_CM: f64 = 9.80665e-2;
 
-/// A stepper's pull-out curve from the model at `current` (A) and `supply` (V).
-pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f64) -> Motor {
+/// A stepper driven at a phase current amplitude of `current` (A) from `supply` (V): its
+/// pull-out curve from the model, its rotor (no detent torque: none of the presets' motors
+/// publishes one), its driver's `microsteps` where the build gives them, its winding.
+pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f64, microsteps: Option<u32>) -> Motor {
     Motor {
         label,
         envelope: Envelope::Stepper {
@@ -69,6 +87,16 @@ pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f6
         },
         efficiency: 1.0,
         continuous_torque: None,
+        stepping: Some(Stepping {
+            rotor_teeth: winding.rotor_teeth,
+            detent_torque: 0.0,
+            microsteps,
+        }),
+        electrics: Some(Electrics::Stepper {
+            winding: *winding,
+            current,
+            supply,
+        }),
     }
 }
 
@@ -90,6 +118,8 @@ fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64
             },
             efficiency: 1.0,
             continuous_torque: None,
+            stepping: None,
+            electrics: Some(Electrics::Dc { supply }),
         },
     }
 }

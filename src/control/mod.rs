@@ -1,15 +1,17 @@
 //! The joint controller: the digital PD with its feed-forward (gravity or computed torque), and
-//! its auto-tuning (at a start pose of a model, `tune`); the
-//! motors behind it, their torque–speed envelopes (`motor.rs`) and the published figures of
-//! the presets' motors (`catalog.rs`).
+//! its auto-tuning (at a start pose of a model, `tune`); the motors behind it, their
+//! torque–speed envelopes (`motor.rs`), the open-loop stepper drive (`stepper.rs`) and the
+//! published figures of the presets' motors (`catalog.rs`).
 
 pub mod catalog;
 mod motor;
 mod pd;
 mod stability;
+mod stepper;
 mod tuning;
 
-pub use motor::{Envelope, JointMotor, Motor, StepperWinding};
+pub use motor::{Electrics, Envelope, JointMotor, Motor, StepperWinding, Stepping};
 pub use pd::{FeedForward, Pd};
 pub use stability::{Stability, lambda_max, spectral_radius, stabilize};
+pub use stepper::{DEFAULT_MICROSTEPS, OpenLoopStepper, STEPS_PER_CYCLE, Slips, detent, torque_angle};
 pub use tuning::{Gains, arithmetic_holds, auto_tune, tune};

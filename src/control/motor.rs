@@ -125,7 +125,9 @@ fn pull_out(curve: &[[f64; 2]], w: f64) -> f64 {
 }
 
 /// One joint's motor: its envelope at the shaft, the reducer's efficiency and the continuous
-/// rating. The ratio and the rotor inertia are the joint's ([`crate::model::Joint`]).
+/// rating; for a stepper, what an open-loop drive needs of it; and where known, the electrics
+/// behind the envelope (the sizing report's supply current). The ratio and the rotor inertia
+/// are the joint's ([`crate::model::Joint`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Motor {
     /// What it is, for tables ("17HS16-2004S1, 2.0 A, 24 V").
@@ -136,6 +138,96 @@ pub struct Motor {
     pub efficiency: f64,
     /// RMS torque it can give without overheating (N·m at the shaft), if known.
     pub continuous_torque: Option<f64>,
+    /// A stepper's rotor and driver setting (`--drive stepper` needs them); `None` for a DC
+    /// motor, or a stepper given by its curve alone.
+    pub stepping: Option<Stepping>,
+    /// The drive's supply and the winding behind the envelope, where known.
+    pub electrics: Option<Electrics>,
+}
+
+/// What an open-loop drive needs of a stepper beyond its pull-out curve (docs/motors.md,
+/// "The open-loop stepper drive").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stepping {
+    /// Rotor teeth N_r: 50 for a 1.8° motor, 100 for 0.9° (a full step is 2π/(4·N_r) rad).
+    pub rotor_teeth: f64,
+    /// Detent torque T_d (N·m at the shaft, ≥ 0; 0 where none is published): the unpowered
+    /// rotor's cogging, one period per full step.
+    pub detent_torque: f64,
+    /// Microsteps per full step the driver is set to, where the build says (`None`: the
+    /// default of [`crate::control::DEFAULT_MICROSTEPS`] unless `--microsteps` gives one).
+    pub microsteps: Option<u32>,
+}
+
+impl Stepping {
+    /// A 1.8° or 0.9° step angle (degrees) as rotor teeth, N_r = 90° / step angle.
+    pub fn rotor_teeth_of(step_angle_deg: f64) -> f64 {
+        90.0 / step_angle_deg
+    }
+}
+
+/// The electrics behind a motor's envelope: enough to turn a shaft torque and speed into the
+/// power drawn from the supply (docs/motors.md, "Sizing").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Electrics {
+    /// A DC motor (or servo) driven by an ideal PWM bridge from `supply` volts: its torque
+    /// constant K = V/ω₀ and resistance R = K·V/τ_s follow from its envelope.
+    Dc {
+        /// Supply voltage V (V).
+        supply: f64,
+    },
+    /// A stepper's winding, its chopper holding a phase current amplitude of `current` A, from
+    /// `supply` volts.
+    Stepper {
+        /// The winding.
+        winding: StepperWinding,
+        /// Phase current amplitude I (A).
+        current: f64,
+        /// Supply voltage V (V).
+        supply: f64,
+    },
+}
+
+impl Electrics {
+    /// The supply voltage (V).
+    pub fn supply(&self) -> f64 {
+        match *self {
+            Electrics::Dc { supply } | Electrics::Stepper { supply, .. } => supply,
+        }
+    }
+
+    /// The power drawn from the supply (W; negative: returned to it) when `envelope`'s motor
+    /// gives `torque` (N·m) at `omega` (rad/s):
+    ///
+    /// ```text
+    ///   dc:      P = τ ω + R (τ/K)²,  K = V/ω₀,  R = K V/τ_s      (the copper loss of i = τ/K)
+    ///   stepper: P = τ ω + R I²                                  (two phases at amplitude I:
+    ///                                                              2 R (I/√2)², whatever τ)
+    /// ```
+    ///
+    /// No driver, iron or friction loss; a stepper above its corner speed carries less than
+    /// I, so its estimate is high there.
+    pub fn supply_power(&self, envelope: &Envelope, torque: f64, omega: f64) -> f64 {
+        let mechanical = torque * omega;
+        match (*self, envelope) {
+            (
+                Electrics::Dc { supply },
+                Envelope::Dc {
+                    stall_torque,
+                    no_load_speed,
+                    ..
+                },
+            ) => {
+                let k = supply / no_load_speed;
+                let r = k * supply / stall_torque;
+                let i = torque / k;
+                mechanical + r * i * i
+            }
+            (Electrics::Stepper { winding, current, .. }, _) => mechanical + winding.resistance * current * current,
+            // a DC supply given to a stepper's curve: the mechanical power alone
+            (Electrics::Dc { .. }, Envelope::Stepper { .. }) => mechanical,
+        }
+    }
 }
 
 impl Motor {
@@ -220,7 +312,7 @@ pub struct JointMotor {
 }
 
 /// A hybrid stepper's winding and its drive, the datasheet figures the pull-out model needs.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepperWinding {
     /// Holding torque T_h with both phases at the rated current (N·m).
     pub holding_torque: f64,
@@ -239,6 +331,13 @@ impl StepperWinding {
     /// torque is two phases at I_r, √2 times one.
     pub fn torque_constant(&self) -> f64 {
         self.holding_torque / (std::f64::consts::SQRT_2 * self.rated_current)
+    }
+
+    /// The copper loss at the rating (W): both phases at the rated current, as the holding
+    /// torque is measured, 2·R·I_r². A chopper holding an amplitude I dissipates R·I² at any
+    /// torque (docs/motors.md, "Sizing").
+    pub fn rated_loss(&self) -> f64 {
+        2.0 * self.resistance * self.rated_current * self.rated_current
     }
 
     /// The pull-out torque (N·m) at shaft speed `omega` (rad/s, ≥ 0) driven with a phase current
@@ -379,6 +478,8 @@ mod tests {
             envelope: dc(),
             efficiency: 0.8,
             continuous_torque: None,
+            stepping: None,
+            electrics: None,
         };
         let (lo, hi) = m.joint_bounds(10.0, 15.0); // ω_m = 150
         assert!((hi - 10.0 * 0.8 * 0.25).abs() < 1e-14, "{hi}");

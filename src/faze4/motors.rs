@@ -6,80 +6,116 @@
 //! to 0.315 N·m (its seed limits [7.9, 8.5, 4.7, 3.7, 3.5, 6.0] N·m are 0.315 N·m × the ratios).
 //!
 //! `faze4-bom` is the motors the Faze4 is built with (its repository's `BOM_7_11_2023.xlsx`),
-//! at the currents and voltages of its electronics guide (`FAZE4 Robotic arm electronics
-//! setup.pdf`): J1 23HM22-2804S at 2.7 A, J2 23HS33-4008D at 2.7 A and 36 V, J3 23HS22-1504S
-//! at 2.2 A, J4 and J5 17HS16-2004S1 at 1.2 A, J6 14HS13-0804S-PG19 at 0.7 A, 24 V but J2. No
-//! winding figures of the 23HS33-4008D were found: J2 keeps the constant limit.
+//! on the joints its firmware says (`step_angle = {1.8, 1.8, 0.9, 1.8, 1.8, 1.8}`: the BOM's one
+//! 0.9° motor, the 23HM22-2804S, drives J3), at the currents and voltages of its electronics
+//! guide (`FAZE4 Robotic arm electronics setup.pdf`): J1 23HS22-1504S at 2.7 A, J2 23HS33-4008D
+//! at 2.7 A and 36 V, J3 23HM22-2804S at 2.2 A, J4 and J5 17HS16-2004S1 at 1.2 A, J6
+//! 14HS13-0804S-PG19 at 0.7 A, 24 V but J2. Both presets' drivers are at the 2020 firmware's
+//! microsteps, [`MICROSTEPS`].
 
 use crate::control::catalog::{
     NEMA14_14HS13_0804S, NEMA14_14HS13_0804S_ROTOR, NEMA17_17HS16_2004S1, NEMA17_17HS16_2004S1_ROTOR,
-    NEMA23_23HM22_2804S, NEMA23_23HS22_1504S, stepper,
+    NEMA23_23HM22_2804S, NEMA23_23HM22_2804S_ROTOR, NEMA23_23HS22_1504S, NEMA23_23HS33_4008D, stepper,
 };
 use crate::control::{JointMotor, StepperWinding};
 
 /// Reducer ratio of each joint, J1..J6 (motor turns per joint turn): the Faze4's published
-/// ratios.
+/// ratios (its docs' `B_Design_decisions.rst`; J4's 11.846 is 11 × 28/26, which the 2020
+/// firmware rounds to 11.847).
 pub const GEAR_RATIO: [f64; 6] = [25.0, 27.0, 15.0, 11.846, 11.0, 19.19];
+
+/// Microsteps per full step of each joint's driver, J1..J6: the 2020 firmware's
+/// (`Robot_Arduino_trajectory.ino`: `microstep[] = {0.125, 0.125, 0.25, 0.5, 0.5, 0.5}`).
+pub const MICROSTEPS: [u32; 6] = [8, 8, 4, 2, 2, 2];
 
 /// Rotor inertia of the 17HS16-2004S1 (kg·m² at the motor shaft): its datasheet lists 54 g·cm².
 pub const ROTOR_INERTIA: f64 = NEMA17_17HS16_2004S1_ROTOR;
 
-/// The supply of the Faze4's drivers (V), its electronics guide's (J2's is 36 V).
+/// The supply of the Faze4's drivers (V), its electronics guide's (J2's is [`J2_SUPPLY_VOLTS`]).
 pub const SUPPLY_VOLTS: f64 = 24.0;
 
+/// J2's driver supply in the electronics guide (V).
+pub const J2_SUPPLY_VOLTS: f64 = 36.0;
+
 /// `--motors faze4`: a 17HS16-2004S1 at its rated 2.0 A on every joint, at `supply` volts
-/// (`None`: 24 V), with the published ratios and the motor's rotor.
+/// (`None`: 24 V), with the published ratios, the motor's rotor and the firmware's microsteps.
 pub fn faze4(supply: Option<f64>) -> Vec<Option<JointMotor>> {
     let v = supply.unwrap_or(SUPPLY_VOLTS);
-    (GEAR_RATIO.iter())
-        .map(|&ratio| {
+    (GEAR_RATIO.iter().zip(MICROSTEPS))
+        .map(|(&ratio, microsteps)| {
             Some(JointMotor {
                 gear_ratio: Some(ratio),
                 rotor_inertia: Some(ROTOR_INERTIA),
-                motor: stepper(format!("17HS16-2004S1, 2.0 A, {v} V"), &NEMA17_17HS16_2004S1, 2.0, v),
+                motor: stepper(
+                    format!("17HS16-2004S1, 2.0 A, {v} V"),
+                    &NEMA17_17HS16_2004S1,
+                    2.0,
+                    v,
+                    Some(microsteps),
+                ),
             })
         })
         .collect()
 }
 
-/// `--motors faze4-bom`: the built arm's motors at the electronics guide's driver currents, at
-/// `supply` volts for every stepper (`None`: the guide's 24 V). J2 (a 23HS33-4008D, no winding
-/// figures found) has no motor model: it keeps the constant limit. Rotors not found (J1, J3)
-/// are left at the model's.
+/// One joint of `faze4-bom`: its motor `name` and `winding` at `amps` (A, the guide's peak
+/// current) from `volts`, the joint's ratio and microsteps, the rotor where published.
+fn built(joint: usize, name: &str, winding: &StepperWinding, amps: f64, volts: f64, rotor: Option<f64>) -> JointMotor {
+    JointMotor {
+        gear_ratio: Some(GEAR_RATIO[joint]),
+        rotor_inertia: rotor,
+        motor: stepper(
+            format!("{name}, {amps} A, {volts} V"),
+            winding,
+            amps,
+            volts,
+            Some(MICROSTEPS[joint]),
+        ),
+    }
+}
+
+/// `--motors faze4-bom`: the built arm's motors on the joints the firmware gives them, at the
+/// electronics guide's driver currents and supplies (`supply` volts for every joint instead
+/// when given). Rotors not published (J1's 23HS22-1504S, J2's 23HS33-4008D) are left at the
+/// model's.
 pub fn faze4_bom(supply: Option<f64>) -> Vec<Option<JointMotor>> {
     let v = supply.unwrap_or(SUPPLY_VOLTS);
-    let joint = |name: &str, winding: &StepperWinding, amps: f64, ratio: f64, rotor: Option<f64>| {
-        Some(JointMotor {
-            gear_ratio: Some(ratio),
-            rotor_inertia: rotor,
-            motor: stepper(format!("{name}, {amps} A, {v} V"), winding, amps, v),
-        })
-    };
+    let j2 = supply.unwrap_or(J2_SUPPLY_VOLTS);
     vec![
-        joint("23HM22-2804S", &NEMA23_23HM22_2804S, 2.7, GEAR_RATIO[0], None),
-        None,
-        joint("23HS22-1504S", &NEMA23_23HS22_1504S, 2.2, GEAR_RATIO[2], None),
-        joint(
+        Some(built(0, "23HS22-1504S", &NEMA23_23HS22_1504S, 2.7, v, None)),
+        Some(built(1, "23HS33-4008D", &NEMA23_23HS33_4008D, 2.7, j2, None)),
+        Some(built(
+            2,
+            "23HM22-2804S",
+            &NEMA23_23HM22_2804S,
+            2.2,
+            v,
+            Some(NEMA23_23HM22_2804S_ROTOR),
+        )),
+        Some(built(
+            3,
             "17HS16-2004S1",
             &NEMA17_17HS16_2004S1,
             1.2,
-            GEAR_RATIO[3],
+            v,
             Some(NEMA17_17HS16_2004S1_ROTOR),
-        ),
-        joint(
+        )),
+        Some(built(
+            4,
             "17HS16-2004S1",
             &NEMA17_17HS16_2004S1,
             1.2,
-            GEAR_RATIO[4],
+            v,
             Some(NEMA17_17HS16_2004S1_ROTOR),
-        ),
-        joint(
+        )),
+        Some(built(
+            5,
             "14HS13-0804S-PG19",
             &NEMA14_14HS13_0804S,
             0.7,
-            GEAR_RATIO[5],
+            v,
             Some(NEMA14_14HS13_0804S_ROTOR),
-        ),
+        )),
     ]
 }
 
@@ -118,8 +154,10 @@ mod tests {
         assert!(reflected > 200.0 * bare);
     }
 
-    /// The built arm's NEMA23s give far more than the original's uniform limit at J1 and J3,
-    /// its NEMA14 through the PG19 less at J6.
+    /// The built arm's standstill limits at the joint are K·I·r of each motor at the guide's
+    /// current: J1 (23HS22-1504S at 2.7 A) 36.9 N·m, J2 (23HS33-4008D at 2.7 A) 36.5, J3
+    /// (23HM22-2804S at 2.2 A) 10.5, J4 2.26, J5 2.10, J6 (14HS13 through the PG19 at 0.7 A)
+    /// 2.14: J1–J3 far above the original's uniform limits, J6 below.
     #[test]
     fn the_bill_of_materials_against_the_uniform_assumption() {
         let bom = faze4_bom(None);
@@ -127,9 +165,32 @@ mod tests {
             let m = bom[j].as_ref().unwrap();
             m.motor.joint_limit(m.gear_ratio.unwrap())
         };
-        assert!(limit(0) > 2.0 * FAZE4_EFFORT[0], "J1 {}", limit(0));
-        assert!(limit(2) > 2.0 * FAZE4_EFFORT[2], "J3 {}", limit(2));
+        let k_i_r = |w: &StepperWinding, amps: f64, j: usize| w.torque_constant() * amps * GEAR_RATIO[j];
+        let want = [
+            k_i_r(&NEMA23_23HS22_1504S, 2.7, 0),
+            k_i_r(&NEMA23_23HS33_4008D, 2.7, 1),
+            k_i_r(&NEMA23_23HM22_2804S, 2.2, 2),
+            k_i_r(&NEMA17_17HS16_2004S1, 1.2, 3),
+            k_i_r(&NEMA17_17HS16_2004S1, 1.2, 4),
+            k_i_r(&NEMA14_14HS13_0804S, 0.7, 5),
+        ];
+        for (j, (w, printed)) in want.iter().zip([36.9, 36.5, 10.5, 2.26, 2.10, 2.14]).enumerate() {
+            assert!((limit(j) - w).abs() < 1e-12 * w, "J{}: {} vs {w}", j + 1, limit(j));
+            assert!(
+                (w - printed).abs() < 0.006 * printed,
+                "J{}: {w} vs the doc's {printed}",
+                j + 1
+            );
+        }
+        assert!(limit(0) > 4.0 * FAZE4_EFFORT[0] && limit(1) > 4.0 * FAZE4_EFFORT[1]);
+        assert!(limit(2) > 2.0 * FAZE4_EFFORT[2]);
         assert!(limit(5) < FAZE4_EFFORT[5], "J6 {}", limit(5));
-        assert!(bom[1].is_none());
+        // the firmware's 0.9° motor is on J3, the 36 V supply on J2
+        let teeth: Vec<f64> = bom
+            .iter()
+            .map(|m| m.as_ref().unwrap().motor.stepping.unwrap().rotor_teeth)
+            .collect();
+        assert_eq!(teeth, [50.0, 50.0, 100.0, 50.0, 50.0, 50.0]);
+        assert!(bom[1].as_ref().unwrap().motor.label.ends_with("36 V"));
     }
 }

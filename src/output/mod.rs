@@ -3,9 +3,11 @@
 
 mod capture;
 pub mod format;
+mod sizing;
 mod terminal;
 mod trail;
 
 pub use capture::Capture;
+pub use sizing::{INERTIA_RATIO_RULE, sizing_table};
 pub use terminal::{PRINT_PERIOD, Terminal};
 pub use trail::TrailCsv;

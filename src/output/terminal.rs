@@ -270,17 +270,15 @@ impl Recorder for Terminal {
 }
 
 /// The `--motors` table, one column per joint (`-` where a joint has no motor or a figure does
-/// not apply): kind, share of steps beyond the envelope, fastest shaft speed, RMS torque
-/// against the continuous rating, when a stepper first lost steps. Torques and speeds at the
-/// motor shaft.
+/// not apply): kind and drive, share of steps beyond the envelope (under `--drive stepper`: past
+/// the torque–angle curve's peak), fastest shaft speed, RMS torque against the continuous
+/// rating, when a stepper first lost steps, and under `--drive stepper` the full steps it ends
+/// off its command. Torques and speeds at the motor shaft.
 pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
-    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| -> Vec<String> {
-        (motors.iter())
-            .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
-            .collect()
-    };
-    vec![
+    let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| per_motor(motors, f);
+    let mut lines = vec![
         text_row("motor", cell(&|m| Some(m.kind.to_string()))),
+        text_row("driven by", cell(&|m| Some(m.drive.to_string()))),
         text_row("beyond envelope", cell(&|m| Some(percent(m.envelope_pct)))),
         text_row(
             "max motor speed rad/s",
@@ -298,7 +296,21 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
                     .map(|t| t.map_or("never".into(), |t| format!("{t:.3}")))
             }),
         ),
-    ]
+    ];
+    if motors.iter().flatten().any(|m| m.steps_lost.is_some()) {
+        lines.push(text_row(
+            "full steps lost",
+            cell(&|m| m.steps_lost.map(|n| n.to_string())),
+        ));
+    }
+    lines
+}
+
+/// One text per joint: `f` of its motor's summary, `-` where it has no motor or `f` gives none.
+pub(super) fn per_motor(motors: &[Option<MotorSummary>], f: &dyn Fn(&MotorSummary) -> Option<String>) -> Vec<String> {
+    (motors.iter())
+        .map(|m| m.as_ref().and_then(f).unwrap_or_else(|| "-".into()))
+        .collect()
 }
 
 /// The self-clearance for people, one line: the closest pair, its distance (mm; negative: the

@@ -125,6 +125,9 @@ impl Recorders {
         if out.plot_motors.is_some() && scenario.motors.is_none() {
             return Err(Error::option("plot_motors", "draws the motors: add `motors`"));
         }
+        if out.sizing && scenario.motors.is_none() {
+            return Err(Error::option("sizing", "sizes the motors: add `motors`"));
+        }
         for (path, field) in [
             (&out.trail, "trail"),
             (&out.summary, "summary"),

@@ -6,6 +6,7 @@ mod contact;
 mod record;
 mod run;
 mod scenario;
+mod sizing;
 mod stop;
 mod summary;
 mod timed;
@@ -16,14 +17,15 @@ pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_ST
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, run};
 pub use scenario::{
-    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
+    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, Scenario,
     ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
 };
+pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use stop::{StopFlag, exit_status};
 pub use summary::{
-    ContactSummary, Diverged, DofJoint, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss, Summary,
-    ToolRange, ToolRule,
+    ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss,
+    Summary, ToolRange, ToolRule,
 };
 pub use timed::TimedCommand;
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};
-pub use warning::Warning;
+pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};

@@ -59,6 +59,9 @@ pub struct Sample<'a> {
     pub v_cmd: &'a [f64],
     /// Torque held over the next step (clipped).
     pub tau: &'a [f64],
+    /// The controller's torque before actuation, τ_raw (under `--drive stepper` a stepper's
+    /// joint's is its τ: an open-loop stepper asks for nothing else).
+    pub tau_raw: &'a [f64],
     /// Gravity forces g(q) at this state.
     pub g: &'a [f64],
     /// Tool frame origin in the world (m).

@@ -16,9 +16,12 @@
 use std::sync::Arc;
 
 use super::check::{count, non_negative, override_per_joint, positive};
+use super::warning::STEPPER_STEPS_PER_RADIAN;
 use super::{MeshSource, SelfContact, Thresholds, Warning, steps_per_record};
 use crate::algo::{Data, crba};
-use crate::control::{FeedForward, Motor, Pd, Stability, arithmetic_holds, tune};
+use crate::control::{
+    DEFAULT_MICROSTEPS, Envelope, FeedForward, Gains, Motor, OpenLoopStepper, Pd, Stability, arithmetic_holds, tune,
+};
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
 use crate::model::{FrameId, LoadWarning, Model};
@@ -84,6 +87,25 @@ pub struct Scenario {
     /// without one: the constant limit alone), its gear ratio and rotor those of the model's
     /// joint; `None`: no motors, the constant limits of the controller.
     pub motors: Option<Vec<Option<Motor>>>,
+    /// [`Drive::Stepper`]: per joint the open-loop drive of its stepper (`None` for a joint the
+    /// PD drives); `None`: the PD drives every joint ([`Drive::Pd`]).
+    pub stepper_drive: Option<Vec<Option<OpenLoopStepper>>>,
+}
+
+/// How the joints are driven (`drive`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Drive {
+    /// The PD controller's torque, clipped to each motor's envelope (the original's).
+    #[default]
+    Pd,
+    /// The joints with a stepper driven open loop: the command is the microstep the driver
+    /// holds, the torque the stepper's torque–angle curve (docs/motors.md); the other joints
+    /// stay on the PD.
+    Stepper {
+        /// Microsteps per full step per joint (`microsteps`; an empty list, or `None` for a
+        /// joint, keeps the motor's own setting, else [`DEFAULT_MICROSTEPS`]).
+        microsteps: Vec<Option<u32>>,
+    },
 }
 
 /// How a run measures the self-clearance of its collision geometry (see
@@ -129,6 +151,7 @@ impl Scenario {
             thresholds: Thresholds::default(),
             self_contact: None,
             motors: None,
+            drive: Drive::Pd,
         }
     }
 }
@@ -163,6 +186,7 @@ pub struct ScenarioBuilder {
     thresholds: Thresholds,
     self_contact: Option<SelfContact>,
     motors: Option<Vec<Option<Motor>>>,
+    drive: Drive,
 }
 
 impl ScenarioBuilder {
@@ -325,6 +349,13 @@ impl ScenarioBuilder {
         self
     }
 
+    /// How the joints are driven (`drive`; default [`Drive::Pd`]). [`Drive::Stepper`]
+    /// needs [`ScenarioBuilder::motors`] with at least one stepper whose rotor is known.
+    pub fn drive(mut self, drive: Drive) -> Self {
+        self.drive = drive;
+        self
+    }
+
     /// Contact forces between the checked pairs of the collision geometry given by
     /// [`ScenarioBuilder::geometry`] (`self_collisions`; off by default).
     pub fn self_contact(mut self, contact: SelfContact) -> Self {
@@ -385,6 +416,7 @@ impl ScenarioBuilder {
                 }
             }
         }
+        let stepper_drive = stepper_drive(&self.drive, self.motors.as_deref(), n)?;
         let steps = steps(self.duration, self.dt)?;
         check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
         // the arm without its payload, kept only to say which input overflows
@@ -440,6 +472,15 @@ impl ScenarioBuilder {
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
         }
+        if let Some(w) = coarse_stepper_step(
+            &model,
+            self.motors.as_deref(),
+            stepper_drive.as_deref(),
+            &gains,
+            self.dt,
+        ) {
+            warnings.push(w);
+        }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
         let meshes = MeshSource::of(&self.geometry);
         let (geometry, collision_set) = match (self.collisions, self.collision_set) {
@@ -468,8 +509,90 @@ impl ScenarioBuilder {
             warnings,
             self_contact: self.self_contact,
             motors: self.motors,
+            stepper_drive,
         })
     }
+}
+
+/// [`Drive::Stepper`]'s open-loop drive of each joint with a stepper (`None`: the PD drives):
+/// its microsteps `microsteps`' where given (≥ 1), else the motor's own, else
+/// [`DEFAULT_MICROSTEPS`].
+fn stepper_drive(
+    drive: &Drive,
+    motors: Option<&[Option<Motor>]>,
+    n: usize,
+) -> Result<Option<Vec<Option<OpenLoopStepper>>>> {
+    let Drive::Stepper { microsteps } = drive else {
+        return Ok(None);
+    };
+    let Some(motors) = motors else {
+        return Err(Error::option(
+            "drive",
+            "stepper drives the steppers of `motors`: give `motors`",
+        ));
+    };
+    if !microsteps.is_empty() {
+        count("microsteps", microsteps.len(), n)?;
+    }
+    let mut drives = Vec::with_capacity(n);
+    for (i, motor) in motors.iter().enumerate() {
+        let Some(m) = motor
+            .as_ref()
+            .filter(|m| matches!(m.envelope, Envelope::Stepper { .. }))
+        else {
+            drives.push(None);
+            continue;
+        };
+        let Some(stepping) = &m.stepping else {
+            return Err(Error::option(
+                "drive",
+                format!(
+                    "stepper: J{}'s stepper ({}) has no step angle: give its step_angle in the motors file",
+                    i + 1,
+                    m.label
+                ),
+            ));
+        };
+        let given = microsteps.get(i).copied().flatten();
+        if given == Some(0) {
+            return Err(Error::option("microsteps", format!("J{} 0 must be ≥ 1", i + 1)));
+        }
+        let m = given.or(stepping.microsteps).unwrap_or(DEFAULT_MICROSTEPS);
+        drives.push(Some(OpenLoopStepper::new(stepping, m)));
+    }
+    if drives.iter().all(Option::is_none) {
+        return Err(Error::option(
+            "drive",
+            "stepper: none of the joints' motors is a stepper",
+        ));
+    }
+    Ok(Some(drives))
+}
+
+/// The fastest-ringing open-loop stepper's [`Warning::CoarseStepperStep`], if its natural
+/// frequency ω_n = √(r²·η·N_r·T_max(0) / I), I the joint's effective inertia at the start pose,
+/// times Δt is above [`STEPPER_STEPS_PER_RADIAN`].
+fn coarse_stepper_step(
+    model: &Model,
+    motors: Option<&[Option<Motor>]>,
+    drives: Option<&[Option<OpenLoopStepper>]>,
+    gains: &Gains,
+    dt: f64,
+) -> Option<Warning> {
+    let (motors, drives) = (motors?, drives?);
+    let (i, omega) = (drives.iter().zip(motors).enumerate())
+        .filter_map(|(i, (d, m))| {
+            let (d, m) = (d.as_ref()?, m.as_ref()?);
+            let r = model.joints[i].gear_ratio;
+            let stiffness = r * r * m.efficiency * d.rotor_teeth * m.envelope.max_torque();
+            Some((i, (stiffness / gains.effective_inertia[i]).sqrt()))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (omega * dt > STEPPER_STEPS_PER_RADIAN).then(|| Warning::CoarseStepperStep {
+        joint: format!("J{} ({})", i + 1, crate::error::quoted(&model.joints[i].name)),
+        omega,
+        dt,
+    })
 }
 
 /// The error of a scenario whose arithmetic overflows: the payload's (`payload_kg`) when the

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::{Scenario, Verdict};
+use super::{Scenario, Sizing, Verdict};
 use crate::control::{FeedForward, Gains};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
@@ -229,8 +229,13 @@ pub struct MotorSummary {
     pub label: String,
     /// `"dc"` or `"stepper"`.
     pub kind: &'static str,
-    /// Share of the steps where the controller asked for more than the envelope gave at the
-    /// joint's speed (%).
+    /// What drove the joint: `"pd"` (the controller, clipped to the envelope) or `"stepper"`
+    /// (`--drive stepper`: the stepper open loop).
+    pub drive: &'static str,
+    /// Under the PD: the share of the steps where the controller asked for more than the
+    /// envelope gave at the joint's speed (beyond it by more than [`ENVELOPE_MARGIN`]). Under
+    /// `--drive stepper`: the share of the steps with the rotor's lag past the torque–angle
+    /// curve's peak (%).
     pub envelope_pct: f64,
     /// max over steps of |ω_m| = |ratio · q̇| (rad/s).
     pub max_motor_speed: f64,
@@ -238,14 +243,32 @@ pub struct MotorSummary {
     pub rms_torque: f64,
     /// The motor's continuous rating (N·m RMS), `null` when unknown.
     pub continuous_torque: Option<f64>,
-    /// Steppers only: the first time the controller asked for more than the pull-out torque
-    /// (s), or `null`.
+    /// Steppers only: under the PD the first time the controller asked for more than the
+    /// pull-out torque, under `--drive stepper` the first slip (s), or `null`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub loses_steps_at: Option<Option<f64>>,
-    /// Steppers that lose steps: what it needed, at what speed, and what the curve gave.
+    /// Steppers under the PD that lose steps: what it needed, at what speed, and what the
+    /// curve gave.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step_loss: Option<StepLoss>,
+    /// Steppers under `--drive stepper`: the full steps the rotor ends off its command, a
+    /// multiple of 4 (each slip is one electrical cycle).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps_lost: Option<u64>,
+    /// Steppers under `--drive stepper`: the offset the slips left at the joint, actual −
+    /// commanded (rad or m; negative: behind).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub position_lost: Option<f64>,
+    /// The sizing report (`--sizing` prints it).
+    pub sizing: Sizing,
 }
+
+/// How far (relative) a demand must exceed the envelope to count as beyond it under the PD
+/// (`envelope_pct`, and a stepper's `step_loss`): the demand and the envelope are each a few
+/// floating-point operations from the same figures, so a demand equal to the envelope
+/// differs from it by about 1e-15 relative; 1e-9 is far above that round-off and far below
+/// any excess that matters (1e-9 of 0.3 N·m is 0.3 nN·m).
+pub const ENVELOPE_MARGIN: f64 = 1e-9;
 
 /// The first step at which a stepper was asked for more than its pull-out torque.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]

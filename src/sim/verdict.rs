@@ -133,6 +133,20 @@ pub enum Reason {
         /// Where and by how much.
         loss: StepLoss,
     },
+    /// A joint's stepper, driven open loop (`--drive stepper`), slipped: its rotor fell past
+    /// the torque–angle curve to another stable point, whole electrical cycles away.
+    Slips {
+        /// The joint.
+        joint: JointId,
+        /// The first slip (s).
+        t: f64,
+        /// Full steps the rotor ends off its command (a multiple of 4).
+        steps_lost: u64,
+        /// The offset the slips left at the joint, actual − commanded (rad or m).
+        position_lost: f64,
+        /// Whether the joint is prismatic (the offset is metres).
+        prismatic: bool,
+    },
     /// A joint's motor ran at an RMS torque above its continuous rating.
     Overheats {
         /// The joint.
@@ -201,9 +215,30 @@ impl fmt::Display for Reason {
             ),
             Reason::LosesSteps { joint, loss } => write!(
                 f,
-                "{joint}'s stepper loses steps at t = {:.2} s: it needs {:.3} N·m at {:.0} rad/s, its curve gives {:.3}",
-                loss.t, loss.needs, loss.speed, loss.gives
+                "{joint}'s stepper loses steps at t = {:.2} s: it needs {:.4} N·m at {:.0} rad/s, {} more than its curve gives ({:.4})",
+                loss.t,
+                loss.needs,
+                loss.speed,
+                excess(loss.needs, loss.gives),
+                loss.gives
             ),
+            Reason::Slips {
+                joint,
+                t,
+                steps_lost,
+                position_lost,
+                prismatic,
+            } => {
+                let unit = if prismatic { "m" } else { "rad" };
+                write!(f, "{joint}'s stepper slips at t = {t:.3} s")?;
+                match steps_lost {
+                    0 => write!(f, " and slips back: it ends on its command"),
+                    n => write!(
+                        f,
+                        ": {n} full steps lost, the joint off by {position_lost:.5} {unit} from then on"
+                    ),
+                }
+            }
             Reason::Overheats { joint, rms, continuous } => write!(
                 f,
                 "{joint}'s motor runs at {rms:.3} N·m RMS, above its continuous {continuous} N·m"
@@ -218,6 +253,16 @@ impl fmt::Display for Reason {
 impl Serialize for Reason {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
+    }
+}
+
+/// How much more `needs` is than `gives`, in percent for people (`+0.05 %`), or `all of it`
+/// where the curve gives nothing.
+fn excess(needs: f64, gives: f64) -> String {
+    if gives > 0.0 {
+        format!("{:.2} %", 100.0 * (needs - gives) / gives)
+    } else {
+        "all of it".into()
     }
 }
 
@@ -284,7 +329,8 @@ impl Verdict {
         for (joint, m) in (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
             .filter_map(|(j, m)| m.as_ref().map(|m| (j, m)))
         {
-            if m.envelope_pct > thresholds.max_saturation_pct {
+            // an open-loop stepper asks for nothing: its slips are the reason, not a demand
+            if m.drive == "pd" && m.envelope_pct > thresholds.max_saturation_pct {
                 reasons.push(Reason::EnvelopeSaturates {
                     joint,
                     pct: m.envelope_pct,
@@ -293,6 +339,17 @@ impl Verdict {
             }
             if let Some(loss) = m.step_loss {
                 reasons.push(Reason::LosesSteps { joint, loss });
+            }
+            if let (Some(Some(t)), Some(steps_lost), Some(position_lost)) =
+                (m.loses_steps_at, m.steps_lost, m.position_lost)
+            {
+                reasons.push(Reason::Slips {
+                    joint,
+                    t,
+                    steps_lost,
+                    position_lost,
+                    prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
+                });
             }
             if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {
                 reasons.push(Reason::Overheats {

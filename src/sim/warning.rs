@@ -39,6 +39,33 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
+    /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
+    /// its natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) times Δt is above
+    /// [`STEPPER_STEPS_PER_RADIAN`]; a run near a slip can change with Δt.
+    CoarseStepperStep {
+        /// The joint whose rotor rings fastest, for people (`J6 ('hvataljka')`).
+        joint: String,
+        /// Its natural frequency at the start pose (rad/s).
+        omega: f64,
+        /// The run's Δt (s).
+        dt: f64,
+    },
+}
+
+/// Under [`super::Drive::Stepper`], the largest ω_n·Δt (a stepper's natural frequency times the
+/// step) the run takes without a [`Warning::CoarseStepperStep`].
+pub const STEPPER_STEPS_PER_RADIAN: f64 = 0.1;
+
+/// A step that resolves a ringing at `omega` (rad/s): the largest of 1, 2, 5 × 10ᵏ s with
+/// ω·Δt ≤ [`STEPPER_STEPS_PER_RADIAN`].
+fn fine_dt(omega: f64) -> f64 {
+    let most = STEPPER_STEPS_PER_RADIAN / omega;
+    let decade = 10f64.powf(most.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&d| d <= most)
+        .unwrap_or(decade)
 }
 
 impl Warning {
@@ -69,6 +96,14 @@ impl fmt::Display for Warning {
                 s.spectral_radius,
                 s.b_max,
                 s.b_kd
+            ),
+            Warning::CoarseStepperStep { joint, omega, dt } => write!(
+                f,
+                "warning: under `drive` stepper the rotor of {joint} rings at {omega:.0} rad/s ({:.0} Hz): Δt = {dt} s takes {:.0} steps a period, coarse for its microsteps and its ringing; a run near a slip can change with Δt (`dt` {} takes {:.0})",
+                omega / std::f64::consts::TAU,
+                std::f64::consts::TAU / (omega * dt),
+                shortest(fine_dt(*omega)),
+                std::f64::consts::TAU / (omega * fine_dt(*omega)),
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),

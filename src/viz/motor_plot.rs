@@ -1,26 +1,40 @@
 //! `--plot-motors F.svg | F.png`: the sizing plot (plotters). Per joint with a motor, the run's
-//! operating points (|ω_m|, |τ_m|) at the motor shaft over its torque–speed envelope, the
-//! continuous torque line where the motor has a rating, and the RMS point (RMS speed, RMS
-//! torque), as motor sizing application notes draw them (docs/motors.md).
+//! operating points at the motor shaft over its torque–speed envelope, as motor sizing notes
+//! draw them (docs/motors.md): speed |ω_m| across, the torque along the motion τ_m·sgn(ω_m)
+//! up, so motoring (> 0) and braking (< 0) stay apart, each with its own envelope limit; the
+//! torque the motor gave, and apart from it, where the controller asked for more, the demand
+//! before the clip with a line to what it got; the continuous torque where the motor has a
+//! rating (a stepper has none: its constant-current driver heats it the same at any torque);
+//! the RMS point (RMS speed, RMS torque).
 
 use std::path::PathBuf;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::figure::{FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart, err, titled, write_figure};
+use super::figure::{FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart_area, err, titled, write_figure};
 use crate::atomic::{Outputs, check_output_path};
-use crate::control::Motor;
+use crate::control::{Envelope, Motor};
 use crate::error::{Error, Result};
-use crate::sim::{Recorder, RunInfo, Sample, Summary};
+use crate::sim::{ENVELOPE_MARGIN, Recorder, RunInfo, Sample, Summary};
 
 /// Sampling period of the operating points (s).
 const PERIOD: f64 = 0.04;
-const PANEL: (u32, u32) = (700, 340);
+const PANEL: (u32, u32) = (700, 380);
 /// Points along a drawn envelope.
 const ENVELOPE_POINTS: usize = 200;
 const ENVELOPE: RGBColor = RGBColor(60, 60, 60);
 const CONTINUOUS: RGBColor = RGBColor(200, 40, 40);
+const DEMAND: RGBColor = RGBColor(200, 40, 40);
+
+/// One operating point at the shaft: |ω_m| (rad/s), the torque given along the motion and the
+/// torque asked for along it (N·m).
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    speed: f64,
+    given: f64,
+    asked: f64,
+}
 
 /// Collects the operating points and draws the sizing plot on [`Recorder::finish`].
 #[derive(Debug)]
@@ -31,12 +45,10 @@ pub struct MotorPlot {
     title: String,
     /// Per motored joint: its index, name, motor and ratio.
     joints: Vec<(usize, String, Motor, f64)>,
-    /// Per motored joint, the samples' (|ω_m|, |τ_m|).
-    points: Vec<Vec<(f64, f64)>>,
+    /// Per motored joint, the samples' operating points.
+    points: Vec<Vec<Point>>,
     /// Per motored joint, (RMS speed, RMS torque) once the run is over.
     rms: Vec<(f64, f64)>,
-    /// Per motored joint, its continuous rating.
-    continuous: Vec<Option<f64>>,
 }
 
 impl MotorPlot {
@@ -54,7 +66,6 @@ impl MotorPlot {
             joints: Vec::new(),
             points: Vec::new(),
             rms: Vec::new(),
-            continuous: Vec::new(),
         })
     }
 
@@ -88,7 +99,14 @@ impl Recorder for MotorPlot {
     fn record(&mut self, s: &Sample) -> Result<()> {
         for ((i, _, m, ratio), points) in self.joints.iter().zip(&mut self.points) {
             let k = ratio * m.efficiency;
-            points.push(((ratio * s.v[*i]).abs(), (s.tau[*i] / k).abs()));
+            let omega = ratio * s.v[*i];
+            // along the motion: the sign of the speed (at standstill, as given)
+            let along = if omega < 0.0 { -1.0 } else { 1.0 };
+            points.push(Point {
+                speed: omega.abs(),
+                given: along * s.tau[*i] / k,
+                asked: along * s.tau_raw[*i] / k,
+            });
         }
         Ok(())
     }
@@ -97,16 +115,20 @@ impl Recorder for MotorPlot {
         let motors = summary.motors.as_deref().unwrap_or(&[]);
         self.rms = (self.joints.iter().zip(&self.points))
             .map(|((i, ..), points)| {
-                let speed = points.iter().map(|p| p.0 * p.0).sum::<f64>() / points.len().max(1) as f64;
+                let speed = points.iter().map(|p| p.speed * p.speed).sum::<f64>() / points.len().max(1) as f64;
                 let torque = motors.get(*i).and_then(Option::as_ref).map_or(0.0, |m| m.rms_torque);
                 (speed.sqrt(), torque)
             })
             .collect();
-        self.continuous = (self.joints.iter()).map(|(_, _, m, _)| m.continuous_torque).collect();
         let rows = self.joints.len().div_ceil(2).max(1) as u32;
         let size = (2 * PANEL.0, TITLE_HEIGHT + rows * PANEL.1);
         write_figure(self, &self.outputs, &self.path, size, self.svg)
     }
+}
+
+/// Whether the demand went beyond what was given (by more than round-off).
+fn clipped(p: &Point) -> bool {
+    (p.asked - p.given).abs() > ENVELOPE_MARGIN * p.given.abs().max(1e-12)
 }
 
 impl Figure for MotorPlot {
@@ -117,12 +139,12 @@ impl Figure for MotorPlot {
         for (k, (panel, ((i, name, m, _), points))) in
             panels.iter().zip(self.joints.iter().zip(&self.points)).enumerate()
         {
-            // x to past the fastest point and where the envelope has halved; y to the largest
-            // torque
-            let fastest = points.iter().map(|p| p.0).fold(0.0, f64::max);
+            // x to past the fastest point and where the envelope has halved; y over both
+            // envelope limits and every point, given or asked
+            let fastest = points.iter().map(|p| p.speed).fold(0.0, f64::max);
             let reach = match &m.envelope {
-                crate::control::Envelope::Dc { no_load_speed, .. } => *no_load_speed,
-                crate::control::Envelope::Stepper { curve } => curve.last().map_or(0.0, |p| p[0]),
+                Envelope::Dc { no_load_speed, .. } => *no_load_speed,
+                Envelope::Stepper { curve } => curve.last().map_or(0.0, |p| p[0]),
             };
             let top = m.envelope.max_torque();
             let halved = (0..=ENVELOPE_POINTS)
@@ -130,31 +152,99 @@ impl Figure for MotorPlot {
                 .find(|&w| m.envelope.bounds(w).1 <= 0.5 * top)
                 .unwrap_or(reach);
             let x_end = 1.1 * fastest.max(halved).max(1e-6);
-            let strongest = points.iter().map(|p| p.1).fold(m.envelope.max_torque(), f64::max);
-            let y_end = 1.1 * strongest.max(self.continuous[k].unwrap_or(0.0)).max(1e-9);
-            let caption = format!("J{} {name}: {} (|τ_m| N·m against |ω_m| rad/s)", i + 1, m.label);
-            let mut chart = chart(panel, &caption, "|ω_m| (rad/s)", 0.0..x_end, 0.0..y_end)?;
-            let envelope = (0..=ENVELOPE_POINTS).map(|s| {
-                let w = x_end * s as f64 / ENVELOPE_POINTS as f64;
-                (w, m.envelope.bounds(w).1.max(0.0))
-            });
+            let (lo, hi) = (points.iter().flat_map(|p| [p.given, p.asked]))
+                .chain((0..=ENVELOPE_POINTS).flat_map(|s| {
+                    let (lo, hi) = m.envelope.bounds(x_end * s as f64 / ENVELOPE_POINTS as f64);
+                    [lo, hi]
+                }))
+                .chain(m.continuous_torque.into_iter().flat_map(|c| [c, -c]))
+                .fold((0.0f64, 0.0f64), |(lo, hi), t| (lo.min(t), hi.max(t)));
+            let pad = 0.08 * (hi - lo).max(1e-9);
+            let caption = format!("J{} {name}: {}", i + 1, m.label);
+            let mut chart = chart_area(panel, &caption, 0.0..x_end, (lo - pad)..(hi + pad))?;
             chart
-                .draw_series(LineSeries::new(envelope, ENVELOPE.stroke_width(2)))
+                .configure_mesh()
+                .x_desc("motor speed |ω_m| (rad/s)")
+                .y_desc("torque along the motion τ_m·sgn(ω_m) (N·m)")
+                .label_style((FAMILY, 12))
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            // the zero line: motoring above, braking below
+            chart
+                .draw_series(LineSeries::new(
+                    [(0.0, 0.0), (x_end, 0.0)],
+                    BLACK.mix(0.4).stroke_width(1),
+                ))
+                .map_err(err)?;
+            let limit = |upper: bool| {
+                (0..=ENVELOPE_POINTS).map(move |s| {
+                    let w = x_end * s as f64 / ENVELOPE_POINTS as f64;
+                    let (lo, hi) = m.envelope.bounds(w);
+                    (w, if upper { hi } else { lo })
+                })
+            };
+            chart
+                .draw_series(LineSeries::new(limit(true), ENVELOPE.stroke_width(2)))
                 .map_err(err)?
-                .label("envelope")
+                .label("envelope: motoring (above), braking (below)")
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], ENVELOPE.stroke_width(2)));
+            chart
+                .draw_series(LineSeries::new(limit(false), ENVELOPE.stroke_width(2)))
+                .map_err(err)?;
             let colour = PALETTE[i % 6];
             chart
-                .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.mix(0.5).filled())))
+                .draw_series(
+                    points
+                        .iter()
+                        .map(|p| Circle::new((p.speed, p.given), 2, colour.mix(0.5).filled())),
+                )
                 .map_err(err)?
-                .label("operating points")
+                .label("given (after the clip)")
                 .legend(move |(x, y)| Circle::new((x + 8, y), 3, colour.filled()));
-            if let Some(c) = self.continuous[k] {
+            let asked: Vec<&Point> = points.iter().filter(|p| clipped(p)).collect();
+            if !asked.is_empty() {
                 chart
-                    .draw_series(LineSeries::new([(0.0, c), (x_end, c)], CONTINUOUS.stroke_width(1)))
+                    .draw_series(
+                        asked
+                            .iter()
+                            .map(|p| PathElement::new([(p.speed, p.given), (p.speed, p.asked)], DEMAND.mix(0.5))),
+                    )
+                    .map_err(err)?;
+                chart
+                    .draw_series(
+                        asked
+                            .iter()
+                            .map(|p| Circle::new((p.speed, p.asked), 3, DEMAND.stroke_width(1))),
+                    )
                     .map_err(err)?
-                    .label(format!("continuous {c} N·m"))
-                    .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], CONTINUOUS.stroke_width(1)));
+                    .label("asked (before the clip)")
+                    .legend(|(x, y)| Circle::new((x + 8, y), 3, DEMAND.stroke_width(1)));
+            }
+            match m.continuous_torque {
+                Some(c) => {
+                    for level in [c, -c] {
+                        chart
+                            .draw_series(LineSeries::new(
+                                [(0.0, level), (x_end, level)],
+                                CONTINUOUS.stroke_width(1),
+                            ))
+                            .map_err(err)?;
+                    }
+                    chart
+                        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                        .map_err(err)?
+                        .label(format!("continuous ±{c} N·m"))
+                        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], CONTINUOUS.stroke_width(1)));
+                }
+                None if matches!(m.envelope, Envelope::Stepper { .. }) => {
+                    chart
+                        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                        .map_err(err)?
+                        .label("no continuous line: a constant-current driver heats a stepper alike at any torque")
+                        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], WHITE));
+                }
+                None => {}
             }
             let (ws, ts) = self.rms[k];
             chart
@@ -167,7 +257,7 @@ impl Figure for MotorPlot {
                 .position(SeriesLabelPosition::UpperRight)
                 .background_style(WHITE.mix(0.85))
                 .border_style(RGBColor(200, 200, 200))
-                .label_font((FAMILY, 12))
+                .label_font((FAMILY, 11))
                 .draw()
                 .map_err(err)?;
         }

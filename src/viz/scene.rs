@@ -556,6 +556,7 @@ mod tests {
                 q_cmd: &zeros,
                 v_cmd: &zeros,
                 tau: &zeros,
+                tau_raw: &zeros,
                 g: &zeros,
                 tool: Vec3::zeros(),
                 target: None,
