@@ -6,8 +6,7 @@ use super::args::{Command, JointValues, ReplayArgs, RetimeArgs, RunArgs, ShapeAr
 use crate::config::fields::{all_given, parse_center};
 use crate::config::{
     ArmConfig, Center, ClearanceConfig, ControlConfig, DriveMode, Motion, Motors, OutputConfig, ReplayConfig,
-    RetimeConfig,
-    RunConfig, ShapeConfig, VerdictConfig, WaveConfig,
+    RetimeConfig, RunConfig, ShapeConfig, VerdictConfig, WaveConfig,
 };
 use crate::control::FeedForward;
 use crate::error::{Error, Result};

@@ -392,6 +392,8 @@ mod tests {
             },
             efficiency: 0.9,
             continuous_torque: None,
+            stepping: None,
+            electrics: None,
         }
     }
 
@@ -405,6 +407,8 @@ mod tests {
             },
             efficiency: 1.0,
             continuous_torque: None,
+            stepping: None,
+            electrics: None,
         }
     }
 
