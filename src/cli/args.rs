@@ -67,10 +67,24 @@ pub struct WaveArgs {
 /// `faze4 replay`.
 #[derive(Clone, Debug, Args)]
 pub struct ReplayArgs {
-    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md).
+    /// The trajectory file.
+    #[command(flatten)]
+    pub file: TrajectoryFileArgs,
+    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
+    #[arg(long, allow_hyphen_values = true)]
+    pub duration: Option<f64>,
+    /// Options every run command shares.
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// The trajectory file `replay` plays and `retime` reads the path of.
+#[derive(Clone, Debug, Args)]
+pub struct TrajectoryFileArgs {
+    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md). retime takes its points as the path, times ignored.
     #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
     pub q_traj: PathBuf,
-    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
+    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats (retime: the input's own timing it reports its speed-up against).
     #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
     pub traj_period: f64,
     /// Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the first).
@@ -79,12 +93,6 @@ pub struct ReplayArgs {
     /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
     #[arg(long, value_name = "NAME")]
     pub topic: Option<String>,
-    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
-    #[arg(long, allow_hyphen_values = true)]
-    pub duration: Option<f64>,
-    /// Options every run command shares.
-    #[command(flatten)]
-    pub run: RunArgs,
 }
 
 /// `faze4 shape`.
@@ -115,18 +123,9 @@ pub struct ShapeArgs {
 /// `faze4 retime`.
 #[derive(Clone, Debug, Args)]
 pub struct RetimeArgs {
-    /// The path: its points in order, times ignored; any file replay reads (.yaml, .json, .mcap, .csv, or an N×dof .npy), joined by a C² cubic spline over their cumulative joint-space distance.
-    #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
-    pub q_traj: PathBuf,
-    /// .npy: the time its frames span (s), the input's own timing the speed-up is reported against.
-    #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
-    pub traj_period: f64,
-    /// Which JointTrajectory message of a .yaml, .json or .mcap file to read, counted from 1 (default: the first).
-    #[arg(long, value_name = "K")]
-    pub message: Option<usize>,
-    /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
-    #[arg(long, value_name = "NAME")]
-    pub topic: Option<String>,
+    /// The path: the trajectory file's points in order, times ignored, joined by a C² cubic spline over their cumulative joint-space distance.
+    #[command(flatten)]
+    pub file: TrajectoryFileArgs,
     /// Where the timing is written, by extension: a JointTrajectory as .yaml or .json, a rosbag2 .mcap, or a .csv (positions, velocities, accelerations, time from start); `faze4 replay --q-traj` plays it.
     #[arg(long, value_name = "F.yaml|F.json|F.mcap|F.csv")]
     pub out: PathBuf,

@@ -2,7 +2,7 @@
 //! configuration checks its values, each error naming the field, which [`super::main`] shows
 //! as its flag.
 
-use super::args::{Command, JointValues, ReplayArgs, RetimeArgs, RunArgs, ShapeArgs, WaveArgs};
+use super::args::{Command, JointValues, ReplayArgs, RetimeArgs, RunArgs, ShapeArgs, TrajectoryFileArgs, WaveArgs};
 use crate::config::fields::{all_given, parse_center};
 use crate::config::{
     ArmConfig, Center, ClearanceConfig, ControlConfig, DriveMode, Motion, Motors, OutputConfig, ReplayConfig,
@@ -40,13 +40,18 @@ fn wave(a: &WaveArgs) -> Result<RunConfig> {
 }
 
 fn replay(a: &ReplayArgs) -> Result<RunConfig> {
-    let motion = Motion::Replay(ReplayConfig {
+    let motion = Motion::Replay(file(&a.file));
+    with_run(motion, a.duration, &a.run)
+}
+
+/// The trajectory file's options.
+fn file(a: &TrajectoryFileArgs) -> ReplayConfig {
+    ReplayConfig {
         q_traj: a.q_traj.clone(),
         traj_period: a.traj_period,
         message: a.message,
         topic: a.topic.clone(),
-    });
-    with_run(motion, a.duration, &a.run)
+    }
 }
 
 fn shape(a: &ShapeArgs) -> Result<RunConfig> {
@@ -62,12 +67,7 @@ fn shape(a: &ShapeArgs) -> Result<RunConfig> {
 
 fn retime(a: &RetimeArgs) -> Result<RunConfig> {
     let motion = Motion::Retime(RetimeConfig {
-        path: ReplayConfig {
-            q_traj: a.q_traj.clone(),
-            traj_period: a.traj_period,
-            message: a.message,
-            topic: a.topic.clone(),
-        },
+        path: file(&a.file),
         out: Some(a.out.clone()),
         grid: a.grid,
         margin: a.margin,

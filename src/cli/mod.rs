@@ -139,13 +139,7 @@ fn retime_and_report(config: &crate::config::RunConfig) -> Result<ExitCode> {
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     files.commit()?;
-    let code = if summary.diverged.is_some() {
-        ExitCode::from(EXIT_DIVERGED)
-    } else if config.verdict.strict && !summary.verdict.follows {
-        ExitCode::from(EXIT_CANNOT_FOLLOW)
-    } else {
-        ExitCode::SUCCESS
-    };
+    let code = exit_code(summary, config.verdict.strict);
     if let (Some(l), true) = (
         finished.replayed.as_ref().and_then(|r| r.recorders.live.as_ref()),
         config.outputs.hold,
@@ -200,18 +194,23 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
         );
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
-    let code = if summary.diverged.is_some() {
-        ExitCode::from(EXIT_DIVERGED)
-    } else if config.verdict.strict && !summary.verdict.follows {
-        ExitCode::from(EXIT_CANNOT_FOLLOW)
-    } else {
-        ExitCode::SUCCESS
-    };
+    let code = exit_code(summary, config.verdict.strict);
     // the run's files are written: a signal now only ends the serving
     if let (Some(l), true) = (&finished.recorders.live, config.outputs.hold) {
         l.hold_until(|| stop.is_raised());
     }
     Ok(code)
+}
+
+/// The exit status of a run that ended: 1 diverged, 3 not followed under `strict`, else 0.
+fn exit_code(summary: &sim::Summary, strict: bool) -> ExitCode {
+    if summary.diverged.is_some() {
+        ExitCode::from(EXIT_DIVERGED)
+    } else if strict && !summary.verdict.follows {
+        ExitCode::from(EXIT_CANNOT_FOLLOW)
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 /// The exit status of a run or sweep `stop` ended: 128 + the signal's number.

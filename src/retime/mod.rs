@@ -373,10 +373,8 @@ fn check_points(model: &crate::model::Model, path: &PathSpline) -> Result<()> {
                 return Err(Error::BadPath {
                     point: Some(k),
                     message: format!(
-                        "J{} ({}) = {qj} {} is beyond its limits [{}, {}]",
-                        j + 1,
-                        crate::error::quoted(&joint.name),
-                        joint.kind.unit(),
+                        "{} is beyond its limits [{}, {}]",
+                        at_value(j, joint, qj),
                         joint.lower,
                         joint.upper
                     ),
@@ -407,10 +405,8 @@ fn check_between(model: &crate::model::Model, path: &PathSpline, grid: &grid::Pa
                 return Err(Error::BadPath {
                     point: None,
                     message: format!(
-                        "the spline between points {a} and {b} takes J{} ({}) to {qj} {}, beyond its limits [{}, {}]: add a point there or move them inside",
-                        j + 1,
-                        crate::error::quoted(&joint.name),
-                        joint.kind.unit(),
+                        "the spline between points {a} and {b} reaches {}, beyond its limits [{}, {}]: add a point there or move them inside",
+                        at_value(j, joint, qj),
                         joint.lower,
                         joint.upper
                     ),
@@ -419,4 +415,14 @@ fn check_between(model: &crate::model::Model, path: &PathSpline, grid: &grid::Pa
         }
     }
     Ok(())
+}
+
+/// Joint j at `value`, for a message: `J2 ('nadlaktica') = 1.9 rad`.
+fn at_value(j: usize, joint: &crate::model::Joint, value: f64) -> String {
+    format!(
+        "J{} ({}) = {value} {}",
+        j + 1,
+        crate::error::quoted(&joint.name),
+        joint.kind.unit()
+    )
 }
