@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs one fuzz target until its coverage (libFuzzer's `cov:`) has not grown for MINUTES
-# minutes, then stops it and prints the total time, executions and final cov/ft.
+# minutes, then stops it and prints the total time, executions and final cov/ft. With
+# LONGEST (minutes), it also stops then, plateau or not (the machine is shared: at most 30).
 #
 #   fuzz/run_until_plateau.sh urdf_model 10
+#   fuzz/run_until_plateau.sh dae_mesh 5 30
 #
 # One job, at nice 10 (the machine is shared). The corpus grows in fuzz/corpus/TARGET
 # (gitignored), starting from fuzz/seeds/TARGET and, read-only, the repository's own inputs
@@ -12,7 +14,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 target=${1:?usage: $0 TARGET MINUTES}
-minutes=${2:?usage: $0 TARGET MINUTES}
+minutes=${2:?usage: $0 TARGET MINUTES [LONGEST]}
+longest=${3:-}
 corpus=fuzz/corpus/$target
 mkdir -p "$corpus" fuzz/logs
 log=fuzz/logs/$target-$(date +%Y%m%d-%H%M%S).log
@@ -28,6 +31,16 @@ urdf_model)
     ;;
 npy_samples)
     cp -n tests/fixtures/*.npy "$corpus"/
+    ;;
+dae_mesh)
+    flags+=(-dict=fuzz/dae.dict)
+    ;;
+trajectory_file)
+    # the seeds are the fixtures with their format's byte in front (0 YAML, 1 JSON, 2 MCAP, 3 CSV)
+    ;;
+motors_file)
+    extra+=(tests/motors)
+    flags+=(-dict=fuzz/motors.dict)
     ;;
 esac
 
@@ -51,6 +64,11 @@ while kill -0 "$pid" 2>/dev/null; do
         last_growth=$(date +%s)
     elif (($(date +%s) - last_growth >= minutes * 60)); then
         reason="the plateau: no new cov for $minutes min"
+        kill -INT -- -"$pid" 2>/dev/null || true
+        break
+    fi
+    if [[ -n $longest ]] && (($(date +%s) - start >= longest * 60)); then
+        reason="the time limit of $longest min, coverage still growing: no plateau"
         kill -INT -- -"$pid" 2>/dev/null || true
         break
     fi

@@ -30,10 +30,12 @@ pub struct Outputs {
 #[derive(Debug, Default)]
 struct Staged {
     /// The targets claimed so far (resolved through links), with the option that names each
-    /// (devices and FIFOs too, which may be claimed twice).
-    claimed: Vec<(PathBuf, String)>,
+    /// and the path as given (devices and FIFOs too, which may be claimed twice).
+    claimed: Vec<(PathBuf, String, PathBuf)>,
     /// Complete temporaries waiting for the commit: (temporary, resolved target).
     files: Vec<(PathBuf, PathBuf)>,
+    /// The files the run reads, which no output may replace.
+    inputs: Inputs,
 }
 
 impl Drop for Staged {
@@ -58,22 +60,36 @@ impl Outputs {
         }
     }
 
+    /// Makes this set refuse any output that is one of `inputs` ([`Inputs::check`]): the
+    /// outputs claimed so far at once, those claimed later in [`Outputs::claim`], and every file
+    /// again when it is created.
+    pub fn reading(&self, inputs: Inputs) -> Result<()> {
+        let mut staged = self.staged();
+        for (_, option, given) in &staged.claimed {
+            inputs.check(given, option)?;
+        }
+        staged.inputs = inputs;
+        Ok(())
+    }
+
     fn staged(&self) -> MutexGuard<'_, Staged> {
         // a thread that panicked while staging left the list whole (pushes only)
         self.inner.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Checks, before a run, that `path` can be written later (see [`check_output_path`]) and
-    /// that no other output of the set names the same file (links resolved). `option` names the
-    /// command-line option in the error. A device or a FIFO may be named by several options.
+    /// Checks, before a run, that `path` can be written later (see [`check_output_path`]), that
+    /// it is none of the run's inputs ([`Outputs::reading`]) and that no other output of the set
+    /// names the same file (links resolved). `option` names the command-line option in the
+    /// error. A device or a FIFO may be named by several options.
     pub fn claim(&self, path: &Path, option: &str) -> Result<()> {
         check_output_path(path, option)?;
+        self.staged().inputs.check(path, option)?;
         let target = resolve(path).map_err(|source| Error::Io {
             path: path.to_path_buf(),
             source,
         })?;
         let mut staged = self.staged();
-        if let Some((_, other)) = (staged.claimed.iter()).find(|(t, _)| *t == target && !is_special(&target)) {
+        if let Some((_, other, _)) = (staged.claimed.iter()).find(|(t, _, _)| *t == target && !is_special(&target)) {
             return Err(Error::argument(
                 option,
                 format!(
@@ -82,7 +98,7 @@ impl Outputs {
                 ),
             ));
         }
-        staged.claimed.push((target, option.to_string()));
+        staged.claimed.push((target, option.to_string(), path.to_path_buf()));
         Ok(())
     }
 
@@ -92,8 +108,8 @@ impl Outputs {
         staged
             .claimed
             .iter()
-            .find(|(t, _)| t == resolved)
-            .map(|(_, o)| o.clone())
+            .find(|(t, _, _)| t == resolved)
+            .map(|(_, o, _)| o.clone())
     }
 
     /// Starts writing `target` as a file of this set.
@@ -174,10 +190,29 @@ impl Outputs {
     }
 }
 
-/// `.NAME.PID.EXT` beside `target`.
+/// The longest file name most file systems take (Linux's `NAME_MAX`, in bytes).
+const NAME_MAX: usize = 255;
+
+/// `.NAME.PID.EXT` beside `target`. A name too long for that (a valid 255-byte name) keeps as
+/// much of itself as fits, then `~` and a hash of the whole name, so that the temporary's name
+/// stays within [`NAME_MAX`] and two long names still get two temporaries.
 fn hidden_beside(target: &Path, ext: &str) -> PathBuf {
-    let name = target.file_name().map_or("out".into(), |n| n.to_string_lossy());
-    target.with_file_name(format!(".{name}.{}.{ext}", std::process::id()))
+    use std::hash::{Hash, Hasher};
+    use std::os::unix::ffi::OsStringExt;
+    let name = target.file_name().unwrap_or("out".as_ref()).as_encoded_bytes();
+    let suffix = format!(".{}.{ext}", std::process::id());
+    let mut hidden = vec![b'.'];
+    if 1 + name.len() + suffix.len() <= NAME_MAX {
+        hidden.extend_from_slice(name);
+    } else {
+        let mut hasher = std::hash::DefaultHasher::new();
+        name.hash(&mut hasher);
+        let tag = format!("~{:016x}", hasher.finish());
+        hidden.extend_from_slice(&name[..NAME_MAX - 1 - suffix.len() - tag.len()]);
+        hidden.extend_from_slice(tag.as_bytes());
+    }
+    hidden.extend_from_slice(suffix.as_bytes());
+    target.with_file_name(std::ffi::OsString::from_vec(hidden))
 }
 
 /// Whether `path` exists and is neither a file nor a directory (a device, a FIFO, a socket).
@@ -249,6 +284,7 @@ impl AtomicFile {
             )));
         }
         let resolved = resolve(target).map_err(io)?;
+        (outputs.staged().inputs).check(target, option.as_deref().unwrap_or("output"))?;
         let (temp, file) = if is_special(&resolved) {
             (
                 None,
@@ -263,6 +299,10 @@ impl AtomicFile {
             }
             let temp = hidden_beside(&resolved, "tmp");
             let file = File::create(&temp).map_err(io)?;
+            // a file replaced keeps its permissions (600 stays 600)
+            if let Ok(old) = std::fs::metadata(&resolved) {
+                let _ = file.set_permissions(old.permissions());
+            }
             (Some(temp), file)
         };
         Ok(Self {
@@ -313,6 +353,67 @@ impl Drop for AtomicFile {
         if let Some(temp) = &self.temp {
             self.writer.take();
             let _ = std::fs::remove_file(temp);
+        }
+    }
+}
+
+/// The files a run reads (the URDF, its meshes, the trajectory, the motors file, the parts of a
+/// merge and their metadata), so that no output replaces one: an output that is the same file
+/// as an input (the same device and inode, so through any link, hard link or spelling) is
+/// refused before anything is written. Only regular files are kept (`/dev/stdin` may read
+/// what `/dev/stdout` writes to).
+#[derive(Clone, Debug, Default)]
+pub struct Inputs {
+    /// (path as given, what reads it, device and inode)
+    files: Vec<(PathBuf, String, (u64, u64))>,
+}
+
+impl Inputs {
+    /// No inputs.
+    pub fn new() -> Inputs {
+        Inputs::default()
+    }
+
+    /// Adds the file at `path`, read as `role` (the field that names it between backticks,
+    /// `` `urdf` ``, or what it is, `the mesh of link 'base'`). A path that is not an existing regular file is skipped.
+    pub fn add(&mut self, path: &Path, role: impl Into<String>) {
+        use std::os::unix::fs::MetadataExt;
+        if let Ok(m) = std::fs::metadata(path)
+            && m.is_file()
+        {
+            self.files.push((path.to_path_buf(), role.into(), (m.dev(), m.ino())));
+        }
+    }
+
+    /// [`Inputs::add`], by value.
+    pub fn with(mut self, path: &Path, role: impl Into<String>) -> Inputs {
+        self.add(path, role);
+        self
+    }
+
+    /// Refuses `output`, named by `option`, if it is one of these inputs.
+    pub fn check(&self, output: &Path, option: &str) -> Result<()> {
+        use std::os::unix::fs::MetadataExt;
+        let Ok(m) = std::fs::metadata(output) else {
+            return Ok(()); // not there yet: no input
+        };
+        match self.files.iter().find(|(_, _, id)| *id == (m.dev(), m.ino())) {
+            Some((path, role, _)) => Err(Error::argument(
+                option,
+                format!(
+                    "{} is {}{}: an output never replaces an input of its run; name another file",
+                    output.display(),
+                    match role.starts_with('`') {
+                        true => format!("the {role} input"),
+                        false => role.clone(),
+                    },
+                    match path == output {
+                        true => String::new(),
+                        false => format!(" ({})", path.display()),
+                    }
+                ),
+            )),
+            None => Ok(()),
         }
     }
 }

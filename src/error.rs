@@ -278,19 +278,46 @@ pub fn shortest(x: f64) -> String {
     }
 }
 
-/// A link's or joint's `name` in quotes, its control characters escaped (`'a\\nb'`): a name
-/// read from a URDF never breaks the one line it is printed on.
+/// A link's or joint's `name` in quotes, its control and bidirectional characters escaped
+/// (`'a\\nb'`): a name read from a URDF never breaks the one line it is printed on, nor
+/// reorders what a reader sees.
 pub fn quoted(name: &str) -> String {
-    format!("'{}'", name.escape_debug())
+    format!("'{}'", escape_controls(&name.escape_debug().to_string()))
 }
 
-/// `text` with its control characters and line separators escaped (`\n` as `\\n`): a message
-/// quoting a name read from a file stays on its one line.
+/// Whether `c` must not reach a terminal or a text file as it is: a control character (C0,
+/// DEL, or C1 such as U+009B, the one-byte start of a terminal escape sequence), a line or
+/// paragraph separator (U+2028, U+2029), or a bidirectional formatting character (U+061C,
+/// U+200E, U+200F, U+202A–U+202E, U+2066–U+2069), which reorders the text a reader sees.
+pub fn is_unsafe_char(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{2028}' | '\u{2029}' | '\u{061C}' | '\u{200E}' | '\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}'
+        )
+}
+
+/// `text` with its unsafe characters ([`is_unsafe_char`]) escaped as Rust writes them (`\n`,
+/// `\u{202e}`): a message, a line on the terminal or a label in a file quoting a name read
+/// from a file stays on its one line and reads in its order. Escaping twice changes nothing.
 pub fn escape_controls(text: &str) -> String {
-    text.chars()
-        .map(|c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
-            true => c.escape_default().to_string(),
-            false => c.to_string(),
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match is_unsafe_char(c) {
+            true => out.extend(c.escape_default()),
+            false => out.push(c),
+        }
+    }
+    out
+}
+
+/// [`escape_controls`] for lines: `text` with every unsafe character escaped but its line
+/// breaks, which end its lines.
+pub fn escape_lines(text: &str) -> String {
+    text.split_inclusive('\n')
+        .map(|line| match line.strip_suffix('\n') {
+            Some(line) => escape_controls(line) + "\n",
+            None => escape_controls(line),
         })
         .collect()
 }

@@ -207,6 +207,93 @@ fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
     result
 }
 
+/// The names the fuzzed trajectory file goes by in `trajectory_file`, which give its format.
+pub const TRAJECTORY_LABELS: [&str; 4] = ["fuzz.yaml", "fuzz.json", "fuzz.mcap", "fuzz.csv"];
+
+/// `trajectory_file`: the first byte picks the format (its value mod 4: YAML, JSON, MCAP, CSV),
+/// the rest is the file → [`crate::traj::files::parse`] (the first message, the one topic).
+/// Checks: an error is one line naming the file first; an accepted trajectory passes
+/// [`crate::traj::TimedTrajectory::check`] (at most [`crate::input::MAX_MOVING_JOINTS`] joints,
+/// two points or more, times increasing, every point as long as the names). `None` for no
+/// bytes.
+pub fn trajectory_file(data: &[u8]) -> Option<Result<crate::traj::TimedTrajectory>> {
+    use crate::traj::files::{Format, Selection, parse};
+    let (&first, bytes) = data.split_first()?;
+    let label = TRAJECTORY_LABELS[first as usize % 4];
+    let path = Path::new(label);
+    let format = Format::of(path).expect("a trajectory extension");
+    let result = parse(bytes, format, &Selection::default(), path);
+    match &result {
+        Ok(t) => {
+            if let Err(e) = t.check(path) {
+                panic!("an accepted trajectory fails its check: {e}");
+            }
+            assert!(t.joint_names.len() <= crate::input::MAX_MOVING_JOINTS);
+            assert!(t.points.len() >= 2);
+            let n = t.joint_names.len();
+            for (p, q) in t.points.iter().zip(&t.points[1..]) {
+                assert!(p.time_from_start < q.time_from_start, "{p:?} {q:?}");
+            }
+            assert!(t.points.iter().all(|p| p.positions.len() == n));
+        }
+        Err(e) => check_error(e, label),
+    }
+    Some(result)
+}
+
+/// The name the fuzzed motors file goes by in error messages.
+pub const MOTORS_LABEL: &str = "fuzz.toml";
+
+/// `motors_file`: bytes → (if UTF-8) the motors file's parser
+/// ([`crate::config::motors::file_motors`]) for the bundled Faze4 (six joints, `joint_1` …
+/// `joint_6`). Checks: an error is one line, `` `motors`: fuzz.toml: … ``; accepted motors are one
+/// per joint, each passing [`crate::control::Motor::check`], with ratios and rotors > 0 (a rotor
+/// may be 0) where given. `None` if the bytes are not UTF-8.
+pub fn motors_file(data: &[u8]) -> Option<Result<Vec<Option<crate::control::JointMotor>>>> {
+    let text = std::str::from_utf8(data).ok()?;
+    let model = crate::faze4::model();
+    let result = crate::config::motors::file_motors(text, Path::new(MOTORS_LABEL), &model);
+    match &result {
+        Ok(motors) => {
+            assert_eq!(motors.len(), model.dof());
+            for m in motors.iter().flatten() {
+                assert_eq!(m.motor.check(), Ok(()), "{m:?}");
+                assert!(m.gear_ratio.is_none_or(|r| r.is_finite() && r > 0.0), "{m:?}");
+                assert!(m.rotor_inertia.is_none_or(|r| r.is_finite() && r >= 0.0), "{m:?}");
+                if let crate::control::Envelope::Stepper { curve } = &m.motor.envelope {
+                    assert!(curve.len() >= 2 && curve[0][0] == 0.0, "{curve:?}");
+                }
+            }
+        }
+        Err(e) => {
+            let message = e.to_string();
+            assert!(message.starts_with("`motors`: fuzz.toml: "), "{message:?}");
+            assert!(
+                !message.contains(['\n', '\r']),
+                "the error is not one line: {message:?}"
+            );
+        }
+    }
+    Some(result)
+}
+
+/// The names the fuzzed COLLADA and OBJ files go by.
+pub const DAE_LABEL: &str = "fuzz.dae";
+/// See [`DAE_LABEL`].
+pub const OBJ_LABEL: &str = "fuzz.obj";
+
+/// `dae_mesh`: bytes → [`parse_mesh`] as a COLLADA file (its claims checked first, then
+/// mesh-loader). Checks: see [`check_mesh`].
+pub fn dae_mesh(data: &[u8]) -> Result<Mesh> {
+    check_mesh(parse_mesh(data, Path::new(DAE_LABEL)), DAE_LABEL)
+}
+
+/// `obj_mesh`: bytes → [`parse_mesh`] as a Wavefront OBJ file (no `.mtl` read). Checks: see
+/// [`check_mesh`].
+pub fn obj_mesh(data: &[u8]) -> Result<Mesh> {
+    check_mesh(parse_mesh(data, Path::new(OBJ_LABEL)), OBJ_LABEL)
+}
+
 /// `npy_samples`: bytes → [`npy::parse_samples`]. Checks: an error is one line naming the
 /// file; accepted samples are N ≥ 2 rows of the same non-zero width, all finite.
 pub fn npy_samples(data: &[u8]) -> Result<Vec<Vec<f64>>> {

@@ -3,6 +3,7 @@
 //!
 //! Layers, bottom up (each uses only those below it; `ARCHITECTURE.md` has the table):
 //! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
+//! [`input`] (files read whole under a cap),
 //! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
 //! workspace), [`control`] (PD, tuning, motors), [`ik`] (inverse kinematics), [`traj`]
 //! (commands), [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`geometry`] (visuals
@@ -40,6 +41,7 @@ pub mod fuzzing;
 pub mod geometry;
 pub mod id;
 pub mod ik;
+pub mod input;
 pub mod model;
 pub mod output;
 #[cfg(feature = "python")]

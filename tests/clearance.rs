@@ -8,7 +8,11 @@ mod common;
 use common::*;
 use faze4::Error;
 use faze4::algo::{Data, forward_kinematics};
-use faze4::geometry::{Clearance, ClearanceGeometry, CollisionSet, GeometryData, PairFilter, Robot, Warning};
+use std::sync::Arc;
+
+use faze4::geometry::{
+    Clearance, ClearanceGeometry, CollisionSet, GeometryData, PairFilter, PathClearance, Robot, Warning,
+};
 use faze4::model::{Geometry, PackagePaths};
 use serde_json::Value;
 
@@ -721,5 +725,126 @@ fn a_tolerance_reports_actual_distances_within_it_and_the_exact_intersections() 
             batch,
         );
         assert!(crossings >= 60, "{crossings} intersections");
+    }
+}
+
+/// Samples queued and folded in together (the pairs in parallel, as a run's clearance worker
+/// does when samples wait for it) give the report of the same samples added one by one, bit
+/// for bit: each pair's minimum and time, and the closest pair overall when several pairs tie
+/// (the Faze4 folding into itself, where pairs touch at the same samples), at the default
+/// tolerance and exactly, with batches of waiting samples searched during the run.
+#[test]
+fn queued_samples_fold_in_as_one_by_one() {
+    let robot = real();
+    let (set, _) = CollisionSet::new(&robot.model, &robot.geometry, ClearanceGeometry::Mesh, PairFilter::All).unwrap();
+    let qs = folding(40);
+    let mut data = Data::new(&robot.model);
+    for (tolerance, batch) in [(1e-3, 1024), (0.0, 5)] {
+        let mut one_by_one = Clearance::with_tolerance(&set, tolerance).batch(batch);
+        let mut queued = Clearance::with_tolerance(&set, tolerance).batch(batch);
+        // queues of 1, 2, …, 9 samples (folded with the pairs in parallel from 8 on)
+        let mut due = 1;
+        for (k, q) in qs.iter().enumerate() {
+            forward_kinematics(&robot.model, &mut data, q);
+            one_by_one.add(&data.frame_pose, k as f64 * 0.04);
+            queued.queue(&data.frame_pose, k as f64 * 0.04);
+            if queued.queued() == due || k + 1 == qs.len() {
+                queued.fold_queued();
+                assert_eq!(queued.intersecting(), one_by_one.intersecting(), "sample {k}");
+                due = due % 9 + 1;
+            }
+        }
+        one_by_one.finish();
+        queued.finish();
+        let firsts: Vec<Option<f64>> = queued.first_intersections().collect();
+        assert_eq!(firsts, one_by_one.first_intersections().collect::<Vec<_>>());
+        assert!(firsts.iter().flatten().count() > 3, "{firsts:?}");
+        assert_eq!(queued.into_report(), one_by_one.into_report());
+    }
+}
+
+/// Runs that follow a path computed once (the commanded poses, as a sweep's rows share them),
+/// each at its own poses, near the path or far from it: at every sample the intersecting
+/// pairs are the full query's; each pair's minimum is the distance of two actual parts (not
+/// below the full query at its time), at most `tolerance` above the smallest over the samples
+/// (exactly that smallest at tolerance 0). `deviation` (rad) turns each joint by
+/// `deviation · sin(0.3 k + i)` at sample k (a tracking error).
+fn follower_matches_every_sample(
+    robot: &Robot,
+    set: &Arc<CollisionSet>,
+    path: &PathClearance,
+    qs: &[Vec<f64>],
+    deviation: f64,
+) {
+    let tolerance = path.tolerance();
+    let mut data = Data::new(&robot.model);
+    let mut every = GeometryData::new(set);
+    let mut run = Clearance::with_tolerance(set, tolerance).following(path);
+    let mut every_sample = Vec::new();
+    for (k, q) in qs.iter().enumerate() {
+        let q: Vec<f64> = (q.iter().enumerate())
+            .map(|(i, x)| x + deviation * (0.3 * k as f64 + i as f64).sin())
+            .collect();
+        forward_kinematics(&robot.model, &mut data, &q);
+        set.distances(&data.frame_pose, &mut every);
+        every_sample.push(every.distances.iter().map(|d| d.distance).collect::<Vec<f64>>());
+        run.add(&data.frame_pose, path.times()[k]);
+        let intersecting: Vec<bool> = every.distances.iter().map(|d| d.intersecting).collect();
+        assert_eq!(run.intersecting(), intersecting, "deviation {deviation}, sample {k}");
+    }
+    run.finish();
+    let report = run.into_report();
+    for (p, pair) in report.pairs.iter().enumerate() {
+        let least = every_sample.iter().map(|d| d[p]).fold(f64::INFINITY, f64::min);
+        let k = path.times().iter().position(|&t| t == pair.t).unwrap();
+        let at_t = every_sample[k][p];
+        assert!(
+            at_t <= pair.min_m + HULL_CERTIFICATE && pair.min_m <= least + tolerance + HULL_CERTIFICATE,
+            "deviation {deviation} {:?}: {} at t = {} (full query there {at_t}), smallest {least}, tolerance {tolerance}",
+            pair.links,
+            pair.min_m,
+            pair.t
+        );
+        if tolerance == 0.0 {
+            assert!((pair.min_m - least).abs() <= 1e-12, "{:?}", pair.links);
+        }
+        assert_eq!(pair.intersecting, least <= 0.0, "{:?}", pair.links);
+    }
+}
+
+/// A path's clearance computed once ([`PathClearance`]) and shared by runs that follow it:
+/// on the Faze4 circle (mesh pairs whose hulls overlap, nearly concentric surfaces) and on the
+/// arm folding into itself (intersections), at the default tolerance and exactly, for a run at
+/// the path's own poses, runs a few milliradians off (a tracking error) and a run 0.2 rad off
+/// (one that cannot follow, folded as without the path).
+#[test]
+fn runs_following_a_shared_path_keep_the_tolerance_and_the_exact_intersections() {
+    let fixture = fixture("clearance_faze4_real.json");
+    let circle: Vec<Vec<f64>> = fixture["poses"].as_array().unwrap()[90..150]
+        .iter()
+        .map(|p| vec_f64(&p["q"]))
+        .collect();
+    let robot = real();
+    let (set, _) = CollisionSet::new(
+        &robot.model,
+        &robot.geometry,
+        ClearanceGeometry::Mesh,
+        PairFilter::NonAdjacent,
+    )
+    .unwrap();
+    let set = Arc::new(set);
+    let mut data = Data::new(&robot.model);
+    for (qs, tolerance) in [(&circle, 1e-3), (&folding(60), 1e-3), (&circle, 0.0)] {
+        let mut path = PathClearance::builder(set.clone(), tolerance);
+        for (k, q) in qs.iter().enumerate() {
+            forward_kinematics(&robot.model, &mut data, q);
+            assert!(path.add(&data.frame_pose, k as f64 * 0.02));
+        }
+        let path = path.build();
+        assert_eq!(path.len(), qs.len());
+        assert!(path.bytes() <= faze4::geometry::MAX_PATH_BYTES);
+        for deviation in [0.0, 1e-3, 4e-3, 0.2] {
+            follower_matches_every_sample(&robot, &set, &path, qs, deviation);
+        }
     }
 }

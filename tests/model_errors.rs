@@ -282,3 +282,51 @@ fn a_follower_leaves_its_leader_the_only_coordinate() {
     // its damping 0.1, the elbow's none
     assert_eq!(model.joints[0].damping, 0.1);
 }
+
+/// Issue 35: a huge mass names its overflow (it said the moments were "NaN ≤ 0"); an empty
+/// `<geometry>` names its element (it printed urdf-rs's `XmlEvent` debug text); a model beyond
+/// the caps on links and moving joints is refused from its size.
+#[test]
+fn overflowing_masses_empty_geometry_and_sizes_are_named() {
+    let e = error_with("<mass value=\"0.5\"/>", "<mass value=\"1e308\"/>");
+    assert_mentions(
+        &e,
+        &[
+            "link 'fore' <inertial>",
+            "mass 1e308 kg",
+            "overflows floating-point numbers",
+        ],
+    );
+    assert!(!e.contains("NaN"), "{e}");
+    // a number read from the file is said in its shortest digits, not 309 of them
+    let e = error_with("<mass value=\"0.5\"/>", "<mass value=\"-1e308\"/>");
+    assert_mentions(&e, &["mass -1e308 kg is negative"]);
+    let e = error_with("lower=\"-2\"", "lower=\"1e300\"");
+    assert_mentions(&e, &["lower limit 1e300 is above upper limit 2"]);
+    for empty in [
+        "<geometry/>",
+        "<geometry>\n </geometry>",
+        "<geometry><!-- none --></geometry>",
+    ] {
+        let e = error_with(
+            "<link name=\"fore\">",
+            &format!("<link name=\"fore\"><collision>{empty}</collision>"),
+        );
+        assert_mentions(&e, &["link 'fore' <collision>", "<geometry> is empty"]);
+    }
+    let links = format!(
+        "<robot name=\"r\">{}</robot>",
+        "<link name=\"x\"/>".repeat(faze4::input::MAX_LINKS + 1)
+    );
+    let e = load(&links).unwrap_err();
+    assert_mentions(&e, &["<robot>: has 4097 <link> elements, more than the 4096"]);
+    let mut chain = String::from("<robot name=\"c\"><link name=\"l0\"/>");
+    for i in 1..=faze4::input::MAX_MOVING_JOINTS + 1 {
+        chain += &format!(
+            "<joint name=\"j{i}\" type=\"continuous\"><parent link=\"l{}\"/><child link=\"l{i}\"/></joint><link name=\"l{i}\"/>",
+            i - 1
+        );
+    }
+    let e = load(&(chain + "</robot>")).unwrap_err();
+    assert_mentions(&e, &["robot 'c': has 129 moving joints, more than the 128"]);
+}

@@ -247,6 +247,20 @@ fn bad_motor_files_are_refused_in_one_line() {
             vec!["J1 (by order)", "need the stepper's step_angle"],
         ),
         ("[[joint]\n".into(), vec!["m.toml"]),
+        // a curve point of three values was read as its first two (issue 35)
+        (
+            "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3, 7], [10.0, 0.2]]\n".repeat(3),
+            vec![
+                "J1 (by order)",
+                "curve point 1 has 3 values ([0.0, 0.3, 7.0])",
+                "[speed rad/s, torque N·m]",
+            ],
+        ),
+        // one point gives no torque at any speed: it said "needs 0.000 N·m … gives 0.000"
+        (
+            "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3]]\n".repeat(3),
+            vec!["J1 (by order)", "curve has one point", "give at least two"],
+        ),
     ];
     for (text, parts) in &cases {
         std::fs::write(dir.join("m.toml"), text).unwrap();

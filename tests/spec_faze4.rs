@@ -146,24 +146,30 @@ fn missing_meshes_do_not_stop_dynamics() {
 fn package_paths_find_meshes_in_a_description_folder() {
     let shared = shared_description();
     let paths = PackagePaths::new(vec![shared.clone()]);
-    let found = paths.resolve("package://Final_light_assembly_URDF/meshes/saka.STL", None);
+    let found = paths
+        .resolve("package://Final_light_assembly_URDF/meshes/saka.STL", None)
+        .unwrap();
     assert_eq!(found, Some(shared.join("meshes/saka.STL")));
     // the parent of a package directory works as a ROS path entry
     let paths = PackagePaths::new(vec![shared.parent().unwrap().to_path_buf()]);
-    let found = paths.resolve(
-        &format!(
-            "package://{}/meshes/saka.STL",
-            shared.file_name().unwrap().to_string_lossy()
-        ),
-        None,
-    );
+    let found = paths
+        .resolve(
+            &format!(
+                "package://{}/meshes/saka.STL",
+                shared.file_name().unwrap().to_string_lossy()
+            ),
+            None,
+        )
+        .unwrap();
     assert_eq!(found, Some(shared.join("meshes/saka.STL")));
     assert_eq!(
         paths.resolve("package://faze4_description/meshes/base_link.STL", None),
-        None,
+        Ok(None),
         "missing upstream"
     );
     // relative to the URDF's directory
-    let rel = PackagePaths::default().resolve("../meshes/lakat.STL", Some(&shared.join("urdf")));
+    let rel = PackagePaths::default()
+        .resolve("../meshes/lakat.STL", Some(&shared.join("urdf")))
+        .unwrap();
     assert_eq!(rel, Some(shared.join("urdf/../meshes/lakat.STL")));
 }

@@ -235,6 +235,51 @@ fn events_until_end(mut s: TcpStream, port: u16, request: bool) -> String {
     text
 }
 
+/// 200 connections that send nothing (half-open, as a port scanner or a stalled client leaves
+/// them) do not keep a browser out: a new request is answered at once, each idle connection
+/// giving its place to a newer one, not after they time out (2 s); a client that sends its
+/// request a byte at a time is closed once that time is up.
+#[test]
+fn idle_connections_do_not_keep_a_browser_out() {
+    let live = LiveView::start(0).unwrap().with_realtime(false);
+    let port = live.port();
+    let idle: Vec<TcpStream> = (0..200)
+        .map(|_| TcpStream::connect(("127.0.0.1", port)).unwrap())
+        .collect();
+    let start = std::time::Instant::now();
+    let (code, _, page) = get(port, "/");
+    assert_eq!(code, 200);
+    assert!(String::from_utf8_lossy(&page).contains("EventSource"));
+    assert!(
+        start.elapsed() < Duration::from_millis(1500),
+        "the page came after {:?}: it waited for idle connections to time out",
+        start.elapsed()
+    );
+    drop(idle);
+    // a byte every 300 ms: the connection is closed after the 2 s the head may take
+    let mut slow = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    slow.set_read_timeout(Some(Duration::from_millis(300))).unwrap();
+    let start = std::time::Instant::now();
+    let mut byte = [0u8; 1];
+    let closed_after = loop {
+        let _ = slow.write_all(b"G");
+        match slow.read(&mut byte) {
+            Ok(0) => break start.elapsed(),
+            Err(e) if !matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {
+                break start.elapsed();
+            }
+            _ => assert!(
+                start.elapsed() < Duration::from_secs(6),
+                "a request sent a byte at a time is never cut off"
+            ),
+        }
+    };
+    assert!(
+        closed_after >= Duration::from_millis(1900),
+        "closed after {closed_after:?}"
+    );
+}
+
 #[test]
 fn a_port_in_use_is_a_clear_error() {
     let first = LiveView::start(0).unwrap();

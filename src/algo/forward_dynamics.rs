@@ -7,7 +7,12 @@ use crate::error::{Error, Result};
 use crate::model::{JointId, Model};
 
 /// `data.qdd = M(q)⁻¹ (τ − D qd − C(q, qd) qd − g(q))`, D the joint damping; also leaves
-/// `data.g`, `data.bias` and `data.m` at (q, qd). Fails only if M(q) is not positive definite.
+/// `data.g`, `data.bias` and `data.m` at (q, qd).
+///
+/// Fails if an input is not finite ([`Error::InvalidArgument`] naming it, `q`, `qd` or `tau`,
+/// and its entry), if M(q) is not positive definite, or if the accelerations are not finite
+/// though the inputs are (a torque or speed too large for the arm's masses: the error names the
+/// largest input).
 pub fn forward_dynamics<'d>(
     model: &Model,
     data: &'d mut Data,
@@ -15,6 +20,18 @@ pub fn forward_dynamics<'d>(
     qd: &[f64],
     tau: &[f64],
 ) -> Result<&'d DVector<f64>> {
+    for (name, x) in [("q", q), ("qd", qd), ("tau", tau)] {
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(Error::argument(
+                name,
+                format!(
+                    "entry {i} (joint {}) is {}: forward dynamics needs finite inputs",
+                    i + 1,
+                    x[i]
+                ),
+            ));
+        }
+    }
     compute_all_terms(model, data, q, qd);
     cholesky_factor(&data.m, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged {
         joint: JointId(joint),
@@ -24,5 +41,52 @@ pub fn forward_dynamics<'d>(
         data.qdd[i] = tau[i] - joint.damping * qd[i] - data.bias[i];
     }
     cholesky_solve(&data.chol, &mut data.qdd);
+    if let Some(i) = data.qdd.iter().position(|a| !a.is_finite()) {
+        // the input that overflowed: the largest in magnitude of the torques and speeds
+        let largest = |x: &[f64]| x.iter().copied().map(f64::abs).fold(0.0, f64::max);
+        let (name, size) = match largest(tau) >= largest(qd) {
+            true => ("tau", largest(tau)),
+            false => ("qd", largest(qd)),
+        };
+        return Err(Error::argument(
+            name,
+            format!(
+                "forward dynamics overflows: the acceleration of joint {} is {} (|{name}| up to {}, too large for the arm's masses)",
+                i + 1,
+                data.qdd[i],
+                crate::error::shortest(size)
+            ),
+        ));
+    }
     Ok(&data.qdd)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `robot.aba(q, v, tau=1e308)` gave NaN: a result that is not finite is an error naming
+    /// the input, as is an input that is not finite.
+    #[test]
+    fn overflowing_or_non_finite_inputs_are_errors_naming_them() {
+        let model = crate::faze4::model();
+        let mut data = Data::new(&model);
+        let zero = vec![0.0; model.dof()];
+        assert!(forward_dynamics(&model, &mut data, &zero, &zero, &zero).is_ok());
+        let huge = vec![1e308; model.dof()];
+        let e = forward_dynamics(&model, &mut data, &zero, &zero, &huge)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("tau: forward dynamics overflows: the acceleration of joint"),
+            "{e}"
+        );
+        assert!(e.contains("|tau| up to 1e308"), "{e}");
+        let mut nan = zero.clone();
+        nan[2] = f64::NAN;
+        let e = forward_dynamics(&model, &mut data, &zero, &nan, &zero)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "qd: entry 2 (joint 3) is NaN: forward dynamics needs finite inputs");
+    }
 }

@@ -372,6 +372,13 @@ pub struct SweepArgs {
     /// Run only part K of N of the sweep (deterministic; `faze4 sweep merge` joins the tables).
     #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub shard: Option<String>,
+    /// Each run computes its own self-clearance, as alone. By default, when the varied options
+    /// keep the commanded path (payload-kg, supply-voltage, friction, the thresholds, the
+    /// multipliers), the path's clearance is computed once and each run's derived from it:
+    /// within --clearance-tolerance of its own, with the same intersections (docs/clearance.md,
+    /// "Sweeps").
+    #[arg(long)]
+    pub own_clearance: bool,
     /// No progress bar and no per-run lines.
     #[arg(long, short)]
     pub quiet: bool,

@@ -14,9 +14,8 @@ use clap::Parser;
 
 use self::args::{Cli, Command};
 use crate::atomic::Outputs;
-use crate::error::{Error, Result, Words, escape_controls, in_words};
-use crate::output::sizing_table;
-use crate::session::{Prepared, divergence_line, done_line};
+use crate::error::{Error, Result, Words, escape_controls, escape_lines, in_words};
+use crate::session::{Prepared, divergence_line, report_text};
 use crate::sim::{self, StopFlag};
 
 /// Exit status of a run that diverged.
@@ -170,16 +169,7 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     let config = &prepared.config;
     let finished = crate::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
     let summary = &finished.summary;
-    let mut stdout = String::new();
-    if !config.outputs.quiet {
-        stdout = format!("{}\n", done_line(&finished.recorders, config, summary));
-    }
-    if let (true, Some(motors)) = (config.outputs.sizing, &summary.motors) {
-        for line in sizing_table(motors) {
-            stdout.push_str(&line);
-            stdout.push('\n');
-        }
-    }
+    let mut stdout = report_text(&finished, config);
     // the answer, always the last line on stdout
     stdout.push_str(&format!("{}\n", summary.verdict));
     print_stdout(&stdout)?;
@@ -192,6 +182,11 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
             "faze4: {} at t = {t:.3} s; the outputs are complete up to there",
             stopped_by(&stop)
         );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
+    // a signal during the final writes: the outputs are whole, but the status says it came
+    if stop.signal().is_some() {
+        eprintln!("faze4: {} after the run; its outputs are complete", stopped_by(&stop));
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     let code = exit_code(summary, config.verdict.strict);
@@ -227,11 +222,13 @@ fn stopped_by(stop: &StopFlag) -> &'static str {
     }
 }
 
-/// Writes `text` on stdout. A failed write (a full disk) is an error; a closed pipe
+/// Writes `text` on stdout, its control and bidirectional characters escaped but its line
+/// breaks. A failed write (a full disk) is an error; a closed pipe
 /// (`faze4 … | head`) is not the run's failure.
 fn print_stdout(text: &str) -> Result<()> {
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+    // paths and names as they are shown: no control or bidirectional character (escape_lines)
+    match out.write_all(escape_lines(text).as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io {
             path: "stdout".into(),
             source: e,

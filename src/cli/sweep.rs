@@ -20,8 +20,16 @@ use crate::error::{Error, Result};
 use crate::output::format::exact;
 use crate::sim::StopFlag;
 use crate::sweep::{
-    self, Family, Format, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Seek, Shard, TableWriter, threads,
+    self, Family, Format, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Seek, Shard, Sharing, TableWriter, threads,
 };
+
+/// Whether the runs share their commanded path's clearance (`--own-clearance`: not).
+fn sharing(args: &SweepArgs) -> Sharing {
+    match args.own_clearance {
+        true => Sharing::Own,
+        false => Sharing::Shared,
+    }
+}
 
 /// The base command's words (after `--`) as a run configuration.
 fn base_config(words: &[String]) -> Result<RunConfig> {
@@ -69,12 +77,11 @@ pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
             None => format!("{} runs", merged.rows),
             Some(absent) => format!("{} of {} runs (absent: {absent})", merged.rows, merged.total),
         };
-        let _ = writeln!(
-            std::io::stdout().lock(),
-            "[done] {line} from {} tables -> {}",
+        print_stdout(&format!(
+            "[done] {line} from {} tables -> {}\n",
             parts.len(),
             m.out.display()
-        );
+        ))?;
         return Ok(ExitCode::SUCCESS);
     }
     match (&args.find, &args.find_min) {
@@ -117,7 +124,8 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let names: Vec<(&str, &[f64])> = (grid.axes.iter())
         .map(|a| (a.name.as_str(), a.values.as_slice()))
         .collect();
-    let family = Family::load(base_config(&args.base)?, None, &names)?;
+    let family = Family::load(base_config(&args.base)?, None, &names, sharing(args))?;
+    files.reading(family.inputs().clone())?;
     warn(family.warnings(), args.quiet);
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
 
@@ -202,6 +210,14 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         );
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
+    // a signal during the final writes: the outputs are whole, but the status says it came
+    if stop.signal().is_some() {
+        eprintln!(
+            "faze4: {} after the last run; the outputs are complete",
+            stopped_by(&stop)
+        );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -258,6 +274,7 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
     let searched = sweep::search(
         base_config(&args.base)?,
         None,
+        sharing(args),
         name,
         lo,
         hi,

@@ -7,9 +7,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::arm::{Arm, load_arm};
-use super::motors::{fit, resolve};
+use super::motors::{Motors, fit, resolve};
 use super::{ArmConfig, Center, Motion, ReplayConfig, RunConfig};
-use crate::error::{Error, Result};
+use crate::atomic::Inputs;
+use crate::error::{Error, Result, quoted, shortest};
 use crate::faze4::{BOARD, SHAPE_PERIOD};
 use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
@@ -47,6 +48,8 @@ pub struct Loaded {
     /// What loading found that changes the result (collision meshes not found): said once,
     /// after the first run's own warnings.
     pub warnings: Vec<Warning>,
+    /// The files read, which no output of a run may replace.
+    inputs: Inputs,
 }
 
 impl Loaded {
@@ -62,6 +65,7 @@ impl Loaded {
             ..config.arm.clone()
         })?;
         let arm = fitted(&bare, &config.arm)?;
+        let replay_read = replayed.is_none();
         let replay = match (&config.motion, replayed) {
             (Motion::Replay(_) | Motion::Retime(_), Some(given)) => Some(given),
             (Motion::Replay(r), None) => Some(read_replay(r)?),
@@ -79,6 +83,7 @@ impl Loaded {
             collisions(config),
             &mut warnings,
         )?;
+        let inputs = inputs(config, &arm, replay_read);
         Ok(Loaded {
             bare,
             arm,
@@ -87,6 +92,7 @@ impl Loaded {
             replay,
             plan,
             warnings,
+            inputs,
         })
     }
 
@@ -119,6 +125,12 @@ impl Loaded {
             Some(Replayed::Samples(_)) => Some(traj_period),
             None => None,
         }
+    }
+
+    /// The files loading read (the URDF, its meshes, the motors file, the replayed
+    /// trajectory), which no output of a run of this configuration may replace.
+    pub fn inputs(&self) -> &Inputs {
+        &self.inputs
     }
 
     /// The scenario of `config` on what was loaded: `config` is the loaded one, or the same
@@ -258,6 +270,26 @@ fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
     Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
 }
 
+/// The files a run of `config` on `arm` reads: the URDF, the meshes its geometry found, a
+/// motors file, and the replay's trajectory file when it was read (`replay_read`; Python may
+/// give the frames in memory), each named by the field that gives it.
+fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
+    let mut inputs = Inputs::new();
+    if let Some(urdf) = &config.arm.urdf {
+        inputs.add(urdf, "`urdf`");
+    }
+    if let Some(Motors::File(path)) = &config.arm.motors {
+        inputs.add(path, "`motors`");
+    }
+    if let (Motion::Replay(r), true) = (&config.motion, replay_read) {
+        inputs.add(&r.q_traj, "`q_traj`");
+    }
+    for (link, path) in arm.robot.geometry.mesh_files() {
+        inputs.add(path, format!("the mesh of link {}", quoted(link)));
+    }
+    inputs
+}
+
 /// `bare` with the motors, ratios and rotors of `config` fitted to its joints.
 fn fitted(bare: &Arm, config: &ArmConfig) -> Result<Arm> {
     let mut arm = bare.clone();
@@ -303,12 +335,37 @@ fn check(config: &RunConfig) -> Result<()> {
     match &config.motion {
         Motion::Wave(w) => {
             finite("freq", w.freq)?;
+            // the step must sample the wave: less than half a turn per step (ω·Δt ≤ π)
+            if w.freq.abs() * config.control.dt > std::f64::consts::PI {
+                return Err(Error::option(
+                    "freq",
+                    format!(
+                        "{} rad/s turns the wave more than half a period per step of `dt` {} s (ω·Δt > π): the steps cannot sample it; lower `freq` or `dt`",
+                        shortest(w.freq),
+                        shortest(config.control.dt)
+                    ),
+                ));
+            }
             if let Some(a) = w.amp_m {
                 non_negative("amp_m", a)?;
             }
             non_negative("amp_deg", w.amp_deg)
         }
-        Motion::Replay(r) => positive("traj_period", r.traj_period),
+        Motion::Replay(r) => {
+            positive("traj_period", r.traj_period)?;
+            // a period shorter than a step plays frames between the steps, never at them
+            match r.traj_period < config.control.dt {
+                true => Err(Error::option(
+                    "traj_period",
+                    format!(
+                        "{} s is shorter than one step of `dt` {} s: the steps cannot play the frames",
+                        shortest(r.traj_period),
+                        shortest(config.control.dt)
+                    ),
+                )),
+                false => Ok(()),
+            }
+        }
         Motion::Shape(_) => Ok(()),
         Motion::Retime(r) => {
             positive("traj_period", r.path.traj_period)?;
@@ -357,18 +414,19 @@ pub fn wave_center(model: &Model, center: &Center) -> Result<Vec<f64>> {
         if !c.is_finite() {
             return Err(Error::option(
                 "center",
-                format!("J{} value {c} is not a finite number (or use 'mid')", i + 1),
+                format!("J{} value {} is not a finite number (or use 'mid')", i + 1, shortest(c)),
             ));
         }
         if !j.within_limits(c) {
             return Err(Error::option(
                 "center",
                 format!(
-                    "J{} ({}) {c} is outside its limits [{}, {}]{}",
+                    "J{} ({}) {} is outside its limits [{}, {}]{}",
                     i + 1,
                     j.name,
-                    j.lower,
-                    j.upper,
+                    shortest(c),
+                    shortest(j.lower),
+                    shortest(j.upper),
                     model.mimic_note(i)
                 ),
             ));
@@ -403,9 +461,9 @@ pub fn check_samples(model: &Model, frames: &[Vec<f64>], path: &Path) -> Result<
                     "frame {k}: joint J{} ({}) is commanded to {} rad, beyond its limits [{}, {}]",
                     i + 1,
                     joint.name,
-                    frame[i],
-                    joint.lower,
-                    joint.upper
+                    shortest(frame[i]),
+                    shortest(joint.lower),
+                    shortest(joint.upper)
                 )));
             }
         }

@@ -96,6 +96,13 @@ pub fn resolve(motors: Option<&Motors>, supply: Option<f64>, model: &Model) -> R
     Ok(Some(set))
 }
 
+/// The motors of a motors file's `text` on the joints of `model` (what [`resolve`] does with a
+/// file once it is read); `path` names the file in the errors.
+pub fn file_motors(text: &str, path: &Path, model: &Model) -> Result<Vec<Option<JointMotor>>> {
+    let entries = super::motors_file::parse_text(text, path)?;
+    pair(entries, model).map_err(|e| at(path, e))
+}
+
 fn unknown(name: &str) -> Error {
     Error::option("motors", format!("'{name}' is not a preset ({})", PRESETS.join(", ")))
 }
@@ -181,8 +188,17 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
                     "a stepper has a curve, not stall_torque, no_load_speed or peak_torque",
                 ));
             }
+            let curve = e.curve.as_ref().ok_or_else(|| what("kind \"stepper\" needs curve"))?;
+            let points = curve.iter().enumerate().map(|(k, p)| match p[..] {
+                [speed, torque] => Ok([speed, torque]),
+                _ => Err(what(&format!(
+                    "curve point {} has {} values ({p:?}); a point is [speed rad/s, torque N·m]",
+                    k + 1,
+                    p.len()
+                ))),
+            });
             Envelope::Stepper {
-                curve: e.curve.clone().ok_or_else(|| what("kind \"stepper\" needs curve"))?,
+                curve: points.collect::<std::result::Result<_, _>>()?,
             }
         }
         other => return Err(what(&format!("kind \"{other}\" is not \"dc\" or \"stepper\""))),

@@ -7,6 +7,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::error::{Error, Result, one_line};
+use crate::input::{MAX_MOTORS_BYTES, into_text, read_capped};
 
 /// One joint's motor as a motors file gives it (a `[[joint]]` entry; docs/motors.md).
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
@@ -30,8 +31,10 @@ pub struct MotorEntry {
     pub no_load_speed: Option<f64>,
     /// A DC motor's peak torque (N·m; default the stall torque).
     pub peak_torque: Option<f64>,
-    /// A stepper's pull-out curve: (speed rad/s, torque N·m) points.
-    pub curve: Option<Vec<[f64; 2]>>,
+    /// A stepper's pull-out curve: points `[speed rad/s, torque N·m]`, read as lists so that a
+    /// point of another length is refused (an array `[f64; 2]` took the first two values of
+    /// `[0.0, 0.3, 7]` and dropped the third).
+    pub curve: Option<Vec<Vec<f64>>>,
     /// A stepper's full step (degrees, in (0, 90]), for the open-loop drive.
     pub step_angle: Option<f64>,
     /// A stepper's unpowered detent torque (N·m, ≥ 0; default 0).
@@ -49,10 +52,25 @@ struct File {
     joint: Vec<MotorEntry>,
 }
 
-/// The `[[joint]]` entries of the motors file at `path`.
+/// The `[[joint]]` entries of the motors file at `path`, read whole: at most
+/// [`MAX_MOTORS_BYTES`] (a stream too).
 pub fn read(path: &Path) -> Result<Vec<MotorEntry>> {
-    let at = |message: String| Error::option("motors", format!("{}: {message}", path.display()));
-    let text = std::fs::read_to_string(path).map_err(|e| at(e.to_string()))?;
-    let file: File = toml::from_str(&text).map_err(|e| at(one_line(e.message())))?;
+    let text = read_capped(path, MAX_MOTORS_BYTES, "a motors file").and_then(|b| into_text(path, b));
+    let text = text.map_err(|e| match e {
+        Error::Io { source, .. } => at(path, source.to_string()),
+        Error::InvalidData { message, .. } => at(path, message),
+        other => at(path, other.to_string()),
+    })?;
+    parse_text(&text, path)
+}
+
+/// [`read`] on the file's text; `path` names it in the errors.
+pub fn parse_text(text: &str, path: &Path) -> Result<Vec<MotorEntry>> {
+    let file: File = toml::from_str(text).map_err(|e| at(path, one_line(e.message())))?;
     Ok(file.joint)
+}
+
+/// An error of the motors file at `path`, naming the field.
+fn at(path: &Path, message: String) -> Error {
+    Error::option("motors", format!("{}: {message}", path.display()))
 }

@@ -276,6 +276,13 @@ impl Motor {
                 let Some(first) = curve.first() else {
                     return Err("curve has no points".into());
                 };
+                // the envelope is zero past the last point: one point gives torque at standstill only
+                if curve.len() < 2 {
+                    return Err(format!(
+                        "curve has one point ({:?}): it would give no torque at any speed above 0 (the curve is zero past its last point); give at least two",
+                        first
+                    ));
+                }
                 if first[0] != 0.0 {
                     return Err(format!(
                         "curve starts at {} rad/s; its first point must be at 0",

@@ -23,21 +23,28 @@ use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 use rayon::prelude::*;
 
 use super::collision_set::{CollisionSet, TOUCH_BUDGET};
-use super::report::{ClearanceReport, PairDistance};
+use super::path::{PathClearance, PathSample};
+use super::report::{ClearanceReport, PairDistance, PairReport};
 use super::search::ROUND_OFF;
 use super::search::Touch;
 use crate::spatial::Pose;
 
 /// The share of the tolerance a search of a waiting sample may use (the rest raises the other waiting samples' lower bounds)
-const SEARCH_SHARE: f64 = 0.25;
+pub(super) const SEARCH_SHARE: f64 = 0.25;
 
 /// How many samples a pair may leave for [`Clearance::finish`] before they are searched at
 /// once: about 0.1 MB a pair (a relative pose and three numbers a sample).
-const BATCH: usize = 1024;
+pub(super) const BATCH: usize = 1024;
 
-/// A run's self-clearance over its samples (the accumulator): [`Clearance::add`] each sample,
-/// then [`Clearance::finish`] for the report. Holds the set's pairs' bounds between samples
-/// and the samples whose distance is left for `finish`.
+/// A run's self-clearance over its samples (the accumulator): [`Clearance::add`] each sample
+/// (or [`Clearance::queue`] several, then [`Clearance::fold_queued`]), then
+/// [`Clearance::finish`] for the report. Holds the set's pairs' bounds between samples and
+/// the samples whose distance is left for `finish`.
+///
+/// Each pair is folded over the samples on its own: the pairs of queued samples are folded
+/// in parallel (rayon), and the report is the same as sample by sample, bit for bit (each
+/// pair's minimum depends on its own samples alone, and the closest pair overall is decided
+/// by replaying the pairs' lowerings in the order sample by sample would have made them).
 pub struct Clearance<'a> {
     set: &'a CollisionSet,
     /// How far (m) the reported minimum may be above the true one (0: exact).
@@ -45,14 +52,31 @@ pub struct Clearance<'a> {
     /// How many samples a pair may leave for [`Clearance::finish`] before they are searched
     /// at once (memory stays bounded over a run of any length).
     batch: usize,
-    /// World pose of each object's shape at the last sample.
-    poses: Vec<PPose>,
+    /// The samples queued for [`Clearance::fold_queued`]: each one's time (s), the world
+    /// pose of each object's shape then, and the sample of the path it follows there.
+    queued: Vec<(f64, Vec<PPose>, Option<usize>)>,
+    /// Pose buffers of samples already folded in, for the next ones.
+    spare: Vec<Vec<PPose>>,
+    /// How many samples were folded in before the queued ones.
+    folded: usize,
     /// What each pair carries from one sample to the next.
     memory: Vec<PairMemory>,
     /// Whether each pair intersects at the last sample.
     intersecting: Vec<bool>,
     report: ClearanceReport,
+    /// The path the run follows ([`Clearance::following`]), and the sample of it the next
+    /// sample is likely to be at.
+    path: Option<(&'a PathClearance, usize)>,
 }
+
+/// How many queued samples [`Clearance::fold_queued`] folds with the pairs in parallel (below,
+/// waking rayon's threads costs more than the work).
+const PARALLEL_SAMPLES: usize = 8;
+
+/// A lowering of a pair's minimum while queued samples are folded in: the sample's index
+/// among them, whether it came from a batch of waiting samples searched at once (after the
+/// sample's own fold), the distance and its time (s).
+type Lowering = (usize, bool, f64, f64);
 
 /// One pair's state between queries.
 #[derive(Clone)]
@@ -66,8 +90,6 @@ struct PairMemory {
     axis: PVector,
     /// A lower bound of its distance and the relative pose `a_T_b` it holds at.
     reference: (f64, PPose),
-    /// What the last [`Clearance::add`] found: the distance, if it was computed.
-    found: Option<PairDistance>,
     /// An actual distance of the pair at some sample so far (m): the run's smallest is no
     /// larger.
     upper: f64,
@@ -77,6 +99,10 @@ struct PairMemory {
     /// its distance is then searched at each sample rather than tested and left for
     /// [`Clearance::finish`].
     search_now: bool,
+    /// Whether it intersects at the last sample folded in.
+    intersecting: bool,
+    /// The time (s) of the first sample at which it intersected.
+    first_intersection: Option<f64>,
 }
 
 /// A sample whose exact distance is left for [`Clearance::finish`].
@@ -115,23 +141,42 @@ impl<'a> Clearance<'a> {
             set,
             tolerance,
             batch: BATCH,
-            poses: vec![PPose::IDENTITY; set.objects().count()],
+            queued: Vec::new(),
+            spare: Vec::new(),
+            folded: 0,
             memory: vec![
                 PairMemory {
                     closest: (0, 0),
                     support: (0, 0),
                     axis: PVector::ZERO,
                     reference: (f64::NEG_INFINITY, PPose::IDENTITY),
-                    found: None,
                     upper: f64::INFINITY,
                     pending: Vec::new(),
                     search_now: false,
+                    intersecting: false,
+                    first_intersection: None,
                 };
                 pairs
             ],
             intersecting: vec![false; pairs],
             report,
+            path: None,
         }
+    }
+
+    /// The same accumulator for a run that follows `path` (a [`PathClearance`] of the same
+    /// set, e.g. the commanded poses at the run's samples): each pair's sample at a pose
+    /// near one of the path's is bounded below by the path's bound less the pair's relative
+    /// motion between the two poses, and above by the distance of the path's parts at the
+    /// run's pose, and is searched only when those leave it looser than the tolerance (see
+    /// [`super::path`]). The report keeps the tolerance's guarantee and the exact
+    /// intersections; at tolerance 0 it is the exact minimum, as without the path (to
+    /// round-off ties). A path of another set is not used.
+    pub fn following(mut self, path: &'a PathClearance) -> Self {
+        if std::ptr::eq(&**path.set(), self.set) {
+            self.path = Some((path, 0));
+        }
+        self
     }
 
     /// At most `samples` (≥ 1) waiting samples per pair before they are searched during the
@@ -142,10 +187,15 @@ impl<'a> Clearance<'a> {
         self
     }
 
-    /// Whether each checked pair intersects at the last [`Clearance::add`]ed sample, in
+    /// Whether each checked pair intersects at the last sample folded in, in
     /// [`CollisionSet::pair_links`] order.
     pub fn intersecting(&self) -> &[bool] {
         &self.intersecting
+    }
+
+    /// Per checked pair, the time (s) of the first sample folded in at which it intersects.
+    pub fn first_intersections(&self) -> impl Iterator<Item = Option<f64>> + '_ {
+        self.memory.iter().map(|m| m.first_intersection)
     }
 
     /// The report so far (complete after [`Clearance::finish`]; before, the samples left for
@@ -164,22 +214,83 @@ impl<'a> Clearance<'a> {
     /// [`Clearance::finish`], which searches only those that can still hold the minimum.
     /// A pair whose waiting samples fill a batch has them searched at once, as `finish` would.
     pub fn add(&mut self, frame_pose: &[Pose], t: f64) {
-        self.set.place(frame_pose, &mut self.poses);
-        let smallest = &self.report.pairs;
-        for (k, memory) in self.memory.iter_mut().enumerate() {
-            memory.found = memory.fold(self.set, k, &self.poses, t, smallest[k].min_m, self.tolerance);
+        self.queue(frame_pose, t);
+        self.fold_queued();
+    }
+
+    /// Queues the sample at time `t` (s), whose model frames are at `frame_pose`, for
+    /// [`Clearance::fold_queued`] (the objects are placed now: `frame_pose` may change after).
+    /// Following a path, the sample is compared with the path's sample at the same time, if
+    /// it has one.
+    pub fn queue(&mut self, frame_pose: &[Pose], t: f64) {
+        let near = self.path.and_then(|(path, next)| path.sample_at(t, next));
+        self.queue_near(frame_pose, t, near);
+    }
+
+    /// [`Clearance::queue`], the sample compared with the followed path's sample `near`
+    /// (when it has one; e.g. the path's sample nearest in the path's parameter, for a run
+    /// along the same geometric path with another timing). Any sample of the path gives
+    /// valid bounds; the nearer, the tighter.
+    pub fn queue_near(&mut self, frame_pose: &[Pose], t: f64, near: Option<usize>) {
+        let mut poses = self.spare.pop().unwrap_or_default();
+        poses.resize(self.set.objects().count(), PPose::IDENTITY);
+        self.set.place(frame_pose, &mut poses);
+        let near = self
+            .path
+            .zip(near)
+            .and_then(|((path, _), j)| (j < path.len()).then_some(j));
+        if let (Some((_, next)), Some(j)) = (self.path.as_mut(), near) {
+            *next = j + 1;
         }
-        for (k, memory) in self.memory.iter_mut().enumerate() {
-            self.intersecting[k] = memory.found.is_some_and(|d| d.intersecting);
-            if let Some(d) = memory.found {
-                self.report.record(k, d, t);
+        self.queued.push((t, poses, near));
+    }
+
+    /// How many samples are queued.
+    pub fn queued(&self) -> usize {
+        self.queued.len()
+    }
+
+    /// Folds the queued samples in, in order, as [`Clearance::add`] would one by one (the
+    /// same report, bit for bit), with the pairs in parallel when several samples are queued;
+    /// [`Clearance::intersecting`] is then the last one's.
+    pub fn fold_queued(&mut self) {
+        let (set, tolerance, batch, samples) = (self.set, self.tolerance, self.batch, &self.queued);
+        let path = self.path.map(|(path, _)| path);
+        let fold = |(k, (memory, pair)): (usize, (&mut PairMemory, &mut PairReport))| {
+            let mut lowerings: Vec<Lowering> = Vec::new();
+            for (i, (t, poses, near)) in samples.iter().enumerate() {
+                let near = path.zip(*near).and_then(|(path, j)| path.sample(k, j));
+                memory.step(set, k, (poses, near), *t, pair, tolerance, batch, |from_batch, d, t| {
+                    lowerings.push((i, from_batch, d, t))
+                });
             }
-            if memory.pending.len() >= self.batch
-                && let Some((d, t)) = memory.finish(self.set, k, self.report.pairs[k].min_m, self.tolerance)
-            {
-                self.report.record(k, d, t);
-            }
+            lowerings
+        };
+        let pairs = self.memory.iter_mut().zip(self.report.pairs.iter_mut()).enumerate();
+        let lowerings: Vec<Vec<Lowering>> = match samples.len() >= PARALLEL_SAMPLES {
+            true => (self
+                .memory
+                .par_iter_mut()
+                .zip(self.report.pairs.par_iter_mut())
+                .enumerate())
+            .map(fold)
+            .collect(),
+            false => pairs.map(fold).collect(),
+        };
+        // the closest pair overall, as sample by sample: lowerings by sample, then pair, then
+        // a batch's after the sample's own
+        let mut all: Vec<(usize, usize, bool, f64, f64)> = (lowerings.into_iter().enumerate())
+            .flat_map(|(k, l)| l.into_iter().map(move |(i, from_batch, d, t)| (i, k, from_batch, d, t)))
+            .collect();
+        all.sort_by_key(|&(i, k, from_batch, _, _)| (i, k, from_batch));
+        for (_, k, _, d, t) in all {
+            self.report.lowered(k, d, t);
         }
+        for (now, memory) in self.intersecting.iter_mut().zip(&self.memory) {
+            *now = memory.intersecting;
+        }
+        self.folded += self.queued.len();
+        self.spare.extend(self.queued.drain(..).map(|(_, poses, _)| poses));
     }
 
     /// Completes the report after the last [`Clearance::add`]: each pair's waiting samples
@@ -188,6 +299,7 @@ impl<'a> Clearance<'a> {
     /// them intersects: their hulls were apart, or their triangles were tested apart). The
     /// pairs are searched in parallel.
     pub fn finish(&mut self) {
+        self.fold_queued();
         let (set, smallest, tolerance) = (self.set, &self.report.pairs, self.tolerance);
         let found: Vec<Option<(PairDistance, f64)>> = (self.memory.par_iter_mut().enumerate())
             .map(|(k, memory)| memory.finish(set, k, smallest[k].min_m, tolerance))
@@ -206,6 +318,40 @@ impl<'a> Clearance<'a> {
 }
 
 impl PairMemory {
+    /// Folds pair `k`'s sample at time `t` (s), its objects at world `poses` (near the
+    /// followed path's sample, if any), into `pair`, as [`Clearance::add`] does: `lowered` is
+    /// told each lowering of the pair's minimum (whether it came from the batch of waiting
+    /// samples searched at once, the distance, its time).
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &mut self,
+        set: &CollisionSet,
+        k: usize,
+        (poses, near): (&[PPose], Option<PathSample>),
+        t: f64,
+        pair: &mut PairReport,
+        tolerance: f64,
+        batch: usize,
+        mut lowered: impl FnMut(bool, f64, f64),
+    ) {
+        let found = self.fold(set, k, (poses, near), t, pair.min_m, tolerance);
+        self.intersecting = found.is_some_and(|d| d.intersecting);
+        if self.intersecting && self.first_intersection.is_none() {
+            self.first_intersection = Some(t);
+        }
+        if let Some(d) = found
+            && pair.record(d, t)
+        {
+            lowered(false, d.distance, t);
+        }
+        if self.pending.len() >= batch
+            && let Some((d, t)) = self.finish(set, k, pair.min_m, tolerance)
+            && pair.record(d, t)
+        {
+            lowered(true, d.distance, t);
+        }
+    }
+
     /// Pair `k`'s waiting samples for [`Clearance::finish`]: the smallest distance among
     /// them and its time, if below `best` (the pair's smallest so far); with a `tolerance`, an
     /// actual distance at most that far above the smallest, if below `best`, and none when no
@@ -275,7 +421,7 @@ impl PairMemory {
         &mut self,
         set: &CollisionSet,
         k: usize,
-        poses: &[PPose],
+        (poses, near): (&[PPose], Option<PathSample>),
         t: f64,
         best: f64,
         tolerance: f64,
@@ -302,6 +448,35 @@ impl PairMemory {
         if skip(*lower - relative_motion(then, &pose_ab, (oa.sphere, ob.sphere))) {
             return None;
         }
+        // the followed path's bound less the pair's motion between the path's pose and this
+        if let Some(path) = near {
+            let lower = path.bound.lower - relative_motion(&path.pose_ab, &pose_ab, (oa.sphere, ob.sphere));
+            if lower > 0.0 && (oa.exact_mesh || ob.exact_mesh) {
+                // apart. Where the sample could lower the minimum at all, an actual distance
+                // at this pose: the path's parts here (with a tolerance, recorded at once).
+                // The sample waits for finish unless the bound proves it within the
+                // tolerance of the smallest so far (exactly, a distance found here must be
+                // found again by a search: it is this sample's only if the bound meets it)
+                self.reference = (lower, pose_ab);
+                let upper = (lower < least).then(|| set.part_distance(a, b, (pa, pb), path.bound.parts))?;
+                self.upper = self.upper.min(upper);
+                if !(tolerance > 0.0 && lower >= best.min(self.upper) - tolerance) {
+                    self.closest = path.bound.parts;
+                    self.pending.push(Pending {
+                        t,
+                        pose_ab,
+                        lower,
+                        upper,
+                        hulls_apart: true,
+                    });
+                }
+                return upper_bound(upper);
+            }
+            if skip(lower) {
+                self.reference = (lower, pose_ab);
+                return None;
+            }
+        }
         let gap = (*pa * oa.sphere.0 - *pb * ob.sphere.0).length() - oa.sphere.1 - ob.sphere.1;
         if skip(gap) {
             self.reference = (gap, pose_ab);
@@ -315,8 +490,8 @@ impl PairMemory {
                 return None;
             }
         }
-        let d = match (oa.triangles, ob.triangles) {
-            (None, None) => set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis)),
+        let d = match (oa.exact_mesh, ob.exact_mesh) {
+            (false, false) => set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis)),
             _ => {
                 let hull =
                     (set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis))).distance;
@@ -446,7 +621,11 @@ fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
 /// of a and of b: the smaller of how far b moved relative to a ([`moved`]) and how far a moved
 /// relative to b (the same bound on the inverse poses, `b_T_a`), since the distance is the
 /// same seen from either. Its smaller shape gives the tighter bound when the pair turns.
-fn relative_motion(then: &PPose, now: &PPose, ((ca, ra), (cb, rb)): ((PVector, f64), (PVector, f64))) -> f64 {
+pub(super) fn relative_motion(
+    then: &PPose,
+    now: &PPose,
+    ((ca, ra), (cb, rb)): ((PVector, f64), (PVector, f64)),
+) -> f64 {
     let b_moved = moved(then, now, cb, rb);
     let a_moved = moved(&then.inverse(), &now.inverse(), ca, ra);
     b_moved.min(a_moved)

@@ -40,20 +40,20 @@
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints, PointQueryWithLocation, details};
-use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap, TriMesh};
+use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap, TriMesh, TriMeshBuilderError};
 use parry3d_f64::transformation::try_convex_hull;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use super::hull::{Adjacency, Climber};
-use super::mesh::load;
+use super::mesh::load_shape;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
 use super::search::{Touch, mesh_distance, mesh_shape_distance, mesh_touches_shape, meshes_touch};
 use super::{GeometryModel, GeometryObject};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 use crate::model::{Geometry, Model};
 use crate::spatial::{Mat3, Pose, Vec3};
 
@@ -105,8 +105,9 @@ struct Object {
     /// The convex shape: a primitive, or a mesh's convex hull (shared by the objects that
     /// use the same mesh file at the same scale).
     convex: Arc<dyn Shape>,
-    /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]; shared as `convex`).
-    triangles: Option<Arc<TriMesh>>,
+    /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]; shared as `convex`),
+    /// their BVH built in the background ([`Triangles`]).
+    triangles: Option<Arc<Triangles>>,
     /// A hull's vertex adjacency, for its support map by hill climbing (`None`: a primitive).
     climb: Option<Arc<Adjacency>>,
     /// Bounding sphere centre in the shape frame (m).
@@ -116,6 +117,12 @@ struct Object {
 }
 
 impl Object {
+    /// The exact triangles of a mesh, once their BVH is built (waits for it); `None` for a
+    /// primitive or a mesh read as its hull.
+    fn mesh(&self) -> Option<&TriMesh> {
+        self.triangles.as_deref().map(Triangles::get)
+    }
+
     /// Its convex shape's support map: a hull's climbing from vertex `start`, a primitive's
     /// own.
     fn support(&self, start: u32) -> Support<'_> {
@@ -198,8 +205,9 @@ impl MeshKey {
     }
 }
 
-/// Every distinct mesh (file and scale) of `collisions`, loaded once, in parallel (hulls and
-/// BVHs of big meshes take a while); a mesh found nowhere maps to `None`.
+/// Every distinct mesh (file and scale) of `collisions`, loaded once, in parallel (hulls of
+/// big meshes take a while); a mesh found nowhere maps to `None`. The meshes' BVHs are built
+/// on loader threads after this returns ([`Triangles`]).
 fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result<HashMap<MeshKey, Option<MeshShape>>> {
     // in document order, so that the error reported is the first mesh's that fails
     let mut keys: Vec<MeshKey> = Vec::new();
@@ -208,9 +216,58 @@ fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result
             keys.push(key);
         }
     }
-    let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
-    let shapes: Vec<Option<MeshShape>> = shapes.into_iter().collect::<Result<_>>()?;
+    let shapes: Vec<Result<Option<Loaded>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
+    let shapes: Vec<Option<Loaded>> = shapes.into_iter().collect::<Result<_>>()?;
+    let (shapes, builds): (Vec<Option<MeshShape>>, Vec<Option<Build>>) = shapes
+        .into_iter()
+        .map(|s| s.map_or((None, None), |(s, b)| (Some(s), b)))
+        .unzip();
+    Triangles::build_in_background(builds.into_iter().flatten().collect());
     Ok(keys.into_iter().zip(shapes).collect())
+}
+
+/// A mesh's exact triangles and their bounding-volume hierarchy (parry's `TriMesh`), built on a
+/// loader thread after [`CollisionSet::new`] returns: the BVH build is most of the loading, and
+/// a run's dynamics need none of it, so they run meanwhile. A query that needs the triangles
+/// waits for them ([`Triangles::get`]). Built from the same points and triangles as in one
+/// piece, so the mesh is the same whichever thread builds it.
+pub(super) struct Triangles {
+    mesh: OnceLock<TriMesh>,
+    /// How many triangles it has.
+    count: usize,
+}
+
+/// What a loader thread builds: the mesh's cell, its points (m, mesh frame) and triangles.
+type Build = (Arc<Triangles>, Vec<PVector>, Vec<[u32; 3]>);
+
+/// A mesh read, and what is left to build of it.
+type Loaded = (MeshShape, Option<Build>);
+
+impl Triangles {
+    /// The triangles with their BVH, once built (waits for the loader thread).
+    pub(super) fn get(&self) -> &TriMesh {
+        self.mesh.wait()
+    }
+
+    /// Builds each mesh of `builds` (non-empty triangle lists), the largest first, on as many
+    /// threads as there are cores (and meshes), none of them rayon's: a query waiting for a
+    /// mesh on rayon's pool must not hold up the thread that would build it.
+    fn build_in_background(mut builds: Vec<Build>) {
+        builds.sort_by_key(|(_, _, triangles)| triangles.len());
+        let threads = std::thread::available_parallelism()
+            .map_or(1, usize::from)
+            .min(builds.len());
+        let queue = Arc::new(std::sync::Mutex::new(builds));
+        for _ in 0..threads {
+            let queue = queue.clone();
+            std::thread::spawn(move || {
+                while let Some((cell, points, triangles)) = queue.lock().map_or(None, |mut q| q.pop()) {
+                    let mesh = TriMesh::new(points, triangles).expect("a mesh with triangles is a TriMesh");
+                    let _ = cell.mesh.set(mesh);
+                }
+            });
+        }
+    }
 }
 
 /// One mesh's shapes, shared by the objects that use it: its convex hull, the hull's vertex
@@ -218,25 +275,44 @@ fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result
 struct MeshShape {
     hull: Arc<ConvexPolyhedron>,
     climb: Arc<Adjacency>,
-    triangles: Option<Arc<TriMesh>>,
+    triangles: Option<Arc<Triangles>>,
 }
 
 impl MeshShape {
-    /// The mesh `key` names, read by [`load`] (the file, else the built-in Faze4 copy) and
-    /// scaled; `None` when it is found nowhere.
+    /// The mesh `key` names, read by [`load_shape`] (the file, else the built-in Faze4 copy) and
+    /// scaled, with (for [`ClearanceGeometry::Mesh`]) what a loader thread builds of its
+    /// triangles; `None` when it is found nowhere.
     ///
     /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]);
     /// a mesh whose points span no volume (no convex hull).
-    fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<MeshShape>> {
-        let Some(mesh) = load(&key.uri, key.path.as_deref()) else {
+    fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<Loaded>> {
+        let Some(mesh) = load_shape(&key.uri, key.path.as_deref()) else {
             return Ok(None);
         };
-        let mesh = mesh?.mesh;
+        let mesh = mesh?;
         let path = key.path.clone().unwrap_or_else(|| key.uri.clone().into());
         let scale = key.scale.map(f64::from_bits);
         let points: Vec<PVector> = (mesh.vertices.iter())
             .map(|v| PVector::new(v[0] as f64 * scale[0], v[1] as f64 * scale[1], v[2] as f64 * scale[2]))
             .collect();
+        // the hull's volumes are products of three lengths: a scale that makes them overflow
+        // (or vanish) is said as such, not as a flat mesh
+        let extent = (points.iter()).fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()).max(p.z.abs()));
+        let volume = extent * extent * extent;
+        if !volume.is_finite() || (extent > 0.0 && volume == 0.0) {
+            return Err(Error::InvalidData {
+                path: path.clone(),
+                message: format!(
+                    "<mesh scale=\"{} {} {}\"> makes its coordinates reach {:.3e} m: too {} to compute its hull with (a volume, a length cubed, {} floating-point numbers)",
+                    shortest(scale[0]),
+                    shortest(scale[1]),
+                    shortest(scale[2]),
+                    extent,
+                    if volume == 0.0 { "small" } else { "large" },
+                    if volume == 0.0 { "underflows" } else { "overflows" }
+                ),
+            });
+        }
         // parry's ConvexPolyhedron::from_convex_hull, keeping the hull's triangles for the
         // climb's edges
         let no_hull = || Error::InvalidData {
@@ -246,20 +322,29 @@ impl MeshShape {
         let (corners, faces) = try_convex_hull(&points).map_err(|_| no_hull())?;
         let climb = Adjacency::of(corners.len(), &faces);
         let hull = ConvexPolyhedron::from_convex_mesh(corners, &faces).ok_or_else(no_hull)?;
-        let triangles = match kind {
+        let build = match kind {
             ClearanceGeometry::Hull => None,
-            ClearanceGeometry::Mesh => Some(Arc::new(TriMesh::new(points, mesh.triangles).map_err(|e| {
-                Error::InvalidData {
+            ClearanceGeometry::Mesh if mesh.triangles.is_empty() => {
+                return Err(Error::InvalidData {
                     path: path.clone(),
-                    message: format!("not a triangle mesh: {e}"),
-                }
-            })?)),
+                    message: format!("not a triangle mesh: {}", TriMeshBuilderError::EmptyIndices),
+                });
+            }
+            ClearanceGeometry::Mesh => Some((
+                Arc::new(Triangles {
+                    mesh: OnceLock::new(),
+                    count: mesh.triangles.len(),
+                }),
+                points,
+                mesh.triangles,
+            )),
         };
-        Ok(Some(MeshShape {
+        let shape = MeshShape {
             hull: Arc::new(hull),
             climb: Arc::new(climb),
-            triangles,
-        }))
+            triangles: build.as_ref().map(|(cell, _, _)| cell.clone()),
+        };
+        Ok(Some((shape, build)))
     }
 }
 
@@ -415,7 +500,7 @@ impl CollisionSet {
         budget: usize,
     ) -> Option<Touch> {
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
-        match (&oa.triangles, &ob.triangles) {
+        match (oa.mesh(), ob.mesh()) {
             (Some(ma), Some(mb)) => Some(meshes_touch(ma, mb, pose_ab, closest, budget)),
             (Some(ma), None) => Some(mesh_touches_shape(ma, &*ob.convex, pose_ab, &mut closest.0, budget)),
             (None, Some(mb)) => Some(mesh_touches_shape(
@@ -461,7 +546,7 @@ impl CollisionSet {
                 intersecting: false,
             });
         }
-        let distance = match (&oa.triangles, &ob.triangles) {
+        let distance = match (oa.mesh(), ob.mesh()) {
             (None, None) => unreachable!("convex pairs are answered above"),
             (Some(ma), Some(mb)) => mesh_distance(ma, mb, &pa.inv_mul(pb), closest, bound, tolerance)?,
             // the relative poses as parry's query::distance forms them, so that the exact
@@ -529,7 +614,7 @@ impl CollisionSet {
         }
         // the triangle of a mesh nearest a point on its hull (world frame)
         let part = |o: &Object, pose: &PPose, p: PVector| {
-            (o.triangles.as_ref()).map_or(0, |m| {
+            (o.mesh()).map_or(0, |m| {
                 m.project_local_point_and_get_location(pose.inverse_transform_point(p), false)
                     .1
                     .0
@@ -549,9 +634,9 @@ impl CollisionSet {
 
     /// The distance between part `i` of `a` and part `j` of `b` (a mesh's triangle, or a
     /// primitive whole).
-    fn part_distance(&self, a: usize, b: usize, (pa, pb): (&PPose, &PPose), (i, j): (u32, u32)) -> f64 {
+    pub(super) fn part_distance(&self, a: usize, b: usize, (pa, pb): (&PPose, &PPose), (i, j): (u32, u32)) -> f64 {
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
-        let gap = match (&oa.triangles, &ob.triangles) {
+        let gap = match (oa.mesh(), ob.mesh()) {
             (Some(ma), Some(mb)) => query::distance(pa, &ma.triangle(i), pb, &mb.triangle(j)),
             (Some(ma), None) => query::distance(pa, &ma.triangle(i), pb, &*ob.convex),
             (None, Some(mb)) => query::distance(pa, &*oa.convex, pb, &mb.triangle(j)),
@@ -740,8 +825,8 @@ pub(super) struct ObjectView<'a> {
     pub placement: &'a PPose,
     /// The convex shape (a primitive, or a mesh's hull).
     pub convex: &'a dyn Shape,
-    /// The exact triangles of a mesh read as [`ClearanceGeometry::Mesh`].
-    pub triangles: Option<&'a TriMesh>,
+    /// Whether it is a mesh read as [`ClearanceGeometry::Mesh`] (exact triangles).
+    pub exact_mesh: bool,
     /// Bounding sphere centre in the shape frame (m) and its radius (m).
     pub sphere: (PVector, f64),
 }
@@ -760,7 +845,7 @@ impl CollisionSet {
             frame: o.frame,
             placement: &o.placement,
             convex: &*o.convex,
-            triangles: o.triangles.as_deref(),
+            exact_mesh: o.triangles.is_some(),
             sphere: (o.centre, o.radius),
         }
     }
@@ -781,6 +866,14 @@ impl CollisionSet {
     /// The checked pairs as indices into [`CollisionSet::objects`].
     pub(super) fn object_pairs(&self) -> &[(usize, usize)] {
         &self.pairs
+    }
+
+    /// The product of the triangle counts of pair `k`'s objects (a primitive counts 1), for
+    /// ordering work by cost.
+    pub(super) fn pair_triangles(&self, k: usize) -> usize {
+        let count = |o: &Object| o.triangles.as_ref().map_or(1, |t| t.count);
+        let (a, b) = self.pairs[k];
+        count(&self.objects[a]) * count(&self.objects[b])
     }
 }
 

@@ -270,7 +270,7 @@ impl ContactGeometry {
                 continue;
             };
             let (oa, ob) = (self.set.object(a), self.set.object(b));
-            if oa.triangles.is_some() || ob.triangles.is_some() {
+            if oa.exact_mesh || ob.exact_mesh {
                 let exact = self.set.exact_pair_distance(k, (&pa, &pb), &mut data.closest[k]);
                 if exact.intersecting {
                     return Err(Error::MeshContact {

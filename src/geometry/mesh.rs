@@ -2,10 +2,13 @@
 //! by the `mesh-loader` crate → exact f32 vertices, welded, with three indices per triangle.
 //! [`read_mesh`] is the one place a mesh file is read.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use super::claims::{self, Format};
+use crate::error::{Error, Result, one_line};
+use crate::input::{MAX_MESH_BYTES, MAX_SIDE_FILE_BYTES, read_file_capped};
 
 /// An indexed triangle mesh: the file's exact f32 vertices (metres, in the mesh's own frame),
 /// identical positions welded into one vertex, and three vertex indices per triangle.
@@ -98,44 +101,74 @@ pub const FORMATS: &str = "STL (binary or ASCII), COLLADA (.dae) or Wavefront OB
 
 /// Reads the mesh file at `path` (STL binary or ASCII, COLLADA `.dae`, Wavefront `.obj`) into a
 /// welded indexed [`Mesh`]. Every mesh faze4 uses, for drawing or for distances, is read here.
+/// It reads no other file (an OBJ's `mtllib` is left out: [`read_mesh_file`] reads it).
 ///
 /// The files are parsed by the `mesh-loader` crate; the format follows the extension (any
 /// case), else the contents. A file of several meshes (COLLADA geometries, OBJ groups) is their
 /// union. COLLADA's `<unit meter>` scales the vertices and its node transforms place them, and
-/// its `<up_axis>` is ignored, as rviz and MoveIt do (see docs/model.md, "Meshes").
+/// its `<up_axis>` is ignored, as rviz and MoveIt do (see docs/model.md, "Meshes"). The file
+/// must be a regular file of at most [`MAX_MESH_BYTES`], and what it claims is checked against
+/// what it holds before mesh-loader reads it (`geometry/claims.rs`).
 ///
 /// Errors: [`Error::Io`] if the file cannot be read, [`Error::InvalidData`] if it is none of
-/// those formats, [`Error::MeshNotFinite`] for a NaN or infinite coordinate, [`Error::MeshEmpty`]
-/// if no triangle of non-zero extent remains.
+/// those formats, too large, a directory or a stream, [`Error::MeshNotFinite`] for a NaN or
+/// infinite coordinate, [`Error::MeshEmpty`] if no triangle of non-zero extent remains.
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
-    Ok(read_mesh_file(path)?.mesh)
+    let bytes = read_file_capped(path, MAX_MESH_BYTES, "a mesh file")?;
+    parse_mesh(&bytes, path)
 }
 
 /// [`read_mesh`], with the file's material colour. An OBJ's `mtllib` is read from beside it
-/// (a missing one leaves the colour out).
+/// only if, links resolved, it lies in the OBJ's folder (or below) and is a regular file of at
+/// most [`MAX_SIDE_FILE_BYTES`]; else (or missing) the colour is left out.
 pub fn read_mesh_file(path: &Path) -> Result<MeshFile> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_mesh_file(&bytes, path, |p: &Path| std::fs::read(p))
+    let bytes = read_file_capped(path, MAX_MESH_BYTES, "a mesh file")?;
+    parse_mesh_file(&bytes, path, |side: &Path| side_file(path, side))
 }
 
-/// The mesh a URDF mesh reference stands for: the file it resolved to (`path`), read by
-/// [`read_mesh_file`], else the copy built into the binary when `uri` names one of the official
-/// Faze4 meshes ([`crate::faze4::meshes::for_uri`]); `None` when there is neither. Every mesh
-/// reference, visual or collision, is loaded here.
+/// The file `side` that the mesh file `mesh` refers to (an OBJ's `.mtl`), if it lies in the
+/// mesh's folder once links are resolved and is a regular file of at most
+/// [`MAX_SIDE_FILE_BYTES`].
+fn side_file(mesh: &Path, side: &Path) -> std::io::Result<Vec<u8>> {
+    let folder = match mesh.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let (folder, side) = (std::fs::canonicalize(folder)?, std::fs::canonicalize(side)?);
+    if !side.starts_with(&folder) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::PermissionDenied,
+            "outside the mesh's folder",
+        ));
+    }
+    read_file_capped(&side, MAX_SIDE_FILE_BYTES, "a material file").map_err(|e| std::io::Error::other(e.to_string()))
+}
+
+/// The mesh a URDF mesh reference stands for, with its colour, for drawing: the file it
+/// resolved to (`path`), read by [`read_mesh_file`], else the copy built into the binary when
+/// `uri` names one of the official Faze4 meshes ([`crate::faze4::meshes::for_uri`]); `None` when
+/// there is neither. Every visual mesh is loaded here.
 pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
     match origin(uri, path) {
         Origin::File(path) => Some(read_mesh_file(path)),
-        Origin::BuiltIn => crate::faze4::meshes::for_uri(uri).map(|mesh| {
-            Ok(MeshFile {
-                mesh: Mesh::from_indexed(&mesh.positions, &mesh.indices),
-                color: None,
-            })
-        }),
+        Origin::BuiltIn => built_in(uri).map(|mesh| Ok(MeshFile { mesh, color: None })),
         Origin::NotFound => None,
     }
+}
+
+/// [`load`] for collision: the triangles only, so no side file is read ([`read_mesh`]). Every
+/// collision mesh is loaded here.
+pub fn load_shape(uri: &str, path: Option<&Path>) -> Option<Result<Mesh>> {
+    match origin(uri, path) {
+        Origin::File(path) => Some(read_mesh(path)),
+        Origin::BuiltIn => built_in(uri).map(Ok),
+        Origin::NotFound => None,
+    }
+}
+
+/// The built-in copy of the official Faze4 mesh `uri` names, if any.
+fn built_in(uri: &str) -> Option<Mesh> {
+    crate::faze4::meshes::for_uri(uri).map(|mesh| Mesh::from_indexed(&mesh.positions, &mesh.indices))
 }
 
 /// Where [`load`] takes a mesh reference's triangles from.
@@ -162,13 +195,15 @@ pub fn origin<'a>(uri: &str, path: Option<&'a Path>) -> Origin<'a> {
 /// [`read_mesh`] on a file's contents already in memory; `path` names it in errors and gives
 /// its format by extension. Reads no other file (an OBJ's `mtllib` is left out).
 pub fn parse_mesh(bytes: &[u8], path: &Path) -> Result<Mesh> {
-    let no_side_files = |p: &Path| {
-        Err(std::io::Error::new(
-            std::io::ErrorKind::NotFound,
-            p.display().to_string(),
-        ))
-    };
     Ok(parse_mesh_file(bytes, path, no_side_files)?.mesh)
+}
+
+/// The side-file reader that reads none.
+fn no_side_files(p: &Path) -> std::io::Result<Vec<u8>> {
+    Err(std::io::Error::new(
+        std::io::ErrorKind::NotFound,
+        p.display().to_string(),
+    ))
 }
 
 /// [`read_mesh_file`] on contents in memory; `side_file` reads the files it refers to (an OBJ's
@@ -200,30 +235,36 @@ fn parse_mesh_file(
 /// The triangle corners of a mesh file's contents (three per triangle, every mesh of the file
 /// in its order, each triangle as stored, degenerate ones included; non-finite coordinates are
 /// passed through, see [`parse_mesh`]), and the diffuse colour of its first material that has
-/// one. The error is one line.
+/// one. What the file claims is checked first (`geometry/claims.rs`). The error is one line.
 pub fn triangle_corners(
     bytes: &[u8],
     path: &Path,
     side_file: impl FnMut(&Path) -> std::io::Result<Vec<u8>>,
 ) -> std::result::Result<(Vec<[f32; 3]>, Option<Rgba>), String> {
     let loader = mesh_loader::Loader::default();
-    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let named = Format::of_extension(path.extension().and_then(|e| e.to_str()));
+    let format = named.or_else(|| Format::of_contents(bytes)).ok_or_else(|| {
+        format!("not a mesh faze4 reads ({FORMATS}): its name does not end in .stl, .dae or .obj, and its contents are neither STL nor COLLADA")
+    })?;
+    let unnamed = |message: String| match named {
+        Some(_) => message,
+        None => format!("not a mesh faze4 reads ({FORMATS}): {message}"),
+    };
+    // COLLADA and OBJ as mesh-loader decodes them, so that what is checked is what it reads
+    let bytes = match format {
+        Format::Stl => Cow::Borrowed(bytes),
+        Format::Collada | Format::Obj => claims::decode_text(bytes).map_err(unnamed)?,
+    };
+    claims::check(format, &bytes).map_err(unnamed)?;
     // mesh-loader panics on some malformed COLLADA files (fuzz/artifacts of mesh_file): a panic
     // is caught, unprinted, and reported as the file's one-line error
-    let scene = crate::model::urdf::quietly(std::panic::AssertUnwindSafe(|| match extension.as_deref() {
-        Some("stl") => loader.load_stl_from_slice(bytes, path),
-        Some("dae") => loader.load_collada_from_slice(bytes, path),
-        Some("obj") => loader.load_obj_from_slice_with_reader(bytes, path, side_file),
-        _ => loader.load_from_slice_with_reader(bytes, path, side_file),
+    let scene = crate::model::urdf::quietly(std::panic::AssertUnwindSafe(|| match format {
+        Format::Stl => loader.load_stl_from_slice(&bytes, path),
+        Format::Collada => loader.load_collada_from_slice(&bytes, path),
+        Format::Obj => loader.load_obj_from_slice_with_reader(&bytes, path, side_file),
     }))
     .map_err(|panic| format!("the mesh reader (mesh-loader) failed on this file: {panic}"))?
-    .map_err(|e| {
-        let message = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-        match extension.as_deref() {
-            Some("stl" | "dae" | "obj") => message,
-            _ => format!("not a mesh faze4 reads ({FORMATS}): {message}"),
-        }
-    })?;
+    .map_err(|e| unnamed(one_line(&e.to_string())))?;
     let mut soup = Vec::new();
     for mesh in &scene.meshes {
         for face in &mesh.faces {
@@ -424,6 +465,31 @@ pub(crate) mod tests {
         );
         let e = parse_mesh(b"<COLLADA><broken", here).unwrap_err().to_string();
         assert!(e.starts_with("cube.DAE: ") && !e.contains('\n'), "{e}");
+    }
+
+    /// An OBJ's `mtllib` gives the colour only from the OBJ's folder (links resolved), never
+    /// from outside it, and is not read for the triangles alone.
+    #[test]
+    fn an_objs_material_file_is_read_from_its_folder_only() {
+        let dir = std::env::temp_dir().join(format!("faze4-mtl-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("in")).unwrap();
+        let mtl = "newmtl paint\nKd 0.1 0.2 0.3\n";
+        std::fs::write(dir.join("in/ok.mtl"), mtl).unwrap();
+        std::fs::write(dir.join("out.mtl"), mtl).unwrap();
+        std::os::unix::fs::symlink(dir.join("out.mtl"), dir.join("in/link.mtl")).unwrap();
+        let obj = |lib: &str| format!("mtllib {lib}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
+        for (lib, colour) in [
+            ("ok.mtl", Some([0.1, 0.2, 0.3, 1.0])),
+            ("../out.mtl", None),
+            (dir.join("out.mtl").to_str().unwrap(), None),
+            ("link.mtl", None),
+        ] {
+            let path = dir.join("in/m.obj");
+            std::fs::write(&path, obj(lib)).unwrap();
+            assert_eq!(read_mesh_file(&path).unwrap().color, colour, "mtllib {lib}");
+            assert_eq!(read_mesh(&path).unwrap().triangles.len(), 1);
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -6,19 +6,23 @@
 //! |---|---|
 //! | `mod.rs` | [`GeometryModel`], [`GeometryObject`] |
 //! | `mesh.rs` | [`mesh::read_mesh`]: STL (binary, ASCII), COLLADA, OBJ (mesh-loader) → exact f32 vertices, welded indices |
+//! | `claims.rs` | what a mesh file claims (counts, nesting, a binary STL's length) checked against what it holds, before mesh-loader allocates |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |
 //! | `clearance.rs` | [`Clearance`]: a run's accumulator, sample by sample, into a [`ClearanceReport`] |
+//! | `path.rs` | [`PathClearance`]: a path's bounds, computed once, shared by the runs that follow it |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
+mod claims;
 mod clearance;
 mod collision_set;
 mod contact;
 mod hull;
 pub mod mesh;
 mod pairs;
+mod path;
 mod report;
 mod search;
 
@@ -26,6 +30,7 @@ pub use clearance::Clearance;
 pub use collision_set::{CollisionSet, GeometryData, Warning};
 pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
 pub use pairs::{PairFilter, checked_pairs};
+pub use path::{MAX_PATH_BYTES, PathBuilder, PathClearance};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
 
 use std::path::Path;
@@ -141,8 +146,14 @@ impl GeometryModel {
     /// The geometry of `desc`, placed on the frames of `model` (built from that description).
     pub fn new(model: &Model, desc: &RobotDescription) -> GeometryModel {
         let mut geometry = GeometryModel::default();
+        // by name, so that thousands of links take no longer than a pass
+        let links: std::collections::HashMap<&str, &crate::model::LinkDesc> =
+            desc.links.iter().map(|l| (l.name.as_str(), l)).collect();
+        let frames: std::collections::HashMap<&str, FrameId> = (model.frames.iter().enumerate())
+            .map(|(i, f)| (f.name.as_str(), FrameId(i)))
+            .collect();
         for (frame, f) in model.frames.iter().enumerate() {
-            let Some(link) = desc.links.iter().find(|l| l.name == f.name) else {
+            let Some(&link) = links.get(f.name.as_str()) else {
                 continue;
             };
             let object = |placement: Pose, geometry: &Geometry, rgba| GeometryObject {
@@ -156,13 +167,22 @@ impl GeometryModel {
             (geometry.collisions).extend(link.collisions.iter().map(|c| object(c.origin, &c.geometry, None)));
         }
         for joint in &desc.joints {
-            if let (Some(parent), Some(child)) = (model.frame_index(&joint.parent), model.frame_index(&joint.child))
+            if let (Some(&parent), Some(&child)) = (frames.get(joint.parent.as_str()), frames.get(joint.child.as_str()))
                 && model.frame(parent).body != model.frame(child).body
             {
                 geometry.joined.push([parent, child]);
             }
         }
         geometry
+    }
+
+    /// The mesh files its visuals and collision elements refer to (those found on disk), each
+    /// with its link, in order, as often as they are used.
+    pub fn mesh_files(&self) -> impl Iterator<Item = (&str, &Path)> {
+        (self.visuals.iter().chain(&self.collisions)).filter_map(|g| match &g.geometry {
+            Geometry::Mesh { path: Some(path), .. } => Some((g.link.as_str(), path.as_path())),
+            _ => None,
+        })
     }
 
     /// This geometry without its collision elements (collision checking off).

@@ -39,6 +39,19 @@ pub struct PairReport {
     pub intersecting: bool,
 }
 
+impl PairReport {
+    /// Folds the pair's distance `d` at time `t` in; whether it lowered the pair's minimum.
+    pub(crate) fn record(&mut self, d: PairDistance, t: f64) -> bool {
+        self.intersecting |= d.intersecting;
+        let lower = d.distance < self.min_m;
+        if lower {
+            self.min_m = d.distance;
+            self.t = t;
+        }
+        lower
+    }
+}
+
 /// The clearance of a run, the summary's `"clearance"` object:
 /// `{"geometry", "min_m", "links", "t", "pairs": [{"links", "min_m", "t", "intersecting"?}],
 /// "unchecked"}`; the top-level `min_m`, `links` and `t` are those of the closest pair
@@ -93,16 +106,20 @@ impl ClearanceReport {
 
     /// Folds pair `k`'s distance `d` at time `t` in.
     pub(crate) fn record(&mut self, k: usize, d: PairDistance, t: f64) {
-        let pair = &mut self.pairs[k];
-        pair.intersecting |= d.intersecting;
-        if d.distance < pair.min_m {
-            pair.min_m = d.distance;
-            pair.t = t;
-            if self.min_m.is_none_or(|m| d.distance < m) {
-                self.min_m = Some(d.distance);
-                self.links = Some(pair.links.clone());
-                self.t = Some(t);
-            }
+        if self.pairs[k].record(d, t) {
+            self.lowered(k, d.distance, t);
+        }
+    }
+
+    /// After pair `k`'s minimum was lowered to `distance` at time `t` ([`PairReport::record`]):
+    /// the closest pair overall, the first pair to reach the smallest distance. Told the
+    /// lowerings of every pair in the order they happened, it is what [`ClearanceReport::record`]
+    /// would have made of them.
+    pub(crate) fn lowered(&mut self, k: usize, distance: f64, t: f64) {
+        if self.min_m.is_none_or(|m| distance < m) {
+            self.min_m = Some(distance);
+            self.links = Some(self.pairs[k].links.clone());
+            self.t = Some(t);
         }
     }
 

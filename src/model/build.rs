@@ -6,8 +6,9 @@ use nalgebra::SymmetricEigen;
 
 use super::description::{Geometry, InertialDesc, JointDesc, JointType, RobotDescription};
 use super::{ArmDefaults, AxisSplit, Body, Frame, Joint, JointId, JointKind, Model, STANDARD_GRAVITY};
-use crate::error::{Error, Result, one_line};
+use crate::error::{Error, Result, one_line, shortest};
 use crate::id::FrameId;
+use crate::input::MAX_MOVING_JOINTS;
 use crate::spatial::{Inertia, Mat3, Pose, Vec3};
 
 /// Relative tolerance on the triangle inequality of principal moments (rounding in exported
@@ -76,6 +77,17 @@ impl std::fmt::Display for LoadWarning {
 /// bodies and frames; the motors of its transmissions; every moving body checked for mass and
 /// a physical inertia (after the links welded to it are merged in).
 pub(super) fn build(desc: &RobotDescription, options: &LoadOptions) -> Result<(Model, Vec<LoadWarning>)> {
+    // each moving joint is a body: the matrices and the step grow as their number squared and cubed
+    let moving = desc.joints.iter().filter(|j| j.kind != JointType::Fixed).count();
+    if moving > MAX_MOVING_JOINTS {
+        return Err(Error::model(
+            &desc.file,
+            format!("robot '{}'", desc.name),
+            format!(
+                "has {moving} moving joints, more than the {MAX_MOVING_JOINTS} faze4 simulates: a step costs their number cubed (docs/development.md, Caps)"
+            ),
+        ));
+    }
     check_finite(desc)?;
     let tree = Tree::of(desc)?;
     let mut model = walk(desc, &tree)?;
@@ -355,14 +367,14 @@ fn apply_transmissions(desc: &RobotDescription, model: &mut Model) -> Result<Vec
             return Err(Error::model(
                 file,
                 element(),
-                format!("gear ratio {gear_ratio} must be > 0"),
+                format!("gear ratio {} must be > 0", shortest(gear_ratio)),
             ));
         }
         if t.rotor_inertia.is_some() && !(rotor_inertia.is_finite() && rotor_inertia > 0.0) {
             return Err(Error::model(
                 file,
                 element(),
-                format!("rotor inertia {rotor_inertia} kg·m² must be > 0"),
+                format!("rotor inertia {} kg·m² must be > 0", shortest(rotor_inertia)),
             ));
         }
         model.joints[i.0].rotor_inertia = rotor_inertia;
@@ -386,6 +398,19 @@ fn check_inertias(
     for i in 0..model.dof() {
         let inertia = model.inertia[i];
         let i_com = inertia.rot_about_com();
+        // I_com = I_o − m c×ᵀc×: with a huge mass the product overflows, and the moments are NaN
+        if !i_com.iter().all(|x| x.is_finite()) {
+            let c = inertia.com();
+            return Err(Error::model(
+                file,
+                format!("link '{}' <inertial>", model.joints[i].child_link),
+                format!(
+                    "mass {} kg with its centre of mass {} m from its body's joint: its rotational inertia about the centre of mass is not a number, as the square of its first moment m·|c| overflows floating-point numbers",
+                    shortest(inertia.mass),
+                    shortest(c.norm())
+                ),
+            ));
+        }
         let mut moments = SymmetricEigen::new(i_com).eigenvalues;
         moments.as_mut_slice().sort_by(f64::total_cmp);
         let [a, b, c] = [moments[0], moments[1], moments[2]];
@@ -437,7 +462,8 @@ fn check_masses(desc: &RobotDescription, model: &Model) -> Result<()> {
                 format!("link '{}'", joint.child_link),
                 format!(
                     "is moved by joint '{}' but has no mass (it and the links welded to it weigh {} kg); a moving body needs mass > 0",
-                    joint.name, model.inertia[i].mass
+                    joint.name,
+                    shortest(model.inertia[i].mass)
                 ),
             ));
         }
@@ -502,7 +528,8 @@ fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
                 element(),
                 format!(
                     "multiplier {} and offset {} must be finite",
-                    mimic.multiplier, mimic.offset
+                    shortest(mimic.multiplier),
+                    shortest(mimic.offset)
                 ),
             ));
         }
@@ -540,8 +567,13 @@ fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
                 file,
                 format!("joint '{}' <mimic>", follower.name),
                 format!(
-                    "its limits [{}, {}] through q = {m}·q_{} + {o} leave joint '{}' no position within its own",
-                    follower.lower, follower.upper, leader.name, leader.name
+                    "its limits [{}, {}] through q = {}·q_{} + {} leave joint '{}' no position within its own",
+                    shortest(follower.lower),
+                    shortest(follower.upper),
+                    shortest(m),
+                    leader.name,
+                    shortest(o),
+                    leader.name
                 ),
             ));
         }
@@ -605,14 +637,18 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
         return Err(Error::model(
             file,
             format!("joint '{}' <limit>", joint.name),
-            format!("lower limit {lower} is above upper limit {upper}"),
+            format!(
+                "lower limit {} is above upper limit {}",
+                shortest(lower),
+                shortest(upper)
+            ),
         ));
     }
     if joint.damping < 0.0 {
         return Err(Error::model(
             file,
             format!("joint '{}' <dynamics>", joint.name),
-            format!("damping {} is negative", joint.damping),
+            format!("damping {} is negative", shortest(joint.damping)),
         ));
     }
     Ok(Some(Joint {
@@ -635,7 +671,11 @@ fn link_inertia(file: &str, link: &str, inertial: &InertialDesc) -> Result<Inert
     let element = || format!("link '{link}' <inertial>");
     let m = inertial.mass;
     if m < 0.0 {
-        return Err(Error::model(file, element(), format!("mass {m} kg is negative")));
+        return Err(Error::model(
+            file,
+            element(),
+            format!("mass {} kg is negative", shortest(m)),
+        ));
     }
     let [ixx, ixy, ixz, iyy, iyz, izz] = inertial.inertia;
     let i_frame = Mat3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
@@ -657,7 +697,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
             Some(v) => Err(Error::model(
                 file,
                 element,
-                format!("{field} has a non-finite value ({v})"),
+                format!("{field} has a non-finite value ({})", shortest(*v)),
             )),
             None => Ok(()),
         }
@@ -727,7 +767,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
                 return Err(Error::model(
                     file,
                     format!("joint '{}' <limit>", j.name.escape_debug()),
-                    format!("{attribute}=\"{x}\" must be > 0 (or left out: no limit)"),
+                    format!("{attribute}=\"{}\" must be > 0 (or left out: no limit)", shortest(x)),
                 ));
             }
         }

@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::input::MAX_SIDE_FILE_BYTES;
+
 /// Where `package://` references are looked for: the directories given on the command line
 /// (`--package-path`), then those of `ROS_PACKAGE_PATH`, as ROS users expect.
 ///
@@ -33,11 +35,22 @@ impl PackagePaths {
         &self.dirs
     }
 
-    /// The existing file `uri` refers to, if any. Relative paths are taken from `base_dir`
-    /// (the URDF's directory).
-    pub fn resolve(&self, uri: &str, base_dir: Option<&Path>) -> Option<PathBuf> {
+    /// What `uri` refers to, if it exists (a file, or a directory or FIFO that its reader then
+    /// names as such). Relative paths are taken from `base_dir` (the URDF's directory).
+    ///
+    /// A `package://` reference stays in its package: its package name must be a name (not
+    /// `..`), and the entry found must lie inside the package's folder once `..` and symbolic
+    /// links are resolved; else the error says where it leads. (A workspace built with
+    /// `colcon build --symlink-install` links each installed file to its source: give
+    /// `--package-path` the source folder then.)
+    pub fn resolve(&self, uri: &str, base_dir: Option<&Path>) -> Result<Option<PathBuf>, String> {
         if let Some(rest) = uri.strip_prefix("package://") {
-            let (name, rel) = rest.split_once('/')?;
+            let Some((name, rel)) = rest.split_once('/') else {
+                return Ok(None);
+            };
+            if name.is_empty() || name == "." || name == ".." {
+                return Err(format!("'{name}' is not a package name"));
+            }
             return self.resolve_package(name, rel);
         }
         let path = match uri.strip_prefix("file://") {
@@ -48,26 +61,37 @@ impl PackagePaths {
             (true, Some(base)) => base.join(path),
             _ => path,
         };
-        path.is_file().then_some(path)
+        Ok(path.exists().then_some(path))
     }
 
-    fn resolve_package(&self, name: &str, rel: &str) -> Option<PathBuf> {
-        let existing = |p: PathBuf| p.is_file().then_some(p);
-        self.dirs
-            .iter()
-            .find_map(|d| existing(d.join(name).join(rel)))
-            .or_else(|| {
-                self.dirs
-                    .iter()
-                    .filter(|d| is_package(d, name))
-                    .find_map(|d| existing(d.join(rel)))
-            })
-            .or_else(|| {
-                self.dirs
-                    .iter()
-                    .find_map(|d| find_package_below(d, name, 3).and_then(|p| existing(p.join(rel))))
-            })
-            .or_else(|| self.dirs.iter().find_map(|d| existing(d.join(rel))))
+    /// `rel` in the package `name` (see [`PackagePaths`] for the order of the search).
+    fn resolve_package(&self, name: &str, rel: &str) -> Result<Option<PathBuf>, String> {
+        // (package folder, candidate) in the order of the search
+        let candidates = (self.dirs.iter().map(|d| d.join(name)))
+            .chain(self.dirs.iter().filter(|d| is_package(d, name)).cloned())
+            .chain(self.dirs.iter().filter_map(|d| find_package_below(d, name, 3)))
+            .chain(self.dirs.iter().cloned());
+        for package in candidates {
+            let path = package.join(rel);
+            if !path.exists() {
+                continue;
+            }
+            let inside = match (std::fs::canonicalize(&package), std::fs::canonicalize(&path)) {
+                (Ok(package), Ok(found)) => found.starts_with(&package).then_some(()).ok_or(found),
+                (_, Err(e)) => return Err(format!("{}: {e}", path.display())),
+                (Err(e), _) => return Err(format!("{}: {e}", package.display())),
+            };
+            return match inside {
+                Ok(()) => Ok(Some(path)),
+                Err(found) => Err(format!(
+                    "leaves its package: {} resolves to {}, outside the package folder {}",
+                    path.display(),
+                    found.display(),
+                    package.display()
+                )),
+            };
+        }
+        Ok(None)
     }
 }
 
@@ -88,9 +112,8 @@ fn is_package(dir: &Path, name: &str) -> bool {
     if dir.file_name().is_some_and(|n| n == name) {
         return true;
     }
-    std::fs::read_to_string(dir.join("package.xml"))
-        .map(|xml| xml.contains(&format!("<name>{name}</name>")))
-        .unwrap_or(false)
+    let xml = crate::input::read_file_capped(&dir.join("package.xml"), MAX_SIDE_FILE_BYTES, "a package.xml");
+    xml.is_ok_and(|xml| String::from_utf8_lossy(&xml).contains(&format!("<name>{name}</name>")))
 }
 
 fn find_package_below(dir: &Path, name: &str, depth: usize) -> Option<PathBuf> {

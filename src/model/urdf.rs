@@ -17,6 +17,7 @@ use super::description::{
 };
 use super::{Model, PackagePaths};
 use crate::error::{Error, Result, one_line};
+use crate::input::{MAX_LINKS, MAX_URDF_BYTES, read_capped, xml_nested_deeper_than};
 use crate::spatial::{Pose, Vec3};
 
 /// Reads and validates the URDF file at `path`: its dynamics model. Mesh files are only
@@ -25,12 +26,10 @@ pub fn read_file(path: &Path, packages: &PackagePaths) -> Result<Model> {
     read_str(&read_text(path)?, &path.display().to_string(), path.parent(), packages)
 }
 
-/// The text of the URDF file at `path` (UTF-8).
+/// The text of the URDF file at `path` (UTF-8, at most [`MAX_URDF_BYTES`]; a stream such as
+/// `/dev/stdin` is read up to that cap).
 pub fn read_text(path: &Path) -> Result<String> {
-    let text = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = read_capped(path, MAX_URDF_BYTES, "a URDF")?;
     let text = String::from_utf8(text).map_err(|_| Error::UrdfSyntax {
         file: path.display().to_string(),
         message: "the file is not UTF-8 text".into(),
@@ -56,10 +55,27 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
     }
     // urdf-rs walks the element tree recursively, so deep nesting overflows the stack (a
     // crash, not a panic: catch_unwind cannot help). A URDF nests about 5 deep.
-    if let Some(line) = nested_deeper_than(text, MAX_NESTING) {
+    if let Some(line) = xml_nested_deeper_than(text.as_bytes(), MAX_NESTING) {
         return Err(syntax(format!(
             "elements nest more than {MAX_NESTING} deep (line {line}); a URDF needs about 5 levels"
         )));
+    }
+    // every link is a frame: a count bounds what urdf-rs and the model builder take
+    let links = count_elements(text, "link");
+    if links > MAX_LINKS {
+        return Err(Error::model(
+            file,
+            "<robot>",
+            format!("has {links} <link> elements, more than the {MAX_LINKS} faze4 reads (docs/development.md, Caps)"),
+        ));
+    }
+    // urdf-rs's message for an empty <geometry> is its XML layer's debug text
+    if let Some(element) = empty_geometry(text) {
+        return Err(Error::model(
+            file,
+            element,
+            "<geometry> is empty: give it a <box>, <cylinder>, <sphere> or <mesh>",
+        ));
     }
     // urdf-rs panics on a few malformed inputs instead of returning an error (RustyXML's "No
     // namespace prefix bound" on `<" xmlns="N":=""/>`): catch it, quietly, and report it.
@@ -69,35 +85,40 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 "the XML parser failed on this input (urdf-rs panicked: {panic})"
             ))
         })?
-        .map_err(|e| syntax(e.to_string()))?;
+        .map_err(|e| syntax(readable(&e.to_string())))?;
 
-    let links = parsed
-        .links
-        .iter()
-        .map(|link| LinkDesc {
-            name: link.name.clone(),
-            inertial: Some(InertialDesc {
-                xyz: link.inertial.origin.xyz.0,
-                rpy: link.inertial.origin.rpy.0,
-                mass: link.inertial.mass.value,
-                inertia: {
-                    let i = &link.inertial.inertia;
-                    [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz]
-                },
-            }),
-            visuals: link
-                .visual
-                .iter()
-                .map(|v| visual(v, &parsed.materials, base_dir, packages))
-                .collect(),
-            collisions: (link.collision.iter())
-                .map(|c| Collision {
-                    origin: Pose::from_xyz_rpy(c.origin.xyz.0, c.origin.rpy.0),
-                    geometry: geometry(&c.geometry, base_dir, packages),
-                })
-                .collect(),
+    let links = (parsed.links.iter())
+        .map(|link| {
+            // a mesh reference that leaves its package is refused, naming the element
+            let refused = |what: &str| {
+                let element = format!("link '{}' <{what}>", link.name);
+                move |message: String| Error::model(file, element.clone(), message)
+            };
+            Ok(LinkDesc {
+                name: link.name.clone(),
+                inertial: Some(InertialDesc {
+                    xyz: link.inertial.origin.xyz.0,
+                    rpy: link.inertial.origin.rpy.0,
+                    mass: link.inertial.mass.value,
+                    inertia: {
+                        let i = &link.inertial.inertia;
+                        [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz]
+                    },
+                }),
+                visuals: (link.visual.iter())
+                    .map(|v| visual(v, &parsed.materials, base_dir, packages).map_err(refused("visual")))
+                    .collect::<Result<_>>()?,
+                collisions: (link.collision.iter())
+                    .map(|c| {
+                        Ok(Collision {
+                            origin: Pose::from_xyz_rpy(c.origin.xyz.0, c.origin.rpy.0),
+                            geometry: geometry(&c.geometry, base_dir, packages).map_err(refused("collision"))?,
+                        })
+                    })
+                    .collect::<Result<_>>()?,
+            })
         })
-        .collect();
+        .collect::<Result<_>>()?;
 
     let joints = parsed
         .joints
@@ -228,6 +249,84 @@ pub fn transmissions(text: &str) -> std::result::Result<Vec<TransmissionDesc>, S
     }
 }
 
+/// The first `<visual>` or `<collision>` whose `<geometry>` holds no element, as
+/// `link 'NAME' <visual>`, if any. Malformed XML is left to urdf-rs.
+fn empty_geometry(text: &str) -> Option<String> {
+    use quick_xml::events::Event;
+    if !text.contains("<geometry") {
+        return None;
+    }
+    let mut reader = quick_xml::Reader::from_str(text);
+    let (mut link, mut shape, mut open) = (String::new(), "visual", false);
+    loop {
+        let (element, empty) = match reader.read_event().ok()? {
+            Event::Start(e) => (e, false),
+            Event::Empty(e) => (e, true),
+            Event::End(e) if e.name().as_ref() == b"geometry" && open => {
+                return Some(format!("link '{link}' <{shape}>"));
+            }
+            Event::Eof => return None,
+            _ => continue,
+        };
+        // an element inside <geometry>: it is not empty
+        open = false;
+        match element.name().as_ref() {
+            b"link" => {
+                let name = element.try_get_attribute("name").ok().flatten();
+                link = name
+                    .and_then(|a| a.unescape_value().ok())
+                    .unwrap_or_default()
+                    .into_owned();
+            }
+            b"visual" => shape = "visual",
+            b"collision" => shape = "collision",
+            b"geometry" if empty => return Some(format!("link '{link}' <{shape}>")),
+            b"geometry" => open = true,
+            _ => {}
+        }
+    }
+}
+
+/// How many `<NAME` start tags (`<NAME>`, `<NAME …`, `<NAME/>`) XML `text` holds: a lexical
+/// count, linear, before any parser.
+fn count_elements(text: &str, name: &str) -> usize {
+    let tag = format!("<{name}");
+    text.match_indices(&tag)
+        .filter(|(at, _)| {
+            let next = text.as_bytes().get(at + tag.len());
+            next.is_none_or(|c| c.is_ascii_whitespace() || *c == b'>' || *c == b'/')
+        })
+        .count()
+}
+
+/// A message of urdf-rs's XML layer (serde-xml-rs) without its debug text: `Expected token
+/// &XmlEvent::Characters(ref name) | …, found EndElement(geometry)` becomes `an element or
+/// text was expected, found </geometry>`.
+fn readable(message: &str) -> String {
+    let Some(found) = message
+        .strip_prefix("Expected token ")
+        .and_then(|m| m.split(", found ").nth(1))
+    else {
+        return message.to_string();
+    };
+    let tag = |s: &str, open: &str| {
+        let name = s.split(['(', ')', ' ', ',', '"']).find(|w| !w.is_empty()).unwrap_or("");
+        format!("<{open}{name}>")
+    };
+    let found = if let Some(rest) = found.strip_prefix("EndElement(") {
+        tag(rest, "/")
+    } else if let Some(rest) = found.strip_prefix("StartElement(") {
+        tag(rest, "")
+    } else if found.starts_with("EndDocument") {
+        "the end of the file".to_string()
+    } else if found.starts_with("Characters") {
+        "text".to_string()
+    } else {
+        found.to_string()
+    };
+    format!("an element or text was expected, found {found}")
+}
+
 thread_local! {
     /// Whether this thread is inside urdf-rs, under [`parse_quietly`]'s `catch_unwind`.
     static IN_PARSER: Cell<bool> = const { Cell::new(false) };
@@ -269,60 +368,13 @@ pub(crate) fn quietly<T>(f: impl FnOnce() -> T + std::panic::UnwindSafe) -> std:
 /// The deepest element nesting [`describe`] hands to urdf-rs.
 const MAX_NESTING: usize = 100;
 
-/// The line on which XML `text` first has more than `limit` elements open, if it does. A
-/// lexical scan (comments, CDATA, processing instructions, declarations and quoted attribute
-/// values skipped), linear in the length of the text; malformed XML is left to the parser.
-fn nested_deeper_than(text: &str, limit: usize) -> Option<usize> {
-    let b = text.as_bytes();
-    let find = |from: usize, pat: &[u8]| -> usize {
-        (b.get(from..).unwrap_or_default().windows(pat.len()))
-            .position(|w| w == pat)
-            .map_or(b.len(), |p| from + p + pat.len())
-    };
-    let (mut depth, mut i) = (0usize, 0usize);
-    while let Some(p) = b.get(i..).and_then(|rest| rest.iter().position(|&c| c == b'<')) {
-        let at = i + p;
-        let rest = &b[at..];
-        i = if rest.starts_with(b"<!--") {
-            find(at + 4, b"-->")
-        } else if rest.starts_with(b"<![CDATA[") {
-            find(at + 9, b"]]>")
-        } else if rest.starts_with(b"<?") {
-            find(at + 2, b"?>")
-        } else if rest.starts_with(b"<!") || rest.starts_with(b"</") {
-            depth = depth.saturating_sub(usize::from(rest.starts_with(b"</")));
-            find(at + 1, b">")
-        } else {
-            // a start tag: find its '>' outside quotes; "/>" closes it at once
-            let (mut j, mut quote) = (at + 1, None);
-            while j < b.len() {
-                match (quote, b[j]) {
-                    (None, b'"' | b'\'') => quote = Some(b[j]),
-                    (Some(q), c) if c == q => quote = None,
-                    (None, b'>') => break,
-                    _ => {}
-                }
-                j += 1;
-            }
-            if b.get(j.wrapping_sub(1)) != Some(&b'/') {
-                depth += 1;
-                if depth > limit {
-                    return Some(1 + b[..at].iter().filter(|&&c| c == b'\n').count());
-                }
-            }
-            j + 1
-        };
-    }
-    None
-}
-
 fn visual(
     v: &urdf_rs::Visual,
     materials: &[urdf_rs::Material],
     base_dir: Option<&Path>,
     packages: &PackagePaths,
-) -> Visual {
-    let geometry = geometry(&v.geometry, base_dir, packages);
+) -> std::result::Result<Visual, String> {
+    let geometry = geometry(&v.geometry, base_dir, packages)?;
     // A colour inline, or by name from the robot's top-level <material> list.
     let rgba = v.material.as_ref().and_then(|m| {
         m.color
@@ -335,16 +387,21 @@ fn visual(
             })
             .map(|c| c.rgba.0)
     });
-    Visual {
+    Ok(Visual {
         origin: Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
         geometry,
         rgba,
-    }
+    })
 }
 
-/// A `<geometry>` element; mesh references are resolved (the file is not read).
-fn geometry(g: &urdf_rs::Geometry, base_dir: Option<&Path>, packages: &PackagePaths) -> Geometry {
-    match g {
+/// A `<geometry>` element; mesh references are resolved (the file is not read). The error: a
+/// `package://` reference that leaves its package ([`PackagePaths::resolve`]).
+fn geometry(
+    g: &urdf_rs::Geometry,
+    base_dir: Option<&Path>,
+    packages: &PackagePaths,
+) -> std::result::Result<Geometry, String> {
+    Ok(match g {
         urdf_rs::Geometry::Box { size } => Geometry::Box {
             size: Vec3::from(size.0),
         },
@@ -357,31 +414,8 @@ fn geometry(g: &urdf_rs::Geometry, base_dir: Option<&Path>, packages: &PackagePa
         urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
         urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
             uri: filename.clone(),
-            path: packages.resolve(filename, base_dir),
+            path: (packages.resolve(filename, base_dir)).map_err(|e| format!("mesh '{filename}': {e}"))?,
             scale: scale.map_or(Vec3::new(1.0, 1.0, 1.0), |s| Vec3::from(s.0)),
         },
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn nesting_depth_counts_elements_only() {
-        let nested = |n: usize| format!("<robot>\n{}{}</robot>", "<a>".repeat(n), "</a>".repeat(n));
-        assert_eq!(nested_deeper_than(&nested(99), 100), None);
-        assert_eq!(nested_deeper_than(&nested(100), 100), Some(2));
-        // siblings, empty elements, comments, CDATA, declarations and quoted '>' do not nest
-        let flat = format!(
-            "<?xml version=\"1.0\"?><!DOCTYPE robot><robot>{}<!-- {} --><![CDATA[{}]]><a b=\"/>\" c='>'>x</a></robot>",
-            "<link name=\"x\"/><joint></joint>".repeat(500),
-            "<a>".repeat(500),
-            "<a>".repeat(500)
-        );
-        assert_eq!(nested_deeper_than(&flat, 3), None);
-        assert_eq!(nested_deeper_than("<a><b><c><d>", 3), Some(1));
-        assert_eq!(nested_deeper_than("<a", 0), Some(1));
-        assert_eq!(nested_deeper_than("", 0), None);
-    }
+    })
 }

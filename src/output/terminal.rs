@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
 use crate::control::FeedForward;
-use crate::error::quoted;
+use crate::error::{escape_controls, quoted};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
@@ -112,9 +112,11 @@ fn rate(hz: f64) -> String {
     }
 }
 
+/// Prints `line` on stdout, its control and bidirectional characters escaped: a name read
+/// from a file (robot, link, joint, path) can neither start a new line nor reorder this one.
 fn out(line: &str) -> crate::Result<()> {
     // a closed stdout (`faze4 … | head`) is not the run's failure
-    let _ = writeln!(std::io::stdout().lock(), "{line}");
+    let _ = writeln!(std::io::stdout().lock(), "{}", escape_controls(line));
     Ok(())
 }
 

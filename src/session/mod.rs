@@ -8,10 +8,10 @@ mod retime;
 
 use std::path::Path;
 
-pub use report::{divergence_line, done_line};
+pub use report::{divergence_line, done_line, report_text};
 pub use retime::{RetimeFinished, retime, retime_lines};
 
-use crate::atomic::Outputs;
+use crate::atomic::{Inputs, Outputs};
 use crate::config::{Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result};
 use crate::output::{PRINT_PERIOD, Terminal, TrailCsv};
@@ -28,6 +28,8 @@ pub struct Prepared {
     /// Everything the user should know before the run, in the order it is said: the
     /// scenario's warnings, then what loading found (meshes not found).
     pub warnings: Vec<Warning>,
+    /// The files loading read, which no output of the run may replace.
+    pub inputs: Inputs,
 }
 
 impl Prepared {
@@ -37,11 +39,13 @@ impl Prepared {
         let loaded = Loaded::load(&config, replayed)?;
         let scenario = loaded.scenario(&config)?;
         let mut warnings = scenario.warnings.clone();
+        let inputs = loaded.inputs().clone();
         warnings.extend(loaded.warnings);
         Ok(Prepared {
             config,
             scenario,
             warnings,
+            inputs,
         })
     }
 }
@@ -56,7 +60,8 @@ pub struct Finished {
 }
 
 /// Runs `prepared` with the outputs its configuration asks for (and `extra` recorders), into
-/// `files` (the caller commits them): opens the recorders, tells `warn` the warnings (once
+/// `files` (the caller commits them): refuses an output that is one of its inputs, opens the
+/// recorders, tells `warn` the warnings (once
 /// every output is open: a bad output path is the only line), writes a shape's joint samples
 /// (`save_q`), runs until the end or `stop`, and writes the summary file.
 pub fn run(
@@ -70,8 +75,10 @@ pub fn run(
         config,
         scenario,
         warnings,
+        inputs,
     } = prepared;
     let save_q = save_q(config);
+    files.reading(inputs.clone())?;
     let mut recorders = Recorders::open(scenario, config, files)?;
     warn(warnings);
     if let (Some(path), Trajectory::Interpolated(samples)) = (save_q, &scenario.trajectory) {

@@ -70,7 +70,7 @@ pub struct Sample<'a> {
     pub target: Option<Vec3>,
     /// Per checked pair ([`RunInfo::collision_pairs`]), whether its collision geometry
     /// intersects at the latest trail sample (this one when it is a trail sample); empty when
-    /// the run checks no clearance.
+    /// the run checks no clearance, or when no recorder [`Recorder::reads_intersections`].
     pub intersecting: &'a [bool],
 }
 
@@ -80,6 +80,14 @@ pub trait Recorder {
     /// Simulated time between two recorded samples (s). The run records at step 0, every
     /// [`steps_per_record`]`(period, Δt)` steps, and after the last step.
     fn period(&self) -> f64;
+
+    /// Whether it reads [`Sample::intersecting`] (the 3D views, which draw the links of
+    /// intersecting pairs red): the run then measures the self-clearance at each sample
+    /// before handing it over. Otherwise the self-clearance is measured on a worker thread
+    /// beside the dynamics, and `intersecting` is empty.
+    fn reads_intersections(&self) -> bool {
+        false
+    }
 
     /// Called once before the first sample.
     fn begin(&mut self, _run: &RunInfo) -> crate::Result<()> {

@@ -1,5 +1,6 @@
 //! The closed loop: the discrete step driven by the PD controller (docs/model.md).
 
+use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use super::{ContactStep, ContactSummary};
@@ -8,8 +9,8 @@ use crate::algo::{
 };
 use crate::control::{Envelope, FeedForward, OpenLoopStepper, Slips};
 use crate::error::{Error, Result};
-use crate::geometry::{Clearance, CollisionSet};
-use crate::model::{FrameId, JointId, JointKind};
+use crate::geometry::{Clearance, CollisionSet, PathClearance};
+use crate::model::{FrameId, JointId, JointKind, Model};
 use crate::spatial::Pose;
 use crate::spatial::Vec3;
 use crate::traj::Trajectory;
@@ -45,7 +46,6 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 /// were the last (`interrupted_at_s` in the summary).
 pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) -> Result<Summary> {
     let model = &sc.model;
-    let n = model.dof();
     let dt = sc.dt;
     let mut p = Pipeline::new(sc);
     let start_q = p.state.q.clone();
@@ -71,7 +71,23 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     for r in recorders.iter_mut() {
         r.begin(&info)?;
     }
-    let mut rec = Records::new(sc, recorders);
+    // the clearance's worker thread (when no recorder reads each sample's intersections)
+    // borrows the scenario for the run's loop
+    std::thread::scope(|scope| run_loop(sc, recorders, stop, &mut p, scope))
+}
+
+/// [`run`]'s loop and summary, the self-clearance's worker thread (if any) spawned in `scope`.
+fn run_loop<'a, 's>(
+    sc: &'a Scenario,
+    recorders: &mut [&mut dyn Recorder],
+    stop: &StopFlag,
+    p: &mut Pipeline<'a>,
+    scope: &'s std::thread::Scope<'s, 'a>,
+) -> Result<Summary> {
+    let model = &sc.model;
+    let n = model.dof();
+    let dt = sc.dt;
+    let mut rec = Records::new(sc, recorders, scope);
 
     let wall = Instant::now();
     let mut done = 0;
@@ -92,11 +108,11 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         if !last {
             rec.steps.add(sc, &p.state, &p.q_cmd, &p.tau_raw);
             if let Some(m) = rec.motors.as_mut() {
-                m.add(&p, t);
+                m.add(p, t);
             }
         }
         if diverged.is_none() {
-            rec.record(recorders, &mut p, k, t, last)?;
+            rec.record(recorders, p, k, t, last)?;
         }
         if last {
             break;
@@ -114,13 +130,11 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     let Records {
         steps,
         samples,
-        mut clearance,
+        clearance,
         motors,
         ..
     } = rec;
-    if let Some(c) = clearance.as_mut() {
-        c.finish();
-    }
+    let clearance = clearance.map(ClearanceStage::finish);
     let wall_time_s = wall.elapsed().as_secs_f64();
 
     let contact = &p.contact;
@@ -335,25 +349,32 @@ fn settle_steppers(sc: &Scenario, data: &mut Data, state: &mut State) {
 
 /// The record stage: the metrics over the steps and the samples, and when the recorders are
 /// due.
-struct Records<'a> {
+struct Records<'a, 's> {
     steps: StepMetrics,
     /// `--motors`: the motors' figures over the steps.
     motors: Option<MotorMetrics>,
     samples: SampleMetrics,
-    clearance: Option<ClearanceMetrics<'a>>,
+    clearance: Option<ClearanceStage<'a, 's>>,
     schedule: Schedule,
     /// The shape's target at the sample (buffers).
     target: [f64; 3],
     target_rate: [f64; 3],
 }
 
-impl<'a> Records<'a> {
-    fn new(sc: &'a Scenario, recorders: &[&mut dyn Recorder]) -> Self {
+impl<'a, 's> Records<'a, 's> {
+    fn new(sc: &'a Scenario, recorders: &[&mut dyn Recorder], scope: &'s std::thread::Scope<'s, 'a>) -> Self {
+        let inline = recorders.iter().any(|r| r.reads_intersections());
         Records {
             steps: StepMetrics::new(sc.model.dof()),
             motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc.model.dof())),
             samples: SampleMetrics::new(),
-            clearance: (sc.collision_set.as_deref()).map(|set| ClearanceMetrics::new(set, sc.clearance_tolerance)),
+            clearance: (sc.collision_set.as_deref()).map(|set| {
+                let metrics = ClearanceMetrics::new(set, sc.clearance_tolerance, sc.path_clearance.as_deref());
+                match inline {
+                    true => ClearanceStage::Inline(Box::new(metrics)),
+                    false => ClearanceStage::worker(&sc.model, metrics, scope),
+                }
+            }),
             schedule: Schedule::new(recorders, sc.dt, sc.record_every),
             target: [0.0; 3],
             target_rate: [0.0; 3],
@@ -383,9 +404,13 @@ impl<'a> Records<'a> {
         });
         if record_metrics {
             (self.samples).add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
-            if let Some(c) = self.clearance.as_mut() {
-                forward_kinematics(model, &mut p.data, &p.state.q);
-                c.add(&p.data.frame_pose, t);
+            match self.clearance.as_mut() {
+                Some(ClearanceStage::Inline(c)) => {
+                    forward_kinematics(model, &mut p.data, &p.state.q);
+                    c.add(&p.data.frame_pose, t);
+                }
+                Some(ClearanceStage::Worker(feed)) => feed.send(t, &p.state.q),
+                None => {}
             }
         }
         let sample = Sample {
@@ -400,7 +425,10 @@ impl<'a> Records<'a> {
             g: p.data.g.as_slice(),
             tool,
             target,
-            intersecting: self.clearance.as_ref().map_or(&[], |c| c.clearance.intersecting()),
+            intersecting: match &self.clearance {
+                Some(ClearanceStage::Inline(c)) => c.clearance.intersecting(),
+                _ => &[],
+            },
         };
         self.schedule.record(recorders, k, last, &sample)
     }
@@ -430,6 +458,30 @@ fn runaway_joint(q: &[f64], v: &[f64], stepped: Result<()>) -> Result<Option<Joi
     }
 }
 
+/// The clearance of `sc`'s commanded path at the run's metric samples (the trail's: step 0,
+/// every `record_every` steps and the last; the command q_cmd(t) there, placed by forward
+/// kinematics), computed once for the runs of the same command to follow
+/// ([`crate::geometry::PathClearance`], [`super::ScenarioBuilder::path_clearance`]): a sweep
+/// whose rows differ by payload, gains or limits shares one. `None` without a collision set.
+/// Returns once the poses are placed; the bounds are computed on threads of their own
+/// ([`crate::geometry::PathBuilder::build`]).
+pub fn commanded_path(sc: &Scenario) -> Option<Arc<PathClearance>> {
+    let set = sc.collision_set.clone()?;
+    let model = &sc.model;
+    let mut data = Data::new(model);
+    let (mut q, mut v) = (vec![0.0; model.dof()], vec![0.0; model.dof()]);
+    let mut path = PathClearance::builder(set, sc.clearance_tolerance);
+    for k in Schedule::metric_steps(sc.steps, sc.record_every) {
+        let t = k as f64 * sc.dt;
+        sc.trajectory.eval(t, &mut q, &mut v);
+        forward_kinematics(model, &mut data, &q);
+        if !path.add(&data.frame_pose, t) {
+            break;
+        }
+    }
+    Some(path.build())
+}
+
 /// When each recorder and the metric samples are due. Each recorder's period in steps, and the
 /// next step it is due: counters, not `k % every` (an integer division per recorder per step is
 /// a measurable share of a 1 µs step).
@@ -448,6 +500,16 @@ impl Schedule {
             metrics_every,
             metrics_due: 0,
         }
+    }
+
+    /// The steps of a run of `steps` steps that take a metric sample when every
+    /// `metrics_every`-th does (as [`Schedule::due`] finds them): 0, `metrics_every`, … and
+    /// the last.
+    fn metric_steps(steps: usize, metrics_every: usize) -> impl Iterator<Item = usize> {
+        let every = metrics_every.max(1);
+        (0..=steps)
+            .step_by(every)
+            .chain((!steps.is_multiple_of(every)).then_some(steps))
     }
 
     /// Whether step k takes a metric sample, and whether any recorder records it (the last step
@@ -657,22 +719,102 @@ impl SampleMetrics {
     }
 }
 
+/// Where the self-clearance of the trail samples is measured.
+enum ClearanceStage<'a, 's> {
+    /// On the run's thread, at each sample: the recorders see each sample's intersecting pairs.
+    Inline(Box<ClearanceMetrics<'a>>),
+    /// On a worker thread, fed each sample's q: the dynamics need none of the meshes, so they
+    /// run while the meshes' BVHs are built ([`CollisionSet::new`] leaves them to loader
+    /// threads) and while the samples are folded in; samples that queue up while the worker
+    /// is busy are folded in with the pairs in parallel ([`Clearance::fold_queued`]).
+    Worker(Feed<'a, 's>),
+}
+
+/// The run's end of a [`ClearanceStage::Worker`]: each sample's time and q go over `samples`,
+/// their buffers come back over `spare` (nothing is allocated per sample once the worker keeps
+/// up).
+struct Feed<'a, 's> {
+    samples: mpsc::Sender<(f64, Vec<f64>)>,
+    spare: mpsc::Receiver<Vec<f64>>,
+    worker: std::thread::ScopedJoinHandle<'s, ClearanceMetrics<'a>>,
+}
+
+/// Most samples the worker queues before folding them in (their objects' poses: about 0.4 kB a
+/// sample on the Faze4).
+const MAX_QUEUED: usize = 1024;
+
+impl<'a, 's> ClearanceStage<'a, 's> {
+    /// `metrics` measured on a worker thread spawned in `scope`, with its own forward
+    /// kinematics of `model`.
+    fn worker(model: &'a Model, mut metrics: ClearanceMetrics<'a>, scope: &'s std::thread::Scope<'s, 'a>) -> Self {
+        let (samples, queue) = mpsc::channel::<(f64, Vec<f64>)>();
+        let (give_back, spare) = mpsc::channel();
+        let worker = scope.spawn(move || {
+            let mut data = Data::new(model);
+            while let Ok(first) = queue.recv() {
+                let started = Instant::now();
+                let mut next = Some(first);
+                while let Some((t, q)) = next {
+                    forward_kinematics(model, &mut data, &q);
+                    metrics.clearance.queue(&data.frame_pose, t);
+                    let _ = give_back.send(q);
+                    next = (metrics.clearance.queued() < MAX_QUEUED)
+                        .then(|| queue.try_recv().ok())
+                        .flatten();
+                }
+                metrics.clearance.fold_queued();
+                metrics.elapsed += started.elapsed();
+            }
+            metrics.finish();
+            metrics
+        });
+        ClearanceStage::Worker(Feed { samples, spare, worker })
+    }
+
+    /// The measured clearance, complete: [`ClearanceMetrics::finish`]ed, or the worker's once
+    /// it has folded in every sample sent and finished.
+    fn finish(self) -> ClearanceMetrics<'a> {
+        match self {
+            ClearanceStage::Inline(mut metrics) => {
+                metrics.finish();
+                *metrics
+            }
+            ClearanceStage::Worker(Feed { samples, worker, .. }) => {
+                drop(samples);
+                worker.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            }
+        }
+    }
+}
+
+impl Feed<'_, '_> {
+    /// Sends the sample at time `t` (s), at joint positions `q`, to the worker.
+    fn send(&mut self, t: f64, q: &[f64]) {
+        let mut buffer = self.spare.try_recv().unwrap_or_default();
+        buffer.clear();
+        buffer.extend_from_slice(q);
+        // the worker lives until the sender is dropped: a failed send is its panic, raised at
+        // the join
+        let _ = self.samples.send((t, buffer));
+    }
+}
+
 /// Self-clearance over the trail samples: the report, and when each pair first intersected.
 struct ClearanceMetrics<'a> {
     clearance: Clearance<'a>,
-    /// Per checked pair, the time of the first sample at which it intersects (s).
-    first_intersection: Vec<Option<f64>>,
-    /// Wall-clock time spent in [`ClearanceMetrics::add`] and [`ClearanceMetrics::finish`].
+    /// Wall-clock time spent folding the samples in and in [`ClearanceMetrics::finish`].
     elapsed: Duration,
 }
 
 impl<'a> ClearanceMetrics<'a> {
-    fn new(set: &'a CollisionSet, tolerance: f64) -> Self {
+    /// Measured with `set` to within `tolerance` (m), following `path` if given.
+    fn new(set: &'a CollisionSet, tolerance: f64, path: Option<&'a PathClearance>) -> Self {
         let clearance = Clearance::with_tolerance(set, tolerance);
-        let first_intersection = vec![None; clearance.intersecting().len()];
         ClearanceMetrics {
-            clearance,
-            first_intersection,
+            clearance: match path {
+                Some(path) => clearance.following(path),
+                None => clearance,
+            },
             elapsed: Duration::ZERO,
         }
     }
@@ -681,11 +823,6 @@ impl<'a> ClearanceMetrics<'a> {
     fn add(&mut self, frame_pose: &[Pose], t: f64) {
         let started = Instant::now();
         self.clearance.add(frame_pose, t);
-        for (first, &now) in self.first_intersection.iter_mut().zip(self.clearance.intersecting()) {
-            if now && first.is_none() {
-                *first = Some(t);
-            }
-        }
         self.elapsed += started.elapsed();
     }
 
@@ -699,7 +836,8 @@ impl<'a> ClearanceMetrics<'a> {
     /// The pairs of links that intersected, each once (a link may carry several shapes), in
     /// the order they first did (pair order among equals).
     fn intersections(&self) -> Vec<Intersection> {
-        let mut pairs: Vec<Intersection> = (self.clearance.report().pairs.iter().zip(&self.first_intersection))
+        let mut pairs: Vec<Intersection> = (self.clearance.report().pairs.iter())
+            .zip(self.clearance.first_intersections())
             .filter_map(|(p, first)| {
                 first.map(|from_t| Intersection {
                     links: p.links.clone(),

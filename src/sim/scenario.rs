@@ -23,7 +23,7 @@ use crate::control::{
     DEFAULT_MICROSTEPS, Envelope, FeedForward, Gains, Motor, OpenLoopStepper, Pd, Stability, arithmetic_holds, tune,
 };
 use crate::error::{Error, Result, shortest};
-use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter};
+use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter, PathClearance};
 use crate::model::{FrameId, LoadWarning, Model};
 use crate::traj::{ShapeRun, Trajectory};
 
@@ -59,6 +59,11 @@ pub struct Scenario {
     /// How far (m) the self-clearance's minimum may be above the true one (0: exact; see
     /// [`crate::geometry::Clearance::with_tolerance`]).
     pub clearance_tolerance: f64,
+    /// The clearance of the commanded path, computed once and shared by the runs of one
+    /// command ([`super::commanded_path`]; a sweep's rows): the run's clearance is derived from
+    /// it where the run stays near it ([`crate::geometry::Clearance::following`]). `None`:
+    /// the run's own, alone (a path of another collision set is not used).
+    pub path_clearance: Option<Arc<PathClearance>>,
     /// The frame traced as the tool.
     pub tool_frame: FrameId,
     /// The joint command.
@@ -130,6 +135,7 @@ impl Scenario {
             collisions: Some(Collisions::default()),
             collision_set: None,
             clearance_tolerance: DEFAULT_CLEARANCE_TOLERANCE_M,
+            path_clearance: None,
             command: String::from(match trajectory {
                 Trajectory::Wave(_) => "wave",
                 Trajectory::Interpolated(_) | Trajectory::Spline(_) => "replay",
@@ -170,6 +176,7 @@ pub struct ScenarioBuilder {
     collisions: Option<Collisions>,
     collision_set: Option<Arc<CollisionSet>>,
     clearance_tolerance: f64,
+    path_clearance: Option<Arc<PathClearance>>,
     trajectory: Trajectory,
     dt: f64,
     duration: f64,
@@ -253,6 +260,14 @@ impl ScenarioBuilder {
     /// decided exactly whatever it is. Default [`DEFAULT_CLEARANCE_TOLERANCE_M`].
     pub fn clearance_tolerance(mut self, tolerance: f64) -> Self {
         self.clearance_tolerance = tolerance;
+        self
+    }
+
+    /// The commanded path's clearance, computed once for the runs of one command
+    /// ([`super::commanded_path`]): the run derives its own from it where it stays near it.
+    /// Used only with the same collision set ([`ScenarioBuilder::collision_set`]).
+    pub fn path_clearance(mut self, path: Arc<PathClearance>) -> Self {
+        self.path_clearance = Some(path);
         self
     }
 
@@ -494,6 +509,7 @@ impl ScenarioBuilder {
             collision_set,
             meshes,
             clearance_tolerance: self.clearance_tolerance,
+            path_clearance: self.path_clearance,
             tool_frame,
             trajectory: self.trajectory,
             dt: self.dt,
@@ -731,7 +747,7 @@ fn steps(duration: f64, dt: f64) -> Result<usize> {
         return Err(Error::option(
             "duration",
             format!(
-                "{} s at `dt` {} s is {steps:e} steps: too many",
+                "{} s at `dt` {} s is more than the 10^12 steps a run may take",
                 shortest(duration),
                 shortest(dt)
             ),
@@ -778,10 +794,11 @@ fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t
     let room = (j.upper - c).min(c - j.lower);
     let fits = match room >= 0.0 {
         true => format!(
-            "an amplitude of at most {} {unit} fits about its centre {c} {joint_unit}",
-            room * to_option
+            "an amplitude of at most {} {unit} fits about its centre {} {joint_unit}",
+            shortest(room * to_option),
+            shortest(c)
         ),
-        false => format!("its centre {c} {joint_unit} is itself outside them"),
+        false => format!("its centre {} {joint_unit} is itself outside them", shortest(c)),
     };
     let half_range = 0.5 * (j.upper - j.lower);
     let mid = match c == 0.0 && half_range.is_finite() && half_range >= a {
@@ -791,13 +808,15 @@ fn wave_limit_error(model: &Model, wave: &crate::traj::Wave, i: usize, q: f64, t
     Error::option(
         field,
         format!(
-            "joint J{} ({}) would be commanded to {q} {joint_unit} at t = {t} s, beyond its limits [{}, {}] {joint_unit}{} (amplitude {} {unit}): {fits}{mid}",
+            "joint J{} ({}) would be commanded to {} {joint_unit} at t = {} s, beyond its limits [{}, {}] {joint_unit}{} (amplitude {} {unit}): {fits}{mid}",
             i + 1,
             j.name,
-            j.lower,
-            j.upper,
+            shortest(q),
+            shortest(t),
+            shortest(j.lower),
+            shortest(j.upper),
             model.mimic_note(i),
-            a * to_option,
+            shortest(a * to_option),
         ),
     )
 }

@@ -196,7 +196,13 @@ impl fmt::Display for Reason {
                 prismatic,
             } => {
                 let unit = if prismatic { "m" } else { "rad" };
-                write!(f, "{joint} tracking error {error:.3} {unit} (limit {limit} {unit})")
+                // three decimals, unless they would not tell the error from its limit
+                let shown = format!("{error:.3}");
+                let shown = match shown.parse::<f64>().is_ok_and(|x| x > limit) {
+                    true => shown,
+                    false => format!("{error:.3e}"),
+                };
+                write!(f, "{joint} tracking error {shown} {unit} (limit {limit} {unit})")
             }
             Reason::OverSpeed {
                 joint,

@@ -1,13 +1,18 @@
 //! A sweep's family of runs: a base configuration, what it reads once ([`Loaded`]: the arm, a
 //! replay's frames, a shape's plan, the collision meshes), and the options its points vary,
-//! each a field of the configuration or a multiplier of the built scenario ([`Knob`]).
+//! each a field of the configuration or a multiplier of the built scenario ([`Knob`]). When
+//! the options varied leave the commanded path as it is ([`SAME_PATH`]), the runs share its
+//! clearance, computed once ([`PathClearance`]).
 
 use std::ops::Range;
+use std::path::Path;
+use std::sync::Arc;
 
 use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
 use crate::config::fields::{Field, field};
-use crate::config::{Loaded, Motion, Replayed, RunConfig};
+use crate::config::{DEFAULT_TRAIL, Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result, one_line};
+use crate::geometry::PathClearance;
 use crate::output::format::exact;
 use crate::sim::{Scenario, StopFlag, Warning};
 
@@ -22,6 +27,21 @@ pub enum Knob {
 
 /// Numeric fields that say how a run is shown, not what it does: not varied.
 const NOT_VARIED: [&str; 2] = ["port", "print_period"];
+
+/// The numeric fields whose values leave a run's commanded path q_cmd(t) and the times of its
+/// clearance's samples as they are: the arm's dynamics (`payload_kg`), the motors' supply, the
+/// self-contact's friction and the verdict's thresholds. The runs of a sweep or a search that
+/// varies only these and the multipliers ([`Scale`]: gains, limits, masses, motors) follow one
+/// commanded path, whose clearance is computed once and shared ([`PathClearance`];
+/// docs/clearance.md "Sweeps").
+pub const SAME_PATH: [&str; 6] = [
+    "payload_kg",
+    "supply_voltage",
+    "friction",
+    "max_saturation_pct",
+    "max_error",
+    "max_deviation_mm",
+];
 
 /// Whether a sweep varies field `f`.
 fn varies(f: &Field) -> bool {
@@ -41,6 +61,26 @@ impl Knob {
                 .map(|(_, s)| Knob::Scale(*s)),
         }
     }
+
+    /// Whether it leaves the commanded path and the clearance's samples as they are
+    /// ([`SAME_PATH`], and every multiplier).
+    pub fn keeps_path(&self) -> bool {
+        match self {
+            Knob::Field(f) => SAME_PATH.contains(&f.name),
+            Knob::Scale(_) => true,
+        }
+    }
+}
+
+/// Whether the runs of a family share their commanded path's clearance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sharing {
+    /// Computed once and shared when the options varied keep the path ([`Knob::keeps_path`]):
+    /// each run's clearance is then within the tolerance of its own, with its exact
+    /// intersections (docs/clearance.md "Sweeps").
+    Shared,
+    /// Each run computes its own, as a single run does.
+    Own,
 }
 
 /// The names a sweep can vary, for messages: the numeric fields, then the multipliers.
@@ -57,20 +97,41 @@ pub struct Family {
     base: RunConfig,
     loaded: Loaded,
     knobs: Vec<Knob>,
+    /// The commanded path's clearance, computed once for every run to follow
+    /// ([`Sharing::Shared`]).
+    path: Option<Arc<PathClearance>>,
 }
 
 impl Family {
     /// Loads `base` (a replay's `frames` given, or read from its `q_traj`) for a sweep varying
     /// `names` (each checked against the base command, with its `values` where given). The
     /// base's single-run outputs (summary, html, plot, live view, joint samples) are refused:
-    /// a sweep writes its own.
-    pub fn load(base: RunConfig, replayed: Option<Replayed>, names: &[(&str, &[f64])]) -> Result<Family> {
+    /// a sweep writes its own. With [`Sharing::Shared`], when every knob keeps the path, the
+    /// path's clearance is computed (on threads of its own) at the point of each name's first
+    /// value, and every run follows it.
+    pub fn load(
+        base: RunConfig,
+        replayed: Option<Replayed>,
+        names: &[(&str, &[f64])],
+        sharing: Sharing,
+    ) -> Result<Family> {
         let out = &base.outputs;
         if let Some(path) = &out.summary {
             return Err(Error::option(
                 "summary",
                 format!(
                     "{}: a sweep writes its table with `out`, not a summary per run",
+                    path.display()
+                ),
+            ));
+        }
+        // the command line's default trail is not asked for; another one is, and a sweep would
+        // write none of it: its runs' trails are `trails DIR`, before the `--`
+        if let Some(path) = out.trail.as_ref().filter(|p| **p != Path::new(DEFAULT_TRAIL)) {
+            return Err(Error::option(
+                "trail",
+                format!(
+                    "{}: a sweep writes one trail per run with `trails` DIR before the `--`, not one file",
                     path.display()
                 ),
             ));
@@ -94,12 +155,34 @@ impl Family {
             .map(|(name, values)| knob(&base, name, values))
             .collect::<Result<Vec<_>>>()?;
         let loaded = Loaded::load(&base, replayed)?;
-        Ok(Family { base, loaded, knobs })
+        let mut family = Family {
+            base,
+            loaded,
+            knobs,
+            path: None,
+        };
+        if sharing == Sharing::Shared && family.knobs.iter().all(Knob::keeps_path) {
+            let first: Option<Vec<f64>> = names.iter().map(|(_, values)| values.first().copied()).collect();
+            if let Some(Ok(scenario)) = first.map(|values| family.build(&values)) {
+                family.path = crate::sim::commanded_path(&scenario);
+            }
+        }
+        Ok(family)
+    }
+
+    /// The commanded path's clearance its runs share, if they do.
+    pub fn path(&self) -> Option<&Arc<PathClearance>> {
+        self.path.as_ref()
     }
 
     /// What loading found that changes every run (meshes not found), said once.
     pub fn warnings(&self) -> &[Warning] {
         &self.loaded.warnings
+    }
+
+    /// The files the base loaded, which no output of the sweep may replace.
+    pub fn inputs(&self) -> &crate::atomic::Inputs {
+        self.loaded.inputs()
     }
 
     /// The knobs, one per varied name.
@@ -121,6 +204,7 @@ impl Family {
         for (scale, x) in scales {
             scale.apply(&mut scenario, x)?;
         }
+        scenario.path_clearance = self.path.clone();
         Ok(scenario)
     }
 
@@ -201,11 +285,12 @@ pub struct Searched {
 
 /// The largest (or smallest, `seek`) value of `name` in [`lo`, `hi`] at which the arm follows,
 /// to within `resolution` (default 1 % of the range), by parallel bisection over `family`'s
-/// base on `jobs` threads. `option` names the search for messages (`find`, `find_min`).
+/// base on `jobs` threads, its steps sharing the path's clearance as `sharing` says.
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     base: RunConfig,
     replayed: Option<Replayed>,
+    sharing: Sharing,
     name: &str,
     lo: f64,
     hi: f64,
@@ -247,7 +332,7 @@ pub fn search(
             ),
         ));
     }
-    let family = Family::load(base, replayed, &[(name, &[lo, hi])]).map_err(|e| match e {
+    let family = Family::load(base, replayed, &[(name, &[lo, hi])], sharing).map_err(|e| match e {
         Error::InvalidArgument { option: o, message } if o == "`vary`" => Error::option(option, message),
         other => other,
     })?;
@@ -310,4 +395,78 @@ pub fn search(
         }
     };
     Ok(Searched { found, line })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::fields::FIELDS;
+    use crate::config::{Motion, WaveConfig};
+
+    /// The numeric fields that move the commanded path or its samples: a sweep varying any of them
+    /// lets each run compute its own clearance.
+    /// * `freq`, `amp_deg`, `amp_m`, `traj_period`, `message`, `shape_points`: the command itself;
+    /// * `dt`, `record_period`: the sample times, every round(record_period / dt) steps of dt;
+    /// * `duration`: the samples (the last step is one); a path over the longest run would keep
+    ///   the shorter ones waiting for its bounds over the whole of it;
+    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance.
+    const OWN_PATH: [&str; 10] = [
+        "freq",
+        "amp_deg",
+        "amp_m",
+        "traj_period",
+        "message",
+        "shape_points",
+        "dt",
+        "record_period",
+        "duration",
+        "clearance_tolerance",
+    ];
+
+    /// Every numeric field a sweep varies is said to keep the commanded path or to move it
+    /// (a new field must be decided), never both.
+    #[test]
+    fn every_varied_field_keeps_the_path_or_moves_it() {
+        for f in FIELDS.iter().filter(|f| varies(f)) {
+            let (keeps, moves) = (SAME_PATH.contains(&f.name), OWN_PATH.contains(&f.name));
+            assert!(keeps != moves, "{}: keeps the path {keeps}, moves it {moves}", f.name);
+        }
+        for name in SAME_PATH.iter().chain(&OWN_PATH) {
+            assert!(field(name).is_some_and(varies), "{name} is not a varied field");
+        }
+    }
+
+    /// A family shares one path when every varied name keeps it (and `Sharing::Shared`), and
+    /// every run it builds follows that path; otherwise each run has its own.
+    #[test]
+    fn a_family_shares_its_path_only_when_every_varied_option_keeps_it() {
+        let mut base = RunConfig::new(Motion::Wave(WaveConfig::default()));
+        base.duration = Some(0.05);
+        let values: &[f64] = &[0.0, 0.5];
+        let scales: &[f64] = &[1.0, 2.0];
+        let load = |names: &[(&str, &[f64])], sharing| Family::load(base.clone(), None, names, sharing).unwrap();
+        let shared = load(&[("payload-kg", values), ("kp-scale", scales)], Sharing::Shared);
+        let path = shared.path().expect("payload and a scale keep the path").clone();
+        assert_eq!(path.len(), 4, "the samples at 0, 0.02, 0.04 and the last step, 0.05 s");
+        let run = shared.build(&[0.5, 2.0]).unwrap();
+        assert!(run.path_clearance.as_ref().is_some_and(|p| Arc::ptr_eq(p, &path)));
+        for (names, sharing) in [
+            (&[("payload-kg", values)][..], Sharing::Own),
+            (
+                &[("payload-kg", values), ("dt", &[2e-4, 1e-4][..])][..],
+                Sharing::Shared,
+            ),
+            (&[("amp-deg", values)][..], Sharing::Shared),
+        ] {
+            let family = load(names, sharing);
+            assert!(family.path().is_none(), "{names:?} {sharing:?}");
+            assert!(
+                family
+                    .build(&vec![0.0002; names.len()])
+                    .unwrap()
+                    .path_clearance
+                    .is_none()
+            );
+        }
+    }
 }

@@ -10,7 +10,9 @@ use serde_json::Value;
 use super::Shard;
 use super::part::{MERGE, PartMeta, VERSION, hash_file, meta_path, runs_text};
 use super::table::{Cell, Cells, Format, TableWriter};
+use crate::atomic::Inputs;
 use crate::error::{Error, Result};
+use crate::input::{MAX_META_BYTES, into_text, read_file_capped, regular_file};
 
 /// A part given to [`merge`].
 struct Part<'a> {
@@ -31,9 +33,10 @@ impl<'a> Part<'a> {
     fn open(path: &'a Path) -> Result<Self> {
         let format = Format::of(path, MERGE)?;
         let meta_file = meta_path(path);
-        let text = match std::fs::read_to_string(&meta_file) {
+        let read = read_file_capped(&meta_file, MAX_META_BYTES, "a sweep part's metadata");
+        let text = match read.and_then(|bytes| into_text(&meta_file, bytes)) {
             Ok(text) => text,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
                 let why = match path.exists() {
                     true => "an unfinished part (its task stopped before the end) or not a --shard table",
                     false => "no such table",
@@ -43,12 +46,7 @@ impl<'a> Part<'a> {
                     format!("no part metadata beside it ({}): {why}", meta_file.display()),
                 ));
             }
-            Err(e) => {
-                return Err(Error::Io {
-                    path: meta_file,
-                    source: e,
-                });
-            }
+            Err(e) => return Err(e),
         };
         let meta: PartMeta = serde_json::from_str(&text).map_err(|e| {
             invalid(
@@ -68,12 +66,8 @@ impl<'a> Part<'a> {
                 ),
             ));
         }
-        let size = std::fs::metadata(path)
-            .map_err(|e| Error::Io {
-                path: path.to_path_buf(),
-                source: e,
-            })?
-            .len();
+        // its size and hash are checked: a stream has neither
+        let size = regular_file(path, "a sweep part's table")?.len();
         let rerun = match meta.shard {
             Some([k, n]) => format!("; rerun its task (--shard {k}/{n})"),
             None => String::new(),
@@ -221,6 +215,14 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
     if tables.is_empty() {
         return Err(Error::argument(MERGE, "no table to merge"));
     }
+    // the merged table and its metadata replace none of the parts or theirs
+    let mut inputs = Inputs::new();
+    for table in tables {
+        inputs.add(table, "a part being merged");
+        inputs.add(&meta_path(table), "a part's metadata");
+    }
+    inputs.check(out, "`out`")?;
+    inputs.check(&meta_path(out), "`out`")?;
     let parts: Vec<Part> = tables.iter().map(|p| Part::open(p)).collect::<Result<_>>()?;
     let first = &parts[0];
     for part in &parts[1..] {

@@ -20,7 +20,7 @@ use serde_json::{Map, Value};
 use super::part::{Fnv, PartMeta, meta_path, meta_text};
 use super::{Outcome, Row};
 use crate::atomic::{AtomicFile, Outputs};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, escape_controls};
 use crate::output::format::push_exact;
 
 /// The summary fields that are not figures of the run, or that have their own columns: the
@@ -321,12 +321,18 @@ fn csv_line(cells: impl Iterator<Item = Cell>) -> String {
             Cell::Integer(k) => line.push_str(&k.to_string()),
             Cell::Number(x) => push_exact(&mut line, x),
             Cell::Bool(b) => line.push_str(if b { "true" } else { "false" }),
-            Cell::Text(t) if t.contains([',', '"', '\n', '\r']) => {
-                line.push('"');
-                line.push_str(&t.replace('"', "\"\""));
-                line.push('"');
+            // a text (a name read from a URDF) without control or bidirectional characters
+            Cell::Text(t) => {
+                let t = escape_controls(&t);
+                match t.contains([',', '"']) {
+                    true => {
+                        line.push('"');
+                        line.push_str(&t.replace('"', "\"\""));
+                        line.push('"');
+                    }
+                    false => line.push_str(&t),
+                }
             }
-            Cell::Text(t) => line.push_str(&t),
         }
     }
     line.push('\n');

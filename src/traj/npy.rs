@@ -10,14 +10,12 @@ use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
 use crate::atomic::Outputs;
 use crate::error::{Error, Result, one_line};
+use crate::input::{MAX_NPY_BYTES, read_capped};
 
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
-/// N ≥ 2 rows, every value finite.
+/// N ≥ 2 rows, every value finite. At most [`MAX_NPY_BYTES`] are read (a stream too).
 pub fn read_samples(path: &Path) -> Result<Vec<Vec<f64>>> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = read_capped(path, MAX_NPY_BYTES, "an .npy trajectory")?;
     parse_samples(&bytes, path)
 }
 

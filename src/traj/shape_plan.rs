@@ -5,6 +5,7 @@ use super::shape::{Board, Shape};
 use super::{Interpolated, Trajectory, Wrap};
 use crate::error::{Error, Result};
 use crate::ik::{IkTask, solve_path};
+use crate::input::MAX_SHAPE_POINTS;
 use crate::model::{FrameId, JointId, Model};
 use crate::spatial::Vec3;
 
@@ -40,6 +41,14 @@ impl ShapeRun {
             return Err(Error::option(
                 "shape_points",
                 format!("{points} samples cannot make a closed path: at least 3"),
+            ));
+        }
+        if points > MAX_SHAPE_POINTS {
+            return Err(Error::option(
+                "shape_points",
+                format!(
+                    "{points} samples: at most {MAX_SHAPE_POINTS} (each is an IK solve and about 200 bytes; docs/development.md, Caps)"
+                ),
             ));
         }
         let (free, seed): (Vec<JointId>, Vec<f64>) = match &model.defaults.shape_ik {

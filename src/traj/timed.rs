@@ -8,6 +8,7 @@ use std::path::Path;
 use ndarray::ArrayView2;
 
 use crate::error::{Error, Result, quoted, shortest};
+use crate::input::MAX_MOVING_JOINTS;
 
 /// A time-stamped joint trajectory: the joints it names, and its points in time order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -160,6 +161,11 @@ impl TimedTrajectory {
         let n = self.joint_names.len();
         if n == 0 {
             return Err(bad("names no joint".into()));
+        }
+        if n > MAX_MOVING_JOINTS {
+            return Err(bad(format!(
+                "names {n} joints; a model has at most {MAX_MOVING_JOINTS} moving joints (docs/development.md, Caps)"
+            )));
         }
         for (i, name) in self.joint_names.iter().enumerate() {
             if self.joint_names[..i].contains(name) {

@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::atomic::Outputs;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, escape_controls};
 
 /// Something drawn on a plotters drawing area of any backend.
 pub(super) trait Figure {
@@ -103,14 +103,16 @@ pub(super) fn err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>
     e.to_string()
 }
 
-/// Clears `root` to white and writes `title` in the band of [`TITLE_HEIGHT`] at its top; the
-/// area below it.
+/// Clears `root` to white and writes `title` in the band of [`TITLE_HEIGHT`] at its top, its
+/// control and bidirectional characters escaped (it quotes names read from files); the area
+/// below it.
 pub(super) fn titled<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
 ) -> std::result::Result<DrawingArea<DB, Shift>, String> {
     root.fill(&WHITE).map_err(err)?;
     let (top, body) = root.split_vertically(TITLE_HEIGHT);
+    let title = escape_controls(title);
     top.draw(&Text::new(title, (16, 12), (FAMILY, 20).into_font().color(&BLACK)))
         .map_err(err)?;
     Ok(body)
@@ -141,7 +143,7 @@ pub(super) fn chart<'a, DB: DrawingBackend>(
 }
 
 /// The figures' captioned chart area on `area` over `x` × `y`, margins and label room included,
-/// before its grid is drawn.
+/// before its grid is drawn; the caption's control and bidirectional characters escaped.
 pub(super) fn chart_area<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     caption: &str,
@@ -149,7 +151,7 @@ pub(super) fn chart_area<'a, DB: DrawingBackend>(
     y: std::ops::Range<f64>,
 ) -> std::result::Result<Chart<'a, DB>, String> {
     ChartBuilder::on(area)
-        .caption(caption, (FAMILY, 15))
+        .caption(escape_controls(caption), (FAMILY, 15))
         .margin(8)
         .margin_right(20)
         .x_label_area_size(40)

@@ -8,7 +8,7 @@ use super::scene::{SampleEncoder, Scene};
 use super::util::{base64, f32_bytes};
 use super::{DEFAULT_PERIOD, page};
 use crate::atomic::{Outputs, check_output_path};
-use crate::error::Result;
+use crate::error::{Result, escape_controls};
 use crate::sim::Summary;
 use crate::sim::{Recorder, RunInfo, Sample, steps_per_record};
 
@@ -75,6 +75,10 @@ impl Recorder for HtmlExport {
         Ok(())
     }
 
+    fn reads_intersections(&self) -> bool {
+        true
+    }
+
     fn record(&mut self, sample: &Sample) -> Result<()> {
         if let Some(enc) = &mut self.encoder {
             enc.push(sample, &mut self.records);
@@ -92,6 +96,7 @@ impl Recorder for HtmlExport {
             scene.name,
             scene.run["command"].as_str().unwrap_or("run")
         );
+        let title = escape_controls(&title);
         let scene_b64 = base64(&scene.encode());
         let samples_b64 = base64(&f32_bytes(&self.records));
         let mut file = self.outputs.create(&self.path)?;

@@ -140,6 +140,10 @@ impl Recorder for LiveView {
         Ok(())
     }
 
+    fn reads_intersections(&self) -> bool {
+        true
+    }
+
     fn record(&mut self, sample: &Sample) -> Result<()> {
         let Some(encoder) = &mut self.encoder else {
             return Ok(());

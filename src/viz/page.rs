@@ -3,6 +3,8 @@
 
 use std::io::Write;
 
+use crate::error::is_unsafe_char;
+
 const TEMPLATE: &str = include_str!("web/index.html");
 const VIEWER: &str = include_str!("web/viewer.js");
 
@@ -42,11 +44,19 @@ pub fn render(title: &str, config: &serde_json::Value) -> String {
     String::from_utf8(out).expect("UTF-8 template")
 }
 
-/// JSON that can sit inside a `<script>` element: `<` is escaped so no `</script>` can occur.
+/// JSON that can sit inside a `<script>` element: `<` is escaped so no `</script>` can occur,
+/// and so is every character that must not appear raw in a text file (C1 controls, line
+/// separators, bidirectional formatting: [`is_unsafe_char`]; JSON escapes the C0 controls).
 fn script_safe_json(v: &serde_json::Value) -> String {
-    serde_json::to_string(v)
-        .expect("JSON of plain values")
-        .replace('<', "\\u003c")
+    let json = serde_json::to_string(v).expect("JSON of plain values");
+    let mut out = String::with_capacity(json.len());
+    for c in json.chars() {
+        match c == '<' || is_unsafe_char(c) {
+            true => out.push_str(&format!("\\u{:04x}", c as u32)),
+            false => out.push(c),
+        }
+    }
+    out
 }
 
 fn html_escape(s: &str) -> String {

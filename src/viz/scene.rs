@@ -15,6 +15,7 @@ use serde_json::json;
 
 use super::mesh::{CompactMesh, Indices, TriMesh, load_mesh};
 use crate::algo::{Data, forward_kinematics};
+use crate::error::escape_controls;
 use crate::geometry::GeometryModel;
 use crate::geometry::mesh::Rgba;
 use crate::model::{FrameId, Geometry, Model};
@@ -214,7 +215,7 @@ impl Scene {
             "dt": run.dt,
             "duration": run.steps as f64 * run.dt,
             "period": period,
-            "tool_frame": run.model.frame(run.tool_frame).name,
+            "tool_frame": escape_controls(&run.model.frame(run.tool_frame).name),
         });
         scene
     }
@@ -241,12 +242,15 @@ impl Scene {
             let names: Vec<&str> = self.missing.iter().map(|u| u.rsplit('/').next().unwrap_or(u)).collect();
             eprintln!(
                 "viz: meshes not found ({}); drawing boxes ({})",
-                names.join(", "),
-                crate::model::not_found_advice(&self.missing[0])
+                escape_controls(&names.join(", ")),
+                escape_controls(&crate::model::not_found_advice(&self.missing[0]))
             );
         }
         if !self.unreadable.is_empty() && !UNREADABLE.swap(true, Ordering::Relaxed) {
-            eprintln!("viz: meshes unreadable ({}); drawing boxes", self.unreadable.join("; "));
+            eprintln!(
+                "viz: meshes unreadable ({}); drawing boxes",
+                escape_controls(&self.unreadable.join("; "))
+            );
         }
     }
 
@@ -288,7 +292,7 @@ impl Scene {
             .iter()
             .map(|v| {
                 json!({
-                    "name": v.name,
+                    "name": escape_controls(&v.name),
                     "slot": v.slot.map_or(-1, |s| s as i64),
                     "mesh": v.mesh,
                     "placement": pose12(&v.placement),
@@ -299,9 +303,10 @@ impl Scene {
         let round = |x: f64| (x * 1e5).round() / 1e5;
         let header = json!({
             "format": FORMAT_VERSION,
-            "name": self.name,
-            "joints": self.joints,
-            "slots": self.slot_names,
+            // names as shown: no control or bidirectional character (escape_controls)
+            "name": escape_controls(&self.name),
+            "joints": self.joints.iter().map(|j| escape_controls(j)).collect::<Vec<_>>(),
+            "slots": self.slot_names.iter().map(|s| escape_controls(s)).collect::<Vec<_>>(),
             "stride": SampleEncoder::stride_for(self.joints.len(), self.slots.len()),
             "meshes": meshes,
             "visuals": visuals,

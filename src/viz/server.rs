@@ -11,18 +11,23 @@ use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{Ipv4Addr, SocketAddr, TcpListener, TcpStream};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use serde_json::json;
 
 use super::util::base64;
 use crate::error::{Error, Result};
 
-/// Connections served at once; more are closed at once.
+/// Connections served at once. A new one beyond them takes the place of the oldest that has not
+/// sent its request yet (an idle or half-open connection); if every one is a browser's stream,
+/// it is closed at once.
 const MAX_CONNECTIONS: usize = 64;
+/// A client has this long to send its whole request head (a browser sends it at once; a
+/// connection that sends nothing, or a byte at a time, is closed then).
+const HEAD_TIMEOUT: Duration = Duration::from_secs(2);
 /// A stream with nothing new sends a comment this often (finds closed tabs).
 const KEEPALIVE: Duration = Duration::from_secs(10);
-/// A browser that takes longer than this to send its request or take a write is dropped.
+/// A browser that takes longer than this to take a write is dropped.
 const SOCKET_TIMEOUT: Duration = Duration::from_secs(10);
 /// Longest request head read.
 const MAX_REQUEST: usize = 16 * 1024;
@@ -55,7 +60,13 @@ struct State {
     /// The summary JSON, once the run finished.
     end: Option<String>,
     stopping: bool,
+    /// Connections being served (threads alive, less those evicted).
     connections: usize,
+    /// The connections still reading their request head, oldest first (id, a handle to close
+    /// it): the ones a new connection may evict.
+    idle: std::collections::VecDeque<(u64, TcpStream)>,
+    /// The next connection's id.
+    next_id: u64,
 }
 
 fn lock(shared: &Shared) -> MutexGuard<'_, State> {
@@ -158,33 +169,68 @@ fn accept(listener: TcpListener, shared: Arc<Shared>) {
             std::thread::sleep(Duration::from_millis(20));
             continue;
         };
-        {
+        let id = {
             let mut st = lock(&shared);
             if st.connections >= MAX_CONNECTIONS {
-                continue;
+                // the oldest connection that has not sent its request makes room
+                let Some((_, oldest)) = st.idle.pop_front() else {
+                    continue;
+                };
+                let _ = oldest.shutdown(std::net::Shutdown::Both);
+                st.connections -= 1;
             }
             st.connections += 1;
-        }
-        let shared = shared.clone();
+            st.next_id += 1;
+            if let Ok(handle) = stream.try_clone() {
+                let id = st.next_id;
+                st.idle.push_back((id, handle));
+            }
+            st.next_id
+        };
         let spawned = std::thread::Builder::new().name("faze4-live-conn".into()).spawn({
             let shared = shared.clone();
             move || {
-                let _ = serve(stream, &shared);
-                lock(&shared).connections -= 1;
+                let evicted = serve(stream, &shared, id).unwrap_or(false);
+                if !evicted {
+                    lock(&shared).connections -= 1;
+                }
             }
         });
         if spawned.is_err() {
-            lock(&shared).connections -= 1;
+            let mut st = lock(&shared);
+            st.connections -= 1;
+            st.idle.retain(|(i, _)| *i != id);
         }
     }
 }
 
-/// One request: read its head, answer, close.
-fn serve(mut stream: TcpStream, shared: &Shared) -> std::io::Result<()> {
-    stream.set_read_timeout(Some(SOCKET_TIMEOUT))?;
+/// One request (connection `id`): read its head within [`HEAD_TIMEOUT`], answer, close.
+/// `Ok(true)` when a newer connection evicted it while it read its head (its place is counted
+/// free already).
+fn serve(stream: TcpStream, shared: &Shared, id: u64) -> std::io::Result<bool> {
     stream.set_write_timeout(Some(SOCKET_TIMEOUT))?;
     let _ = stream.set_nodelay(true);
-    let Some((method, target, host)) = read_head(&stream)? else {
+    let head = read_head(&stream);
+    // no longer idle; gone from the list already if evicted
+    let evicted = {
+        let mut st = lock(shared);
+        let before = st.idle.len();
+        st.idle.retain(|(i, _)| *i != id);
+        st.idle.len() == before
+    };
+    if evicted {
+        return Ok(true);
+    }
+    answer(stream, shared, head?).map(|()| false)
+}
+
+/// The answer to a request whose head was read (`None`: malformed).
+fn answer(
+    mut stream: TcpStream,
+    shared: &Shared,
+    head: Option<(String, String, Option<String>)>,
+) -> std::io::Result<()> {
+    let Some((method, target, host)) = head else {
         return respond(&mut stream, "400 Bad Request", "text/plain", b"bad request\n", false);
     };
     let head = method == "HEAD";
@@ -226,9 +272,29 @@ fn serve(mut stream: TcpStream, shared: &Shared) -> std::io::Result<()> {
     }
 }
 
-/// The request line's method and target, and the Host header; `None` if malformed.
+/// A stream read until a deadline: each read waits at most the time left, and fails with
+/// `TimedOut` once it has passed, however slowly the bytes come.
+struct Deadline<'a> {
+    stream: &'a TcpStream,
+    until: Instant,
+}
+
+impl Read for Deadline<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let left = self.until.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return Err(std::io::ErrorKind::TimedOut.into());
+        }
+        self.stream.set_read_timeout(Some(left))?;
+        (&mut &*self.stream).read(buf)
+    }
+}
+
+/// The request line's method and target, and the Host header, read within [`HEAD_TIMEOUT`];
+/// `None` if malformed.
 fn read_head(stream: &TcpStream) -> std::io::Result<Option<(String, String, Option<String>)>> {
-    let mut reader = BufReader::new(stream.take(MAX_REQUEST as u64));
+    let until = Instant::now() + HEAD_TIMEOUT;
+    let mut reader = BufReader::new(Deadline { stream, until }.take(MAX_REQUEST as u64));
     let mut line = String::new();
     reader.read_line(&mut line)?;
     let mut parts = line.split_ascii_whitespace();

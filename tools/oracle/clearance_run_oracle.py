@@ -3,7 +3,7 @@
 (`--clearance-tolerance`, docs/clearance.md "Checked against coal over a run").
 
     /work/venv/bin/python tools/oracle/clearance_run_oracle.py [--faze4 target/release/faze4]
-        [--duration 8] [--tolerances 1,0] [--erd [--only SUBSTRING]] [--fixtures]
+        [--duration 8] [--tolerances 1,0] [--erd [--only SUBSTRING]] [--sweep PAYLOADS] [--fixtures]
 
 What it does, per arm:
 
@@ -49,6 +49,17 @@ What it does, per arm:
 Arms: the bundled Faze4 (`faze4 wave`, geometry of urdf/faze4_real.urdf and the meshes of
 assets/faze4_description); with --erd every fixed-base arm of example-robot-data that
 tools/robots_survey.py runs (`wave --center mid`, same URDFs). --duration shortens every run.
+
+--sweep PAYLOADS checks sweeps instead (docs/clearance.md "Sweeps"): per arm and tolerance,
+`faze4 sweep --vary payload-kg=PAYLOADS --trails DIR --out T.json -- <args>` (whose rows follow one
+commanded path's clearance, computed once), and per row coal's exact minimum of every checked
+pair over the row's own trail. The table gives the clearance of the closest pair only, so per
+row: the reported `clearance_min_m` R is an actual distance of the pair of links it names
+(coal's minimum of that pair E_l ≤ R + slack) and at most τ above the smallest of all pairs
+(R − τ ≤ E + slack); and the verdict names the pairs of links that coal finds intersecting, in
+the order they first do, from the same sample (the first three by name and time, the others
+counted). Without --erd the arms are the Faze4 wave and the Faze4 folding into itself
+(`--amp-deg 90 --freq 2`, intersecting pairs).
 
 --fixtures writes tests/fixtures/clearance_run_*.json for tests/clearance_run_oracle.rs: the
 faze4 arguments, the trail's q rows, and per pair its links, kind, coal's exact minimum and
@@ -527,10 +538,10 @@ def match_pairs(report_pairs, shapes_of):
 
 def exact_over_samples(arm, pairs, samples, times):
     """Per pair: (exact minimum, its time, intersecting at some sample, samples coal gave up
-    on); and coal's counts."""
+    on, time of the first intersecting sample or None); and coal's counts."""
     stats = {"queries": 0, "triangles": 0, "retried": 0, "failed": 0}
     links = sorted({s.link for pr in pairs for s in pr})
-    best = [[math.inf, None, False, 0] for _ in pairs]
+    best = [[math.inf, None, False, 0, None] for _ in pairs]
     for q, t in zip(samples, times):
         poses = arm.frame_poses(q)
         world = {ln: poses[ln] for ln in links}
@@ -544,6 +555,8 @@ def exact_over_samples(arm, pairs, samples, times):
             if d < best[k][0]:
                 best[k][:2] = d, t
             best[k][2] |= bool(inter)
+            if inter and best[k][4] is None:
+                best[k][4] = t
     return [tuple(b) for b in best], stats
 
 
@@ -587,7 +600,7 @@ def check(arm, faze4, tolerance_mm, tmp):
     exact, stats = exact_over_samples(pin_arm, pairs, table[:, 1:], table[:, 0])
     coal_s = time.time() - t0
     rows, worst, failures, gave_up, depth_unchecked = [], {}, [], [], 0
-    for p, (a, b), (e, te, ei, failed) in zip(c["pairs"], pairs, exact):
+    for p, (a, b), (e, te, ei, failed, _) in zip(c["pairs"], pairs, exact):
         kind = pair_kind(a, b)
         curved = "cylinder" in (a.s["kind"], b.s["kind"])
         slack = SLACK_GJK if curved else SLACK_EXACT
@@ -626,6 +639,101 @@ def check(arm, faze4, tolerance_mm, tmp):
     return result, fixture
 
 
+# ------------------------------------------------------------------------------------------
+# A sweep (--sweep): each row against coal over its own trail
+# ------------------------------------------------------------------------------------------
+
+def run_sweep(faze4, args, payloads, tolerance_mm, tmp):
+    """`faze4 sweep --vary payload-kg=PAYLOADS --trails DIR --out T.json -- ARGS`: its rows and
+    each row's trail as [[t, q...]]."""
+    trails, table = os.path.join(tmp, "trails"), os.path.join(tmp, "t.json")
+    os.makedirs(trails)
+    base = [*args] + (["--clearance-tolerance", repr(tolerance_mm)] if tolerance_mm is not None else [])
+    cmd = [faze4, "sweep", "--vary", f"payload-kg={payloads}", "--trails", trails, "--out", table, "-q", "--", *base]
+    t0 = time.time()
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
+    wall = time.time() - t0
+    if r.returncode != 0:
+        last = (r.stderr.strip().splitlines() or ["?"])[-1]
+        raise RuntimeError(f"faze4 sweep exit {r.returncode}: {last[-200:]}")
+    rows = json.load(open(table))
+    tables = []
+    for row in rows:
+        with open(os.path.join(trails, f"run_{row['run']:07d}.csv")) as f:
+            lines = list(csv.reader(f))
+        qcols = [i for i, h in enumerate(lines[0]) if re.fullmatch(r"q\d+", h)]
+        tables.append(np.array([[float(x[i]) for i in [0] + qcols] for x in lines[1:]]))
+    return rows, tables, wall
+
+
+def intersections_named(reasons):
+    """The verdict's intersecting pairs of links as the sweep's `reasons` name them: [(link a,
+    link b, from t text)] and how many more pairs it only counts."""
+    named = re.findall(r"'([^']+)'–'([^']+)' intersect from t = ([0-9.]+) s", reasons)
+    more = re.search(r"\(and (\d+) more pairs?\)", reasons)
+    return named, int(more.group(1)) if more else 0
+
+
+def check_sweep(arm, faze4, tolerance_mm, payloads, tmp):
+    """A sweep of `arm` over the payloads: per row, coal's exact minimum of every checked pair
+    over the row's own trail. The row's `clearance_min_m` R is an actual distance of the pair of
+    links it names (coal's minimum of that link pair E_l ≤ R + slack) and at most τ above the
+    smallest of all (R − τ ≤ E + slack); its verdict names the pairs of links coal finds
+    intersecting, in the order they first do, with the same first times."""
+    s, _, _ = run_faze4(faze4, arm.args, tolerance_mm, tmp)
+    c = s.get("clearance")
+    if not c or not c["pairs"]:
+        return {"arm": arm.name + " (sweep)", "note": "no pair checked" if c else "no collision geometry"}
+    shapes_of = {}
+    for link, ss in collisions(arm.urdf, arm.package_dirs).items():
+        found = [(k, x) for k, x in enumerate(ss) if x["kind"] != "mesh" or x["path"]]
+        shapes_of[link] = [Shape(link, k, x) for k, x in found]
+    pin_arm = PinArm(arm.urdf, mimic=True)
+    pairs = match_pairs(c["pairs"], shapes_of)
+    rows, tables, wall = run_sweep(faze4, arm.args, payloads, tolerance_mm, tmp)
+    failures, worst, coal_s, samples, intersecting = [], {}, 0.0, 0, 0
+    totals = {"queries": 0, "triangles": 0, "retried": 0, "failed": 0}
+    for row, table in zip(rows, tables):
+        t0 = time.time()
+        exact, stats = exact_over_samples(pin_arm, pairs, table[:, 1:], table[:, 0])
+        coal_s += time.time() - t0
+        samples += len(table)
+        for key in totals:
+            totals[key] += stats[key]
+        where = f"payload {row['payload-kg']}"
+        if any(x[3] for x in exact):
+            failures.append(f"{where}: coal gave up at some samples")
+            continue
+        tau, r = row["clearance_tolerance_m"], row["clearance_min_m"]
+        slack = max(SLACK_GJK if "cylinder" in (a.s["kind"], b.s["kind"]) else SLACK_EXACT for a, b in pairs)
+        e = min(x[0] for x in exact)
+        named = (row["clearance_links_1"], row["clearance_links_2"])
+        e_named = min(x[0] for p, x in zip(c["pairs"], exact) if tuple(p["links"]) == named)
+        curved_depth = e < 0 and slack == SLACK_GJK
+        if not (e_named <= r + slack and (curved_depth or r - tau <= e + slack)):
+            failures.append(f"{where}: faze4 {r!r} ({named[0]}–{named[1]}), coal {e_named!r} for that pair, {e!r} overall")
+        diff = r - e
+        if "overall" not in worst or abs(diff) > abs(worst["overall"][2]):
+            worst["overall"] = (f"{named[0]}–{named[1]} at {where}", r, diff, e)
+        # the verdict's pairs of links, by their first intersecting sample (pair order among equals)
+        first = {}
+        for k, (p, x) in enumerate(zip(c["pairs"], exact)):
+            if x[4] is not None:
+                links = tuple(p["links"])
+                if links not in first or (x[4], k) < first[links]:
+                    first[links] = (x[4], k)
+        order = sorted(first.items(), key=lambda item: item[1])
+        intersecting += len(order)
+        named_pairs, more = intersections_named(row["reasons"])
+        expected = [(a, b, f"{t:.2f}") for (a, b), (t, _) in order[:3]]
+        if named_pairs != expected or len(named_pairs) + more != len(order):
+            failures.append(f"{where}: faze4's verdict names {named_pairs} (and {more} more), coal finds {expected}"
+                            f" ({len(order)} pairs of links)")
+    return {"arm": arm.name + f" (sweep, {len(rows)} rows: payload-kg {payloads})", "tolerance_m": rows[0]["clearance_tolerance_m"],
+            "pairs": len(pairs), "samples": samples, "worst": worst, "failures": failures, "intersecting": intersecting,
+            "coal_s": coal_s, "faze4_s": wall, "stats": totals, "unchecked": [], "gave_up": []}
+
+
 def print_row(r):
     if "note" in r:
         print(f"| {r['arm']} | – | – | – | – | {r['note']} | – | – |", flush=True)
@@ -660,6 +768,9 @@ def main():
     ap.add_argument("--erd", action="store_true", help="every example-robot-data arm of tools/robots_survey.py")
     ap.add_argument("--only", default="", help="with --erd: only the URDFs whose path contains this")
     ap.add_argument("--fixtures", action="store_true", help="write tests/fixtures/clearance_run_*.json")
+    ap.add_argument("--sweep", default="", metavar="PAYLOADS",
+                    help="check `faze4 sweep --vary payload-kg=PAYLOADS` row by row instead of single runs"
+                         " (the Faze4 wave and its folding wave, or with --erd each arm)")
     args = ap.parse_args()
     tolerances = [None if x == "default" else float(x) for x in args.tolerances.split(",")]
     print("| arm | tolerance | pairs checked | intersecting | largest faze4 − coal per kind: pair, faze4 / coal (mm)"
@@ -690,11 +801,16 @@ def main():
             print(f"  -> {os.path.relpath(path, REPO)}", flush=True)
         sys.exit(1 if failed else 0)
     arms = [a for a in erd_arms(args.duration) if args.only in a.name] if args.erd else [faze4_arm(args.duration)]
+    if args.sweep and not args.erd:
+        arms += [faze4_arm(args.duration, ("--amp-deg", "90", "--freq", "2"))]
     for arm in arms:
         for tol in tolerances:
             with tempfile.TemporaryDirectory() as tmp:
                 try:
-                    result, _ = check(arm, args.faze4, tol, tmp)
+                    if args.sweep:
+                        result = check_sweep(arm, args.faze4, tol, args.sweep, tmp)
+                    else:
+                        result, _ = check(arm, args.faze4, tol, tmp)
                 except (RuntimeError, ValueError, AssertionError) as e:
                     print(f"| {arm.name} | {tol:g} mm | – | – | – | could not check: {str(e)[:200]} | – | – |", flush=True)
                     failed = True

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::invalid;
 use crate::error::{Result, quoted};
+use crate::input::MAX_MOVING_JOINTS;
 use crate::traj::{TimedTrajectory, TrajectoryPoint};
 
 /// The names a time column may have.
@@ -36,6 +37,17 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<TimedTrajectory> {
         .iter()
         .map(String::from)
         .collect();
+    // a time column, and a position, velocity and acceleration column per joint at most
+    let most = 1 + 3 * MAX_MOVING_JOINTS;
+    if header.len() > most {
+        return Err(invalid(
+            path,
+            format!(
+                "its header has {} columns; a model has at most {MAX_MOVING_JOINTS} moving joints, so at most {most} columns (docs/development.md, Caps)",
+                header.len()
+            ),
+        ));
+    }
     let times: Vec<&String> = header.iter().filter(|h| TIME_COLUMNS.contains(&h.as_str())).collect();
     if times.len() != 1 {
         return Err(invalid(

@@ -14,12 +14,14 @@ use std::collections::BTreeMap;
 use std::io::Cursor;
 use std::path::Path;
 
+use ::mcap::sans_io::LinearReaderOptions;
 use byteorder::{BigEndian, LittleEndian};
 use serde::de::DeserializeOwned;
 
 use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JOINT_TRAJECTORY_DEFINITION, JointStateMsg, JointTrajectoryMsg};
 use super::{Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
+use crate::input::{MAX_MCAP_MESSAGE_BYTES, size_text};
 use crate::traj::timed::seconds_from_nanoseconds;
 use crate::traj::{TimedTrajectory, TrajectoryPoint};
 
@@ -47,7 +49,11 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
     // topics (small), with their log times
     let mut topics: BTreeMap<Topic, usize> = BTreeMap::new();
     let mut candidates: BTreeMap<String, Vec<(u64, Vec<u8>)>> = BTreeMap::new();
-    for message in ::mcap::MessageStream::new(bytes).map_err(bad_mcap)? {
+    // a record (a message, or one inside a compressed chunk, whatever size it claims) is read
+    // only up to the cap, and what is kept of the messages too (MAX_MCAP_MESSAGE_BYTES)
+    let options = LinearReaderOptions::default().with_record_length_limit(MAX_MCAP_MESSAGE_BYTES as usize);
+    let mut kept: u64 = 0;
+    for message in ::mcap::io::MessageReader::new_with_options(Cursor::new(bytes), options) {
         let message = message.map_err(bad_mcap)?;
         let channel = &message.channel;
         let topic = Topic {
@@ -56,6 +62,17 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
             encoding: channel.message_encoding.clone(),
         };
         if [JOINT_TRAJECTORY, JOINT_STATE].contains(&topic.kind.as_str()) {
+            // each message kept costs its bytes and its place in the list
+            kept += (message.data.len() + std::mem::size_of::<(u64, Vec<u8>)>()) as u64;
+            if kept > MAX_MCAP_MESSAGE_BYTES {
+                return Err(invalid(
+                    path,
+                    format!(
+                        "its trajectory topics hold more than {} of messages once decompressed (faze4 keeps them in memory; docs/development.md, Caps)",
+                        size_text(MAX_MCAP_MESSAGE_BYTES)
+                    ),
+                ));
+            }
             (candidates.entry(topic.name.clone()).or_default()).push((message.log_time, message.data.into_owned()));
         }
         *topics.entry(topic).or_default() += 1;

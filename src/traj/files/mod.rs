@@ -22,6 +22,7 @@ use std::path::Path;
 
 use crate::atomic::Outputs;
 use crate::error::{Error, Result};
+use crate::input::{MAX_MCAP_BYTES, MAX_TRAJECTORY_TEXT_BYTES, read_capped};
 use crate::traj::TimedTrajectory;
 
 /// Which message or topic of a file to read (`--message K`, `--topic NAME`).
@@ -66,7 +67,8 @@ impl Format {
 pub const EXTENSIONS: &str = ".yaml, .yml, .json, .mcap or .csv";
 
 /// Reads the trajectory in `path`, its format by extension, the message or topic `selection`
-/// names; the trajectory is checked ([`TimedTrajectory::check`]). Every error is one line
+/// names; the trajectory is checked ([`TimedTrajectory::check`]). The file is read whole, at
+/// most [`MAX_TRAJECTORY_TEXT_BYTES`] of text or [`MAX_MCAP_BYTES`] of MCAP (a stream too). Every error is one line
 /// naming the file (or the option, for a `--message` or `--topic` that does not fit it).
 pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
     let format = format_of(path)?;
@@ -76,14 +78,20 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
     if selection.message == Some(0) {
         return Err(Error::option("message", "messages are counted from 1"));
     }
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    // read whole, under a cap checked before memory is taken (a stream up to it)
+    let bytes = match format {
+        Format::Mcap => read_capped(path, MAX_MCAP_BYTES, "an .mcap trajectory")?,
+        _ => read_capped(path, MAX_TRAJECTORY_TEXT_BYTES, "a trajectory text file")?,
+    };
+    parse(&bytes, format, selection, path)
+}
+
+/// [`read`] on a file's `bytes` in `format`; `path` names it in the errors.
+pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
     let trajectory = match format {
-        Format::Yaml => yaml::parse(text(&bytes, path)?, selection.message, path)?,
-        Format::Json => json::parse(text(&bytes, path)?, selection.message, path)?,
-        Format::Mcap => mcap::parse(&bytes, selection, path)?,
+        Format::Yaml => yaml::parse(text(bytes, path)?, selection.message, path)?,
+        Format::Json => json::parse(text(bytes, path)?, selection.message, path)?,
+        Format::Mcap => mcap::parse(bytes, selection, path)?,
         Format::Csv => {
             if selection.message.is_some() {
                 return Err(Error::option(
@@ -91,7 +99,7 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
                     "picks a message of a .yaml, .json or .mcap file",
                 ));
             }
-            csv::parse(&bytes, path)?
+            csv::parse(bytes, path)?
         }
     };
     trajectory.check(path)?;

@@ -1,0 +1,99 @@
+"""Bad input from Python (issue 35): each case raises a Python exception whose message is the
+binary's one line, and the interpreter lives on to run the next; no file is changed."""
+
+from __future__ import annotations
+
+import os
+import struct
+
+import numpy as np
+import pytest
+
+import faze4
+from conftest import ROOT
+
+ARM = ROOT / "tests" / "urdf" / "mesh_arm_stl.urdf"
+
+
+def _one_line(error: BaseException) -> str:
+    message = str(error)
+    assert message and "\n" not in message and "\r" not in message, repr(message)
+    assert "panicked" not in message
+    return message
+
+
+def _mcap_claiming(length: int) -> bytes:
+    """An MCAP file (https://mcap.dev/spec) whose JointState message, in a zstd chunk (one raw
+    block), claims `length` bytes."""
+
+    def record(op: int, body: bytes) -> bytes:
+        return bytes([op]) + struct.pack("<Q", len(body)) + body
+
+    def string(s: str) -> bytes:
+        return struct.pack("<I", len(s)) + s.encode()
+
+    magic = b"\x89MCAP0\r\n"
+    message = bytes([5]) + struct.pack("<QH", length, 1) + bytes(20)
+    frame = bytes([0x28, 0xB5, 0x2F, 0xFD, 0, 0x10]) + struct.pack("<I", 1 | len(message) << 3)[:3] + message
+    chunk = struct.pack("<QQQI", 0, 0, length, 0) + string("zstd") + struct.pack("<Q", len(frame)) + frame
+    return b"".join(
+        [
+            magic,
+            record(1, string("ros2") + string("hostile")),
+            record(3, struct.pack("<H", 1) + string("sensor_msgs/msg/JointState") + string("ros2msg") + bytes(4)),
+            record(4, struct.pack("<HH", 1, 1) + string("/joint_states") + string("cdr") + bytes(4)),
+            record(6, chunk),
+            record(0x0F, bytes(4)),
+            record(2, bytes(20)),
+            magic,
+        ]
+    )
+
+
+def test_bad_input_raises_one_line_and_the_interpreter_lives_on(tmp_path):
+    (tmp_path / "zero.urdf").symlink_to("/dev/zero")
+    (tmp_path / "zero.yaml").symlink_to("/dev/zero")
+    (tmp_path / "zero.toml").symlink_to("/dev/zero")
+    (tmp_path / "bomb.mcap").write_bytes(_mcap_claiming(1 << 40))
+    robot = faze4.Robot.faze4()
+    cases = [
+        (lambda: faze4.Robot.from_urdf(tmp_path / "zero.urdf"), "a stream of more than the 16 MiB a URDF may hold"),
+        (lambda: faze4.Robot.faze4(motors=str(tmp_path / "zero.toml")), "a stream of more than the 1 MiB"),
+        (lambda: faze4.replay(robot, tmp_path / "zero.yaml"), "more than the 64 MiB a trajectory text file may hold"),
+        (lambda: faze4.replay(robot, tmp_path / "bomb.mcap"), "bomb.mcap: not a readable MCAP file"),
+        (lambda: faze4.shape(robot, "circle", shape_points=100_000_000), "shape_points: 100000000 samples: at most 100000"),
+        (lambda: faze4.wave(robot, freq=1e308), "freq: 1e308 rad/s turns the wave more than half a period"),
+    ]
+    for call, part in cases:
+        with pytest.raises(faze4.Error) as caught:
+            call()
+        message = _one_line(caught.value)
+        assert part in message, message
+    assert faze4.wave(robot, duration=0.01).follows
+
+
+def test_forward_dynamics_overflow_is_an_error_not_nan():
+    robot = faze4.Robot.faze4()
+    q = np.zeros(robot.dof)
+    with pytest.raises(faze4.Error) as caught:
+        robot.aba(q, q, np.full(robot.dof, 1e308))
+    _one_line(caught.value)
+    assert np.all(np.isfinite(robot.aba(q, q, np.zeros(robot.dof))))
+
+
+def test_an_output_never_replaces_an_input(tmp_path):
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_bytes(ARM.read_bytes())
+    before = urdf.read_bytes()
+    robot = faze4.Robot.from_urdf(urdf, package_path=[ROOT / "tests" / "urdf"])
+    with pytest.raises(faze4.Error) as caught:
+        faze4.wave(robot, duration=0.01, summary=str(urdf))
+    message = _one_line(caught.value)
+    assert "is the urdf input" in message, message
+    assert urdf.read_bytes() == before
+    assert sorted(os.listdir(tmp_path)) == ["arm.urdf"]
+
+
+def test_a_urdf_path_of_none_is_refused():
+    with pytest.raises(TypeError, match="path is NoneType"):
+        faze4.Robot.from_urdf(None)
