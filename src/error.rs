@@ -135,6 +135,32 @@ pub enum Error {
         message: String,
     },
 
+    /// A path given to retime cannot be timed as given: too few points, a value that is not a
+    /// number, a point (or the spline between points) beyond a joint's limits.
+    #[error("retime: path{}: {message}", point.map_or(String::new(), |k| format!(" point {k}")))]
+    BadPath {
+        /// The point at fault (0-based, in the input's order), if one is.
+        point: Option<usize>,
+        /// What is wrong.
+        message: String,
+    },
+
+    /// No timing of the path keeps the limits, however slow: at path position `s` the torque
+    /// limits (less the margin) leave no admissible path speed.
+    #[error("retime: nothing follows at s = {s:.4} of {length:.4} (near point {point}): {message}")]
+    NothingFollows {
+        /// Path position (rad or m of path length).
+        s: f64,
+        /// The path's length.
+        length: f64,
+        /// The input point nearest to s (0-based).
+        point: usize,
+        /// The joint whose limit is at fault, if one is alone.
+        joint: Option<JointId>,
+        /// What it needs and what it has (naming the joint, if one is at fault).
+        message: String,
+    },
+
     /// Under `--self-collisions` with exact meshes, two meshes intersect: contact between two
     /// triangle meshes is not modelled (only between convex shapes).
     #[error(

@@ -46,6 +46,7 @@ pub mod model;
 pub mod output;
 #[cfg(feature = "python")]
 mod python;
+pub mod retime;
 pub mod session;
 pub mod sim;
 pub mod spatial;

@@ -8,9 +8,9 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 
 use crate::config::{
-    DEFAULT_AMP_DEG, DEFAULT_CLEARANCE_TOLERANCE_MM, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_FREQ, DEFAULT_FRICTION,
-    DEFAULT_PORT, DEFAULT_RECORD_PERIOD, DEFAULT_SHAPE_DURATION, DEFAULT_SHAPE_POINTS, DEFAULT_TRAIL,
-    DEFAULT_TRAJ_PERIOD,
+    DEFAULT_AMP_DEG, DEFAULT_ATTEMPTS, DEFAULT_CLEARANCE_TOLERANCE_MM, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_FREQ,
+    DEFAULT_FRICTION, DEFAULT_GRID, DEFAULT_MARGIN, DEFAULT_PORT, DEFAULT_RECORD_PERIOD, DEFAULT_SHAPE_DURATION,
+    DEFAULT_SHAPE_POINTS, DEFAULT_TRAIL, DEFAULT_TRAJ_PERIOD,
 };
 use crate::sim::Thresholds;
 
@@ -33,6 +33,8 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
     Shape(ShapeArgs),
+    /// The fastest timing of a path that the motors follow (TOPP-RA on the motors' torque–speed envelopes, checked in the closed loop; docs/retime.md): the path is --q-traj's points (times ignored), the timing goes to --out (replay plays it); --plot draws the phase plane.
+    Retime(RetimeArgs),
     /// Many runs at once: vary options over a grid (--vary), or find the largest value that
     /// still follows (--find); after `--`, the command to run: sweep --vary payload-kg=0:2:0.5 -- shape --shape circle.
     Sweep(SweepArgs),
@@ -65,10 +67,24 @@ pub struct WaveArgs {
 /// `faze4 replay`.
 #[derive(Clone, Debug, Args)]
 pub struct ReplayArgs {
-    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md).
+    /// The trajectory file.
+    #[command(flatten)]
+    pub file: TrajectoryFileArgs,
+    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
+    #[arg(long, allow_hyphen_values = true)]
+    pub duration: Option<f64>,
+    /// Options every run command shares.
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// The trajectory file `replay` plays and `retime` reads the path of.
+#[derive(Clone, Debug, Args)]
+pub struct TrajectoryFileArgs {
+    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md). retime takes its points as the path, times ignored.
     #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
     pub q_traj: PathBuf,
-    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats.
+    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats (retime: the input's own timing it reports its speed-up against).
     #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
     pub traj_period: f64,
     /// Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the first).
@@ -77,12 +93,6 @@ pub struct ReplayArgs {
     /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
     #[arg(long, value_name = "NAME")]
     pub topic: Option<String>,
-    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
-    #[arg(long, allow_hyphen_values = true)]
-    pub duration: Option<f64>,
-    /// Options every run command shares.
-    #[command(flatten)]
-    pub run: RunArgs,
 }
 
 /// `faze4 shape`.
@@ -105,6 +115,29 @@ pub struct ShapeArgs {
     /// Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it).
     #[arg(long = "save-q", value_name = "F.npy")]
     pub save_q: Option<PathBuf>,
+    /// Options every run command shares.
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// `faze4 retime`.
+#[derive(Clone, Debug, Args)]
+pub struct RetimeArgs {
+    /// The path: the trajectory file's points in order, times ignored, joined by a C² cubic spline over their cumulative joint-space distance.
+    #[command(flatten)]
+    pub file: TrajectoryFileArgs,
+    /// Where the timing is written, by extension: a JointTrajectory as .yaml or .json, a rosbag2 .mcap, or a .csv (positions, velocities, accelerations, time from start); `faze4 replay --q-traj` plays it.
+    #[arg(long, value_name = "F.yaml|F.json|F.mcap|F.csv")]
+    pub out: PathBuf,
+    /// Grid intervals in s: the limits are kept at the grid's points.
+    #[arg(long, default_value_t = DEFAULT_GRID, value_name = "N", allow_hyphen_values = true)]
+    pub grid: usize,
+    /// The share of every torque limit (each motor's envelope at its speed, or the constant limit) left for the feedback, in [0, 1).
+    #[arg(long, default_value_t = DEFAULT_MARGIN, value_name = "SHARE", allow_hyphen_values = true)]
+    pub margin: f64,
+    /// Most closed-loop checks: the first timing's, then one per slowed timing.
+    #[arg(long, default_value_t = DEFAULT_ATTEMPTS, value_name = "N", allow_hyphen_values = true)]
+    pub attempts: usize,
     /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,

@@ -2,11 +2,11 @@
 //! configuration checks its values, each error naming the field, which [`super::main`] shows
 //! as its flag.
 
-use super::args::{Command, JointValues, ReplayArgs, RunArgs, ShapeArgs, WaveArgs};
+use super::args::{Command, JointValues, ReplayArgs, RetimeArgs, RunArgs, ShapeArgs, TrajectoryFileArgs, WaveArgs};
 use crate::config::fields::{all_given, parse_center};
 use crate::config::{
     ArmConfig, Center, ClearanceConfig, ControlConfig, DriveMode, Motion, Motors, OutputConfig, ReplayConfig,
-    RunConfig, ShapeConfig, VerdictConfig, WaveConfig,
+    RetimeConfig, RunConfig, ShapeConfig, VerdictConfig, WaveConfig,
 };
 use crate::control::FeedForward;
 use crate::error::{Error, Result};
@@ -14,12 +14,13 @@ use crate::geometry::{ClearanceGeometry, PairFilter};
 use crate::sim::Thresholds;
 use crate::traj::shape::Shape;
 
-/// The configuration of a run command (`wave`, `replay`, `shape`).
+/// The configuration of a run command (`wave`, `replay`, `shape`, `retime`).
 pub fn run_config(command: &Command) -> Result<RunConfig> {
     match command {
         Command::Wave(a) => wave(a),
         Command::Replay(a) => replay(a),
         Command::Shape(a) => shape(a),
+        Command::Retime(a) => retime(a),
         Command::Sweep(_) => Err(Error::argument("sweep", "is a sweep of runs, not a run")),
     }
 }
@@ -39,13 +40,18 @@ fn wave(a: &WaveArgs) -> Result<RunConfig> {
 }
 
 fn replay(a: &ReplayArgs) -> Result<RunConfig> {
-    let motion = Motion::Replay(ReplayConfig {
+    let motion = Motion::Replay(file(&a.file));
+    with_run(motion, a.duration, &a.run)
+}
+
+/// The trajectory file's options.
+fn file(a: &TrajectoryFileArgs) -> ReplayConfig {
+    ReplayConfig {
         q_traj: a.q_traj.clone(),
         traj_period: a.traj_period,
         message: a.message,
         topic: a.topic.clone(),
-    });
-    with_run(motion, a.duration, &a.run)
+    }
 }
 
 fn shape(a: &ShapeArgs) -> Result<RunConfig> {
@@ -57,6 +63,17 @@ fn shape(a: &ShapeArgs) -> Result<RunConfig> {
         save_q: a.save_q.clone().filter(|p| !is_none(p)),
     });
     with_run(motion, Some(a.duration), &a.run)
+}
+
+fn retime(a: &RetimeArgs) -> Result<RunConfig> {
+    let motion = Motion::Retime(RetimeConfig {
+        path: file(&a.file),
+        out: Some(a.out.clone()),
+        grid: a.grid,
+        margin: a.margin,
+        attempts: a.attempts,
+    });
+    with_run(motion, None, &a.run)
 }
 
 /// `motion` with the options every run command shares.

@@ -96,8 +96,56 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     if let Command::Sweep(a) = &cli.command {
         return sweep::execute(a);
     }
-    let prepared = Prepared::new(config::run_config(&cli.command)?, None)?;
+    let config = config::run_config(&cli.command)?;
+    if let Command::Retime(_) = &cli.command {
+        return retime_and_report(&config);
+    }
+    let prepared = Prepared::new(config, None)?;
     run_and_report(&prepared)
+}
+
+/// `faze4 retime`: the timing, its lines and the check's verdict last. The exit status is a
+/// run's (1 diverged, 128 + a signal's number, 3 under `--strict` when the checked timing
+/// does not follow); a path that no timing follows is the reason on stderr, with status 3
+/// under `--strict`, else 2 (nothing is written).
+fn retime_and_report(config: &crate::config::RunConfig) -> Result<ExitCode> {
+    let stop = StopFlag::ctrl_c();
+    let files = Outputs::new();
+    let quiet = config.outputs.quiet;
+    let finished = match crate::session::retime(config, None, &files, &mut [], &stop, |w| warn(w, quiet)) {
+        Err(e @ Error::NothingFollows { .. }) if config.verdict.strict => {
+            eprintln!("faze4: {}", escape_controls(&flags(&e.to_string())));
+            return Ok(ExitCode::from(EXIT_CANNOT_FOLLOW));
+        }
+        other => other?,
+    };
+    let summary = &finished.summary;
+    let out = match &config.motion {
+        crate::config::Motion::Retime(r) => r.out.as_deref(),
+        _ => None,
+    };
+    let mut stdout = String::new();
+    if !quiet {
+        stdout = crate::session::retime_lines(&finished, out);
+    }
+    stdout.push_str(&format!("{}\n", summary.verdict));
+    print_stdout(&stdout)?;
+    if let Some(t) = summary.interrupted_at_s {
+        eprintln!(
+            "faze4: {} at t = {t:.3} s of a check; nothing is written",
+            stopped_by(&stop)
+        );
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
+    files.commit()?;
+    let code = exit_code(summary, config.verdict.strict);
+    if let (Some(l), true) = (
+        finished.replayed.as_ref().and_then(|r| r.recorders.live.as_ref()),
+        config.outputs.hold,
+    ) {
+        l.hold_until(|| stop.is_raised());
+    }
+    Ok(code)
 }
 
 /// Prints `warnings` on stderr, one line each, options as flags; under `quiet`, only those that
@@ -150,18 +198,23 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
         eprintln!("faze4: {} after the run; its outputs are complete", stopped_by(&stop));
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
-    let code = if summary.diverged.is_some() {
-        ExitCode::from(EXIT_DIVERGED)
-    } else if config.verdict.strict && !summary.verdict.follows {
-        ExitCode::from(EXIT_CANNOT_FOLLOW)
-    } else {
-        ExitCode::SUCCESS
-    };
+    let code = exit_code(summary, config.verdict.strict);
     // the run's files are written: a signal now only ends the serving
     if let Some(l) = hold {
         l.serve_until(|| stop.is_raised());
     }
     Ok(code)
+}
+
+/// The exit status of a run that ended: 1 diverged, 3 not followed under `strict`, else 0.
+fn exit_code(summary: &sim::Summary, strict: bool) -> ExitCode {
+    if summary.diverged.is_some() {
+        ExitCode::from(EXIT_DIVERGED)
+    } else if strict && !summary.verdict.follows {
+        ExitCode::from(EXIT_CANNOT_FOLLOW)
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 /// The exit status of a run or sweep `stop` ended: 128 + the signal's number.

@@ -59,7 +59,7 @@ pub struct OptionInfo {
     pub help: String,
 }
 
-/// The options of `command` (`wave`, `replay`, `shape`, `sweep`, or `run`: those every run
+/// The options of `command` (`wave`, `replay`, `shape`, `retime`, `sweep`, or `run`: those every run
 /// command shares), in the order of `faze4 COMMAND --help`; `None` for another name.
 pub fn options(command: &str) -> Option<Vec<OptionInfo>> {
     let cmd = match command {
@@ -117,7 +117,7 @@ pub fn options(command: &str) -> Option<Vec<OptionInfo>> {
 mod tests {
     use super::*;
     use crate::config::fields::{self, Kind as FieldKind};
-    use crate::config::{Motion, ReplayConfig, ShapeConfig, WaveConfig};
+    use crate::config::{Motion, ReplayConfig, RetimeConfig, ShapeConfig, WaveConfig};
     use crate::traj::shape::Shape;
 
     /// Every option clap declares for a run command is a field of the configuration of the same
@@ -129,6 +129,7 @@ mod tests {
             Motion::Wave(WaveConfig::default()),
             Motion::Replay(ReplayConfig::new("q.npy")),
             Motion::Shape(ShapeConfig::new(Shape::Circle)),
+            Motion::Retime(RetimeConfig::new("q.npy")),
         ] {
             let clap: Vec<OptionInfo> = options(motion.name()).unwrap();
             let mut names: Vec<String> = clap.iter().map(|o| o.long.replace('-', "_")).collect();

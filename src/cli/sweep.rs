@@ -43,8 +43,17 @@ fn base_config(words: &[String]) -> Result<RunConfig> {
     let command = Cli::try_parse_from(argv)
         .map_err(|e| Error::argument(format!("sweep -- {}", words[0]), usage_line(&e)))?
         .command;
-    if let super::args::Command::Sweep(_) = command {
-        return Err(Error::argument("sweep", "the command to sweep cannot be a sweep"));
+    match command {
+        super::args::Command::Sweep(_) => {
+            return Err(Error::argument("sweep", "the command to sweep cannot be a sweep"));
+        }
+        super::args::Command::Retime(_) => {
+            return Err(Error::argument(
+                "sweep",
+                "the command to sweep is a run (wave, replay, shape), not retime",
+            ));
+        }
+        _ => {}
     }
     super::config::run_config(&command)
 }

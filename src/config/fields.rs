@@ -65,14 +65,19 @@ pub enum Value {
 /// Which commands have a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Commands {
-    /// Every run command.
+    /// Every command of the configuration (`wave`, `replay`, `shape`, `retime`).
     All,
+    /// The commands that run a motion for a time (`wave`, `replay`, `shape`; `retime` finds
+    /// its own).
+    Runs,
     /// `wave` only.
     Wave,
-    /// `replay` only.
-    Replay,
+    /// The commands that read a trajectory file (`replay`, `retime`).
+    Trajectory,
     /// `shape` only.
     Shape,
+    /// `retime` only.
+    Retime,
 }
 
 impl Commands {
@@ -81,9 +86,11 @@ impl Commands {
         matches!(
             (self, motion),
             (Commands::All, _)
+                | (Commands::Runs, Motion::Wave(_) | Motion::Replay(_) | Motion::Shape(_))
                 | (Commands::Wave, Motion::Wave(_))
-                | (Commands::Replay, Motion::Replay(_))
+                | (Commands::Trajectory, Motion::Replay(_) | Motion::Retime(_))
                 | (Commands::Shape, Motion::Shape(_))
+                | (Commands::Retime, Motion::Retime(_))
         )
     }
 }
@@ -388,10 +395,28 @@ fn wave(c: &mut RunConfig) -> Option<&mut super::WaveConfig> {
     }
 }
 
+/// The trajectory file's options: a replay's, or the path a retime reads.
 fn replay(c: &mut RunConfig) -> Option<&mut super::ReplayConfig> {
     match &mut c.motion {
         Motion::Replay(r) => Some(r),
+        Motion::Retime(r) => Some(&mut r.path),
         _ => None,
+    }
+}
+
+fn retime(c: &mut RunConfig) -> Option<&mut super::RetimeConfig> {
+    match &mut c.motion {
+        Motion::Retime(r) => Some(r),
+        _ => None,
+    }
+}
+
+/// A whole-number field of `retime` from `v` (`default` for [`Value::Default`]).
+fn retime_count(name: &str, v: Value, default: usize) -> Result<usize> {
+    match v {
+        Value::Count(n) => usize::try_from(n).map_err(|_| Error::option(name, "too large")),
+        Value::Default => Ok(default),
+        other => Err(wrong(name, Kind::Count, &other)),
     }
 }
 
@@ -405,7 +430,7 @@ fn shape(c: &mut RunConfig) -> Option<&mut super::ShapeConfig> {
 /// Every option of a run, by name, in the order of `faze4 COMMAND --help`: the command's own,
 /// then those every run command shares.
 pub const FIELDS: &[Field] = &[
-    optional_number!("duration", Commands::All, |c| Some(&mut c.duration)),
+    optional_number!("duration", Commands::Runs, |c| Some(&mut c.duration)),
     number!("freq", Commands::Wave, |c| wave(c).map(|w| &mut w.freq), || {
         super::DEFAULT_FREQ
     }),
@@ -434,7 +459,7 @@ pub const FIELDS: &[Field] = &[
     Field {
         name: "q_traj",
         kind: Kind::Path,
-        commands: Commands::Replay,
+        commands: Commands::Trajectory,
         set: |c, v| {
             let path = match v {
                 Value::Path(p) => p,
@@ -450,14 +475,14 @@ pub const FIELDS: &[Field] = &[
     },
     number!(
         "traj_period",
-        Commands::Replay,
+        Commands::Trajectory,
         |c| replay(c).map(|r| &mut r.traj_period),
         || super::DEFAULT_TRAJ_PERIOD
     ),
     Field {
         name: "message",
         kind: Kind::Count,
-        commands: Commands::Replay,
+        commands: Commands::Trajectory,
         set: |c, v| {
             let message = match v {
                 Value::Count(k) => Some(usize::try_from(k).map_err(|_| Error::option("message", "too large"))?),
@@ -474,7 +499,7 @@ pub const FIELDS: &[Field] = &[
     Field {
         name: "topic",
         kind: Kind::Text,
-        commands: Commands::Replay,
+        commands: Commands::Trajectory,
         set: |c, v| {
             let topic = match v {
                 Value::Text(t) => Some(t),
@@ -483,6 +508,53 @@ pub const FIELDS: &[Field] = &[
             };
             if let Some(r) = replay(c) {
                 r.topic = topic;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "out",
+        kind: Kind::Path,
+        commands: Commands::Retime,
+        set: |c, v| {
+            let path = match v {
+                Value::Path(p) => Some(p),
+                Value::Text(t) => Some(PathBuf::from(t)),
+                Value::Default => None,
+                other => return Err(wrong("out", Kind::Path, &other)),
+            };
+            if let Some(r) = retime(c) {
+                r.out = path;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "grid",
+        kind: Kind::Count,
+        commands: Commands::Retime,
+        set: |c, v| {
+            let n = retime_count("grid", v, super::DEFAULT_GRID)?;
+            if let Some(r) = retime(c) {
+                r.grid = n;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    number!("margin", Commands::Retime, |c| retime(c).map(|r| &mut r.margin), || {
+        super::DEFAULT_MARGIN
+    }),
+    Field {
+        name: "attempts",
+        kind: Kind::Count,
+        commands: Commands::Retime,
+        set: |c, v| {
+            let n = retime_count("attempts", v, super::DEFAULT_ATTEMPTS)?;
+            if let Some(r) = retime(c) {
+                r.attempts = n;
             }
             Ok(())
         },
@@ -750,7 +822,7 @@ pub const FIELDS: &[Field] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{ReplayConfig, ShapeConfig, WaveConfig};
+    use crate::config::{ReplayConfig, RetimeConfig, ShapeConfig, WaveConfig};
 
     #[test]
     fn every_field_resets_to_its_default() {
@@ -758,6 +830,7 @@ mod tests {
             Motion::Wave(WaveConfig::default()),
             Motion::Replay(ReplayConfig::new("q.npy")),
             Motion::Shape(ShapeConfig::new(Shape::Circle)),
+            Motion::Retime(RetimeConfig::new("q.npy")),
         ] {
             let fresh = RunConfig::new(motion.clone());
             for name in names(&motion) {
@@ -791,5 +864,13 @@ mod tests {
         points.set_number(&mut s, 60.0).unwrap();
         assert!(points.set_number(&mut s, 60.5).is_err());
         assert!(points.set_number(&mut c, 60.0).is_err());
+        let mut r = RunConfig::new(Motion::Retime(RetimeConfig::new("q.npy")));
+        r.set("grid", Value::Count(50)).unwrap();
+        r.set("margin", Value::Number(0.2)).unwrap();
+        r.set("traj_period", Value::Number(2.0)).unwrap();
+        let Motion::Retime(rc) = &r.motion else { unreachable!() };
+        assert_eq!((rc.grid, rc.margin, rc.path.traj_period), (50, 0.2, 2.0));
+        assert!(message(r.set("duration", Value::Number(1.0)).unwrap_err()).contains("not an option of retime"));
+        assert!(message(c.set("margin", Value::Number(0.2)).unwrap_err()).contains("not an option of wave"));
     }
 }

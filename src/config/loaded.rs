@@ -14,8 +14,9 @@ use crate::error::{Error, Result, quoted, shortest};
 use crate::faze4::{BOARD, SHAPE_PERIOD};
 use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
+use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
-use crate::sim::{Collisions, Scenario, SelfContact, TimedCommand, Warning, load_collisions};
+use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
 use crate::traj::files::{self, Format, Selection};
 use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
 
@@ -66,8 +67,9 @@ impl Loaded {
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
         let replay = match (&config.motion, replayed) {
-            (Motion::Replay(_), Some(given)) => Some(given),
+            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => Some(given),
             (Motion::Replay(r), None) => Some(read_replay(r)?),
+            (Motion::Retime(r), None) => Some(read_replay(&r.path)?),
             _ => None,
         };
         let plan = match &config.motion {
@@ -99,6 +101,32 @@ impl Loaded {
         &self.arm
     }
 
+    /// The points of a retime's path (or a replay's frames) over `model`'s joints, in its
+    /// order: a `.npy`'s rows, or a time-stamped trajectory's positions (its joints matched by
+    /// name, a joint it does not name held as replay holds it), its times ignored.
+    pub fn path_points(&self, model: &Model, source: &Path) -> Result<Vec<Vec<f64>>> {
+        match &self.replay {
+            Some(Replayed::Samples(frames)) => Ok(frames.clone()),
+            Some(Replayed::Timed(timed)) => {
+                let names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
+                let hold: Vec<f64> = model.joints.iter().map(|j| 0.0_f64.clamp(j.lower, j.upper)).collect();
+                let (ordered, _) = timed.in_joint_order(&names, &hold, source)?;
+                Ok(ordered.points.into_iter().map(|p| p.positions).collect())
+            }
+            None => Err(Error::option("q_traj", "no trajectory was loaded")),
+        }
+    }
+
+    /// The own timing of what a replay or retime read (s): a time-stamped trajectory's last
+    /// time, a `.npy`'s `traj_period`.
+    pub fn own_duration(&self, traj_period: f64) -> Option<f64> {
+        match &self.replay {
+            Some(Replayed::Timed(timed)) => Some(timed.duration()),
+            Some(Replayed::Samples(_)) => Some(traj_period),
+            None => None,
+        }
+    }
+
     /// The files loading read (the URDF, its meshes, the motors file, the replayed
     /// trajectory), which no output of a run of this configuration may replace.
     pub fn inputs(&self) -> &Inputs {
@@ -109,6 +137,12 @@ impl Loaded {
     /// with other numbers (a sweep's point: durations, periods, the payload, limits, a shape's
     /// samples, the motors' supply voltage); another arm file is refused.
     pub fn scenario(&self, config: &RunConfig) -> Result<Scenario> {
+        self.builder(config)?.build()
+    }
+
+    /// The builder of [`Loaded::scenario`], for a command that builds several runs on it
+    /// (`retime` plays each timing it tries on it).
+    pub fn builder(&self, config: &RunConfig) -> Result<ScenarioBuilder> {
         check(config)?;
         let arm: Cow<Arm> = match config.arm == self.arm_config {
             true => Cow::Borrowed(&self.arm),
@@ -157,6 +191,11 @@ impl Loaded {
                 }
                 None => unreachable!("a replay's trajectory is loaded"),
             },
+            Motion::Retime(r) => {
+                // retime plays its timings on this scenario; until then it holds the start
+                let path = PathSpline::through(&self.path_points(model, &r.path.q_traj)?)?;
+                (hold(&path), "retime".to_string(), None)
+            }
             Motion::Shape(s) => {
                 let (trajectory, run) = match &self.plan {
                     Some((points, planned)) if *points == s.shape_points => planned.clone(),
@@ -205,7 +244,7 @@ impl Loaded {
         if let Some(run) = shape {
             builder = builder.shape(run);
         }
-        builder.build()
+        Ok(builder)
     }
 }
 
@@ -328,6 +367,10 @@ fn check(config: &RunConfig) -> Result<()> {
             }
         }
         Motion::Shape(_) => Ok(()),
+        Motion::Retime(r) => {
+            positive("traj_period", r.path.traj_period)?;
+            r.options(crate::sim::StopFlag::new()).check()
+        }
     }
 }
 

@@ -148,6 +148,9 @@ pub enum Motion {
     Replay(ReplayConfig),
     /// The tool draws a shape on the board: exact IK, then the samples as a loop.
     Shape(ShapeConfig),
+    /// The fastest timing of a path (a trajectory file's points, its times ignored) that the
+    /// motors follow, checked in the closed loop ([`crate::retime`]).
+    Retime(RetimeConfig),
 }
 
 impl Motion {
@@ -157,6 +160,7 @@ impl Motion {
             Motion::Wave(_) => "wave",
             Motion::Replay(_) => "replay",
             Motion::Shape(_) => "shape",
+            Motion::Retime(_) => "retime",
         }
     }
 
@@ -236,6 +240,57 @@ impl ReplayConfig {
         }
     }
 }
+
+/// `retime`'s options.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RetimeConfig {
+    /// The path: a trajectory file read as `replay` reads it (its `q_traj`, `message`,
+    /// `topic`), its points in order; `traj_period` is a `.npy`'s own timing, which the
+    /// speed-up is reported against.
+    pub path: ReplayConfig,
+    /// Where the timing is written: `.yaml`, `.json`, `.mcap` or `.csv` (positions,
+    /// velocities, accelerations, time from start), which `replay` plays (`None`: nowhere; the
+    /// command line asks for one).
+    pub out: Option<PathBuf>,
+    /// Grid intervals in s (≥ 1).
+    pub grid: usize,
+    /// The share of every torque limit left for the feedback, in [0, 1).
+    pub margin: f64,
+    /// Most closed-loop checks (≥ 1), the first timing's included.
+    pub attempts: usize,
+}
+
+impl RetimeConfig {
+    /// A retime of the path in `q_traj`, written nowhere, with the default grid, margin and
+    /// checks.
+    pub fn new(q_traj: impl Into<PathBuf>) -> RetimeConfig {
+        RetimeConfig {
+            path: ReplayConfig::new(q_traj),
+            out: None,
+            grid: DEFAULT_GRID,
+            margin: DEFAULT_MARGIN,
+            attempts: DEFAULT_ATTEMPTS,
+        }
+    }
+
+    /// The library's options (Ctrl-C stops a check through `stop`).
+    pub fn options(&self, stop: crate::sim::StopFlag) -> crate::retime::RetimeOptions {
+        crate::retime::RetimeOptions {
+            intervals: self.grid,
+            margin: self.margin,
+            check: true,
+            attempts: self.attempts,
+            stop,
+        }
+    }
+}
+
+/// Default grid intervals of `retime`.
+pub const DEFAULT_GRID: usize = crate::retime::DEFAULT_INTERVALS;
+/// Default margin of `retime` (docs/retime.md, "The margin").
+pub const DEFAULT_MARGIN: f64 = crate::retime::DEFAULT_MARGIN;
+/// Default closed-loop checks of `retime`.
+pub const DEFAULT_ATTEMPTS: usize = crate::retime::DEFAULT_ATTEMPTS;
 
 /// `shape`'s options.
 #[derive(Clone, Debug, PartialEq)]

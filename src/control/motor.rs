@@ -62,6 +62,39 @@ impl Envelope {
         }
     }
 
+    /// The shaft speeds (rad/s, ascending, both signs) where [`Envelope::bounds`] changes slope:
+    /// between two of them both bounds are affine in ω (a DC motor's beyond the outermost too;
+    /// a stepper's are zero there). A DC motor's are where its lines meet ±τ_peak,
+    /// `ω₀(±1 ∓ τ_peak/τ_s)`; a stepper's, its curve's speeds on either side.
+    pub fn kinks(&self) -> Vec<f64> {
+        let mut kinks = match self {
+            Envelope::Dc {
+                stall_torque,
+                no_load_speed,
+                peak_torque,
+            } => {
+                let p = peak_torque / stall_torque;
+                [1.0 - p, 1.0 + p, -1.0 - p, -1.0 + p]
+                    .map(|k| k * no_load_speed)
+                    .to_vec()
+            }
+            Envelope::Stepper { curve } => curve.iter().flat_map(|p| [p[0], -p[0]]).collect(),
+        };
+        kinks.sort_by(f64::total_cmp);
+        kinks.dedup();
+        kinks
+    }
+
+    /// The fastest the motor can turn its shaft while still giving torque in the direction of
+    /// motion (rad/s): a DC motor's no-load speed ω₀, a stepper's last curve point (past it the
+    /// envelope is zero).
+    pub fn top_speed(&self) -> f64 {
+        match self {
+            Envelope::Dc { no_load_speed, .. } => *no_load_speed,
+            Envelope::Stepper { curve } => curve.last().map_or(0.0, |p| p[0]),
+        }
+    }
+
     /// `"dc"` or `"stepper"`.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -459,6 +492,39 @@ mod tests {
         assert!((hi - 10.0 * 0.8 * 0.25).abs() < 1e-14, "{hi}");
         assert!((lo + 10.0 * 0.8 * 0.4).abs() < 1e-14, "{lo}");
         assert!((m.joint_limit(10.0) - 3.2).abs() < 1e-15);
+    }
+
+    /// Between two kinks (and past the outermost) both bounds are affine in ω: the midpoint's
+    /// bounds are the mean of the ends'.
+    #[test]
+    fn bounds_are_affine_between_kinks() {
+        let stepper = Envelope::Stepper {
+            curve: vec![[0.0, 0.32], [60.0, 0.31], [120.0, 0.2], [200.0, 0.08]],
+        };
+        let wide = Envelope::Dc {
+            stall_torque: 0.5,
+            no_load_speed: 300.0,
+            peak_torque: 0.9,
+        };
+        for e in [dc(), wide, stepper] {
+            let mut ends = e.kinks();
+            if e.kind() == "dc" {
+                // a stepper's envelope jumps to zero past its last point; a DC motor's goes on
+                ends.insert(0, ends[0] - 50.0);
+                ends.push(ends[ends.len() - 1] + 50.0);
+            }
+            for w in ends.windows(2) {
+                let (a, b, m) = (e.bounds(w[0]), e.bounds(w[1]), e.bounds(0.5 * (w[0] + w[1])));
+                assert!((m.0 - 0.5 * (a.0 + b.0)).abs() < 1e-12, "{} lo on {w:?}", e.kind());
+                assert!((m.1 - 0.5 * (a.1 + b.1)).abs() < 1e-12, "{} hi on {w:?}", e.kind());
+            }
+        }
+        let kinks = dc().kinks();
+        assert_eq!(kinks.len(), 4);
+        for (k, want) in kinks.iter().zip([-540.0, -60.0, 60.0, 540.0]) {
+            assert!((k - want).abs() < 1e-9, "{kinks:?}");
+        }
+        assert_eq!(dc().top_speed(), 300.0);
     }
 
     fn nema17() -> StepperWinding {

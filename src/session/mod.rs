@@ -4,10 +4,12 @@
 //! the caller commits; and the lines a run prints (`[done]`, the verdict).
 
 mod report;
+mod retime;
 
 use std::path::Path;
 
 pub use report::{divergence_line, done_line, report_text};
+pub use retime::{RetimeFinished, retime, retime_lines};
 
 use crate::atomic::{Inputs, Outputs};
 use crate::config::{Loaded, Motion, Replayed, RunConfig};

@@ -197,6 +197,18 @@ pub struct ScenarioBuilder {
 }
 
 impl ScenarioBuilder {
+    /// The model as given (before the payload, the motors and the gravity setting apply).
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The joint command, replacing the one given to [`Scenario::builder`] (retime's check
+    /// plays each timing it tries on the same builder).
+    pub fn trajectory(mut self, trajectory: Trajectory) -> Self {
+        self.trajectory = trajectory;
+        self
+    }
+
     /// What runs, for people (the banner's first word): `wave`, `replay`, `shape circle …`.
     pub fn command(mut self, command: impl Into<String>) -> Self {
         self.command = command.into();

@@ -46,6 +46,7 @@
 //! | `live.rs` | [`LiveView`]: the recorder, paced to the wall clock |
 //! | `server.rs` | the live view's std::net HTTP server on 127.0.0.1: page + scene + Server-Sent Events |
 //! | `plot.rs` | [`PlotRecorder`]: one SVG/PNG figure (plotters, embedded DejaVu Sans) |
+//! | `phase_plot.rs` | [`PhasePlot`]: retime's phase plane (ṡ against s: limits, profile, where they bind) |
 //! | `sweep_plot.rs` | [`SweepPlot`]: a sweep's figures against the varied option, or heatmaps over two |
 
 mod figure;
@@ -54,6 +55,7 @@ mod live;
 pub mod mesh;
 mod motor_plot;
 mod page;
+mod phase_plot;
 mod plot;
 pub mod scene;
 mod server;
@@ -63,6 +65,7 @@ mod util;
 pub use html::HtmlExport;
 pub use live::{LiveHandle, LiveView};
 pub use motor_plot::MotorPlot;
+pub use phase_plot::PhasePlot;
 pub use plot::PlotRecorder;
 pub use sweep_plot::SweepPlot;
 pub use util::base64;

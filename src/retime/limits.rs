@@ -1,0 +1,72 @@
+//! The limits a timing must keep, taken from the scenario that checks it (one source: the
+//! closed loop judges against the same model, motors, torque limits and speed limits).
+//!
+//! Per joint: the speed limit, the lowest of the scenario's (`--max-speed`, else the URDF's
+//! `velocity`; see [`crate::sim::ScenarioBuilder::max_speed`]) and the motor's top speed over
+//! its ratio; the torque range at a speed ([`JointTorque`]): the motor's envelope within the
+//! constant limit E, shrunk by the margin, less the joint's damping.
+
+use super::envelope::JointTorque;
+use crate::model::JointKind;
+use crate::sim::Scenario;
+
+/// Where a joint's speed limit comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpeedSource {
+    /// The scenario's speed limit (`--max-speed` or the URDF's `velocity`).
+    Given,
+    /// The motor's top speed (a DC motor's no-load speed, a stepper's last curve point) over
+    /// its ratio.
+    Motor,
+}
+
+/// Every joint's limits.
+#[derive(Clone, Debug)]
+pub(crate) struct Limits {
+    /// The torque range at a speed, per joint.
+    pub torque: Vec<JointTorque>,
+    /// The speed limit per joint (rad/s or m/s; +∞ for none).
+    pub speed: Vec<f64>,
+    /// Where each speed limit comes from.
+    pub speed_source: Vec<SpeedSource>,
+    /// The unit of each joint's torque: `N·m` (revolute) or `N` (prismatic).
+    pub torque_unit: Vec<&'static str>,
+}
+
+impl Limits {
+    /// The limits of `scenario`'s model and motors, keeping `1 − margin` of each torque limit.
+    pub fn of(scenario: &Scenario, margin: f64) -> Limits {
+        let model = &scenario.model;
+        let effort = &scenario.controller.gains.effort;
+        let torque: Vec<JointTorque> = (0..model.dof())
+            .map(|j| {
+                let joint = &model.joints[j];
+                let motor = (scenario.motors.as_ref())
+                    .and_then(|m| m[j].clone())
+                    .map(|m| (m, joint.gear_ratio));
+                JointTorque::new(effort[j], motor, joint.damping, margin)
+            })
+            .collect();
+        let (speed, speed_source) = (torque.iter().zip(&scenario.speed_limit))
+            .map(|(t, &given)| {
+                let top = t.top_speed();
+                match top < given {
+                    true => (top, SpeedSource::Motor),
+                    false => (given, SpeedSource::Given),
+                }
+            })
+            .unzip();
+        let torque_unit = (model.joints.iter())
+            .map(|j| match j.kind {
+                JointKind::Prismatic => "N",
+                _ => "N·m",
+            })
+            .collect();
+        Limits {
+            torque,
+            speed,
+            speed_source,
+            torque_unit,
+        }
+    }
+}

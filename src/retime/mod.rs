@@ -1,0 +1,428 @@
+//! `retime`: the fastest timing of a geometric path that the motors can follow
+//! (docs/retime.md).
+//!
+//! The path is a C² spline through the given points ([`PathSpline`]); on a grid in s the
+//! limits become rows linear in x = ṡ² and u = s̈ (`grid.rs`, `envelope.rs`, `limits.rs`);
+//! TOPP-RA's backward and forward passes give the time-optimal profile under them (`reach.rs`),
+//! iterated so the motors' speed-dependent envelopes are bounded soundly around it
+//! (`solve.rs`); the timing is then played in faze4's closed loop, and where it does not
+//! follow the segments where it failed are slowed and it is tried again (`check.rs`).
+//!
+//! ```no_run
+//! use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
+//! use faze4::sim::Scenario;
+//! # fn main() -> faze4::Result<()> {
+//! let mut model = faze4::faze4::model();
+//! let motors = faze4::config::motors::fit(&mut model, Some(faze4::faze4::motors::faze4(None)), &[], &[])?;
+//! let points: Vec<Vec<f64>> = vec![vec![0.0; 6], vec![0.3, 0.4, -0.5, 0.0, 0.2, 0.0], vec![0.6, 0.1, -0.2, 0.0, 0.0, 0.0]];
+//! let path = PathSpline::through(&points)?;
+//! let base = Scenario::builder(model, hold(&path)).motors(motors.unwrap());
+//! let timed = retime(&base, &path, &RetimeOptions::default())?;
+//! println!("{:.3} s, {}", timed.profile.duration(), timed.check.as_ref().unwrap().summary.verdict);
+//! # Ok(()) }
+//! ```
+
+mod check;
+mod envelope;
+mod grid;
+mod limits;
+mod phase;
+mod reach;
+mod solve;
+mod spline;
+mod timing;
+
+use std::fmt;
+
+pub use check::command;
+pub use limits::SpeedSource;
+pub use phase::PhasePlane;
+pub use solve::{MAX_ITERATIONS, SETTLED};
+pub use spline::PathSpline;
+pub use timing::timed_trajectory;
+
+use crate::error::{Error, Result};
+use crate::id::JointId;
+use crate::sim::{ScenarioBuilder, StopFlag, Summary};
+use crate::traj::{Interpolated, TimedTrajectory, Trajectory, Wrap};
+
+/// Default number of grid intervals in s.
+pub const DEFAULT_INTERVALS: usize = 200;
+/// Default margin: the share of every torque limit (the motor's envelope at each speed, or the
+/// constant limit) left for the feedback (docs/retime.md, "The margin").
+pub const DEFAULT_MARGIN: f64 = 0.3;
+/// Default number of closed-loop checks: the first timing and the slowed ones after it.
+pub const DEFAULT_ATTEMPTS: usize = 8;
+/// Where a check fails by torque or tracking, x = ṡ² is capped at this share of its value there
+/// (ṡ at its square root, about 0.89) and the timing is found again; where a speed passed its
+/// limit, at (limit/speed)² of it.
+pub const SLOWDOWN: f64 = 0.8;
+/// A failure at time t slows every segment the timing spends in [t − LOOKBACK_S, t]: a
+/// tracking error builds up over the segments before it shows.
+pub const LOOKBACK_S: f64 = 0.05;
+
+/// How to retime.
+#[derive(Clone, Debug)]
+pub struct RetimeOptions {
+    /// Grid intervals in s (≥ 1): the limits are kept at the N + 1 grid points.
+    pub intervals: usize,
+    /// The share of each torque limit left for the feedback, in [0, 1).
+    pub margin: f64,
+    /// Whether to play the timing in the closed loop and slow it where it does not follow.
+    pub check: bool,
+    /// Most checks (≥ 1), the first included.
+    pub attempts: usize,
+    /// Stops a check run early (Ctrl-C); the check then reports what ran.
+    pub stop: StopFlag,
+}
+
+impl Default for RetimeOptions {
+    fn default() -> Self {
+        RetimeOptions {
+            intervals: DEFAULT_INTERVALS,
+            margin: DEFAULT_MARGIN,
+            check: true,
+            attempts: DEFAULT_ATTEMPTS,
+            stop: StopFlag::new(),
+        }
+    }
+}
+
+impl RetimeOptions {
+    /// Every option within its range, an error naming the field otherwise (`grid`, `margin`,
+    /// `attempts`).
+    pub fn check(&self) -> Result<()> {
+        if self.intervals == 0 {
+            return Err(Error::option("grid", "0 intervals: at least 1"));
+        }
+        if !(self.margin >= 0.0 && self.margin < 1.0) {
+            return Err(Error::option(
+                "margin",
+                format!("{} is not in [0, 1)", crate::error::shortest(self.margin)),
+            ));
+        }
+        if self.attempts == 0 {
+            return Err(Error::option("attempts", "0 checks: at least 1"));
+        }
+        Ok(())
+    }
+}
+
+/// A timing on the grid: per grid point s_i the squared path speed x_i = ṡ² and the time
+/// t_i; per interval the path acceleration u_i = s̈ (constant on it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Profile {
+    /// s_i (rad or m of path length), N + 1.
+    pub s: Vec<f64>,
+    /// x_i = ṡ² ((path units/s)²), N + 1; 0 at both ends.
+    pub x: Vec<f64>,
+    /// u_i = s̈ on [s_i, s_i+1] (path units/s²), N.
+    pub u: Vec<f64>,
+    /// t_i (s), N + 1, from 0.
+    pub t: Vec<f64>,
+}
+
+/// The limit that shapes a segment of the timing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Limit {
+    /// A joint's speed limit.
+    Speed(SpeedSource),
+    /// A joint's torque at the top of its range.
+    TorqueUpper,
+    /// A joint's torque at the bottom of its range.
+    TorqueLower,
+    /// The cap the closed-loop check set where an earlier timing failed.
+    Slowed,
+    /// No constraint of the segment's own (none given).
+    None,
+}
+
+/// What shapes one segment: the constraint with the least slack at the segment's start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Binding {
+    /// The joint (none for a slowdown).
+    pub joint: Option<JointId>,
+    /// Which of its limits.
+    pub limit: Limit,
+    /// Its slack, relative (to the torque range's width, or to the cap): 0 where it binds;
+    /// a segment whose least slack is above 0 follows a limit further on (it brakes or
+    /// accelerates towards it).
+    pub slack: f64,
+}
+
+/// A relative slack at or below which a [`Binding`] binds (round-off of the passes).
+pub const BINDS: f64 = 1e-6;
+
+impl Binding {
+    /// Whether the limit binds on the segment (its slack at most [`BINDS`]).
+    pub fn binds(&self) -> bool {
+        self.slack <= BINDS
+    }
+}
+
+impl fmt::Display for Binding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let joint = self.joint.map_or(String::new(), |j| format!("{j} "));
+        let limit = match self.limit {
+            Limit::Speed(SpeedSource::Given) => "speed limit",
+            Limit::Speed(SpeedSource::Motor) => "motor top speed",
+            Limit::TorqueUpper => "torque (upper)",
+            Limit::TorqueLower => "torque (lower)",
+            Limit::Slowed => "slowed by the check",
+            Limit::None => "none",
+        };
+        write!(f, "{joint}{limit}")
+    }
+}
+
+/// The closed-loop check of the timing.
+#[derive(Clone, Debug)]
+pub struct Check {
+    /// The summary of the last check run (its verdict says whether the timing follows).
+    pub summary: Summary,
+    /// Check runs made (the first timing's included).
+    pub attempts: usize,
+    /// Grid points whose speed the checks capped.
+    pub slowed_points: usize,
+}
+
+/// What retime found.
+#[derive(Clone, Debug)]
+pub struct Retimed {
+    /// The timing on the grid.
+    pub profile: Profile,
+    /// The timing at the grid points as a joint trajectory (positions, velocities,
+    /// accelerations, times to the nanosecond; [`timed_trajectory`]): what the check played
+    /// and the file writers write.
+    pub trajectory: TimedTrajectory,
+    /// Per segment, what shapes it.
+    pub bindings: Vec<Binding>,
+    /// The duration with each torque limit at its standstill value (a motor's holding torque),
+    /// constant, and no cap from the check (s): no timing that keeps the envelopes is faster.
+    pub relaxed_duration: f64,
+    /// Rounds of the envelopes' bounds (0 when no limit depends on speed).
+    pub iterations: usize,
+    /// The closed-loop check, when asked for.
+    pub check: Option<Check>,
+    /// The grid, the limits and the last pass's controllable sets, for [`Retimed::phase_plane`].
+    grid: grid::PathGrid,
+    limits: limits::Limits,
+    controllable: Vec<[f64; 2]>,
+}
+
+impl Retimed {
+    /// The phase plane's curves, for the figure (each joint's torque-limit curve is found by
+    /// bisection at every grid point: about a millisecond per joint).
+    pub fn phase_plane(&self) -> PhasePlane {
+        phase::phase_plane(&self.grid, &self.limits, &self.profile, &self.controllable)
+    }
+}
+
+/// A command holding the path's first point: the trajectory to give
+/// [`crate::sim::Scenario::builder`] for the `base` of [`retime`] (retime replaces it).
+pub fn hold(path: &PathSpline) -> Trajectory {
+    let mut start = vec![0.0; path.dof()];
+    path.position(0.0, &mut start);
+    Trajectory::Interpolated(Interpolated::new(&[start.clone(), start], 1.0, Wrap::Repeat))
+}
+
+/// Plays `profile` along `path` in the closed loop of the scenario `base` builds, as
+/// [`retime`]'s check does (the timing at its grid points, [`timed_trajectory`], played as
+/// `faze4 replay` plays a file, [`command`]), and returns the run's summary: how a timing
+/// found elsewhere (another retimer) fares in faze4's loop.
+pub fn play(base: &ScenarioBuilder, path: &PathSpline, profile: &Profile, stop: &StopFlag) -> Result<Summary> {
+    let start = check::scenario(base, hold(path), 1.0, None)?;
+    let trajectory = timed_trajectory(profile, path, joint_names(&start.model));
+    let (command, duration) = command(&start.model, &trajectory)?;
+    let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
+    Ok(check::run_check(&scenario, stop)?.0)
+}
+
+/// The scenario that plays `trajectory` (a timing of [`retime`]) on `base` as `faze4 replay`
+/// plays its file: the check's, for a front end that records the run.
+pub fn replay_scenario(base: &ScenarioBuilder, trajectory: &TimedTrajectory) -> Result<crate::sim::Scenario> {
+    let (command, duration) = command(base.model(), trajectory)?;
+    base.clone()
+        .trajectory(command)
+        .duration(duration)
+        .command("replay (retimed)")
+        .build()
+}
+
+/// The model's joint names, in its order (the trajectory's columns).
+fn joint_names(model: &crate::model::Model) -> Vec<String> {
+    model.joints.iter().map(|j| j.name.clone()).collect()
+}
+
+/// The fastest timing of `path` that keeps the limits of the scenario `base` builds (its
+/// model with payload and motors, torque and speed limits), less `options.margin`, on a grid of
+/// `options.intervals`; then, with `options.check`, played in `base`'s closed loop and slowed
+/// where it fails, up to `options.attempts` runs. The check's scenario is `base` with the
+/// timing's command ([`command`]).
+///
+/// Errors: bad options; a path whose points do not fit the model or leave its joint limits
+/// ([`Error::BadPath`]); limits that no timing keeps, however slow
+/// ([`Error::NothingFollows`]); and whatever building the scenario reports. A timing that the
+/// checks never see follow is returned, its check's verdict saying why.
+pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions) -> Result<Retimed> {
+    options.check()?;
+    check_points(base.model(), path)?;
+    let start = check::scenario(base, hold(path), 1.0, None)?;
+    let model = &start.model;
+    let grid = grid::PathGrid::new(model, path, options.intervals);
+    check_between(model, path, &grid)?;
+    let limits = limits::Limits::of(&start, options.margin);
+    let mut solver = solve::Solver::new(&grid, &limits);
+    let n = grid.points();
+    let mut cap = vec![f64::INFINITY; n];
+    let mut slowed = vec![false; n];
+    let located = |e: Error| match e {
+        Error::NothingFollows {
+            s,
+            length,
+            joint,
+            message,
+            ..
+        } => Error::NothingFollows {
+            s,
+            length,
+            point: path.nearest_point(s),
+            joint,
+            message,
+        },
+        e => e,
+    };
+    let mut solved = solver.solve(&cap).map_err(located)?;
+    // the bound without the check's caps (a capped solve's relaxed profile is capped too)
+    let relaxed_duration = solved.relaxed_duration;
+    let names = joint_names(model);
+    let mut trajectory = timed_trajectory(&solved.profile, path, names.clone());
+    let mut check = None;
+    if options.check {
+        for attempt in 1..=options.attempts {
+            let (command, duration) = command(model, &trajectory)?;
+            let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
+            let (summary, failed_at) = check::run_check(&scenario, &options.stop)?;
+            let done = summary.verdict.follows || attempt == options.attempts || summary.interrupted_at_s.is_some();
+            let slowed_now = match done {
+                true => 0,
+                false => slow_down(&solved.profile, &failed_at, &mut cap, &mut slowed),
+            };
+            check = Some(Check {
+                summary,
+                attempts: attempt,
+                slowed_points: slowed.iter().filter(|&&s| s).count(),
+            });
+            if done || slowed_now == 0 {
+                break;
+            }
+            solved = solver.solve(&cap).map_err(located)?;
+            trajectory = timed_trajectory(&solved.profile, path, names.clone());
+        }
+    }
+    let bindings = solver.bindings(&solved.profile, &slowed);
+    let controllable = solver.controllable().to_vec();
+    Ok(Retimed {
+        trajectory,
+        profile: solved.profile,
+        bindings,
+        relaxed_duration,
+        iterations: solved.iterations,
+        check,
+        controllable,
+        limits,
+        grid,
+    })
+}
+
+/// Caps x at the failure's share of the profile's at the ends of every segment the timing
+/// spends within [`LOOKBACK_S`] before a failure (a failure after the end: the last segments).
+/// Returns how many points it capped lower.
+fn slow_down(profile: &Profile, failures: &[check::Failure], cap: &mut [f64], slowed: &mut [bool]) -> usize {
+    let mut capped = 0;
+    for f in failures {
+        let last = profile.interval_at(f.t);
+        let first = profile.interval_at(f.t - LOOKBACK_S);
+        for i in first..=last + 1 {
+            let limit = f.keep * profile.x[i];
+            if limit < cap[i] && profile.x[i] > 0.0 {
+                cap[i] = limit;
+                slowed[i] = true;
+                capped += 1;
+            }
+        }
+    }
+    capped
+}
+
+/// Every point of the path within the model's joints and their limits.
+fn check_points(model: &crate::model::Model, path: &PathSpline) -> Result<()> {
+    if path.dof() != model.dof() {
+        return Err(Error::BadPath {
+            point: None,
+            message: format!(
+                "points have {} values; the model has {} joints",
+                path.dof(),
+                model.dof()
+            ),
+        });
+    }
+    for (k, q) in path.points() {
+        for (j, (joint, &qj)) in model.joints.iter().zip(q).enumerate() {
+            if !joint.within_limits(qj) {
+                return Err(Error::BadPath {
+                    point: Some(k),
+                    message: format!(
+                        "{} is beyond its limits [{}, {}]",
+                        at_value(j, joint, qj),
+                        joint.lower,
+                        joint.upper
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The spline within the joint limits at every grid point (a cubic can overshoot between its
+/// points).
+fn check_between(model: &crate::model::Model, path: &PathSpline, grid: &grid::PathGrid) -> Result<()> {
+    let dof = grid.dof;
+    for i in 0..grid.points() {
+        for (j, joint) in model.joints.iter().enumerate() {
+            let qj = grid.q[i * dof + j];
+            if !joint.within_limits(qj) {
+                let s = grid.s[i];
+                let k = path
+                    .knots()
+                    .partition_point(|&x| x <= s)
+                    .clamp(1, path.knots().len() - 1);
+                let (a, b) = (
+                    path.nearest_point(path.knots()[k - 1]),
+                    path.nearest_point(path.knots()[k]),
+                );
+                return Err(Error::BadPath {
+                    point: None,
+                    message: format!(
+                        "the spline between points {a} and {b} reaches {}, beyond its limits [{}, {}]: add a point there or move them inside",
+                        at_value(j, joint, qj),
+                        joint.lower,
+                        joint.upper
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Joint j at `value`, for a message: `J2 ('nadlaktica') = 1.9 rad`.
+fn at_value(j: usize, joint: &crate::model::Joint, value: f64) -> String {
+    format!(
+        "J{} ({}) = {value} {}",
+        j + 1,
+        crate::error::quoted(&joint.name),
+        joint.kind.unit()
+    )
+}

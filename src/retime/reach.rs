@@ -1,0 +1,216 @@
+//! TOPP-RA's two passes on a grid (Pham & Pham 2018, "A New Approach to Time-Optimal Path
+//! Parameterization based on Reachability Analysis", IEEE T-RO 34(3); hungpham2511/toppra).
+//!
+//! The variables are x_i = ṡ² at grid point s_i and u_i = s̈ on [s_i, s_i+1], with
+//! x_{i+1} = x_i + 2Δ_i u_i (s̈ constant on each interval). Stage i's constraints are rows
+//! linear in (u, x), `α u + β x ≤ γ`, and a cap `0 ≤ x ≤ x̄_i`.
+//!
+//! * **Backward pass (controllable sets).** K_N = [0, 0] (rest at the end);
+//!   K_i = { x : ∃u, stage i's rows hold and x + 2Δ_i u ∈ K_{i+1} }. Each K_i is an interval,
+//!   the projection on x of a polygon in (u, x): its ends are two linear programs in two
+//!   variables, solved exactly here by eliminating u (Fourier–Motzkin): every pair of a row
+//!   bounding u from below (α < 0) and one from above (α > 0) gives
+//!   `(α⁺β⁻ − α⁻β⁺) x ≤ α⁺γ⁻ − α⁻γ⁺`, and rows without u bound x directly.
+//! * **Forward pass (greedy).** x_0 = 0; at each stage the largest u the rows and K_{i+1}
+//!   allow at x_i, then x_{i+1} = x_i + 2Δ_i u_i. Pham & Pham prove this profile time-optimal
+//!   on the grid (their Theorem 2).
+//!
+//! Nothing here allocates; the stages are given by a closure that writes stage i's rows.
+
+/// A row `α u + β x ≤ γ` of a stage.
+pub(crate) type Row = [f64; 3];
+
+/// The stages' rows (each stage the same number, `per_stage`) and caps, and the grid.
+#[derive(Clone, Debug)]
+pub(crate) struct Stages {
+    /// Rows, stage-major: (N + 1) × `per_stage`.
+    pub rows: Vec<Row>,
+    /// Rows per stage.
+    pub per_stage: usize,
+    /// x̄_i: the cap on x at each grid point (may be +∞).
+    pub cap: Vec<f64>,
+    /// Δ_i = s_{i+1} − s_i, N entries.
+    pub delta: Vec<f64>,
+}
+
+/// Why a pass could not go on: the grid point where the set of admissible x is empty.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Stuck(pub usize);
+
+/// Relative slack within which two bounds that cross are taken as equal (round-off).
+const ROUND_OFF: f64 = 1e-9;
+
+impl Stages {
+    /// Number of grid points N + 1.
+    pub fn points(&self) -> usize {
+        self.cap.len()
+    }
+
+    fn rows(&self, i: usize) -> &[Row] {
+        &self.rows[i * self.per_stage..(i + 1) * self.per_stage]
+    }
+
+    /// The controllable sets K_i = [lo, hi] into `k` (N + 1 entries), ending at rest.
+    pub fn controllable_sets(&self, k: &mut [[f64; 2]]) -> Result<(), Stuck> {
+        let n = self.points() - 1;
+        k[n] = match x_range(self.rows(n), None, self.cap[n]) {
+            Some([lo, _]) if lo <= 0.0 => [0.0, 0.0],
+            _ => return Err(Stuck(n)),
+        };
+        for i in (0..n).rev() {
+            let reach = (2.0 * self.delta[i], k[i + 1]);
+            k[i] = x_range(self.rows(i), Some(reach), self.cap[i]).ok_or(Stuck(i))?;
+        }
+        if k[0][0] > 0.0 {
+            return Err(Stuck(0));
+        }
+        Ok(())
+    }
+
+    /// The greedy forward pass from rest through the controllable sets `k`: x (N + 1) and u (N).
+    pub fn forward(&self, k: &[[f64; 2]], x: &mut [f64], u: &mut [f64]) {
+        let n = self.points() - 1;
+        x[0] = 0.0;
+        for i in 0..n {
+            let two_delta = 2.0 * self.delta[i];
+            let [lo_next, hi_next] = k[i + 1];
+            // u's range at x_i: every row, and x_i + 2Δu within K_{i+1}
+            let mut u_max = (hi_next - x[i]) / two_delta;
+            let mut u_min = (lo_next - x[i]) / two_delta;
+            for &[alpha, beta, gamma] in self.rows(i) {
+                if alpha > 0.0 {
+                    u_max = u_max.min((gamma - beta * x[i]) / alpha);
+                } else if alpha < 0.0 {
+                    u_min = u_min.max((gamma - beta * x[i]) / alpha);
+                }
+            }
+            // x_i is controllable, so u_min ≤ u_max up to round-off: keep x_{i+1} in K_{i+1}
+            let next = (x[i] + two_delta * u_max.max(u_min)).clamp(lo_next, hi_next);
+            x[i + 1] = next;
+            u[i] = (next - x[i]) / two_delta;
+        }
+    }
+}
+
+/// The range of x over the polygon of `rows`, 0 ≤ x ≤ `cap`, and (with `reach` = (2Δ, K))
+/// x + 2Δu ∈ K: eliminate u pairwise (see the module doc). `None` when empty beyond round-off.
+fn x_range(rows: &[Row], reach: Option<(f64, [f64; 2])>, cap: f64) -> Option<[f64; 2]> {
+    let mut lo = 0.0_f64;
+    let mut hi = cap;
+    // the reach rows: 2Δ u + x ≤ K_hi and −2Δ u − x ≤ −K_lo
+    let extra: [Row; 2] = match reach {
+        Some((two_delta, [k_lo, k_hi])) => [[two_delta, 1.0, k_hi], [-two_delta, -1.0, -k_lo]],
+        None => [[0.0, 0.0, 0.0]; 2],
+    };
+    let all = || rows.iter().chain(&extra);
+    for &[alpha, beta, gamma] in all() {
+        if alpha == 0.0 {
+            bound(beta, gamma, &mut lo, &mut hi)?;
+        }
+    }
+    for &[a_up, b_up, g_up] in all().filter(|r| r[0] > 0.0) {
+        for &[a_dn, b_dn, g_dn] in all().filter(|r| r[0] < 0.0) {
+            bound(a_up * b_dn - a_dn * b_up, a_up * g_dn - a_dn * g_up, &mut lo, &mut hi)?;
+        }
+    }
+    if lo > hi {
+        if lo - hi > ROUND_OFF * hi.abs().max(1.0) {
+            return None;
+        }
+        lo = hi;
+    }
+    Some([lo, hi])
+}
+
+/// Narrows [lo, hi] by `coefficient · x ≤ rhs`; `None` when a row without x fails.
+#[inline]
+fn bound(coefficient: f64, rhs: f64, lo: &mut f64, hi: &mut f64) -> Option<()> {
+    if coefficient > 0.0 {
+        *hi = hi.min(rhs / coefficient);
+    } else if coefficient < 0.0 {
+        *lo = lo.max(rhs / coefficient);
+    } else if rhs < -ROUND_OFF * rhs.abs().max(1.0) {
+        return None;
+    }
+    Some(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point mass on a line of length L with |s̈| ≤ A and ṡ ≤ V: the time-optimal profile is
+    /// bang-coast-bang, x = min(2As, V², 2A(L − s)), and TOPP-RA's grid profile equals it at
+    /// the grid points (s̈ is constant on each interval, so the collocation is exact).
+    #[test]
+    fn a_double_integrator_gets_bang_coast_bang() {
+        let (length, accel, speed) = (2.0, 3.0, 1.5);
+        let n = 400;
+        let delta = vec![length / n as f64; n];
+        let stages = Stages {
+            // u ≤ A, −u ≤ A
+            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
+            per_stage: 2,
+            cap: vec![speed * speed; n + 1],
+            delta,
+        };
+        let mut k = vec![[0.0; 2]; n + 1];
+        stages.controllable_sets(&mut k).unwrap();
+        let (mut x, mut u) = (vec![0.0; n + 1], vec![0.0; n]);
+        stages.forward(&k, &mut x, &mut u);
+        for (i, &xi) in x.iter().enumerate() {
+            let s = length * i as f64 / n as f64;
+            let want = (2.0 * accel * s).min(speed * speed).min(2.0 * accel * (length - s));
+            assert!((xi - want).abs() < 1e-12, "x at s = {s}: {xi} vs {want}");
+        }
+        assert!(u.iter().all(|&u| u.abs() <= accel + 1e-12));
+    }
+
+    /// A constraint coupling u and x (the torque rows' shape): |u + x| ≤ 1 on a short path.
+    /// Every step of the profile keeps the rows and the sets; the sets hold every x the
+    /// profile visits.
+    #[test]
+    fn the_profile_keeps_every_row_and_stays_in_the_sets() {
+        let n = 50;
+        let stages = Stages {
+            rows: (0..=n)
+                .flat_map(|i| {
+                    let b = 1.0 + 0.5 * (i as f64 * 0.3).sin();
+                    [[1.0, b, 1.0], [-1.0, -b, 1.0]]
+                })
+                .collect(),
+            per_stage: 2,
+            cap: vec![f64::INFINITY; n + 1],
+            delta: vec![0.01; n],
+        };
+        let mut k = vec![[0.0; 2]; n + 1];
+        stages.controllable_sets(&mut k).unwrap();
+        let (mut x, mut u) = (vec![0.0; n + 1], vec![0.0; n]);
+        stages.forward(&k, &mut x, &mut u);
+        for i in 0..n {
+            for &[a, b, g] in stages.rows(i) {
+                assert!(a * u[i] + b * x[i] <= g + 1e-12, "row at {i}");
+            }
+            assert!(x[i] >= k[i][0] - 1e-12 && x[i] <= k[i][1] + 1e-12);
+            assert!((x[i + 1] - x[i] - 2.0 * 0.01 * u[i]).abs() < 1e-15);
+        }
+        assert_eq!(x[n], 0.0);
+        assert!(x[n / 2] > 0.1);
+    }
+
+    /// A stage that holds no x (a row 0·u + 0·x ≤ −1) stops the backward pass there.
+    #[test]
+    fn an_empty_stage_is_reported() {
+        let n = 10;
+        let mut rows: Vec<Row> = (0..=n).flat_map(|_| [[1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]]).collect();
+        rows[2 * 4] = [0.0, 0.0, -1.0];
+        let stages = Stages {
+            rows,
+            per_stage: 2,
+            cap: vec![1.0; n + 1],
+            delta: vec![0.1; n],
+        };
+        let mut k = vec![[0.0; 2]; n + 1];
+        assert_eq!(stages.controllable_sets(&mut k), Err(Stuck(4)));
+    }
+}

@@ -1,0 +1,161 @@
+//! `retime` as both front ends run it: the path read as `replay` reads its file, the fastest
+//! timing the motors follow ([`crate::retime::retime`], its closed-loop check included), the
+//! timing written as a time-stamped trajectory file (`out`), the phase plane (`plot`), and the
+//! run's other outputs (trail, summary, HTML, the motors' plot, the live view) from the
+//! checked timing played once more as `replay` plays the file.
+
+use super::{Finished, Prepared, write_summary};
+use crate::atomic::Outputs;
+use crate::config::{Loaded, Motion, Replayed, RunConfig};
+use crate::error::{Error, Result};
+use crate::retime::{Binding, PathSpline, Retimed, replay_scenario};
+use crate::sim::{Recorder, StopFlag, Summary, Warning};
+use crate::traj::files;
+use crate::viz::PhasePlot;
+
+/// What a retime gives back.
+pub struct RetimeFinished {
+    /// The timing, its bindings and its check.
+    pub retimed: Retimed,
+    /// The summary of the checked timing's run (the check's last run, or the same run played
+    /// again with the outputs).
+    pub summary: Summary,
+    /// The input's own timing (s): a time-stamped file's last time, a `.npy`'s `traj_period`.
+    pub own_duration: Option<f64>,
+    /// The replay with the outputs, when any was asked for (trail, HTML, motors' plot, view).
+    pub replayed: Option<Finished>,
+}
+
+/// Retimes the path `config` (a [`Motion::Retime`]) names, or `replayed`, into `files` (the
+/// caller commits them): every output path claimed first, `warn` told the warnings, then the
+/// timing found and checked, `out` and `plot` written, and, when the trail, HTML, the
+/// motors' plot or the live view are asked for, the timing played once more with them (a run
+/// as deterministic as the check's: the same summary). `extra` records that run.
+pub fn retime(
+    config: &RunConfig,
+    replayed: Option<Replayed>,
+    files: &Outputs,
+    extra: &mut [&mut dyn Recorder],
+    stop: &StopFlag,
+    warn: impl FnOnce(&[Warning]),
+) -> Result<RetimeFinished> {
+    let Motion::Retime(r) = &config.motion else {
+        return Err(Error::argument(
+            "retime",
+            format!("cannot retime a {}", config.motion.name()),
+        ));
+    };
+    let loaded = Loaded::load(config, replayed)?;
+    let base = loaded.builder(config)?;
+    let start = base.clone().build()?;
+    let out = &config.outputs;
+    for (path, field) in [(r.out.as_ref(), "out"), (out.plot.as_ref(), "plot")] {
+        if let Some(path) = path {
+            files.claim(path, &format!("`{field}`"))?;
+        }
+    }
+    let plot = out.plot.as_ref().map(PhasePlot::new).transpose()?;
+    // the run's own outputs, opened by session::run (the figure is the phase plane here)
+    let mut played_config = config.clone();
+    played_config.outputs.plot = None;
+    let records = out.trail.is_some() || out.html.is_some() || out.plot_motors.is_some() || out.view || out.hold;
+    let mut warnings = start.warnings.clone();
+    warnings.extend(loaded.warnings.iter().cloned());
+    let model = &start.model;
+    let path = PathSpline::through(&loaded.path_points(model, &r.path.q_traj)?)?;
+    let retimed = crate::retime::retime(&base, &path, &r.options(stop.clone()))?;
+    let mut summary = retimed
+        .check
+        .as_ref()
+        .map(|c| c.summary.clone())
+        .expect("retime's command checks its timing");
+    let replayed = match records && summary.interrupted_at_s.is_none() {
+        true => {
+            let prepared = Prepared {
+                config: played_config,
+                scenario: replay_scenario(&base, &retimed.trajectory)?,
+                warnings,
+            };
+            let finished = super::run(&prepared, files, extra, stop, warn)?;
+            summary = finished.summary.clone();
+            Some(finished)
+        }
+        false => {
+            warn(&warnings);
+            if let Some(path) = &out.summary {
+                write_summary(files, path, &summary)?;
+            }
+            None
+        }
+    };
+    if let Some(path) = &r.out {
+        files::write_within(files, path, &retimed.trajectory)?;
+    }
+    if let Some(plot) = plot {
+        let names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
+        plot.within(files).write(&retimed, &model.name, &names, r.margin)?;
+    }
+    Ok(RetimeFinished {
+        own_duration: loaded.own_duration(r.path.traj_period),
+        retimed,
+        summary,
+        replayed,
+    })
+}
+
+/// The lines a retime prints before its verdict: the duration and the speed-up over the
+/// input's own timing, what binds along the path (consecutive segments with the same limit
+/// as one range of s and t), and the check.
+pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) -> String {
+    let retimed = &finished.retimed;
+    let p = &retimed.profile;
+    let duration = p.duration();
+    let mut text = format!(
+        "retime: {duration:.4} s over {} grid intervals of s in [0, {:.4}]",
+        p.u.len(),
+        p.s.last().copied().unwrap_or(0.0)
+    );
+    if let Some(own) = finished.own_duration {
+        text.push_str(&format!("; the input's own timing {own:.4} s ({:.2}x)", own / duration));
+    }
+    text.push_str(&format!(
+        "; none is faster than {:.4} s (the relaxed bound: every torque limit at its standstill value)\n",
+        retimed.relaxed_duration
+    ));
+    for (first, last, binding) in ranges(&retimed.bindings) {
+        let what = match binding.binds() {
+            true => binding.to_string(),
+            false => format!("towards a limit further on ({binding} nearest)"),
+        };
+        text.push_str(&format!(
+            "  s {:>8.4} to {:>8.4}   t {:>7.4} to {:>7.4} s   {what}\n",
+            p.s[first],
+            p.s[last + 1],
+            p.t[first],
+            p.t[last + 1]
+        ));
+    }
+    if let Some(c) = &retimed.check {
+        text.push_str(&format!(
+            "checked in the closed loop: {} run{}, {} grid point{} slowed{}\n",
+            c.attempts,
+            if c.attempts == 1 { "" } else { "s" },
+            c.slowed_points,
+            if c.slowed_points == 1 { "" } else { "s" },
+            out.map_or(String::new(), |p| format!("; wrote {}", p.display()))
+        ));
+    }
+    text
+}
+
+/// Consecutive segments that the same limit shapes, as (first, last, binding).
+fn ranges(bindings: &[Binding]) -> Vec<(usize, usize, Binding)> {
+    let mut ranges: Vec<(usize, usize, Binding)> = Vec::new();
+    for (i, b) in bindings.iter().enumerate() {
+        match ranges.last_mut() {
+            Some((_, last, r)) if r.joint == b.joint && r.limit == b.limit && r.binds() == b.binds() => *last = i,
+            _ => ranges.push((i, i, *b)),
+        }
+    }
+    ranges
+}

@@ -1,0 +1,490 @@
+//! retime from the library: what it promises about its timing (the envelopes kept at every grid
+//! point, the phase plane, the trajectory it hands the writers), the closed-loop check slowing
+//! what fails, the figure, and the one-line errors for bad paths and limits nothing follows.
+
+mod common;
+
+use common::repo_path;
+use faze4::Error;
+use faze4::algo::{Data, rnea};
+use faze4::model::Model;
+use faze4::retime::{DEFAULT_MARGIN, PathSpline, RetimeOptions, Retimed, hold, retime};
+use faze4::sim::{Scenario, ScenarioBuilder};
+use faze4::viz::PhasePlot;
+
+fn circle() -> PathSpline {
+    let points = faze4::traj::npy::read_samples(&repo_path("tests/fixtures/shape_circle_q.npy")).unwrap();
+    PathSpline::through(&points).unwrap()
+}
+
+/// `model` behind the Faze4's steppers (`--motors faze4`): their ratios and rotors fitted to it.
+fn with_motors(model: &Model, path: &PathSpline) -> ScenarioBuilder {
+    let mut motored = model.clone();
+    let motors = faze4::config::motors::fit(&mut motored, Some(faze4::faze4::motors::faze4(None)), &[], &[]);
+    Scenario::builder(motored, hold(path)).motors(motors.unwrap().unwrap())
+}
+
+fn no_check() -> RetimeOptions {
+    RetimeOptions {
+        check: false,
+        ..RetimeOptions::default()
+    }
+}
+
+/// At every grid point s_i, with the path speed there and the path acceleration of the interval
+/// that starts there (TOPP-RA's collocation: the pair its stage i keeps), the torque the motion
+/// needs (inverse dynamics plus damping) is within what each motor gives at the joint's speed
+/// there, less the margin: the envelope is kept, not its linear bound.
+#[test]
+fn the_timing_keeps_every_envelope_at_every_grid_point() {
+    let model = faze4::faze4::model();
+    let path = circle();
+    let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
+    let motors = faze4::faze4::motors::faze4(None);
+    let p = &timed.profile;
+    let n = model.dof();
+    let mut data = Data::new(&model);
+    let mut motored = model.clone();
+    for (joint, m) in motored.joints.iter_mut().zip(&motors) {
+        let m = m.as_ref().unwrap();
+        joint.gear_ratio = m.gear_ratio.unwrap();
+        joint.rotor_inertia = m.rotor_inertia.unwrap();
+    }
+    let (mut q, mut dq, mut ddq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let keep = 1.0 - DEFAULT_MARGIN;
+    for i in 0..p.u.len() {
+        path.eval(p.s[i], &mut q, &mut dq, &mut ddq);
+        let sd = p.x[i].sqrt();
+        let qd: Vec<f64> = dq.iter().map(|d| d * sd).collect();
+        {
+            let u = p.u[i];
+            let qdd: Vec<f64> = dq.iter().zip(&ddq).map(|(d1, d2)| d1 * u + d2 * p.x[i]).collect();
+            let tau = rnea(&motored, &mut data, &q, &qd, &qdd).clone();
+            for j in 0..n {
+                let m = motors[j].as_ref().unwrap();
+                let (lo, hi) = m.motor.joint_bounds(m.gear_ratio.unwrap(), qd[j]);
+                let needed = tau[j] + model.joints[j].damping * qd[j];
+                let tol = 1e-9 * hi.abs().max(1.0);
+                assert!(
+                    needed <= keep * hi + tol && needed >= keep * lo - tol,
+                    "J{} at grid point {i}: needs {needed}, the timing may use [{}, {}]",
+                    j + 1,
+                    keep * lo,
+                    keep * hi
+                );
+            }
+        }
+    }
+    // what binds, binds: no constraint is beyond its limit, and every segment names one
+    assert!(
+        timed.bindings.iter().all(|b| b.slack >= -1e-9),
+        "a constraint is violated"
+    );
+    assert!(timed.bindings.iter().filter(|b| b.binds()).count() > timed.bindings.len() / 2);
+}
+
+/// The relaxed bound (each motor's holding torque, constant) is faster; the envelope rounds
+/// are slower by what the motors lose with speed, and never faster than the bound.
+#[test]
+fn the_relaxed_duration_bounds_the_timing_from_below() {
+    let model = faze4::faze4::model();
+    let path = circle();
+    let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
+    assert!(timed.iterations >= 2);
+    assert!(timed.relaxed_duration < timed.profile.duration());
+    // the holding-torque timing as constant limits (the motors' standstill torque as effort)
+    let holding: Vec<f64> = (faze4::faze4::motors::faze4(None).iter())
+        .map(|m| {
+            let m = m.as_ref().unwrap();
+            m.motor.joint_limit(m.gear_ratio.unwrap())
+        })
+        .collect();
+    let constant = retime(&with_motors(&model, &path).effort(holding.clone()), &path, &no_check()).unwrap();
+    assert!((constant.relaxed_duration - timed.relaxed_duration).abs() < 1e-9 * timed.relaxed_duration);
+}
+
+/// The phase plane: the profile is under every joint's torque-limit curve (the true envelope)
+/// and the speed-limit curve, and within the controllable sets.
+#[test]
+fn the_phase_plane_holds_the_profile_under_its_limits() {
+    let model = faze4::faze4::model();
+    let path = circle();
+    let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
+    let plane = timed.phase_plane();
+    assert_eq!(plane.s.len(), timed.profile.s.len());
+    assert_eq!(plane.torque_limit.len(), 6);
+    for i in 0..plane.s.len() {
+        let sd = plane.profile[i];
+        assert!(sd <= plane.speed_limit[i] * (1.0 + 1e-9), "speed at {i}");
+        assert!(
+            sd <= plane.controllable[i] * (1.0 + 1e-9) + 1e-12,
+            "controllable at {i}"
+        );
+        for (j, curve) in plane.torque_limit.iter().enumerate() {
+            assert!(
+                sd <= curve[i] * (1.0 + 1e-6) + 1e-9,
+                "J{} torque limit at {i}: {sd} > {}",
+                j + 1,
+                curve[i]
+            );
+        }
+    }
+    // the profile touches the torque limits somewhere (a switch point of the time-optimal profile)
+    let touches = (1..plane.s.len() - 1).any(|i| {
+        let lowest = plane.torque_limit.iter().map(|c| c[i]).fold(f64::INFINITY, f64::min);
+        plane.profile[i] > 0.99 * lowest
+    });
+    assert!(touches);
+}
+
+/// The trajectory for the writers: one point per grid point, times increasing from 0 (the
+/// profile's, to the nanosecond the ROS formats hold), the spline's positions, velocities q'ṡ,
+/// at rest at both ends.
+#[test]
+fn the_trajectory_is_the_timing_at_the_grid_points() {
+    let model = faze4::faze4::model();
+    let path = circle();
+    let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
+    let t = &timed.trajectory;
+    let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(t.joint_names, names);
+    assert_eq!(t.points.len(), 201);
+    assert_eq!(t.points[0].time_from_start, 0.0);
+    assert!(t.points.windows(2).all(|w| w[1].time_from_start > w[0].time_from_start));
+    for (point, &ti) in t.points.iter().zip(&timed.profile.t) {
+        assert!(
+            (point.time_from_start - ti).abs() <= 0.5e-9,
+            "{} vs {ti}",
+            point.time_from_start
+        );
+        let ns = faze4::traj::timed::nanoseconds(point.time_from_start);
+        assert_eq!(point.time_from_start, faze4::traj::timed::seconds_from_nanoseconds(ns));
+    }
+    let (mut q, mut dq, mut ddq) = (vec![0.0; 6], vec![0.0; 6], vec![0.0; 6]);
+    for (i, point) in t.points.iter().enumerate() {
+        path.eval(timed.profile.s[i], &mut q, &mut dq, &mut ddq);
+        assert_eq!(point.positions, q);
+        for j in 0..6 {
+            assert!((point.velocities[j] - dq[j] * timed.profile.x[i].sqrt()).abs() < 1e-12);
+        }
+    }
+    assert!(
+        t.points[0]
+            .velocities
+            .iter()
+            .chain(&t.points[200].velocities)
+            .all(|v| *v == 0.0)
+    );
+}
+
+/// Without a margin the circle's first timing asks the steppers for all they give, and the
+/// loop's feedback asks for more: the check sees steps lost, slows those segments and tries
+/// again until the loop follows.
+#[test]
+fn the_check_slows_what_fails_until_it_follows() {
+    let model = faze4::faze4::model();
+    let path = circle();
+    let base = with_motors(&model, &path);
+    let bare = RetimeOptions {
+        margin: 0.0,
+        ..RetimeOptions::default()
+    };
+    let unchecked = retime(
+        &base,
+        &path,
+        &RetimeOptions {
+            check: false,
+            ..bare.clone()
+        },
+    )
+    .unwrap();
+    let first = retime(
+        &base,
+        &path,
+        &RetimeOptions {
+            attempts: 1,
+            ..bare.clone()
+        },
+    )
+    .unwrap();
+    let first_check = first.check.as_ref().unwrap();
+    assert!(!first_check.summary.verdict.follows);
+    assert_eq!(first.profile, unchecked.profile);
+    let checked = retime(&base, &path, &bare).unwrap();
+    let check = checked.check.as_ref().unwrap();
+    assert!(check.summary.verdict.follows, "{}", check.summary.verdict);
+    assert!(check.attempts > 1 && check.slowed_points > 0);
+    assert!(checked.profile.duration() > unchecked.profile.duration());
+    assert!(checked.bindings.iter().any(|b| b.limit == faze4::retime::Limit::Slowed));
+}
+
+/// The figure as SVG (with its title and the joints' names) and as PNG.
+#[test]
+fn the_phase_plane_figure_is_written() {
+    let model = faze4::faze4::model();
+    let path = circle();
+    let timed: Retimed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
+    let dir = common::temp_dir("retime_plot");
+    let names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
+    let svg = dir.join("phase.svg");
+    PhasePlot::new(&svg)
+        .unwrap()
+        .write(&timed, &model.name, &names, DEFAULT_MARGIN)
+        .unwrap();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("phase plane") && text.contains("J2 nadlaktica torque"));
+    let png = dir.join("phase.png");
+    PhasePlot::new(&png)
+        .unwrap()
+        .write(&timed, &model.name, &names, DEFAULT_MARGIN)
+        .unwrap();
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    let wrong = PhasePlot::new(dir.join("phase.jpg")).unwrap_err();
+    assert!(wrong.to_string().starts_with("`plot`"), "{wrong}");
+}
+
+/// Each bad input: its error, one line naming the cause.
+#[test]
+fn bad_paths_and_limits_give_one_line() {
+    let model = faze4::faze4::model();
+    let one_line = |e: Error| {
+        let text = e.to_string();
+        assert!(!text.contains('\n'), "{text}");
+        text
+    };
+    // fewer than two (distinct) points
+    let e = PathSpline::through(&[vec![0.0; 6]]).unwrap_err();
+    assert!(matches!(e, Error::BadPath { point: None, .. }));
+    assert!(one_line(e).contains("at least two distinct points"));
+    let e = PathSpline::through(&[vec![0.1; 6], vec![0.1; 6]]).unwrap_err();
+    assert!(one_line(e).contains("2 points (1 distinct)"));
+    assert!(one_line(PathSpline::through(&[]).unwrap_err()).contains("no points"));
+    // NaN
+    let mut points = vec![vec![0.0; 6], vec![0.1; 6], vec![0.2; 6]];
+    points[1][2] = f64::NAN;
+    let e = PathSpline::through(&points).unwrap_err();
+    assert!(matches!(e, Error::BadPath { point: Some(1), .. }));
+    assert_eq!(one_line(e), "retime: path point 1: J3 is NaN, not a finite number");
+    // rows of different lengths
+    let e = PathSpline::through(&[vec![0.0; 6], vec![0.0; 5]]).unwrap_err();
+    assert!(one_line(e).contains("point 1: has 5 values; the first point has 6"));
+    // a point beyond a joint limit (J2 'nadlaktica' is limited to ±2.094 rad)
+    let mut points = vec![vec![0.0; 6], vec![0.1; 6], vec![0.2; 6]];
+    points[2][1] = 2.5;
+    let path = PathSpline::through(&points).unwrap();
+    let base = Scenario::builder(model.clone(), hold(&path));
+    let e = retime(&base, &path, &no_check()).unwrap_err();
+    assert!(matches!(e, Error::BadPath { point: Some(2), .. }));
+    let text = one_line(e);
+    assert!(
+        text.contains("J2 ('nadlaktica') = 2.5 rad is beyond its limits"),
+        "{text}"
+    );
+    // points inside whose spline leaves the limits between them
+    let points: Vec<Vec<f64>> = [0.0, 2.0, 2.09, 0.0]
+        .iter()
+        .map(|&x| vec![0.0, x, 0.0, 0.0, 0.0, 0.0])
+        .collect();
+    let path = PathSpline::through(&points).unwrap();
+    let e = retime(&Scenario::builder(model.clone(), hold(&path)), &path, &no_check()).unwrap_err();
+    let text = one_line(e);
+    assert!(
+        text.contains("the spline between points") && text.contains("J2"),
+        "{text}"
+    );
+    // points of another arm
+    let path = PathSpline::through(&[vec![0.0; 5], vec![0.1; 5]]).unwrap();
+    let e = retime(
+        &Scenario::builder(
+            model.clone(),
+            hold(&PathSpline::through(&[vec![0.0; 6], vec![0.1; 6]]).unwrap()),
+        ),
+        &path,
+        &no_check(),
+    )
+    .unwrap_err();
+    assert!(one_line(e).contains("points have 5 values; the model has 6 joints"));
+    // limits so tight nothing follows: 0.5 N·m cannot hold the Faze4's shoulder out of vertical
+    let points = vec![vec![0.0, 0.3, 0.0, 0.0, 0.0, 0.0], vec![0.0, 0.8, 0.0, 0.0, 0.0, 0.0]];
+    let path = PathSpline::through(&points).unwrap();
+    let weak = Scenario::builder(model.clone(), hold(&path)).effort(vec![0.5; 6]);
+    let e = retime(&weak, &path, &no_check()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::NothingFollows {
+                joint: Some(faze4::id::JointId(1)),
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    let text = one_line(e);
+    assert!(
+        text.starts_with("retime: nothing follows at s = ") && text.contains("): J2 needs "),
+        "{text}"
+    );
+    // bad options
+    let path = PathSpline::through(&[vec![0.0; 6], vec![0.1; 6]]).unwrap();
+    let base = Scenario::builder(model.clone(), hold(&path));
+    for (options, option) in [
+        (
+            RetimeOptions {
+                margin: 1.0,
+                ..no_check()
+            },
+            "`margin`",
+        ),
+        (
+            RetimeOptions {
+                margin: f64::NAN,
+                ..no_check()
+            },
+            "`margin`",
+        ),
+        (
+            RetimeOptions {
+                intervals: 0,
+                ..no_check()
+            },
+            "`grid`",
+        ),
+        (
+            RetimeOptions {
+                attempts: 0,
+                ..no_check()
+            },
+            "`attempts`",
+        ),
+    ] {
+        let text = one_line(retime(&base, &path, &options).unwrap_err());
+        assert!(text.starts_with(option), "{text}");
+    }
+}
+
+/// A straight line between two points (the spline is the line, q'' = 0) under a constant torque
+/// limit on the one joint that moves: a constant acceleration limit a = E/M_11, bang-bang,
+/// duration 2√(L/a).
+#[test]
+fn a_line_under_a_constant_acceleration_is_bang_bang() {
+    // J1 alone turns: without gravity and damping only its inertia M_11 resists, constant (the
+    // joints that set it stay put); the other joints' limits out of reach
+    let mut model = faze4::faze4::model();
+    model.joints.iter_mut().for_each(|j| j.damping = 0.0);
+    let points = vec![vec![-0.5, 0.0, 0.0, 0.0, 0.0, 0.0], vec![0.5, 0.0, 0.0, 0.0, 0.0, 0.0]];
+    let path = PathSpline::through(&points).unwrap();
+    let base = Scenario::builder(model.clone(), hold(&path))
+        .effort(vec![2.0, 100.0, 100.0, 100.0, 100.0, 100.0])
+        .gravity(false);
+    let timed = retime(
+        &base,
+        &path,
+        &RetimeOptions {
+            margin: 0.0,
+            ..no_check()
+        },
+    )
+    .unwrap();
+    let m11 = faze4::algo::crba(&model, &mut Data::new(&model), &[0.0; 6])[(0, 0)];
+    let a = 2.0 / m11;
+    let expected = 2.0 * (1.0_f64 / a).sqrt(); // L = 1 rad: accelerate over 0.5, brake over 0.5
+    let got = timed.profile.duration();
+    assert!((got - expected).abs() < 1e-9 * expected, "{got} vs {expected}");
+}
+
+/// The walk-through on the real binary: `retime` of the circle's samples under the
+/// Faze4's steppers writes a timing that `replay` plays to "follows", as the same run as retime's
+/// check (the summaries agree); every output format plays back alike; a bad path is one line
+/// with status 2; a path nothing follows is its reason, status 3 under `--strict`.
+#[test]
+fn retime_then_replay_follows_on_the_binary() {
+    let dir = common::temp_dir("retime-cli");
+    let circle = repo_path("tests/fixtures/shape_circle_q.npy");
+    let circle = circle.to_str().unwrap();
+    let run = common::faze4(
+        &dir,
+        &[
+            "retime",
+            "--q-traj",
+            circle,
+            "--motors",
+            "faze4",
+            "--out",
+            "circle.yaml",
+            "--summary",
+            "retimed.json",
+            "--trail",
+            "none",
+            "--plot",
+            "phase.svg",
+        ],
+    );
+    assert!(run.status.success(), "{}{}", run.stdout, run.stderr);
+    let last = run.stdout.lines().last().unwrap();
+    assert_eq!(last, "verdict: follows", "{}", run.stdout);
+    assert!(run.stdout.starts_with("retime: "), "{}", run.stdout);
+    assert!(std::fs::read_to_string(dir.join("phase.svg")).unwrap().contains("<svg"));
+    let retimed = common::summary(&dir, "retimed.json");
+    let played = common::faze4(
+        &dir,
+        &[
+            "replay",
+            "--q-traj",
+            "circle.yaml",
+            "--motors",
+            "faze4",
+            "--summary",
+            "replayed.json",
+            "--trail",
+            "none",
+            "--quiet",
+        ],
+    );
+    assert!(played.status.success(), "{}", played.stderr);
+    assert_eq!(played.stdout.trim(), "verdict: follows");
+    let replayed = common::summary(&dir, "replayed.json");
+    assert_eq!(retimed["verdict"], replayed["verdict"]);
+    assert_eq!(retimed["joints"], replayed["joints"], "the check is the replay's run");
+    // the other formats hold the same timing
+    let timed = faze4::traj::files::read(&dir.join("circle.yaml"), &Default::default()).unwrap();
+    for out in ["circle.json", "circle.csv", "circle.mcap"] {
+        let run = common::faze4(
+            &dir,
+            &[
+                "retime", "--q-traj", circle, "--motors", "faze4", "--out", out, "--trail", "none", "--quiet",
+            ],
+        );
+        assert!(run.status.success(), "{out}: {}", run.stderr);
+        let again = faze4::traj::files::read(&dir.join(out), &Default::default()).unwrap();
+        assert_eq!(again.points.len(), timed.points.len(), "{out}");
+        let (a, b) = (&again.points.last().unwrap(), &timed.points.last().unwrap());
+        assert_eq!(a.time_from_start, b.time_from_start, "{out}");
+    }
+    // bad paths: one line, status 2
+    faze4::traj::npy::write_samples(&dir.join("one.npy"), &[vec![0.0; 6]]).unwrap();
+    let bad = common::faze4(&dir, &["retime", "--q-traj", "one.npy", "--out", "x.yaml"]);
+    assert_eq!(bad.status.code(), Some(2), "{}", bad.stderr);
+    assert_eq!(bad.stderr.lines().count(), 1, "{}", bad.stderr);
+    assert!(!dir.join("x.yaml").exists());
+    // nothing follows: a payload the motors cannot hold up
+    for (strict, code) in [(true, 3), (false, 2)] {
+        let mut args = vec![
+            "retime",
+            "--q-traj",
+            circle,
+            "--motors",
+            "faze4",
+            "--payload-kg",
+            "30",
+            "--out",
+            "x.yaml",
+        ];
+        if strict {
+            args.push("--strict");
+        }
+        let run = common::faze4(&dir, &args);
+        assert_eq!(run.status.code(), Some(code), "{}", run.stderr);
+        assert!(run.stderr.contains("nothing follows"), "{}", run.stderr);
+        assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    }
+}
