@@ -15,7 +15,10 @@ equals the binary's ``--summary`` JSON. Messages name options as keywords (``dt`
 binary names flags (``--dt``). Two defaults differ, because a Python call returns what the
 binary writes: ``trail="none"`` (the trail is in ``Run.t``, ``Run.q``, ...; give a path to write
 the CSV too) and ``quiet=True`` (nothing is printed; ``quiet=False`` prints the progress lines).
-Bad input raises :class:`Error`; a value of the wrong type raises ``TypeError``.
+Bad input raises :class:`Error`; a value of the wrong type raises ``TypeError``; with
+``strict=True`` a run whose arm does not follow raises :class:`CannotFollow`, which carries the
+run. A :class:`Robot` pickles and copies (by its options), so it goes to ``multiprocessing``
+workers.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from __future__ import annotations
 import inspect
 import json
 import os
+import sys
 from collections import namedtuple
 from typing import Any
 
@@ -31,7 +35,38 @@ import numpy as np
 from . import _faze4
 from ._faze4 import Error, __version__
 
-__all__ = ["Error", "Robot", "Run", "wave", "replay", "shape", "sweep", "find", "options", "__version__"]
+__all__ = [
+    "Error",
+    "CannotFollow",
+    "Robot",
+    "Run",
+    "Found",
+    "Option",
+    "wave",
+    "replay",
+    "shape",
+    "sweep",
+    "find",
+    "options",
+    "__version__",
+]
+
+
+def __dir__() -> list[str]:
+    """The public API only (``__all__``)."""
+    return sorted(__all__)
+
+
+class CannotFollow(Error):
+    """A run with ``strict=True`` whose arm does not follow its command (the binary's exit
+    status 3): the message is the verdict line; ``run`` is the :class:`Run`."""
+
+    def __init__(self, verdict: str, run: Run | None = None):
+        super().__init__(verdict)
+        self.run = run
+
+    def __reduce__(self):
+        return (CannotFollow, (str(self), self.run))
 
 #: An option of a command as the binary's clap definition declares it.
 Option = namedtuple("Option", "name long kind repeated required default choices help")
@@ -117,6 +152,14 @@ class Robot(_faze4.Robot):
         robot._options = options
         return robot
 
+    def __reduce__(self):
+        # pickled and copied by its options: the model is read again from them
+        return (_robot, (type(self), dict(getattr(self, "_options", {}))))
+
+
+def _robot(cls: type[Robot], options: dict[str, Any]) -> Robot:
+    return cls._load(options)
+
 
 class Run:
     """What a run did.
@@ -172,17 +215,61 @@ def _options(command: str, robot: Robot, options: dict[str, Any]) -> dict[str, A
     return {**PYTHON_DEFAULTS, **_robot_options(robot), **_given(options)}
 
 
-def _run(command: str, robot: Robot, options: dict[str, Any], frames=None) -> Run:
-    return Run(*_faze4._run(command, _options(command, robot, options), frames))
+def _timed(path: str, frames, t: Any, v: Any, a: Any, joint_names: Any):
+    """A replay's time stamps and what goes with them (``t``, ``v``, ``a``, ``joint_names``), as
+    the binding takes them; ``None`` without ``t``."""
+    if t is None:
+        for name, given in (("v", v), ("a", a), ("joint_names", joint_names)):
+            if given is not None:
+                raise Error(f"{name}: goes with the time stamps t=")
+        return None
+    if frames is None:
+        raise Error(f"t: time stamps go with positions given as an array, not a file ({path}: its own times)")
+
+    def real(name: str, value: Any, ndim: int):
+        if value is None:
+            return None
+        array = np.asarray(value)
+        if array.dtype.kind not in "fiu":
+            raise TypeError(f"{name}: dtype {array.dtype} is not a real number type (float64 expected)")
+        if array.ndim != ndim:
+            raise Error(f"{name}: shape {array.shape}; expected {'(N,)' if ndim == 1 else '(N, J)'}")
+        return np.ascontiguousarray(array, dtype=np.float64)
+
+    names = None if joint_names is None else [str(n) for n in joint_names]
+    return (real("t", t, 1), real("v", v, 2), real("a", a, 2), names)
+
+
+#: What goes with a replay's positions when they are time-stamped.
+_TIMED = ("t", "v", "a", "joint_names")
+
+
+def _run(command: str, robot: Robot, options: dict[str, Any], frames=None, timed=None) -> Run:
+    merged = _options(command, robot, options)
+    quiet = bool(merged.get("quiet", True))
+    if not quiet:
+        sys.stdout.flush()  # the progress lines come from the binding, after what Python printed
+    *fields, printed, diverged = _faze4._run(command, merged, frames, timed)
+    run = Run(*fields)
+    if not quiet:
+        for line in run.warnings:
+            print(f"faze4: {line}", file=sys.stderr)
+        print(printed + run.verdict, flush=True)
+        if diverged:
+            print(f"faze4: {diverged}", file=sys.stderr)
+    if merged.get("strict") and not run.follows:
+        raise CannotFollow(run.verdict, run)
+    return run
 
 
 def wave(robot: Robot, **options: Any) -> Run:
     return _run("wave", robot, options)
 
 
-def replay(robot: Robot, q_traj: Any, **options: Any) -> Run:
+def replay(robot: Robot, q_traj: Any, t: Any = None, v: Any = None, a: Any = None, joint_names: Any = None, **options: Any) -> Run:
     path, frames = _q_traj(q_traj)
-    return _run("replay", robot, {**options, "q_traj": path}, frames)
+    timed = _timed(path, frames, t, v, a, joint_names)
+    return _run("replay", robot, {**options, "q_traj": path}, frames, timed)
 
 
 def shape(robot: Robot, shape: str, **options: Any) -> Run:
@@ -190,15 +277,19 @@ def shape(robot: Robot, shape: str, **options: Any) -> Run:
 
 
 def _base(command: str, robot: Robot, options: dict[str, Any]):
+    """A sweep's or a search's keywords, and a replay's arrays (``q_traj``, with ``t``, ``v``,
+    ``a``, ``joint_names`` for a time-stamped one)."""
     if command not in _RUN_COMMANDS:
         raise Error(f"command: '{command}' is not one of wave, replay, shape")
-    frames = None
+    frames = timed = None
     if command == "replay":
         if "q_traj" not in options:
             raise Error("q_traj: a replay sweep needs q_traj=")
+        arrays = {k: options.pop(k, None) for k in _TIMED}
         path, frames = _q_traj(options["q_traj"])
+        timed = _timed(path, frames, **arrays)
         options = {**options, "q_traj": path}
-    return _options(command, robot, options), frames
+    return _options(command, robot, options), frames, timed
 
 
 def _row(names, values, summary_json, failure) -> dict[str, Any]:
@@ -208,7 +299,7 @@ def _row(names, values, summary_json, failure) -> dict[str, Any]:
 
 
 def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **options: Any) -> list[dict[str, Any]]:
-    merged, frames = _base(command, robot, options)
+    merged, frames, timed = _base(command, robot, dict(options))
     if not vary:
         raise Error("vary: nothing to vary: give vary={'payload_kg': [...]}")
     specs = []
@@ -221,7 +312,7 @@ def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **opt
                 raise Error(f"vary: {name}: shape {array.shape}; give a list of values")
             text = ",".join(_text(v) for v in array)
         specs += [f"{name}={text}"]
-    rows, warnings = _faze4._sweep(command, merged, specs, int(jobs), frames)
+    rows, warnings = _faze4._sweep(command, merged, specs, int(jobs), frames, timed)
     names = list(vary)
     return [_row(names, *r) for r in rows]
 
@@ -236,11 +327,11 @@ def find(
     smallest: bool = False,
     jobs: int = 0,
     **options: Any,
-) -> dict[str, Any]:
-    merged, frames = _base(command, robot, options)
+) -> Found:
+    merged, frames, timed = _base(command, robot, dict(options))
     resolution = None if resolution is None else float(resolution)
     kind, line, follows, fails, warnings = _faze4._find(
-        command, merged, name, float(lo), float(hi), resolution, bool(smallest), int(jobs), frames
+        command, merged, name, float(lo), float(hi), resolution, bool(smallest), int(jobs), frames, timed
     )
     follows_row = _row([name], *follows) if follows else None
     fails_row = _row([name], *fails) if fails else None
@@ -249,25 +340,57 @@ def find(
         reason = fails_row.get("failed") or "; ".join(fails_row["verdict"]["reasons"])
         if "failed" in fails_row:
             reason = f"failed: {reason}"
-    return {
-        "name": name,
-        "found": kind,
-        "value": follows_row[name] if kind == "boundary" else None,
-        "fails_at": fails_row[name] if fails_row is not None else None,
-        "reason": reason,
-        "line": line,
-        "follows": follows_row,
-        "fails": fails_row,
-        "warnings": warnings,
-    }
+    return Found(
+        name=name,
+        found=kind,
+        value=follows_row[name] if kind == "boundary" else None,
+        fails_at=fails_row[name] if fails_row is not None else None,
+        reason=reason,
+        line=line,
+        follows=follows_row,
+        fails=fails_row,
+        warnings=warnings,
+    )
+
+
+class Found:
+    """What :func:`find` found.
+
+    ``value``: the value of option ``name`` found (None unless the boundary is inside the
+    range); ``fails_at`` and ``reason``: the next value and why the arm does not follow there;
+    ``found``: 'boundary', 'none_follows' or 'all_follow'; ``line``: the line the binary prints;
+    ``follows`` and ``fails``: the two runs' summaries (dicts, as ``Run.summary``, with the
+    value under ``name``; a run that could not be built: {'failed': reason}); ``warnings``."""
+
+    __slots__ = ("name", "found", "value", "fails_at", "reason", "line", "follows", "fails", "warnings")
+
+    def __init__(self, **fields: Any):
+        for key in self.__slots__:
+            setattr(self, key, fields[key])
+
+    def __repr__(self) -> str:
+        if self.found == "boundary":
+            return f"<faze4.Found {self.name} = {self.value!r}; fails at {self.fails_at!r}: {self.reason}>"
+        if self.found == "none_follows":
+            return f"<faze4.Found none follows: {self.name} = {self.fails_at!r} fails: {self.reason}>"
+        value = self.follows[self.name] if self.follows else None
+        return f"<faze4.Found all follow, up to {self.name} = {value!r}>"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Found) and all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
 
 
 # --- docstrings and signatures from the binary's definitions, built at import -----------------
 
 _ABOUT = {
     "wave": "Every joint follows A·sin(ω t + i·π/3) (docs/model.md): ``faze4 wave``.",
-    "replay": "Replay an (N, dof) joint trajectory, repeating every ``traj_period``: ``faze4 replay``.\n\n"
-    "``q_traj``: an array-like (N, dof) of joint positions (rad or m), or the path of a .npy file.",
+    "replay": "Replay a joint trajectory: ``faze4 replay``.\n\n"
+    "``q_traj``: an array-like (N, dof) of joint positions (rad or m), repeating every ``traj_period``, "
+    "or the path of a file: .npy frames, or a time-stamped trajectory (.yaml, .json, .mcap, .csv; "
+    "docs/trajectories.md). ``t``: time stamps (N,) in s from the start, which make ``q_traj`` an "
+    "(N, J) time-stamped trajectory played as ros2_control's joint_trajectory_controller plays one, "
+    "with optional velocities ``v`` and accelerations ``a`` (N, J) and ``joint_names`` (J names of "
+    "the model's joints, any order and any subset; default: the model's joints in order).",
     "shape": "Draw a sine, circle or triangle on the board (exact IK, then the samples as a loop): "
     "``faze4 shape``.\n\n``shape``: 'sine', 'circle' or 'tri'.",
 }
@@ -301,7 +424,7 @@ def _doc_lines(table: dict[str, Option], skip=()) -> list[str]:
     return lines
 
 
-def _document(function, command: str, positional: tuple[str, ...]) -> None:
+def _document(function, command: str, positional: tuple[str, ...], optional: tuple[str, ...] = ()) -> None:
     table = _TABLES[command]
     lines = [
         _ABOUT[command],
@@ -313,6 +436,7 @@ def _document(function, command: str, positional: tuple[str, ...]) -> None:
     function.__doc__ = "\n".join(lines)
     parameters = [inspect.Parameter("robot", inspect.Parameter.POSITIONAL_OR_KEYWORD)]
     parameters += [inspect.Parameter(p, inspect.Parameter.POSITIONAL_OR_KEYWORD) for p in positional]
+    parameters += [inspect.Parameter(p, inspect.Parameter.POSITIONAL_OR_KEYWORD, default=None) for p in optional]
     parameters += [
         inspect.Parameter(o.name, inspect.Parameter.KEYWORD_ONLY, default=_default(o))
         for o in table.values()
@@ -322,7 +446,7 @@ def _document(function, command: str, positional: tuple[str, ...]) -> None:
 
 
 _document(wave, "wave", ())
-_document(replay, "replay", ("q_traj",))
+_document(replay, "replay", ("q_traj",), _TIMED)
 _document(shape, "shape", ("shape",))
 
 sweep.__doc__ = "\n".join(
@@ -345,9 +469,6 @@ find.__doc__ = (
     "The largest value of option ``name`` in [lo, hi] at which the arm still follows "
     "(``smallest=True``: the smallest), by parallel bisection to ``resolution`` (default 1 % of "
     "the range): ``faze4 sweep --find``. Other keywords: the options of ``command``.\n\n"
-    "Returns a dict: 'value' (the value found, None unless the boundary is inside the range), "
-    "'fails_at' and 'reason' (the next value and the reason that fails there), 'found' "
-    "('boundary', 'none_follows', 'all_follow'), 'line' (the line the binary prints), "
-    "'follows' and 'fails' (the two runs' summaries)."
+    "Returns a :class:`Found`."
 )
 Robot.faze4.__func__.__doc__ = (Robot.faze4.__doc__ or "") + "\n\n" + "\n".join(_doc_lines(_TABLES["run"]))

@@ -12,6 +12,10 @@ PYTHON_DEFAULTS: dict[str, Any]
 
 class Error(ValueError): ...
 
+class CannotFollow(Error):
+    run: Run | None
+    def __init__(self, verdict: str, run: Run | None = None) -> None: ...
+
 class Option(NamedTuple):
     name: str
     long: str
@@ -55,12 +59,16 @@ class Robot:
         effort: str | Sequence[float | None] | np.ndarray | None = None,
         kp: str | Sequence[float | None] | np.ndarray | None = None,
         kd: str | Sequence[float | None] | np.ndarray | None = None,
-        motors: str | None = None,
+        motors: str | os.PathLike[str] | dict[str, Any] | None = None,
         supply_voltage: float | None = None,
+        drive: Literal['pd', 'stepper'] | None = None,
+        microsteps: str | Sequence[float | None] | np.ndarray | None = None,
+        sizing: bool = False,
         rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
         gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
         max_speed: str | Sequence[float | None] | np.ndarray | None = None,
         no_ff: bool = False,
+        ff: Literal['gravity', 'full'] | None = None,
         no_gravity: bool = False,
         payload_kg: float = 0.0,
         dt: float = 0.0002,
@@ -98,12 +106,16 @@ class Robot:
         effort: str | Sequence[float | None] | np.ndarray | None = None,
         kp: str | Sequence[float | None] | np.ndarray | None = None,
         kd: str | Sequence[float | None] | np.ndarray | None = None,
-        motors: str | None = None,
+        motors: str | os.PathLike[str] | dict[str, Any] | None = None,
         supply_voltage: float | None = None,
+        drive: Literal['pd', 'stepper'] | None = None,
+        microsteps: str | Sequence[float | None] | np.ndarray | None = None,
+        sizing: bool = False,
         rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
         gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
         max_speed: str | Sequence[float | None] | np.ndarray | None = None,
         no_ff: bool = False,
+        ff: Literal['gravity', 'full'] | None = None,
         no_gravity: bool = False,
         payload_kg: float = 0.0,
         dt: float = 0.0002,
@@ -143,6 +155,17 @@ class Run:
     tool_xyz: npt.NDArray[np.float64]
     warnings: list[str]
 
+class Found:
+    name: str
+    found: Literal['boundary', 'none_follows', 'all_follow']
+    value: float | None
+    fails_at: float | None
+    reason: str
+    line: str
+    follows: dict[str, Any] | None
+    fails: dict[str, Any] | None
+    warnings: list[str]
+
 
 def wave(
     robot: Robot,
@@ -159,12 +182,16 @@ def wave(
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
     kd: str | Sequence[float | None] | np.ndarray | None = None,
-    motors: str | None = None,
+    motors: str | os.PathLike[str] | dict[str, Any] | None = None,
     supply_voltage: float | None = None,
+    drive: Literal['pd', 'stepper'] | None = None,
+    microsteps: str | Sequence[float | None] | np.ndarray | None = None,
+    sizing: bool = False,
     rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
     gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
     max_speed: str | Sequence[float | None] | np.ndarray | None = None,
     no_ff: bool = False,
+    ff: Literal['gravity', 'full'] | None = None,
     no_gravity: bool = False,
     payload_kg: float = 0.0,
     dt: float = 0.0002,
@@ -195,9 +222,15 @@ def wave(
 def replay(
     robot: Robot,
     q_traj: npt.ArrayLike | str | os.PathLike[str],
+    t: npt.ArrayLike | None = None,
+    v: npt.ArrayLike | None = None,
+    a: npt.ArrayLike | None = None,
+    joint_names: Sequence[str] | None = None,
     *,
     traj_period: float = 5.0,
-    duration: float = 8.0,
+    message: int | None = None,
+    topic: str | None = None,
+    duration: float | None = None,
     urdf: str | os.PathLike[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
     balance_inertia: bool = False,
@@ -205,12 +238,16 @@ def replay(
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
     kd: str | Sequence[float | None] | np.ndarray | None = None,
-    motors: str | None = None,
+    motors: str | os.PathLike[str] | dict[str, Any] | None = None,
     supply_voltage: float | None = None,
+    drive: Literal['pd', 'stepper'] | None = None,
+    microsteps: str | Sequence[float | None] | np.ndarray | None = None,
+    sizing: bool = False,
     rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
     gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
     max_speed: str | Sequence[float | None] | np.ndarray | None = None,
     no_ff: bool = False,
+    ff: Literal['gravity', 'full'] | None = None,
     no_gravity: bool = False,
     payload_kg: float = 0.0,
     dt: float = 0.0002,
@@ -252,12 +289,16 @@ def shape(
     effort: str | Sequence[float | None] | np.ndarray | None = None,
     kp: str | Sequence[float | None] | np.ndarray | None = None,
     kd: str | Sequence[float | None] | np.ndarray | None = None,
-    motors: str | None = None,
+    motors: str | os.PathLike[str] | dict[str, Any] | None = None,
     supply_voltage: float | None = None,
+    drive: Literal['pd', 'stepper'] | None = None,
+    microsteps: str | Sequence[float | None] | np.ndarray | None = None,
+    sizing: bool = False,
     rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
     gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
     max_speed: str | Sequence[float | None] | np.ndarray | None = None,
     no_ff: bool = False,
+    ff: Literal['gravity', 'full'] | None = None,
     no_gravity: bool = False,
     payload_kg: float = 0.0,
     dt: float = 0.0002,
@@ -303,4 +344,4 @@ def find(
     smallest: bool = False,
     jobs: int = 0,
     **options: Any,
-) -> dict[str, Any]: ...
+) -> Found: ...

@@ -150,9 +150,9 @@ def test_find_says_what_the_binary_says(binary, tmp_path):
     assert proc.returncode == 0, proc.stderr
     best = faze4.find(faze4.Robot.faze4(), "shape", "payload_kg", 0.0, 3.0, resolution=0.1, jobs=2, shape="circle", duration=2.0)
     # the line names the option as each caller wrote it
-    assert best["line"] == proc.stdout.strip().splitlines()[-1].replace("payload-kg", "payload_kg")
-    if best["found"] == "boundary":
-        assert best["value"] < best["fails_at"] and best["reason"] in best["line"]
+    assert best.line == proc.stdout.strip().splitlines()[-1].replace("payload-kg", "payload_kg")
+    if best.found == "boundary":
+        assert best.value < best.fails_at and best.reason in best.line
 
 
 def test_sweep_rows_are_the_single_runs(binary, tmp_path):

@@ -15,8 +15,7 @@ use clap::Parser;
 use self::args::{Cli, Command};
 use crate::atomic::Outputs;
 use crate::error::{Error, Result, Words, escape_controls, in_words};
-use crate::output::sizing_table;
-use crate::session::{Prepared, divergence_line, done_line};
+use crate::session::{Prepared, divergence_line, report_text};
 use crate::sim::{self, StopFlag};
 
 /// Exit status of a run that diverged.
@@ -122,16 +121,7 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     let config = &prepared.config;
     let finished = crate::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
     let summary = &finished.summary;
-    let mut stdout = String::new();
-    if !config.outputs.quiet {
-        stdout = format!("{}\n", done_line(&finished.recorders, config, summary));
-    }
-    if let (true, Some(motors)) = (config.outputs.sizing, &summary.motors) {
-        for line in sizing_table(motors) {
-            stdout.push_str(&line);
-            stdout.push('\n');
-        }
-    }
+    let mut stdout = report_text(&finished, config);
     // the answer, always the last line on stdout
     stdout.push_str(&format!("{}\n", summary.verdict));
     print_stdout(&stdout)?;

@@ -21,7 +21,8 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use numpy::{
-    PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods,
+    PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArray,
+    PyUntypedArrayMethods,
 };
 use pyo3::create_exception;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -38,6 +39,7 @@ use crate::output::Capture;
 use crate::session::Prepared;
 use crate::sim::{StopFlag, Warning};
 use crate::sweep::{Family, Found, Grid, MAX_RUNS, Outcome, Row, Seek, Sharing};
+use crate::traj::TimedTrajectory;
 
 create_exception!(faze4, Error, PyValueError, "Bad input: one line naming what is wrong.");
 
@@ -467,12 +469,38 @@ impl PyRobot {
 
 /// An N×dof float64 array's rows, checked as a `.npy` trajectory is (`label` names it), as
 /// what a replay plays.
-fn frames(label: &str, q_traj: Option<PyReadonlyArray2<'_, f64>>) -> PyResult<Option<Replayed>> {
-    q_traj
-        .map(|a| crate::traj::npy::samples_from_array(std::path::Path::new(label), a.as_array()))
-        .transpose()
-        .map(|frames| frames.map(Replayed::Samples))
-        .map_err(error)
+/// A time-stamped trajectory's arrays besides its positions: `t` (N,) in s, then `v` and `a`
+/// (N, J) or `None`, and the joints' names (`None`: the model's joints in order).
+type TimedArrays<'py> = (
+    PyReadonlyArray1<'py, f64>,
+    Option<PyReadonlyArray2<'py, f64>>,
+    Option<PyReadonlyArray2<'py, f64>>,
+    Option<Vec<String>>,
+);
+
+/// What a replay given as arrays plays: `q_traj` (N, dof) frames, or with `timed` a
+/// time-stamped trajectory as a trajectory file gives one.
+fn frames(q_traj: Option<PyReadonlyArray2<'_, f64>>, timed: Option<TimedArrays<'_>>) -> PyResult<Option<Replayed>> {
+    let label = std::path::Path::new("q_traj");
+    let Some(q) = q_traj else {
+        return Ok(None);
+    };
+    let replayed = match timed {
+        None => crate::traj::npy::samples_from_array(label, q.as_array()).map(Replayed::Samples),
+        Some((t, v, a, names)) => {
+            let t = t.as_slice().map_err(|e| error(format!("t: {e}")))?;
+            TimedTrajectory::from_arrays(
+                names,
+                t,
+                q.as_array(),
+                v.as_ref().map(|v| v.as_array()),
+                a.as_ref().map(|a| a.as_array()),
+                label,
+            )
+            .map(Replayed::Timed)
+        }
+    };
+    replayed.map(Some).map_err(error)
 }
 
 /// The summary as JSON text (the `--summary` file's content, compact).
@@ -485,13 +513,14 @@ fn summary_json(summary: &crate::sim::Summary) -> String {
 /// the library's load, run and outputs took: what the binary does too; the rest of the call is
 /// the binding's, which tools/bench/python_api.py measures).
 #[pyfunction]
-#[pyo3(signature = (command, options, q_traj=None))]
+#[pyo3(signature = (command, options, q_traj=None, timed=None))]
 #[allow(clippy::type_complexity)]
 fn _run<'py>(
     py: Python<'py>,
     command: &str,
     options: &Bound<'py, PyDict>,
     q_traj: Option<PyReadonlyArray2<'py, f64>>,
+    timed: Option<TimedArrays<'py>>,
 ) -> PyResult<(
     String,
     String,
@@ -501,9 +530,11 @@ fn _run<'py>(
     Bound<'py, PyArray2<f64>>,
     Vec<String>,
     f64,
+    String,
+    Option<String>,
 )> {
     let config = run_config(command, options)?;
-    let frames = frames("q_traj", q_traj)?;
+    let frames = frames(q_traj, timed)?;
     // the run stays on this thread, the GIL released; at every look at the stop flag (every
     // 1,024 steps) it takes the GIL back for a moment and runs Python's signal handlers
     let caller = std::thread::current().id();
@@ -534,10 +565,13 @@ fn _run<'py>(
             if let (Some(live), true) = (&finished.recorders.live, prepared.config.outputs.hold) {
                 live.hold_until(|| stop.is_raised());
             }
-            Ok((finished.summary, warnings))
+            let printed = crate::session::report_text(&finished, &prepared.config);
+            let diverged = (finished.summary.diverged.as_ref())
+                .map(|d| keywords(&crate::session::divergence_line(&prepared.scenario, d)));
+            Ok((finished.summary, warnings, printed, diverged))
         });
         (
-            finished.map(|(summary, warnings)| (summary, trail, warnings)),
+            finished.map(|(summary, warnings, printed, diverged)| (summary, trail, warnings, printed, diverged)),
             started.elapsed(),
         )
     });
@@ -546,7 +580,7 @@ fn _run<'py>(
     }
     // a signal that came while the run was being built or its files written
     py.check_signals()?;
-    let (summary, trail, warnings) = finished.map_err(error)?;
+    let (summary, trail, warnings, printed, diverged) = finished.map_err(error)?;
     let rows = trail.rows();
     let table = |v: Vec<f64>, columns: usize| PyArray1::from_vec(py, v).reshape([rows, columns]);
     Ok((
@@ -558,6 +592,8 @@ fn _run<'py>(
         table(trail.tool_xyz, 3)?,
         warnings,
         engine.as_secs_f64(),
+        printed,
+        diverged,
     ))
 }
 
@@ -572,7 +608,7 @@ fn row_tuple(row: &Row) -> (Vec<f64>, Option<String>, Option<String>) {
 /// A sweep of `command` with the keywords `options`, over the grid of `vary` (`NAME=v1,v2,…` or
 /// `NAME=LO:HI:STEP` each) on `jobs` threads: its rows and warnings.
 #[pyfunction]
-#[pyo3(signature = (command, options, vary, jobs, q_traj=None))]
+#[pyo3(signature = (command, options, vary, jobs, q_traj=None, timed=None))]
 #[allow(clippy::type_complexity)]
 fn _sweep(
     py: Python<'_>,
@@ -581,9 +617,10 @@ fn _sweep(
     vary: Vec<String>,
     jobs: usize,
     q_traj: Option<PyReadonlyArray2<'_, f64>>,
+    timed: Option<TimedArrays<'_>>,
 ) -> PyResult<(Vec<(Vec<f64>, Option<String>, Option<String>)>, Vec<String>)> {
     let config = run_config(command, options)?;
-    let frames = frames("q_traj", q_traj)?;
+    let frames = frames(q_traj, timed)?;
     let stop = StopFlag::new();
     let (rows, warnings) = interruptible(py, &stop, || {
         let (grid, indices) = Grid::parse(&vary, None, MAX_RUNS)?;
@@ -602,7 +639,7 @@ fn _sweep(
 /// value of `name` in [`lo`, `hi`] that follows: (what was found, the line, the run that
 /// follows, the run that does not, warnings).
 #[pyfunction]
-#[pyo3(signature = (command, options, name, lo, hi, resolution, smallest, jobs, q_traj=None))]
+#[pyo3(signature = (command, options, name, lo, hi, resolution, smallest, jobs, q_traj=None, timed=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn _find(
     py: Python<'_>,
@@ -615,6 +652,7 @@ fn _find(
     smallest: bool,
     jobs: usize,
     q_traj: Option<PyReadonlyArray2<'_, f64>>,
+    timed: Option<TimedArrays<'_>>,
 ) -> PyResult<(
     &'static str,
     String,
@@ -623,7 +661,7 @@ fn _find(
     Vec<String>,
 )> {
     let config = run_config(command, options)?;
-    let frames = frames("q_traj", q_traj)?;
+    let frames = frames(q_traj, timed)?;
     let stop = StopFlag::new();
     let seek = if smallest { Seek::Smallest } else { Seek::Largest };
     let warnings = Mutex::new(Vec::new());

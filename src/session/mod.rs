@@ -7,7 +7,7 @@ mod report;
 
 use std::path::Path;
 
-pub use report::{divergence_line, done_line};
+pub use report::{divergence_line, done_line, report_text};
 
 use crate::atomic::Outputs;
 use crate::config::{Loaded, Motion, Replayed, RunConfig};

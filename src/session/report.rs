@@ -2,11 +2,30 @@
 //! why it diverged. Options are named as fields (`` `dt` ``), shown by each front end in its
 //! own words.
 
-use super::{Recorders, save_q};
+use super::{Finished, Recorders, save_q};
 use crate::config::RunConfig;
 use crate::error::quoted;
 use crate::output::format::number;
+use crate::output::sizing_table;
 use crate::sim::{Diverged, Scenario, Summary};
+
+/// What a run prints on stdout before its verdict: the `[done]` line (unless `quiet`), then
+/// the `sizing` table; each line ends in a newline. Both front ends print it (the command line
+/// always, then the verdict; Python unless `quiet`).
+pub fn report_text(finished: &Finished, config: &RunConfig) -> String {
+    let summary = &finished.summary;
+    let mut text = String::new();
+    if !config.outputs.quiet {
+        text = format!("{}\n", done_line(&finished.recorders, config, summary));
+    }
+    if let (true, Some(motors)) = (config.outputs.sizing, &summary.motors) {
+        for line in sizing_table(motors) {
+            text.push_str(&line);
+            text.push('\n');
+        }
+    }
+    text
+}
 
 /// The `[done]` line: the files written and the run's speed.
 pub fn done_line(outputs: &Recorders, config: &RunConfig, summary: &Summary) -> String {

@@ -17,11 +17,15 @@ OUT = pathlib.Path(__file__).resolve().parents[2] / "python" / "faze4" / "__init
 
 # options whose text value also takes a list (joined with commas, as the command line writes it)
 TEXT_OR_LIST = {"center": "str | Sequence[float]"}
+# options that take more than their command-line kind says
+ACCEPTED = {"motors": "str | os.PathLike[str] | dict[str, Any]"}
 
 
 def annotation(option: faze4.Option) -> str:
     if option.name in TEXT_OR_LIST:
         kind = TEXT_OR_LIST[option.name]
+    elif option.name in ACCEPTED:
+        kind = ACCEPTED[option.name]
     elif option.kind == "flag":
         return "bool"
     elif option.choices:
@@ -64,6 +68,10 @@ __version__: str
 PYTHON_DEFAULTS: dict[str, Any]
 
 class Error(ValueError): ...
+
+class CannotFollow(Error):
+    run: Run | None
+    def __init__(self, verdict: str, run: Run | None = None) -> None: ...
 
 class Option(NamedTuple):
     name: str
@@ -110,6 +118,17 @@ class Run:
     q_cmd: npt.NDArray[np.float64]
     tool_xyz: npt.NDArray[np.float64]
     warnings: list[str]
+
+class Found:
+    name: str
+    found: Literal['boundary', 'none_follows', 'all_follow']
+    value: float | None
+    fails_at: float | None
+    reason: str
+    line: str
+    follows: dict[str, Any] | None
+    fails: dict[str, Any] | None
+    warnings: list[str]
 '''
 
 
@@ -135,7 +154,15 @@ def robot_constructors() -> str:
 def main() -> None:
     parts = [HEADER + robot_constructors(), RUN]
     parts.append(function("wave", ["    robot: Robot,"], "wave", (), "Run"))
-    parts.append(function("replay", ["    robot: Robot,", "    q_traj: npt.ArrayLike | str | os.PathLike[str],"], "replay", ("q_traj",), "Run"))
+    replay_head = [
+        "    robot: Robot,",
+        "    q_traj: npt.ArrayLike | str | os.PathLike[str],",
+        "    t: npt.ArrayLike | None = None,",
+        "    v: npt.ArrayLike | None = None,",
+        "    a: npt.ArrayLike | None = None,",
+        "    joint_names: Sequence[str] | None = None,",
+    ]
+    parts.append(function("replay", replay_head, "replay", ("q_traj",), "Run"))
     parts.append(function("shape", ["    robot: Robot,", "    shape: Literal['sine', 'circle', 'tri'],"], "shape", ("shape",), "Run"))
     sweep_head = [
         "    robot: Robot,",
@@ -154,7 +181,7 @@ def main() -> None:
         "    jobs: int = 0,",
     ]
     # a sweep's and a search's keywords: the options of the command they run
-    for name, head, returns in (("sweep", sweep_head, "list[dict[str, Any]]"), ("find", find_head, "dict[str, Any]")):
+    for name, head, returns in (("sweep", sweep_head, "list[dict[str, Any]]"), ("find", find_head, "Found")):
         parts.append("\n".join([f"def {name}(", *head, "    **options: Any,", f") -> {returns}: ..."]))
     OUT.write_text("\n\n".join(parts) + "\n")
     print(f"wrote {OUT}")
