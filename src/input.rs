@@ -18,12 +18,13 @@ pub const MAX_URDF_BYTES: u64 = 16 << 20;
 /// Most `<link>`s a URDF may have (4,096): every link is a frame, placed at every recorded
 /// sample and drawn in the views; an arm has tens, a humanoid with its hands about a hundred.
 pub const MAX_LINKS: usize = 4096;
-/// Most moving joints (bodies, mimic followers included) a model may have (128). A step factors
+/// Most moving joints (bodies, mimic followers included) a model may have (256). A step factors
 /// the n×n mass matrix (n³/6 multiplications) and tuning decomposes a 2n×2n matrix: at 128
-/// joints a step takes about 3 ms, so a default 8 s run about two minutes, and the cost grows
-/// as n³ (a 1,000-joint chain took 107 s for 250 steps; 10,000 joints asked for 800 MB
-/// matrices and aborted). A humanoid with its fingers has about 60.
-pub const MAX_MOVING_JOINTS: usize = 128;
+/// joints a step took about 3 ms, and the cost grows as n³ (256 joints: about 8× that, so a
+/// default 8 s run about a quarter of an hour; a 1,000-joint chain took 107 s for 250 steps;
+/// 10,000 joints asked for 800 MB matrices and aborted). A humanoid with its fingers has about
+/// 60; the 200-link chain of tests/coupled_stability.rs is the longest the tests run.
+pub const MAX_MOVING_JOINTS: usize = 256;
 /// Most samples a shape may have (`shape_points`, 100,000): each is an IK solve and about 200
 /// bytes of plan (100 million asked for 19.5 GB). The default loop of 12 s at the default
 /// step of 0.2 ms has 60,000 steps, so more samples than this are finer than the steps.

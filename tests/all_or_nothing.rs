@@ -416,7 +416,7 @@ fn runaway_and_overflowing_inputs_are_refused_before_they_start() {
         ),
         (
             vec!["wave", "--trail", "none", "--duration", "1e300"],
-            &["--duration", "too many"],
+            &["--duration", "more than the 10^12 steps"],
         ),
         (
             wave(&["--trail", "none", "--urdf", &zero_dof]),

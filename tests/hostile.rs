@@ -334,7 +334,7 @@ fn models_beyond_their_caps_are_refused_clearly() {
     fails_leaving_all_as_was(
         &dir,
         &["wave", "--urdf", "chain.urdf", "-q"],
-        &["chain.urdf: robot 'chain': has 999 moving joints, more than the 128 faze4 simulates"],
+        &["chain.urdf: robot 'chain': has 999 moving joints, more than the 256 faze4 simulates"],
     );
     // refused from their size, not after building them (a 1,000-link chain ran 107 s)
     assert!(start.elapsed() < Duration::from_secs(20), "{:?}", start.elapsed());
@@ -819,7 +819,7 @@ fn trajectory_files_are_capped_and_checked_before_they_are_built() {
         ),
         (
             replay("wide.csv"),
-            &["wide.csv: its header has 2001 columns; a model has at most 128 moving joints"],
+            &["wide.csv: its header has 2001 columns; a model has at most 256 moving joints"],
         ),
         (replay("many.json"), &["many.json: names 200 joints"]),
         (

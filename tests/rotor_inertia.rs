@@ -161,7 +161,7 @@ fn bad_motors_are_refused_in_one_line() {
                 "<drake:rotor_inertia value=\"6.8e-6\"/>",
                 "<drake:rotor_inertia value=\"-1e-6\"/>",
             ),
-            vec!["transmission 'yaw_drive'", "rotor inertia -0.000001"],
+            vec!["transmission 'yaw_drive'", "rotor inertia -1e-6"],
         ),
         (
             text.replace("<drake:gear_ratio value=\"20\"/>", "<drake:gear_ratio value=\"fast\"/>"),
