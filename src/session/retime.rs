@@ -49,6 +49,8 @@ pub fn retime(
     let base = loaded.builder(config)?;
     let start = base.clone().build()?;
     let out = &config.outputs;
+    // the timing and the figure never replace what was read (the path, the URDF, …)
+    files.reading(loaded.inputs().clone())?;
     for (path, field) in [(r.out.as_ref(), "out"), (out.plot.as_ref(), "plot")] {
         if let Some(path) = path {
             files.claim(path, &format!("`{field}`"))?;
@@ -75,6 +77,7 @@ pub fn retime(
                 config: played_config,
                 scenario: replay_scenario(&base, &retimed.trajectory)?,
                 warnings,
+                inputs: loaded.inputs().clone(),
             };
             let finished = super::run(&prepared, files, extra, stop, warn)?;
             summary = finished.summary.clone();
