@@ -283,13 +283,13 @@ pub const DAE_LABEL: &str = "fuzz.dae";
 pub const OBJ_LABEL: &str = "fuzz.obj";
 
 /// `dae_mesh`: bytes → [`parse_mesh`] as a COLLADA file (its claims checked first, then
-/// mesh-loader). Checks: see [`check_mesh`].
+/// mesh-loader). Checks: a mesh that reads is finite and its indices in range (as `stl_mesh`).
 pub fn dae_mesh(data: &[u8]) -> Result<Mesh> {
     check_mesh(parse_mesh(data, Path::new(DAE_LABEL)), DAE_LABEL)
 }
 
-/// `obj_mesh`: bytes → [`parse_mesh`] as a Wavefront OBJ file (no `.mtl` read). Checks: see
-/// [`check_mesh`].
+/// `obj_mesh`: bytes → [`parse_mesh`] as a Wavefront OBJ file (no `.mtl` read). Checks: a mesh
+/// that reads is finite and its indices in range (as `stl_mesh`).
 pub fn obj_mesh(data: &[u8]) -> Result<Mesh> {
     check_mesh(parse_mesh(data, Path::new(OBJ_LABEL)), OBJ_LABEL)
 }

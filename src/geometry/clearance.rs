@@ -3,7 +3,7 @@
 //! from one sample to the next so that most pairs need no query at most samples.
 //!
 //! Pruning uses lower bounds of a pair's distance: the last lower bound found for the pair
-//! less how far its shapes can have moved relative to each other since (see [`relative_motion`]), the
+//! less how far its shapes can have moved relative to each other since (see [`super::motion_bound::relative_motion`]), the
 //! bounding spheres' gap `|c₁ − c₂| − r₁ − r₂`, the gap between the convex shapes' projections
 //! on the axis that separated them at the pair's last GJK (see
 //! [`CollisionSet::separation_along`]: two support points, and tight when the pair moves
@@ -23,18 +23,12 @@ use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 use rayon::prelude::*;
 
 use super::collision_set::{CollisionSet, TOUCH_BUDGET};
+use super::motion_bound::{BATCH, SEARCH_SHARE, relative_motion};
 use super::path::{PathClearance, PathSample};
 use super::report::{ClearanceReport, PairDistance, PairReport};
 use super::search::ROUND_OFF;
 use super::search::Touch;
 use crate::spatial::Pose;
-
-/// The share of the tolerance a search of a waiting sample may use (the rest raises the other waiting samples' lower bounds)
-pub(super) const SEARCH_SHARE: f64 = 0.25;
-
-/// How many samples a pair may leave for [`Clearance::finish`] before they are searched at
-/// once: about 0.1 MB a pair (a relative pose and three numbers a sample).
-pub(super) const BATCH: usize = 1024;
 
 /// A run's self-clearance over its samples (the accumulator): [`Clearance::add`] each sample
 /// (or [`Clearance::queue`] several, then [`Clearance::fold_queued`]), then
@@ -169,7 +163,7 @@ impl<'a> Clearance<'a> {
     /// near one of the path's is bounded below by the path's bound less the pair's relative
     /// motion between the two poses, and above by the distance of the path's parts at the
     /// run's pose, and is searched only when those leave it looser than the tolerance (see
-    /// [`super::path`]). The report keeps the tolerance's guarantee and the exact
+    /// [`PathClearance`]). The report keeps the tolerance's guarantee and the exact
     /// intersections; at tolerance 0 it is the exact minimum, as without the path (to
     /// round-off ties). A path of another set is not used.
     pub fn following(mut self, path: &'a PathClearance) -> Self {
@@ -601,32 +595,4 @@ impl PairMemory {
         self.reference = (lower, pa.inv_mul(pb));
         found
     }
-}
-
-/// An upper bound of how far a point of b's bounding sphere (`centre`, `radius`, in b's frame)
-/// has moved relative to a between the relative poses `then` and `now` (`a_T_b`): a point
-/// `c + u` (`|u| ≤ radius`) moves by `(now·c − then·c) + (R_now − R_then) u`, at most
-/// `|now·c − then·c| + 2 sin(θ/2) · radius`, with `θ` the angle of the rotation between them
-/// (`2 sin(θ/2)` is the spectral norm of `R_now − R_then`, and `sin(θ/2)` the length of the
-/// vector part of the unit quaternion `q_then⁻¹ q_now`). Distances are 1-Lipschitz in such a
-/// displacement, so a lower bound `L` at `then` gives `L − moved` at `now`.
-fn moved(then: &PPose, now: &PPose, centre: PVector, radius: f64) -> f64 {
-    let turn = then.rotation.inverse() * now.rotation;
-    let half_sine = PVector::new(turn.x, turn.y, turn.z).length();
-    (*now * centre - *then * centre).length() + 2.0 * half_sine * radius
-}
-
-/// How far the distance of a pair can have changed between its relative poses `then` and
-/// `now` (`a_T_b`), given the bounding spheres (centre, radius; each in its own shape's frame)
-/// of a and of b: the smaller of how far b moved relative to a ([`moved`]) and how far a moved
-/// relative to b (the same bound on the inverse poses, `b_T_a`), since the distance is the
-/// same seen from either. Its smaller shape gives the tighter bound when the pair turns.
-pub(super) fn relative_motion(
-    then: &PPose,
-    now: &PPose,
-    ((ca, ra), (cb, rb)): ((PVector, f64), (PVector, f64)),
-) -> f64 {
-    let b_moved = moved(then, now, cb, rb);
-    let a_moved = moved(&then.inverse(), &now.inverse(), ca, ra);
-    b_moved.min(a_moved)
 }

@@ -395,7 +395,7 @@ fn to_parry(p: &Pose) -> PPose {
 
 impl CollisionSet {
     /// Loads the collision objects of `geometry` (on `model`'s frames) and lists the pairs
-    /// `filter` checks. Meshes are loaded through [`load`] (the file, else the built-in Faze4 copy); a mesh found nowhere
+    /// `filter` checks. Meshes are loaded through `mesh::load_shape` (the file, else the built-in Faze4 copy); a mesh found nowhere
     /// is left out and reported as a [`Warning`] (and in the report's `unchecked`).
     ///
     /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]); a mesh

@@ -21,6 +21,7 @@ mod collision_set;
 mod contact;
 mod hull;
 pub mod mesh;
+mod motion_bound;
 mod pairs;
 mod path;
 mod report;

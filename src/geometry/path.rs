@@ -9,7 +9,7 @@
 //! ([`super::Clearance::following`]) then has, for each pair,
 //!
 //! * the lower bound `L_j − moved`, with `moved` the relative motion of the pair's two bodies
-//!   between the path's pose and the run's ([`relative_motion`]: how far any point of one
+//!   between the path's pose and the run's ([`super::motion_bound::relative_motion`]: how far any point of one
 //!   body's bounding sphere can have moved relative to the other; distances are 1-Lipschitz
 //!   in such a displacement), and
 //! * the upper bound `u`, the distance of the path's two parts at the run's own pose (an
@@ -45,8 +45,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
 
-use super::clearance::{BATCH, SEARCH_SHARE, relative_motion};
 use super::collision_set::CollisionSet;
+use super::motion_bound::{BATCH, SEARCH_SHARE, relative_motion};
 use crate::spatial::Pose;
 
 /// The share of the runs' tolerance within which a sample's bound must come of the path's
