@@ -409,8 +409,10 @@ mod tests {
     /// * `dt`, `record_period`: the sample times, every round(record_period / dt) steps of dt;
     /// * `duration`: the samples (the last step is one); a path over the longest run would keep
     ///   the shorter ones waiting for its bounds over the whole of it;
-    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance.
-    const OWN_PATH: [&str; 10] = [
+    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance;
+    /// * `grid`, `margin`, `attempts`: retime's, which choose the timing itself (a sweep does not
+    ///   run retime, but a field is decided either way).
+    const OWN_PATH: [&str; 13] = [
         "freq",
         "amp_deg",
         "amp_m",
@@ -421,6 +423,9 @@ mod tests {
         "record_period",
         "duration",
         "clearance_tolerance",
+        "grid",
+        "margin",
+        "attempts",
     ];
 
     /// Every numeric field a sweep varies is said to keep the commanded path or to move it
