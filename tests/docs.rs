@@ -410,7 +410,15 @@ fn help(args: &[&str]) -> String {
 #[test]
 fn the_readme_and_help_name_the_same_options_and_presets() {
     let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
-    let commands: [&[&str]; 6] = [&[], &["wave"], &["replay"], &["shape"], &["sweep"], &["sweep", "merge"]];
+    let commands: [&[&str]; 7] = [
+        &[],
+        &["wave"],
+        &["replay"],
+        &["shape"],
+        &["retime"],
+        &["sweep"],
+        &["sweep", "merge"],
+    ];
     let mut listed = BTreeSet::new();
     let mut helps = String::new();
     for command in commands {
