@@ -301,7 +301,9 @@ def _row(names, values, summary_json, failure) -> dict[str, Any]:
     return row
 
 
-def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **options: Any) -> list[dict[str, Any]]:
+def sweep(
+    robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, own_clearance: bool = False, **options: Any
+) -> list[dict[str, Any]]:
     merged, frames, timed = _base(command, robot, dict(options))
     if not vary:
         raise Error("vary: nothing to vary: give vary={'payload_kg': [...]}")
@@ -315,7 +317,7 @@ def sweep(robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, **opt
                 raise Error(f"vary: {name}: shape {array.shape}; give a list of values")
             text = ",".join(_text(v) for v in array)
         specs += [f"{name}={text}"]
-    rows, warnings = _faze4._sweep(command, merged, specs, int(jobs), frames, timed)
+    rows, warnings = _faze4._sweep(command, merged, specs, int(jobs), bool(own_clearance), frames, timed)
     names = list(vary)
     return [_row(names, *r) for r in rows]
 
@@ -329,12 +331,13 @@ def find(
     resolution: float | None = None,
     smallest: bool = False,
     jobs: int = 0,
+    own_clearance: bool = False,
     **options: Any,
 ) -> Found:
     merged, frames, timed = _base(command, robot, dict(options))
     resolution = None if resolution is None else float(resolution)
     kind, line, follows, fails, warnings = _faze4._find(
-        command, merged, name, float(lo), float(hi), resolution, bool(smallest), int(jobs), frames, timed
+        command, merged, name, float(lo), float(hi), resolution, bool(smallest), int(jobs), bool(own_clearance), frames, timed
     )
     follows_row = _row([name], *follows) if follows else None
     fails_row = _row([name], *fails) if fails else None

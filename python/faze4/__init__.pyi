@@ -331,6 +331,7 @@ def sweep(
     command: Literal['wave', 'replay', 'shape'],
     vary: dict[str, npt.ArrayLike | str],
     jobs: int = 0,
+    own_clearance: bool = False,
     **options: Any,
 ) -> list[dict[str, Any]]: ...
 
@@ -343,5 +344,6 @@ def find(
     resolution: float | None = None,
     smallest: bool = False,
     jobs: int = 0,
+    own_clearance: bool = False,
     **options: Any,
 ) -> Found: ...

@@ -155,15 +155,32 @@ def test_find_says_what_the_binary_says(binary, tmp_path):
         assert best.value < best.fails_at and best.reason in best.line
 
 
+def without_clearance(summary: dict) -> dict:
+    return {k: v for k, v in without_wall_times(summary).items() if k != "clearance"}
+
+
 def test_sweep_rows_are_the_single_runs(binary, tmp_path):
     robot = faze4.Robot.faze4()
     payloads = np.linspace(0.0, 1.4, 3)
-    rows = faze4.sweep(robot, "wave", vary={"payload_kg": payloads}, duration=1.0)
-    assert [r["payload_kg"] for r in rows] == payloads.tolist()
-    for row, payload in zip(rows, payloads):
+    own = faze4.sweep(robot, "wave", vary={"payload_kg": payloads}, duration=1.0, own_clearance=True)
+    shared = faze4.sweep(robot, "wave", vary={"payload_kg": payloads}, duration=1.0)
+    assert [r["payload_kg"] for r in own] == [r["payload_kg"] for r in shared] == payloads.tolist()
+    for own_row, shared_row, payload in zip(own, shared, payloads):
         single = faze4.wave(robot, duration=1.0, payload_kg=float(payload))
         expected = dict(single.summary, payload_kg=float(payload))
-        assert without_wall_times(row) == without_wall_times(expected)
+        # each run its own clearance: the run alone, to the bit
+        assert without_wall_times(own_row) == without_wall_times(expected)
+        # the path's clearance shared: the same run but for the clearance, which is an actual
+        # distance within the tolerance of the run alone's (both within it of the exact minimum)
+        assert without_clearance(shared_row) == without_clearance(expected)
+        # (the verdict, with its intersections, is compared above)
+        mine, alone = shared_row["clearance"], expected["clearance"]
+        tolerance = alone["tolerance_m"]
+        assert mine["tolerance_m"] == tolerance
+        assert abs(mine["min_m"] - alone["min_m"]) <= tolerance
+        assert [p["links"] for p in mine["pairs"]] == [p["links"] for p in alone["pairs"]]
+        for a, b in zip(mine["pairs"], alone["pairs"]):
+            assert abs(a["min_m"] - b["min_m"]) <= tolerance, (a, b)
     # and the binary's table has the same runs
     out = tmp_path / "rows.json"
     values = ",".join(repr(float(p)) for p in payloads)
@@ -174,8 +191,10 @@ def test_sweep_rows_are_the_single_runs(binary, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     table = json.loads(out.read_text())
-    assert len(table) == len(rows)
-    for flat, row in zip(table, rows):
+    assert len(table) == len(shared)
+    for flat, row in zip(table, shared):
         assert flat["payload-kg"] == row["payload_kg"] and flat["follows"] == row["verdict"]["follows"]
         for field in ("max_tracking_error_rad", "saturation_pct", "max_speed"):
             assert [flat[f"{field}_{i + 1}"] for i in range(6)] == row[field]
+        # the binary's sweep shares the path's clearance as Python's does
+        assert flat["clearance_min_m"] == row["clearance"]["min_m"]

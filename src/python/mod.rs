@@ -605,17 +605,26 @@ fn row_tuple(row: &Row) -> (Vec<f64>, Option<String>, Option<String>) {
     }
 }
 
+/// Whether a sweep's runs share their commanded path's clearance (`own_clearance`: each its own).
+fn sharing(own_clearance: bool) -> Sharing {
+    match own_clearance {
+        true => Sharing::Own,
+        false => Sharing::Shared,
+    }
+}
+
 /// A sweep of `command` with the keywords `options`, over the grid of `vary` (`NAME=v1,v2,…` or
 /// `NAME=LO:HI:STEP` each) on `jobs` threads: its rows and warnings.
 #[pyfunction]
-#[pyo3(signature = (command, options, vary, jobs, q_traj=None, timed=None))]
-#[allow(clippy::type_complexity)]
+#[pyo3(signature = (command, options, vary, jobs, own_clearance, q_traj=None, timed=None))]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn _sweep(
     py: Python<'_>,
     command: &str,
     options: &Bound<'_, PyDict>,
     vary: Vec<String>,
     jobs: usize,
+    own_clearance: bool,
     q_traj: Option<PyReadonlyArray2<'_, f64>>,
     timed: Option<TimedArrays<'_>>,
 ) -> PyResult<(Vec<(Vec<f64>, Option<String>, Option<String>)>, Vec<String>)> {
@@ -627,7 +636,7 @@ fn _sweep(
         let names: Vec<(&str, &[f64])> = (grid.axes.iter())
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect();
-        let family = Family::load(config, frames, &names, Sharing::Shared)?;
+        let family = Family::load(config, frames, &names, sharing(own_clearance))?;
         let rows = family.rows(&grid, indices, jobs, &stop)?;
         Ok::<_, crate::Error>((rows, warning_lines(family.warnings())))
     })?
@@ -639,7 +648,7 @@ fn _sweep(
 /// value of `name` in [`lo`, `hi`] that follows: (what was found, the line, the run that
 /// follows, the run that does not, warnings).
 #[pyfunction]
-#[pyo3(signature = (command, options, name, lo, hi, resolution, smallest, jobs, q_traj=None, timed=None))]
+#[pyo3(signature = (command, options, name, lo, hi, resolution, smallest, jobs, own_clearance, q_traj=None, timed=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn _find(
     py: Python<'_>,
@@ -651,6 +660,7 @@ fn _find(
     resolution: Option<f64>,
     smallest: bool,
     jobs: usize,
+    own_clearance: bool,
     q_traj: Option<PyReadonlyArray2<'_, f64>>,
     timed: Option<TimedArrays<'_>>,
 ) -> PyResult<(
@@ -669,7 +679,7 @@ fn _find(
         crate::sweep::search(
             config,
             frames,
-            Sharing::Shared,
+            sharing(own_clearance),
             name,
             lo,
             hi,

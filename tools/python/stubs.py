@@ -169,6 +169,7 @@ def main() -> None:
         "    command: Literal['wave', 'replay', 'shape'],",
         "    vary: dict[str, npt.ArrayLike | str],",
         "    jobs: int = 0,",
+        "    own_clearance: bool = False,",
     ]
     find_head = [
         "    robot: Robot,",
@@ -179,6 +180,7 @@ def main() -> None:
         "    resolution: float | None = None,",
         "    smallest: bool = False,",
         "    jobs: int = 0,",
+        "    own_clearance: bool = False,",
     ]
     # a sweep's and a search's keywords: the options of the command they run
     for name, head, returns in (("sweep", sweep_head, "list[dict[str, Any]]"), ("find", find_head, "Found")):
