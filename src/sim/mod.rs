@@ -7,6 +7,7 @@ mod record;
 mod run;
 mod scenario;
 mod sizing;
+pub mod step;
 mod stop;
 mod summary;
 mod timed;
@@ -21,6 +22,7 @@ pub use scenario::{
     ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
 };
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
+pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};
 pub use stop::{StopFlag, exit_status};
 pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss,

@@ -3,11 +3,10 @@
 use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
+use super::step::{self, Step};
 use super::{ContactStep, ContactSummary};
-use crate::algo::{
-    Data, State, compute_all_terms, forward_kinematics, frame_position, gravity, integrate_discrete, rnea,
-};
-use crate::control::{Envelope, FeedForward, OpenLoopStepper, Slips};
+use crate::algo::{Data, State, forward_kinematics};
+use crate::control::{Envelope, Slips};
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet, PathClearance};
 use crate::model::{FrameId, JointId, JointKind, Model};
@@ -30,7 +29,7 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 
 /// Runs `scenario` to the end (or until it diverges), reporting to `recorders`.
 ///
-/// Each step k = 0..steps−1, at t_k = k·Δt, runs the stages of `Pipeline` in the order
+/// Each step k = 0..steps−1, at t_k = k·Δt, runs the stages of [`mod@super::step`] in the order
 /// MuJoCo's `mj_step` does: *dynamics* (g(q_k), C v + g and M(q_k) from one kinematics pass),
 /// *command* (q_cmd, v_cmd at t_k; under `--ff full` a_cmd too, and the command's inverse
 /// dynamics), *controller* (the PD torque τ_raw), *actuation* (what the
@@ -47,7 +46,7 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) -> Result<Summary> {
     let model = &sc.model;
     let dt = sc.dt;
-    let mut p = Pipeline::new(sc);
+    let mut p = Step::new(sc);
     let start_q = p.state.q.clone();
     let collision_pairs: Vec<[FrameId; 2]> = (sc.collision_set.iter())
         .flat_map(|set| set.pairs())
@@ -81,11 +80,9 @@ fn run_loop<'a, 's>(
     sc: &'a Scenario,
     recorders: &mut [&mut dyn Recorder],
     stop: &StopFlag,
-    p: &mut Pipeline<'a>,
+    p: &mut Step,
     scope: &'s std::thread::Scope<'s, 'a>,
 ) -> Result<Summary> {
-    let model = &sc.model;
-    let n = model.dof();
     let dt = sc.dt;
     let mut rec = Records::new(sc, recorders, scope);
 
@@ -100,24 +97,24 @@ fn run_loop<'a, 's>(
         }
         let last = k == sc.steps || diverged.is_some() || interrupted_at_s.is_some();
         if diverged.is_none() {
-            p.dynamics();
-            p.command(t);
-            p.controller();
-            p.actuation();
+            step::dynamics(sc, p);
+            step::command(sc, p, t);
+            step::controller(sc, p);
+            step::actuation(sc, p);
         }
         if !last {
             rec.steps.add(sc, &p.state, &p.q_cmd, &p.tau_raw);
             if let Some(m) = rec.motors.as_mut() {
-                m.add(p, t);
+                m.add(sc, p, t);
             }
         }
         if diverged.is_none() {
-            rec.record(recorders, p, k, t, last)?;
+            rec.record(sc, recorders, p, k, t, last)?;
         }
         if last {
             break;
         }
-        let stepped = p.integrate(t);
+        let stepped = step::integrate(sc, p, t);
         done = k + 1;
         if let Some(joint) = runaway_joint(&p.state.q, &p.state.v, stepped)? {
             diverged = Some(Diverged {
@@ -127,50 +124,85 @@ fn run_loop<'a, 's>(
             });
         }
     }
-    let Records {
-        steps,
-        samples,
-        clearance,
-        motors,
-        ..
-    } = rec;
-    let clearance = clearance.map(ClearanceStage::finish);
-    let wall_time_s = wall.elapsed().as_secs_f64();
-
-    let contact = &p.contact;
-    let mut summary = Summary {
-        simulated: Simulated::of(sc),
-        dof: n,
-        dt,
+    let ended = Ended {
+        records: rec,
         steps: done,
-        gains: sc.controller.gains.clone(),
-        feed_forward: sc.controller.feedforward,
-        interpolation: match &sc.trajectory {
-            Trajectory::Spline(s) => Some(s.interpolation()),
-            _ => None,
-        },
-        max_tracking_error_rad: steps.max_error,
-        saturation_pct: (steps.saturated.iter())
-            .map(|&s| 100.0 * s as f64 / done.max(1) as f64)
-            .collect(),
-        max_speed: steps.max_speed,
-        velocity_limit: sc.speed_limit.clone(),
-        velocity_limit_pct: (steps.over_speed.iter().zip(&sc.speed_limit))
-            .map(|(&s, l)| l.is_finite().then(|| 100.0 * s as f64 / done.max(1) as f64))
-            .collect(),
-        tool_range_m: samples.range,
         diverged,
-        wall_time_s,
-        path_deviation_mm: sc.shape.as_ref().map(|_| PathDeviation {
-            max: samples.deviation_max * 1e3,
-            mean: samples.deviation_sum / samples.samples.max(1) as f64 * 1e3,
-        }),
-        ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
         interrupted_at_s,
-        self_contact: contact
-            .as_ref()
-            .zip(sc.self_contact)
-            .map(|(c, settings)| ContactSummary {
+        wall,
+        contact: p.contact.as_ref(),
+    };
+    let summary = Summary::of_run(sc, ended);
+    for r in recorders.iter_mut() {
+        r.finish(&summary)?;
+    }
+    Ok(summary)
+}
+
+/// How a run's loop ended: its metrics, the steps it completed, and why it stopped.
+struct Ended<'a, 's, 'r> {
+    records: Records<'a, 's>,
+    /// Steps completed.
+    steps: usize,
+    diverged: Option<Diverged>,
+    interrupted_at_s: Option<f64>,
+    /// When the loop started.
+    wall: Instant,
+    contact: Option<&'r ContactStep>,
+}
+
+impl Summary {
+    /// The summary of `sc`'s run that `ended` so: the metrics over its steps and samples, the
+    /// self-clearance once its last samples are folded in, the verdict.
+    fn of_run(sc: &Scenario, ended: Ended) -> Summary {
+        let Ended {
+            records,
+            steps: done,
+            diverged,
+            interrupted_at_s,
+            wall,
+            contact,
+        } = ended;
+        let Records {
+            steps,
+            samples,
+            clearance,
+            motors,
+            ..
+        } = records;
+        let clearance = clearance.map(ClearanceStage::finish);
+        let wall_time_s = wall.elapsed().as_secs_f64();
+        let (model, n, dt) = (&sc.model, sc.model.dof(), sc.dt);
+        let mut summary = Summary {
+            simulated: Simulated::of(sc),
+            dof: n,
+            dt,
+            steps: done,
+            gains: sc.controller.gains.clone(),
+            feed_forward: sc.controller.feedforward,
+            interpolation: match &sc.trajectory {
+                Trajectory::Spline(s) => Some(s.interpolation()),
+                _ => None,
+            },
+            max_tracking_error_rad: steps.max_error,
+            saturation_pct: (steps.saturated.iter())
+                .map(|&s| 100.0 * s as f64 / done.max(1) as f64)
+                .collect(),
+            max_speed: steps.max_speed,
+            velocity_limit: sc.speed_limit.clone(),
+            velocity_limit_pct: (steps.over_speed.iter().zip(&sc.speed_limit))
+                .map(|(&s, l)| l.is_finite().then(|| 100.0 * s as f64 / done.max(1) as f64))
+                .collect(),
+            tool_range_m: samples.range,
+            diverged,
+            wall_time_s,
+            path_deviation_mm: sc.shape.as_ref().map(|_| PathDeviation {
+                max: samples.deviation_max * 1e3,
+                mean: samples.deviation_sum / samples.samples.max(1) as f64 * 1e3,
+            }),
+            ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
+            interrupted_at_s,
+            self_contact: contact.zip(sc.self_contact).map(|(c, settings)| ContactSummary {
                 friction: settings.friction,
                 geometry: c.geometry().geometry(),
                 steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
@@ -178,172 +210,15 @@ fn run_loop<'a, 's>(
                 geometry_queries: c.geometry_queries(),
                 newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
             }),
-        motors: motors.map(|m| m.summary(sc, done)),
-        ..Summary::default()
-    };
-    let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
-    let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
-    summary.clearance_wall_time_s = clearance.as_ref().map(|c| c.elapsed.as_secs_f64());
-    summary.clearance = clearance.map(|c| c.clearance.into_report());
-    summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
-    for r in recorders.iter_mut() {
-        r.finish(&summary)?;
-    }
-    Ok(summary)
-}
-
-/// The closed loop's state and workspaces, one method per stage of a step (see [`run`]).
-/// Nothing is allocated after [`Pipeline::new`].
-struct Pipeline<'a> {
-    sc: &'a Scenario,
-    /// The rigid-body workspace: after [`Pipeline::dynamics`], M, C v + g and g at (q, v).
-    data: Data,
-    /// q, v, the joint torques held over the step, Δt.
-    state: State,
-    /// The command at the step's time.
-    q_cmd: Vec<f64>,
-    v_cmd: Vec<f64>,
-    /// Under `--ff full`: the command's acceleration a_cmd (n), and the workspace of its
-    /// inverse dynamics, `τ_ff` in its `tau` (a second `Data`: the first holds the measured
-    /// state's terms for the step).
-    full_ff: Option<(Vec<f64>, Data)>,
-    /// The controller's torque before actuation (N·m or N).
-    tau_raw: Vec<f64>,
-    /// `--self-collisions`: the step with contact.
-    contact: Option<ContactStep>,
-    /// `--motors`: the joint torque range [lo, hi] each joint's actuation allowed this step.
-    bounds: Vec<(f64, f64)>,
-}
-
-impl<'a> Pipeline<'a> {
-    /// At the command's start (q, v), at rest in every other respect.
-    fn new(sc: &'a Scenario) -> Self {
-        let model = &sc.model;
-        let n = model.dof();
-        let mut state = State::new(model, sc.dt);
-        sc.trajectory.eval(0.0, &mut state.q, &mut state.v);
-        let mut data = Data::new(model);
-        settle_steppers(sc, &mut data, &mut state);
-        let contact = (sc.self_contact.zip(sc.collision_set.clone()))
-            .map(|(settings, set)| ContactStep::new(model, set, settings));
-        Pipeline {
-            sc,
-            data,
-            state,
-            q_cmd: vec![0.0; n],
-            v_cmd: vec![0.0; n],
-            full_ff: (sc.controller.feedforward == FeedForward::Full).then(|| (vec![0.0; n], Data::new(model))),
-            tau_raw: vec![0.0; n],
-            contact,
-            bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
-        }
-    }
-
-    /// g, C v + g and M at (q, v), from one kinematics pass.
-    #[inline]
-    fn dynamics(&mut self) {
-        compute_all_terms(&self.sc.model, &mut self.data, &self.state.q, &self.state.v);
-    }
-
-    /// The command at time `t` (s); under `--ff full` also a_cmd and
-    /// `τ_ff = M(q_cmd) a_cmd + C(q_cmd, v_cmd) v_cmd + g(q_cmd)` (RNEA).
-    #[inline]
-    fn command(&mut self, t: f64) {
-        let trajectory = &self.sc.trajectory;
-        match &mut self.full_ff {
-            None => trajectory.eval(t, &mut self.q_cmd, &mut self.v_cmd),
-            Some((a_cmd, data)) => {
-                trajectory.eval_with_acceleration(t, &mut self.q_cmd, &mut self.v_cmd, a_cmd);
-                rnea(&self.sc.model, data, &self.q_cmd, &self.v_cmd, a_cmd);
-            }
-        }
-    }
-
-    /// The PD torque τ_raw, with g(q) or the command's inverse dynamics fed forward.
-    #[inline]
-    fn controller(&mut self) {
-        let State { q, v, .. } = &self.state;
-        let ff = match &self.full_ff {
-            Some((_, data)) => data.tau.as_slice(),
-            None => self.data.g.as_slice(),
+            motors: motors.map(|m| m.summary(sc, done)),
+            ..Summary::default()
         };
-        (self.sc.controller).torque(q, v, &self.q_cmd, &self.v_cmd, ff, &mut self.tau_raw);
-    }
-
-    /// The torque the joints get, held over the step: τ_raw clipped to the limits, and under
-    /// `--motors` to each motor's envelope at the joint's speed, `r·η·bounds(r·q̇)`; under
-    /// `drive` stepper a stepper's joint gets what its torque–angle curve gives at the
-    /// rotor's lag behind the driver's microstep, `r·η·T(r·q, r·q̇, θ_cmd)`, which is also its
-    /// τ_raw (an open-loop stepper asks for nothing else).
-    #[inline]
-    fn actuation(&mut self) {
-        let Some(motors) = &self.sc.motors else {
-            self.sc.controller.clip(&self.tau_raw, &mut self.state.tau);
-            return;
-        };
-        let effort = &self.sc.controller.gains.effort;
-        for (i, motor) in motors.iter().enumerate() {
-            if let (Some(m), Some(drive)) = (motor, self.stepper(i)) {
-                let ratio = self.sc.model.joints[i].gear_ratio;
-                let k = ratio * m.efficiency;
-                let theta_cmd = drive.commanded(ratio * self.q_cmd[i]);
-                let omega = ratio * self.state.v[i];
-                let tau_m = drive.torque(&m.envelope, ratio * self.state.q[i], omega, theta_cmd);
-                let (lo, hi) = m.envelope.bounds(omega);
-                self.bounds[i] = (k * lo, k * hi);
-                self.state.tau[i] = k * tau_m;
-                self.tau_raw[i] = self.state.tau[i];
-                continue;
-            }
-            let e = effort[i];
-            let (lo, hi) = match motor {
-                Some(m) => {
-                    let (lo, hi) = m.joint_bounds(self.sc.model.joints[i].gear_ratio, self.state.v[i]);
-                    (lo.max(-e), hi.min(e))
-                }
-                None => (-e, e),
-            };
-            self.bounds[i] = (lo, hi);
-            self.state.tau[i] = self.tau_raw[i].max(lo).min(hi);
-        }
-    }
-
-    /// Joint i's open-loop stepper under `drive` stepper.
-    #[inline]
-    fn stepper(&self, i: usize) -> Option<&'a OpenLoopStepper> {
-        self.sc.stepper_drive.as_ref().and_then(|d| d[i].as_ref())
-    }
-
-    /// The discrete step at time `t` (s), with contact under `--self-collisions`.
-    #[inline]
-    fn integrate(&mut self, t: f64) -> Result<()> {
-        let model = &self.sc.model;
-        match &mut self.contact {
-            Some(contact) => contact.step(model, &mut self.data, &mut self.state, t),
-            None => integrate_discrete(model, &mut self.data, &mut self.state),
-        }
-    }
-}
-
-/// Under `drive` stepper, each stepper's joint at its static lag behind the driver's first
-/// microstep: where its torque–angle curve holds the joint's gravity load g_i(q),
-/// N_r·δ = −asin(g_i / (r·η·T_max)) (clamped to the curve's peak), q_i = (θ_cmd + δ)/r; as an
-/// arm that has been switched on and has settled. One pass: the lags are under a full step
-/// at the motor, so they barely move g.
-fn settle_steppers(sc: &Scenario, data: &mut Data, state: &mut State) {
-    let (Some(drives), Some(motors)) = (&sc.stepper_drive, &sc.motors) else {
-        return;
-    };
-    let g = gravity(&sc.model, data, &state.q).clone();
-    for (i, (drive, motor)) in drives.iter().zip(motors).enumerate() {
-        let (Some(drive), Some(m)) = (drive, motor) else {
-            continue;
-        };
-        let ratio = sc.model.joints[i].gear_ratio;
-        let t_max = m.envelope.bounds(ratio * state.v[i]).1;
-        let share = (g[i] / (ratio * m.efficiency * t_max)).clamp(-1.0, 1.0);
-        let lag = -share.asin() / drive.rotor_teeth;
-        state.q[i] = (drive.commanded(ratio * state.q[i]) + lag) / ratio;
+        let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
+        let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
+        summary.clearance_wall_time_s = clearance.as_ref().map(|c| c.elapsed.as_secs_f64());
+        summary.clearance = clearance.map(|c| c.clearance.into_report());
+        summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
+        summary
     }
 }
 
@@ -356,9 +231,6 @@ struct Records<'a, 's> {
     samples: SampleMetrics,
     clearance: Option<ClearanceStage<'a, 's>>,
     schedule: Schedule,
-    /// The shape's target at the sample (buffers).
-    target: [f64; 3],
-    target_rate: [f64; 3],
 }
 
 impl<'a, 's> Records<'a, 's> {
@@ -376,8 +248,6 @@ impl<'a, 's> Records<'a, 's> {
                 }
             }),
             schedule: Schedule::new(recorders, sc.dt, sc.record_every),
-            target: [0.0; 3],
-            target_rate: [0.0; 3],
         }
     }
 
@@ -385,8 +255,9 @@ impl<'a, 's> Records<'a, 's> {
     /// always is): tool position, shape target, path deviation, self-clearance.
     fn record(
         &mut self,
+        sc: &Scenario,
         recorders: &mut [&mut dyn Recorder],
-        p: &mut Pipeline,
+        p: &mut Step,
         k: usize,
         t: f64,
         last: bool,
@@ -395,41 +266,24 @@ impl<'a, 's> Records<'a, 's> {
         if !(record_metrics || recorders_due) {
             return Ok(());
         }
-        let sc = p.sc;
-        let model = &sc.model;
-        let tool = frame_position(model, &p.state.q, sc.tool_frame);
-        let target = sc.shape.as_ref().map(|s| {
-            s.target.eval(t, &mut self.target, &mut self.target_rate);
-            Vec3::from(self.target)
-        });
         if record_metrics {
-            (self.samples).add(&tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
             match self.clearance.as_mut() {
                 Some(ClearanceStage::Inline(c)) => {
-                    forward_kinematics(model, &mut p.data, &p.state.q);
+                    forward_kinematics(&sc.model, &mut p.data, &p.state.q);
                     c.add(&p.data.frame_pose, t);
                 }
                 Some(ClearanceStage::Worker(feed)) => feed.send(t, &p.state.q),
                 None => {}
             }
         }
-        let sample = Sample {
-            step: k,
-            t,
-            q: &p.state.q,
-            v: &p.state.v,
-            q_cmd: &p.q_cmd,
-            v_cmd: &p.v_cmd,
-            tau: &p.state.tau,
-            tau_raw: &p.tau_raw,
-            g: p.data.g.as_slice(),
-            tool,
-            target,
-            intersecting: match &self.clearance {
-                Some(ClearanceStage::Inline(c)) => c.clearance.intersecting(),
-                _ => &[],
-            },
+        let intersecting = match &self.clearance {
+            Some(ClearanceStage::Inline(c)) => c.clearance.intersecting(),
+            _ => &[],
         };
+        let sample = step::sample(sc, p, k, t, intersecting);
+        if record_metrics {
+            (self.samples).add(&sample.tool, sc.shape.as_ref().map(|s| s.reference.as_slice()));
+        }
         self.schedule.record(recorders, k, last, &sample)
     }
 }
@@ -602,11 +456,11 @@ impl MotorMetrics {
 
     /// Step `p`'s actuation at time `t` (s).
     #[inline]
-    fn add(&mut self, p: &Pipeline, t: f64) {
-        let Some(motors) = &p.sc.motors else { return };
+    fn add(&mut self, sc: &Scenario, p: &Step, t: f64) {
+        let Some(motors) = &sc.motors else { return };
         for (i, m) in motors.iter().enumerate() {
             let Some(m) = m else { continue };
-            let ratio = p.sc.model.joints[i].gear_ratio;
+            let ratio = sc.model.joints[i].gear_ratio;
             let k = ratio * m.efficiency;
             let omega = ratio * p.state.v[i];
             let speed = omega.abs();
@@ -614,8 +468,8 @@ impl MotorMetrics {
             let tau_m = p.state.tau[i] / k;
             self.sum_sq[i] += tau_m * tau_m;
             let inertia = p.data.m[(i, i)] / (ratio * ratio);
-            self.sizing[i].add(m, tau_m, omega, inertia, p.sc.dt);
-            if let Some(drive) = p.stepper(i) {
+            self.sizing[i].add(m, tau_m, omega, inertia, sc.dt);
+            if let Some(drive) = step::stepper(sc, i) {
                 let lag = ratio * p.state.q[i] - drive.commanded(ratio * p.q_cmd[i]);
                 self.slips[i].add(drive, lag, t);
                 continue;

@@ -1,0 +1,239 @@
+//! One step of the closed loop, stage by stage, as MuJoCo's `mj_step` (docs/model.md): an
+//! immutable [`Scenario`] and one mutable [`Step`] workspace, each stage a free function of the
+//! two. [`super::run`] is these stages in a loop, with the metrics and the recorders.
+//!
+//! A step at time t_k = k·Δt, in order:
+//!
+//! | stage | (inputs) ⇒ (outputs) |
+//! |---|---|
+//! | [`dynamics`] | (q, v) ⇒ (M, C v + g, g) in [`Step::data`] |
+//! | [`command`] | t ⇒ (q_cmd, v_cmd); under `ff` full also a_cmd and τ_ff |
+//! | [`controller`] | (q, v, q_cmd, v_cmd, g or τ_ff) ⇒ τ_raw |
+//! | [`actuation`] | (τ_raw, q, v, q_cmd, motors) ⇒ (τ, the allowed range) |
+//! | [`sample`] | (q, v, q_cmd, v_cmd, τ, τ_raw, g) ⇒ the [`Sample`] a recorder gets |
+//! | [`integrate`] | (M, C v + g, τ, q, v) ⇒ (q, v) at t + Δt |
+//!
+//! [`step`] runs the five that change the state. Stepping a scenario by hand:
+//!
+//! ```no_run
+//! use faze4::sim::{self, Scenario, Step};
+//! use faze4::traj::{Trajectory, Wave};
+//! # fn main() -> faze4::Result<()> {
+//! let model = faze4::faze4::model();
+//! let wave = Trajectory::Wave(Wave { amplitude: vec![0.3; model.dof()], omega: 0.5, center: vec![0.0; model.dof()] });
+//! let scenario = Scenario::builder(model, wave).duration(1.0).build()?;
+//! let mut s = Step::new(&scenario);
+//! for k in 0..scenario.steps {
+//!     sim::step(&scenario, &mut s, k as f64 * scenario.dt)?;
+//! }
+//! println!("q at the end: {:?}", s.state.q);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! Nothing is allocated after [`Step::new`].
+
+use crate::algo::{Data, State, compute_all_terms, frame_position, gravity, integrate_discrete, rnea};
+use crate::control::{FeedForward, OpenLoopStepper};
+use crate::error::Result;
+use crate::spatial::Vec3;
+
+use super::{ContactStep, Sample, Scenario};
+
+/// The closed loop's mutable state and workspaces for one [`Scenario`] (n = its model's dof).
+pub struct Step {
+    /// The rigid-body workspace: after [`dynamics`], M (n×n), C v + g (n) and g (n) at (q, v),
+    /// in joint space; the frames' poses in the world.
+    pub data: Data,
+    /// q, v (n each, rad or m, rad/s or m/s), the joint torques τ held over the step (n, N·m or
+    /// N), Δt (s).
+    pub state: State,
+    /// The command at the step's time: positions (n, rad or m).
+    pub q_cmd: Vec<f64>,
+    /// The command's velocities (n, rad/s or m/s).
+    pub v_cmd: Vec<f64>,
+    /// The controller's torque before actuation, τ_raw (n, N·m or N).
+    pub tau_raw: Vec<f64>,
+    /// The joint torque range [lo, hi] each joint's actuation allowed this step (n, N·m or N):
+    /// the effort limits, within each motor's envelope at the joint's speed under `motors`.
+    pub bounds: Vec<(f64, f64)>,
+    /// Under `ff` full: the command's acceleration a_cmd (n), and the workspace of its inverse
+    /// dynamics, τ_ff in its `tau` (a second `Data`: the first holds the measured state's terms).
+    full_ff: Option<(Vec<f64>, Data)>,
+    /// `self_collisions`: the step with contact.
+    pub(super) contact: Option<ContactStep>,
+    /// The shape's target and its rate at the sample (world, m and m/s; buffers).
+    target: [f64; 3],
+    target_rate: [f64; 3],
+}
+
+impl Step {
+    /// At the command's start (q, v) at t = 0, at rest in every other respect; under `drive`
+    /// stepper, each stepper's joint at its static lag behind the first microstep.
+    pub fn new(sc: &Scenario) -> Self {
+        let model = &sc.model;
+        let n = model.dof();
+        let mut state = State::new(model, sc.dt);
+        sc.trajectory.eval(0.0, &mut state.q, &mut state.v);
+        let mut data = Data::new(model);
+        settle_steppers(sc, &mut data, &mut state);
+        let contact = (sc.self_contact.zip(sc.collision_set.clone()))
+            .map(|(settings, set)| ContactStep::new(model, set, settings));
+        Step {
+            data,
+            state,
+            q_cmd: vec![0.0; n],
+            v_cmd: vec![0.0; n],
+            tau_raw: vec![0.0; n],
+            bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
+            full_ff: (sc.controller.feedforward == FeedForward::Full).then(|| (vec![0.0; n], Data::new(model))),
+            contact,
+            target: [0.0; 3],
+            target_rate: [0.0; 3],
+        }
+    }
+}
+
+/// (q, v) ⇒ M, C v + g and g in `s.data`, from one kinematics pass.
+#[inline]
+pub fn dynamics(sc: &Scenario, s: &mut Step) {
+    compute_all_terms(&sc.model, &mut s.data, &s.state.q, &s.state.v);
+}
+
+/// t (s) ⇒ q_cmd, v_cmd; under `ff` full also a_cmd and
+/// τ_ff = M(q_cmd) a_cmd + C(q_cmd, v_cmd) v_cmd + g(q_cmd) (RNEA).
+#[inline]
+pub fn command(sc: &Scenario, s: &mut Step, t: f64) {
+    match &mut s.full_ff {
+        None => sc.trajectory.eval(t, &mut s.q_cmd, &mut s.v_cmd),
+        Some((a_cmd, data)) => {
+            sc.trajectory
+                .eval_with_acceleration(t, &mut s.q_cmd, &mut s.v_cmd, a_cmd);
+            rnea(&sc.model, data, &s.q_cmd, &s.v_cmd, a_cmd);
+        }
+    }
+}
+
+/// (q, v, q_cmd, v_cmd, g or τ_ff) ⇒ τ_raw: the PD torque with gravity or the command's
+/// inverse dynamics fed forward.
+#[inline]
+pub fn controller(sc: &Scenario, s: &mut Step) {
+    let State { q, v, .. } = &s.state;
+    let ff = match &s.full_ff {
+        Some((_, data)) => data.tau.as_slice(),
+        None => s.data.g.as_slice(),
+    };
+    (sc.controller).torque(q, v, &s.q_cmd, &s.v_cmd, ff, &mut s.tau_raw);
+}
+
+/// (τ_raw, q, v, q_cmd, motors) ⇒ τ (held over the step) and `bounds`: τ_raw clipped to the
+/// limits, and under `motors` to each motor's envelope at the joint's speed, r·η·bounds(r·q̇);
+/// under `drive` stepper a stepper's joint gets what its torque–angle curve gives at the
+/// rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw
+/// (an open-loop stepper asks for nothing else).
+#[inline]
+pub fn actuation(sc: &Scenario, s: &mut Step) {
+    let Some(motors) = &sc.motors else {
+        sc.controller.clip(&s.tau_raw, &mut s.state.tau);
+        return;
+    };
+    let effort = &sc.controller.gains.effort;
+    for (i, motor) in motors.iter().enumerate() {
+        if let (Some(m), Some(drive)) = (motor, stepper(sc, i)) {
+            let ratio = sc.model.joints[i].gear_ratio;
+            let k = ratio * m.efficiency;
+            let theta_cmd = drive.commanded(ratio * s.q_cmd[i]);
+            let omega = ratio * s.state.v[i];
+            let tau_m = drive.torque(&m.envelope, ratio * s.state.q[i], omega, theta_cmd);
+            let (lo, hi) = m.envelope.bounds(omega);
+            s.bounds[i] = (k * lo, k * hi);
+            s.state.tau[i] = k * tau_m;
+            s.tau_raw[i] = s.state.tau[i];
+            continue;
+        }
+        let e = effort[i];
+        let (lo, hi) = match motor {
+            Some(m) => {
+                let (lo, hi) = m.joint_bounds(sc.model.joints[i].gear_ratio, s.state.v[i]);
+                (lo.max(-e), hi.min(e))
+            }
+            None => (-e, e),
+        };
+        s.bounds[i] = (lo, hi);
+        s.state.tau[i] = s.tau_raw[i].max(lo).min(hi);
+    }
+}
+
+/// (q, v, q_cmd, v_cmd, τ, τ_raw, g) at step `k`, time `t` (s) ⇒ the [`Sample`] a recorder
+/// gets, with the tool's position (forward kinematics) and the shape's target at `t`;
+/// `intersecting` as [`Sample::intersecting`].
+pub fn sample<'a>(sc: &Scenario, s: &'a mut Step, k: usize, t: f64, intersecting: &'a [bool]) -> Sample<'a> {
+    let tool = frame_position(&sc.model, &s.state.q, sc.tool_frame);
+    let target = sc.shape.as_ref().map(|shape| {
+        shape.target.eval(t, &mut s.target, &mut s.target_rate);
+        Vec3::from(s.target)
+    });
+    Sample {
+        step: k,
+        t,
+        q: &s.state.q,
+        v: &s.state.v,
+        q_cmd: &s.q_cmd,
+        v_cmd: &s.v_cmd,
+        tau: &s.state.tau,
+        tau_raw: &s.tau_raw,
+        g: s.data.g.as_slice(),
+        tool,
+        target,
+        intersecting,
+    }
+}
+
+/// (M, C v + g, τ, q, v) ⇒ (q, v) at t + Δt: the discrete step at time `t` (s), with contact
+/// under `self_collisions`. An error when the step cannot be solved (see
+/// [`integrate_discrete`]).
+#[inline]
+pub fn integrate(sc: &Scenario, s: &mut Step, t: f64) -> Result<()> {
+    match &mut s.contact {
+        Some(contact) => contact.step(&sc.model, &mut s.data, &mut s.state, t),
+        None => integrate_discrete(&sc.model, &mut s.data, &mut s.state),
+    }
+}
+
+/// The step at time `t` (s): [`dynamics`], [`command`], [`controller`], [`actuation`],
+/// [`integrate`] ⇒ (q, v) at t + Δt, as [`super::run`] takes it.
+pub fn step(sc: &Scenario, s: &mut Step, t: f64) -> Result<()> {
+    dynamics(sc, s);
+    command(sc, s, t);
+    controller(sc, s);
+    actuation(sc, s);
+    integrate(sc, s, t)
+}
+
+/// Joint i's open-loop stepper under `drive` stepper.
+#[inline]
+pub(super) fn stepper(sc: &Scenario, i: usize) -> Option<&OpenLoopStepper> {
+    sc.stepper_drive.as_ref().and_then(|d| d[i].as_ref())
+}
+
+/// Under `drive` stepper, each stepper's joint at its static lag behind the driver's first
+/// microstep: where its torque–angle curve holds the joint's gravity load g_i(q),
+/// N_r·δ = −asin(g_i / (r·η·T_max)) (clamped to the curve's peak), q_i = (θ_cmd + δ)/r; as an
+/// arm that has been switched on and has settled. One pass: the lags are under a full step
+/// at the motor, so they barely move g.
+fn settle_steppers(sc: &Scenario, data: &mut Data, state: &mut State) {
+    let (Some(drives), Some(motors)) = (&sc.stepper_drive, &sc.motors) else {
+        return;
+    };
+    let g = gravity(&sc.model, data, &state.q).clone();
+    for (i, (drive, motor)) in drives.iter().zip(motors).enumerate() {
+        let (Some(drive), Some(m)) = (drive, motor) else {
+            continue;
+        };
+        let ratio = sc.model.joints[i].gear_ratio;
+        let t_max = m.envelope.bounds(ratio * state.v[i]).1;
+        let share = (g[i] / (ratio * m.efficiency * t_max)).clamp(-1.0, 1.0);
+        let lag = -share.asin() / drive.rotor_teeth;
+        state.q[i] = (drive.commanded(ratio * state.q[i]) + lag) / ratio;
+    }
+}
