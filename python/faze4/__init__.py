@@ -8,7 +8,7 @@ digital PD controller, from Python::
     run = faze4.wave(robot, duration=8.0, amp_deg=25.0)
     run.follows, run.summary["max_tracking_error_rad"], run.q.shape
 
-Every option of the command line is a keyword of ``wave``, ``replay``, ``shape``, ``sweep`` and
+Every option of the command line is a keyword of ``wave``, ``replay``, ``shape``, ``retime``, ``sweep`` and
 ``find``: the same name with underscores, the same default, the same checks. The keywords fill
 the library's own run configuration, field by field, and the run is the binary's: its summary
 equals the binary's ``--summary`` JSON. Messages name options as keywords (``dt``) where the
@@ -40,11 +40,13 @@ __all__ = [
     "CannotFollow",
     "Robot",
     "Run",
+    "Retimed",
     "Found",
     "Option",
     "wave",
     "replay",
     "shape",
+    "retime",
     "sweep",
     "find",
     "options",
@@ -84,15 +86,15 @@ def _table(command: str) -> dict[str, Option]:
     }
 
 
-_TABLES = {c: _table(c) for c in (*_RUN_COMMANDS, "sweep", "run")}
+_TABLES = {c: _table(c) for c in (*_RUN_COMMANDS, "retime", "sweep", "run")}
 
 
 def options(command: str) -> list[Option]:
-    """The keywords of ``command`` ('wave', 'replay', 'shape', 'sweep'; 'run': those every run
+    """The keywords of ``command`` ('wave', 'replay', 'shape', 'retime', 'sweep'; 'run': those every run
     command shares, which ``Robot.faze4`` and ``Robot.from_urdf`` take), as the binary declares
     them: name, long option, kind, default, choices, help."""
     if command not in _TABLES:
-        raise Error(f"no command '{command}' (wave, replay, shape, sweep, run)")
+        raise Error(f"no command '{command}' (wave, replay, shape, retime, sweep, run)")
     return list(_TABLES[command].values())
 
 
@@ -195,17 +197,17 @@ def _robot_options(robot: Robot) -> dict[str, Any]:
     return dict(getattr(robot, "_options", {}))
 
 
-def _q_traj(q_traj: Any):
-    """A replay's trajectory: a path (the binary reads it) or an array-like (N, dof) of real
-    numbers, converted exactly to float64 (any order and strides)."""
+def _q_traj(q_traj: Any, name: str = "q_traj"):
+    """A replay's trajectory (a retime's path): a path (the binary reads it) or an array-like
+    (N, dof) of real numbers, converted exactly to float64 (any order and strides)."""
     if isinstance(q_traj, (str, os.PathLike)):
         return os.fspath(q_traj), None
     array = np.asarray(q_traj)
     if array.dtype.kind not in "fiu":
-        raise TypeError(f"q_traj: dtype {array.dtype} is not a real number type (float64 expected)")
+        raise TypeError(f"{name}: dtype {array.dtype} is not a real number type (float64 expected)")
     if array.ndim != 2:
-        raise Error(f"q_traj: shape {array.shape}; expected (N, dof), one row per frame")
-    return "q_traj", array.astype(np.float64, copy=False)
+        raise Error(f"{name}: shape {array.shape}; expected (N, dof), one row per frame")
+    return name, array.astype(np.float64, copy=False)
 
 
 def _options(command: str, robot: Robot, options: dict[str, Any]) -> dict[str, Any]:
@@ -277,6 +279,69 @@ def replay(robot: Robot, q_traj: Any, t: Any = None, v: Any = None, a: Any = Non
 
 def shape(robot: Robot, shape: str, **options: Any) -> Run:
     return _run("shape", robot, {**options, "shape": shape})
+
+
+class Retimed:
+    """The fastest timing of a path that the motors follow, checked in the closed loop
+    (``faze4 retime``, docs/retime.md).
+
+    ``t`` (M,): the timing's times (s) at the grid points; ``q``, ``qd``, ``qdd`` (M, J): the
+    positions, velocities and accelerations there, one column per name of ``joint_names`` (what
+    ``out=`` writes, and what ``replay(robot, r.q, t=r.t, v=r.qd, a=r.qdd,
+    joint_names=r.joint_names)`` plays); ``duration`` (s); ``own_duration``: the input's own
+    timing (a time-stamped file's last time, a ``.npy``'s ``traj_period``) or ``None``;
+    ``speedup``: ``own_duration / duration`` or ``None``; ``run``: the checked timing's
+    :class:`Run` (its trail, summary and verdict); ``follows``, ``verdict``: the run's;
+    ``lines``: what the binary prints before its verdict (the duration, what binds where, the
+    check)."""
+
+    __slots__ = ("t", "q", "qd", "qdd", "joint_names", "duration", "own_duration", "run", "lines")
+
+    def __init__(self, run: Run, timing, duration: float, own_duration: float | None, lines: str):
+        self.t, self.q, self.qd, self.qdd, self.joint_names = timing
+        self.duration = duration
+        self.own_duration = own_duration
+        self.run = run
+        self.lines = lines
+
+    @property
+    def speedup(self) -> float | None:
+        return None if self.own_duration is None else self.own_duration / self.duration
+
+    @property
+    def follows(self) -> bool:
+        return self.run.follows
+
+    @property
+    def verdict(self) -> str:
+        return self.run.verdict
+
+    def __repr__(self) -> str:
+        return f"<faze4.Retimed {self.duration:.4f} s, {len(self.t)} points, {self.run.verdict!r}>"
+
+
+def retime(robot: Robot, q_path: Any, **options: Any) -> Retimed:
+    if "q_traj" in options:
+        raise TypeError("retime() got an unexpected keyword argument 'q_traj' (the path is q_path)")
+    path, frames = _q_traj(q_path, "q_path")
+    merged = _options("retime", robot, {**options, "q_traj": path})
+    quiet = bool(merged.get("quiet", True))
+    if not quiet:
+        sys.stdout.flush()
+    try:
+        (*fields, printed), timing, duration, own = _faze4._retime(merged, frames)
+    except _faze4._NothingFollows as e:
+        # no timing of the path follows: under strict the reason is what cannot be followed
+        # (the binary's exit status 3), else bad input (status 2)
+        raise (CannotFollow if merged.get("strict") else Error)(str(e)) from None
+    run = Run(*fields)
+    if not quiet:
+        for line in run.warnings:
+            print(f"faze4: {line}", file=sys.stderr)
+        print(printed + run.verdict, flush=True)
+    if merged.get("strict") and not run.follows:
+        raise CannotFollow(run.verdict, run)
+    return Retimed(run, timing, duration, own, printed)
 
 
 def _base(command: str, robot: Robot, options: dict[str, Any]):
@@ -399,6 +464,11 @@ _ABOUT = {
     "the model's joints, any order and any subset; default: the model's joints in order).",
     "shape": "Draw a sine, circle or triangle on the board (exact IK, then the samples as a loop): "
     "``faze4 shape``.\n\n``shape``: 'sine', 'circle' or 'tri'.",
+    "retime": "The fastest timing of a path that the motors follow, checked in the closed loop: "
+    "``faze4 retime`` (docs/retime.md).\n\n``q_path``: an array-like (N, dof) of joint positions "
+    "(the path's points, the model's joints in order), or the path of a file ``replay`` reads "
+    "(its times ignored). Returns a :class:`Retimed`; with ``strict=True`` a path that no timing "
+    "follows, or a checked timing that does not, raises :class:`CannotFollow`.",
 }
 
 
@@ -430,12 +500,17 @@ def _doc_lines(table: dict[str, Option], skip=()) -> list[str]:
     return lines
 
 
-def _document(function, command: str, positional: tuple[str, ...], optional: tuple[str, ...] = ()) -> None:
-    table = _TABLES[command]
+def _document(
+    function, command: str, positional: tuple[str, ...], optional: tuple[str, ...] = (), skip: tuple[str, ...] = ()
+) -> None:
+    """``function``'s doc and signature from the options of ``command``; ``skip``: options the
+    function takes under another name (a positional one)."""
+    table = {name: option for name, option in _TABLES[command].items() if name not in skip}
+    returns = "Retimed" if command == "retime" else "Run"
     lines = [
         _ABOUT[command],
         "",
-        "Returns a :class:`Run`. Keywords (every option of ``faze4 %s``, same name with underscores):" % command,
+        "Returns a :class:`%s`. Keywords (every option of ``faze4 %s``, same name with underscores):" % (returns, command),
         "",
         *_doc_lines(table, skip=positional),
     ]
@@ -454,6 +529,7 @@ def _document(function, command: str, positional: tuple[str, ...], optional: tup
 _document(wave, "wave", ())
 _document(replay, "replay", ("q_traj",), _TIMED)
 _document(shape, "shape", ("shape",))
+_document(retime, "retime", ("q_path",), skip=("q_traj",))
 
 sweep.__doc__ = "\n".join(
     [

@@ -155,6 +155,23 @@ class Run:
     tool_xyz: npt.NDArray[np.float64]
     warnings: list[str]
 
+class Retimed:
+    t: npt.NDArray[np.float64]
+    q: npt.NDArray[np.float64]
+    qd: npt.NDArray[np.float64]
+    qdd: npt.NDArray[np.float64]
+    joint_names: list[str]
+    duration: float
+    own_duration: float | None
+    run: Run
+    lines: str
+    @property
+    def speedup(self) -> float | None: ...
+    @property
+    def follows(self) -> bool: ...
+    @property
+    def verdict(self) -> str: ...
+
 class Found:
     name: str
     found: Literal['boundary', 'none_follows', 'all_follow']
@@ -325,6 +342,61 @@ def shape(
     plot: str | os.PathLike[str] | None = None,
     plot_motors: str | os.PathLike[str] | None = None,
 ) -> Run: ...
+
+def retime(
+    robot: Robot,
+    q_path: npt.ArrayLike | str | os.PathLike[str],
+    *,
+    traj_period: float = 5.0,
+    message: int | None = None,
+    topic: str | None = None,
+    out: str | os.PathLike[str] | None = None,
+    grid: int = 200,
+    margin: float = 0.3,
+    attempts: int = 8,
+    urdf: str | os.PathLike[str] | None = None,
+    package_path: Sequence[str | os.PathLike[str]] | None = None,
+    balance_inertia: bool = False,
+    tool_link: str | None = None,
+    effort: str | Sequence[float | None] | np.ndarray | None = None,
+    kp: str | Sequence[float | None] | np.ndarray | None = None,
+    kd: str | Sequence[float | None] | np.ndarray | None = None,
+    motors: str | os.PathLike[str] | dict[str, Any] | None = None,
+    supply_voltage: float | None = None,
+    drive: Literal['pd', 'stepper'] | None = None,
+    microsteps: str | Sequence[float | None] | np.ndarray | None = None,
+    sizing: bool = False,
+    rotor_inertia: str | Sequence[float | None] | np.ndarray | None = None,
+    gear_ratio: str | Sequence[float | None] | np.ndarray | None = None,
+    max_speed: str | Sequence[float | None] | np.ndarray | None = None,
+    no_ff: bool = False,
+    ff: Literal['gravity', 'full'] | None = None,
+    no_gravity: bool = False,
+    payload_kg: float = 0.0,
+    dt: float = 0.0002,
+    debug: bool = False,
+    quiet: bool = True,
+    print_period: float | None = None,
+    max_saturation_pct: float = 5.0,
+    max_error: float = 0.05,
+    max_deviation_mm: float = 5.0,
+    strict: bool = False,
+    trail: str | os.PathLike[str] = 'none',
+    summary: str | os.PathLike[str] | None = None,
+    record_period: float = 0.02,
+    collision_geometry: Literal['mesh', 'hull'] = 'mesh',
+    collision_pairs: Literal['all'] | None = None,
+    clearance_tolerance: float = 1.0,
+    no_collisions: bool = False,
+    self_collisions: bool = False,
+    friction: float = 1.0,
+    view: bool = False,
+    port: int = 7000,
+    hold: bool = False,
+    html: str | os.PathLike[str] | None = None,
+    plot: str | os.PathLike[str] | None = None,
+    plot_motors: str | os.PathLike[str] | None = None,
+) -> Retimed: ...
 
 def sweep(
     robot: Robot,

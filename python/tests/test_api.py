@@ -256,6 +256,7 @@ def test_stub_keywords_are_the_binarys_options():
         ("wave", None): ("wave", ()),
         ("replay", None): ("replay", ("q_traj",)),
         ("shape", None): ("shape", ("shape",)),
+        ("retime", None): ("retime", ("q_traj",)),
         ("faze4", "Robot"): ("run", ()),
         ("from_urdf", "Robot"): ("run", ("urdf", "package_path", "tool_link")),
     }

@@ -116,7 +116,7 @@ def test_dir_shows_the_public_api_only():
     assert dir(faze4) == sorted(faze4.__all__)
     for name in faze4.__all__:
         assert hasattr(faze4, name), name
-    assert {"wave", "replay", "shape", "sweep", "find", "Robot", "Run", "Found", "Error", "CannotFollow"} <= set(dir(faze4))
+    assert {"wave", "replay", "shape", "retime", "sweep", "find", "Robot", "Run", "Retimed", "Found", "Error", "CannotFollow"} <= set(dir(faze4))
     assert "np" not in dir(faze4) and "json" not in dir(faze4)
 
 

@@ -42,6 +42,12 @@ use crate::sweep::{Family, Found, Grid, MAX_RUNS, Outcome, Row, Seek, Sharing};
 use crate::traj::TimedTrajectory;
 
 create_exception!(faze4, Error, PyValueError, "Bad input: one line naming what is wrong.");
+create_exception!(
+    faze4,
+    NothingFollows,
+    Error,
+    "No timing of a retime's path follows (the Python package raises it as Error, or as CannotFollow under strict)."
+);
 
 /// How often a waiting call looks for Ctrl-C.
 const SIGNAL_POLL: Duration = Duration::from_millis(20);
@@ -200,13 +206,14 @@ fn to_json(obj: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
     )))
 }
 
-/// The configuration of `command` (`wave`, `replay`, `shape`) with the keywords of `options`,
+/// The configuration of `command` (`wave`, `replay`, `shape`, `retime`) with the keywords of `options`,
 /// each set by name.
 fn run_config(command: &str, options: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let motion = match command {
         "wave" => Motion::Wave(WaveConfig::default()),
         "replay" => Motion::Replay(config::ReplayConfig::new("q_traj")),
         "shape" => Motion::Shape(ShapeConfig::new(crate::traj::shape::Shape::Circle)),
+        "retime" => Motion::Retime(config::RetimeConfig::new("q_traj")),
         other => return Err(error(format!("command: '{other}' is not one of wave, replay, shape"))),
     };
     let mut config = RunConfig::new(motion);
@@ -535,23 +542,7 @@ fn _run<'py>(
 )> {
     let config = run_config(command, options)?;
     let frames = frames(q_traj, timed)?;
-    // the run stays on this thread, the GIL released; at every look at the stop flag (every
-    // 1,024 steps) it takes the GIL back for a moment and runs Python's signal handlers
-    let caller = std::thread::current().id();
-    let caught: Arc<Mutex<Option<PyErr>>> = Arc::default();
-    let stop = {
-        let caught = caught.clone();
-        StopFlag::with_poll(move || {
-            std::thread::current().id() == caller
-                && Python::attach(|py| match py.check_signals() {
-                    Ok(()) => false,
-                    Err(e) => {
-                        *caught.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
-                        true
-                    }
-                })
-        })
-    };
+    let (stop, caught) = signal_stop();
     let (finished, engine) = py.detach(|| {
         let started = Instant::now();
         let mut trail = Capture::new(config.record_period);
@@ -575,25 +566,176 @@ fn _run<'py>(
             started.elapsed(),
         )
     });
-    if let Some(interrupt) = caught.lock().unwrap_or_else(|p| p.into_inner()).take() {
-        return Err(interrupt);
-    }
-    // a signal that came while the run was being built or its files written
-    py.check_signals()?;
+    interrupted(py, &caught)?;
     let (summary, trail, warnings, printed, diverged) = finished.map_err(error)?;
-    let rows = trail.rows();
-    let table = |v: Vec<f64>, columns: usize| PyArray1::from_vec(py, v).reshape([rows, columns]);
+    let (t, q, q_cmd, tool_xyz) = trail_arrays(py, trail)?;
     Ok((
         summary_json(&summary),
         summary.verdict.to_string(),
-        PyArray1::from_vec(py, trail.t),
-        table(trail.q, trail.dof)?,
-        table(trail.q_cmd, trail.dof)?,
-        table(trail.tool_xyz, 3)?,
+        t,
+        q,
+        q_cmd,
+        tool_xyz,
         warnings,
         engine.as_secs_f64(),
         printed,
         diverged,
+    ))
+}
+
+/// A run's stop flag for a run on the calling thread with the GIL released: at every look at
+/// the flag (every 1,024 steps) it takes the GIL back for a moment and runs Python's signal
+/// handlers; a signal's exception is kept in the second value ([`interrupted`]).
+fn signal_stop() -> (StopFlag, Arc<Mutex<Option<PyErr>>>) {
+    let caller = std::thread::current().id();
+    let caught: Arc<Mutex<Option<PyErr>>> = Arc::default();
+    let stop = {
+        let caught = caught.clone();
+        StopFlag::with_poll(move || {
+            std::thread::current().id() == caller
+                && Python::attach(|py| match py.check_signals() {
+                    Ok(()) => false,
+                    Err(e) => {
+                        *caught.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+                        true
+                    }
+                })
+        })
+    };
+    (stop, caught)
+}
+
+/// The exception of a signal that stopped the run ([`signal_stop`]), or of one that came while
+/// the run was being built or its files written.
+fn interrupted(py: Python<'_>, caught: &Mutex<Option<PyErr>>) -> PyResult<()> {
+    if let Some(interrupt) = caught.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        return Err(interrupt);
+    }
+    py.check_signals()
+}
+
+/// The trail's rows as arrays: t (N,), q (N, dof), q_cmd (N, dof), tool_xyz (N, 3).
+#[allow(clippy::type_complexity)]
+fn trail_arrays(
+    py: Python<'_>,
+    trail: Capture,
+) -> PyResult<(
+    Bound<'_, PyArray1<f64>>,
+    Bound<'_, PyArray2<f64>>,
+    Bound<'_, PyArray2<f64>>,
+    Bound<'_, PyArray2<f64>>,
+)> {
+    let rows = trail.rows();
+    let table = |v: Vec<f64>, columns: usize| PyArray1::from_vec(py, v).reshape([rows, columns]);
+    Ok((
+        PyArray1::from_vec(py, trail.t),
+        table(trail.q, trail.dof)?,
+        table(trail.q_cmd, trail.dof)?,
+        table(trail.tool_xyz, 3)?,
+    ))
+}
+
+/// A retime timing as arrays: t (M,), q, qd, qdd (M, J each), and the J joints' names.
+type TimingArrays<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Vec<String>,
+);
+
+fn timing_arrays<'py>(py: Python<'py>, timing: &TimedTrajectory) -> PyResult<TimingArrays<'py>> {
+    let (m, j) = (timing.points.len(), timing.joint_names.len());
+    let column = |pick: fn(&crate::traj::TrajectoryPoint) -> &Vec<f64>| {
+        let flat: Vec<f64> = timing.points.iter().flat_map(|p| pick(p).iter().copied()).collect();
+        PyArray1::from_vec(py, flat).reshape([m, j])
+    };
+    Ok((
+        PyArray1::from_vec(py, timing.points.iter().map(|p| p.time_from_start).collect()),
+        column(|p| &p.positions)?,
+        column(|p| &p.velocities)?,
+        column(|p| &p.accelerations)?,
+        timing.joint_names.clone(),
+    ))
+}
+
+/// A retime of the path `q_traj` (frames given as an array, or read from the path the
+/// keywords' `q_traj` names) with the keywords `options`: (the checked timing's run as
+/// [`_run`] gives it, with the lines the binary prints before its verdict; the timing's
+/// arrays; its duration; the input's own duration, if any). The checked timing is played once
+/// more with the trail kept (a run as deterministic as the check's: the same summary).
+#[pyfunction]
+#[pyo3(signature = (options, q_traj=None))]
+#[allow(clippy::type_complexity)]
+fn _retime<'py>(
+    py: Python<'py>,
+    options: &Bound<'py, PyDict>,
+    q_traj: Option<PyReadonlyArray2<'py, f64>>,
+) -> PyResult<(
+    (
+        String,
+        String,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Vec<String>,
+        f64,
+        String,
+    ),
+    TimingArrays<'py>,
+    f64,
+    Option<f64>,
+)> {
+    let config = run_config("retime", options)?;
+    let frames = frames(q_traj, None)?;
+    let (stop, caught) = signal_stop();
+    let (finished, engine) = py.detach(|| {
+        let started = Instant::now();
+        let mut trail = Capture::new(config.record_period);
+        let files = crate::atomic::Outputs::new();
+        let mut warnings = Vec::new();
+        let finished = crate::session::retime(&config, frames, &files, &mut [&mut trail], &stop, |w| {
+            warnings = warning_lines(w)
+        })
+        .and_then(|finished| {
+            files.commit()?;
+            let out = match &config.motion {
+                Motion::Retime(r) => r.out.as_deref(),
+                _ => None,
+            };
+            let printed = keywords(&crate::session::retime_lines(&finished, out));
+            Ok((finished, printed))
+        });
+        (
+            finished.map(|(f, printed)| (f, trail, warnings, printed)),
+            started.elapsed(),
+        )
+    });
+    interrupted(py, &caught)?;
+    let (finished, trail, warnings, printed) = finished.map_err(|e| match e {
+        crate::Error::NothingFollows { .. } => {
+            NothingFollows::new_err(crate::error::escape_controls(&keywords(&e.to_string())))
+        }
+        e => error(e),
+    })?;
+    let summary = &finished.summary;
+    let (t, q, q_cmd, tool_xyz) = trail_arrays(py, trail)?;
+    Ok((
+        (
+            summary_json(summary),
+            summary.verdict.to_string(),
+            t,
+            q,
+            q_cmd,
+            tool_xyz,
+            warnings,
+            engine.as_secs_f64(),
+            printed,
+        ),
+        timing_arrays(py, &finished.retimed.trajectory)?,
+        finished.retimed.profile.duration(),
+        finished.own_duration,
     ))
 }
 
@@ -735,7 +877,9 @@ fn _panic(on_worker: bool, py: Python<'_>) -> PyResult<()> {
 fn _faze4(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRobot>()?;
     m.add("Error", m.py().get_type::<Error>())?;
+    m.add("_NothingFollows", m.py().get_type::<NothingFollows>())?;
     m.add_function(wrap_pyfunction!(_run, m)?)?;
+    m.add_function(wrap_pyfunction!(_retime, m)?)?;
     m.add_function(wrap_pyfunction!(_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(_find, m)?)?;
     m.add_function(wrap_pyfunction!(_options, m)?)?;

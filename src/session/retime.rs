@@ -29,8 +29,8 @@ pub struct RetimeFinished {
 /// Retimes the path `config` (a [`Motion::Retime`]) names, or `replayed`, into `files` (the
 /// caller commits them): every output path claimed first, `warn` told the warnings, then the
 /// timing found and checked, `out` and `plot` written, and, when the trail, HTML, the
-/// motors' plot or the live view are asked for, the timing played once more with them (a run
-/// as deterministic as the check's: the same summary). `extra` records that run.
+/// motors' plot, the live view or `extra` recorders are asked for, the timing played once more
+/// with them (a run as deterministic as the check's: the same summary).
 pub fn retime(
     config: &RunConfig,
     replayed: Option<Replayed>,
@@ -60,7 +60,12 @@ pub fn retime(
     // the run's own outputs, opened by session::run (the figure is the phase plane here)
     let mut played_config = config.clone();
     played_config.outputs.plot = None;
-    let records = out.trail.is_some() || out.html.is_some() || out.plot_motors.is_some() || out.view || out.hold;
+    let records = out.trail.is_some()
+        || out.html.is_some()
+        || out.plot_motors.is_some()
+        || out.view
+        || out.hold
+        || !extra.is_empty();
     let mut warnings = start.warnings.clone();
     warnings.extend(loaded.warnings.iter().cloned());
     let model = &start.model;

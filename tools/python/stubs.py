@@ -119,6 +119,23 @@ class Run:
     tool_xyz: npt.NDArray[np.float64]
     warnings: list[str]
 
+class Retimed:
+    t: npt.NDArray[np.float64]
+    q: npt.NDArray[np.float64]
+    qd: npt.NDArray[np.float64]
+    qdd: npt.NDArray[np.float64]
+    joint_names: list[str]
+    duration: float
+    own_duration: float | None
+    run: Run
+    lines: str
+    @property
+    def speedup(self) -> float | None: ...
+    @property
+    def follows(self) -> bool: ...
+    @property
+    def verdict(self) -> str: ...
+
 class Found:
     name: str
     found: Literal['boundary', 'none_follows', 'all_follow']
@@ -164,6 +181,8 @@ def main() -> None:
     ]
     parts.append(function("replay", replay_head, "replay", ("q_traj",), "Run"))
     parts.append(function("shape", ["    robot: Robot,", "    shape: Literal['sine', 'circle', 'tri'],"], "shape", ("shape",), "Run"))
+    retime_head = ["    robot: Robot,", "    q_path: npt.ArrayLike | str | os.PathLike[str],"]
+    parts.append(function("retime", retime_head, "retime", ("q_traj",), "Retimed"))
     sweep_head = [
         "    robot: Robot,",
         "    command: Literal['wave', 'replay', 'shape'],",
