@@ -202,12 +202,18 @@ def _q_traj(q_traj: Any, name: str = "q_traj"):
     (N, dof) of real numbers, converted exactly to float64 (any order and strides)."""
     if isinstance(q_traj, (str, os.PathLike)):
         return os.fspath(q_traj), None
-    array = np.asarray(q_traj)
+    return name, _real_array(name, q_traj, 2, "(N, dof), one row per frame")
+
+
+def _real_array(name: str, value: Any, ndim: int, expected: str) -> np.ndarray:
+    """``value`` as a float64 array of ``ndim`` dimensions (``expected`` says which shape),
+    converted exactly from any real number type, in any order and strides."""
+    array = np.asarray(value)
     if array.dtype.kind not in "fiu":
         raise TypeError(f"{name}: dtype {array.dtype} is not a real number type (float64 expected)")
-    if array.ndim != 2:
-        raise Error(f"{name}: shape {array.shape}; expected (N, dof), one row per frame")
-    return name, array.astype(np.float64, copy=False)
+    if array.ndim != ndim:
+        raise Error(f"{name}: shape {array.shape}; expected {expected}")
+    return array.astype(np.float64, copy=False)
 
 
 def _options(command: str, robot: Robot, options: dict[str, Any]) -> dict[str, Any]:
@@ -234,12 +240,7 @@ def _timed(path: str, frames, t: Any, v: Any, a: Any, joint_names: Any):
     def real(name: str, value: Any, ndim: int):
         if value is None:
             return None
-        array = np.asarray(value)
-        if array.dtype.kind not in "fiu":
-            raise TypeError(f"{name}: dtype {array.dtype} is not a real number type (float64 expected)")
-        if array.ndim != ndim:
-            raise Error(f"{name}: shape {array.shape}; expected {'(N,)' if ndim == 1 else '(N, J)'}")
-        return np.ascontiguousarray(array, dtype=np.float64)
+        return np.ascontiguousarray(_real_array(name, value, ndim, "(N,)" if ndim == 1 else "(N, J)"))
 
     names = None if joint_names is None else [str(n) for n in joint_names]
     return (real("t", t, 1), real("v", v, 2), real("a", a, 2), names)
@@ -538,10 +539,12 @@ sweep.__doc__ = "\n".join(
         "",
         "``vary``: {name: values} (an array-like, or 'LO:HI:STEP'); the runs are the product. "
         "A name is a numeric option of the command (payload_kg, dt, duration, freq, amp_deg, "
-        "traj_period, shape_points, record_period, max_error, max_saturation_pct, "
-        "max_deviation_mm) or a multiplier: kp_scale, kd_scale, effort_scale, mass_scale, "
-        "rotor_inertia_scale. ``jobs``: threads (0: one per core). Other keywords: the options of "
-        "the command (see ``help(faze4.%s)``)." % "wave",
+        "amp_m, traj_period, message, shape_points, record_period, supply_voltage, friction, "
+        "clearance_tolerance, max_error, max_saturation_pct, max_deviation_mm) or a multiplier: "
+        "kp_scale, kd_scale, effort_scale, mass_scale, rotor_inertia_scale, efficiency_scale, "
+        "stall_torque_scale. ``jobs``: threads (0: one per core). ``own_clearance``: each run "
+        "its own self-clearance, not the commanded path's shared (docs/sweep.md). Other keywords: "
+        "the options of the command (see ``help(faze4.%s)``)." % "wave",
         "",
         "Returns one dict per run, in grid order: the run's summary (as ``Run.summary``) with "
         "the varied values under their names; a run that could not be built: {'failed': reason}.",

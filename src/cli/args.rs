@@ -339,9 +339,10 @@ pub struct SweepArgs {
     pub merge: Option<SweepCommand>,
     /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
     /// the runs are the product). NAME is a numeric option of the command (payload-kg, dt,
-    /// duration, freq, amp-deg, traj-period, shape-points, record-period, max-error,
-    /// max-saturation-pct, max-deviation-mm) or a multiplier of the tuned or given values:
-    /// kp-scale, kd-scale, effort-scale, mass-scale, rotor-inertia-scale.
+    /// duration, freq, amp-deg, amp-m, traj-period, message, shape-points, record-period,
+    /// supply-voltage, friction, clearance-tolerance, max-error, max-saturation-pct,
+    /// max-deviation-mm) or a multiplier of the tuned or given values: kp-scale, kd-scale,
+    /// effort-scale, mass-scale, rotor-inertia-scale, efficiency-scale, stall-torque-scale.
     #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true)]
     pub vary: Vec<String>,
     /// Find the largest value of NAME in [LO, HI] at which the arm still follows (bisection).

@@ -160,4 +160,24 @@ mod tests {
             }
         }
     }
+
+    /// `--vary`'s help names every option a sweep varies, and nothing else.
+    #[test]
+    fn varys_help_names_what_a_sweep_varies() {
+        let sweep = options("sweep").unwrap();
+        let help = &sweep.iter().find(|o| o.long == "vary").unwrap().help;
+        let listed: String = (help.split_once("NAME is").unwrap().1.chars())
+            .map(|c| if c.is_ascii_lowercase() || c == '-' { c } else { ' ' })
+            .collect();
+        let known = crate::sweep::known_names();
+        let mut known: Vec<&str> = known.split(", ").collect();
+        let mut named: Vec<&str> = (listed.split_whitespace())
+            .filter(|w| w.contains('-') || crate::config::fields::field(w).is_some())
+            .filter(|w| *w != "a" && !w.starts_with('-'))
+            .collect();
+        known.sort();
+        named.sort();
+        named.dedup();
+        assert_eq!(named, known);
+    }
 }

@@ -25,8 +25,10 @@ pub enum Knob {
     Scale(Scale),
 }
 
-/// Numeric fields that say how a run is shown, not what it does: not varied.
-const NOT_VARIED: [&str; 2] = ["port", "print_period"];
+/// Numeric fields a sweep does not vary: how a run is shown, not what it does (`port`,
+/// `print_period`), and retime's (`grid`, `margin`, `attempts`: a sweep runs wave, replay and
+/// shape).
+const NOT_VARIED: [&str; 5] = ["port", "print_period", "grid", "margin", "attempts"];
 
 /// The numeric fields whose values leave a run's commanded path q_cmd(t) and the times of its
 /// clearance's samples as they are: the arm's dynamics (`payload_kg`), the motors' supply, the
@@ -409,10 +411,8 @@ mod tests {
     /// * `dt`, `record_period`: the sample times, every round(record_period / dt) steps of dt;
     /// * `duration`: the samples (the last step is one); a path over the longest run would keep
     ///   the shorter ones waiting for its bounds over the whole of it;
-    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance;
-    /// * `grid`, `margin`, `attempts`: retime's, which choose the timing itself (a sweep does not
-    ///   run retime, but a field is decided either way).
-    const OWN_PATH: [&str; 13] = [
+    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance.
+    const OWN_PATH: [&str; 10] = [
         "freq",
         "amp_deg",
         "amp_m",
@@ -423,9 +423,6 @@ mod tests {
         "record_period",
         "duration",
         "clearance_tolerance",
-        "grid",
-        "margin",
-        "attempts",
     ];
 
     /// Every numeric field a sweep varies is said to keep the commanded path or to move it
