@@ -40,11 +40,16 @@ pub const MAX_MESH_TRIANGLES: u64 = 5_000_000;
 pub const MAX_COLLADA_NESTING: usize = 256;
 /// Largest `.npy` trajectory read (256 MiB): an hour at 1 kHz of 7 joints is 200 MB.
 pub const MAX_NPY_BYTES: u64 = 256 << 20;
-/// Largest time-stamped trajectory text read (`.yaml`, `.json`, `.csv`: 64 MiB). The ROS
+/// Largest time-stamped trajectory text read (`.json`, `.csv`: 64 MiB). The ROS
 /// trajectories we know hold tens to thousands of points (a few hundred bytes each); 64 MiB
-/// is about 300,000 points of 7 joints. YAML and JSON are parsed into a tree first (serde's
-/// event list, its untagged buffering), several times the text (docs/development.md, "Caps").
+/// is about 300,000 points of 7 joints. JSON is parsed into a tree first (serde's untagged
+/// buffering), several times the text: a 64 MiB JSON trajectory peaked at 422 MB, a CSV at
+/// 286 MB (docs/development.md, "Caps").
 pub const MAX_TRAJECTORY_TEXT_BYTES: u64 = 64 << 20;
+/// Largest YAML trajectory read (16 MiB, about 60,000 points as `ros2 topic echo` prints them):
+/// serde_norway lists every event of the document before it builds anything, about 13 times the
+/// text (a 64 MiB YAML trajectory peaked at 876 MB; docs/development.md, "Caps").
+pub const MAX_YAML_TRAJECTORY_BYTES: u64 = 16 << 20;
 /// Largest `.mcap` file read (256 MiB, the `.npy` cap: rosbag2 compresses a recorded motion).
 pub const MAX_MCAP_BYTES: u64 = 256 << 20;
 /// Most bytes an `.mcap` file's trajectory messages may hold once decompressed (256 MiB), and

@@ -807,7 +807,7 @@ fn trajectory_files_are_capped_and_checked_before_they_are_built() {
     let cases: Vec<(Vec<String>, &[&str])> = vec![
         (
             replay("zero.yaml"),
-            &["zero.yaml: a stream of more than the 64 MiB a trajectory text file may hold"],
+            &["zero.yaml: a stream of more than the 16 MiB a YAML trajectory may hold"],
         ),
         (
             replay("zero.mcap"),

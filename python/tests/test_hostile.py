@@ -59,7 +59,7 @@ def test_bad_input_raises_one_line_and_the_interpreter_lives_on(tmp_path):
     cases = [
         (lambda: faze4.Robot.from_urdf(tmp_path / "zero.urdf"), "a stream of more than the 16 MiB a URDF may hold"),
         (lambda: faze4.Robot.faze4(motors=str(tmp_path / "zero.toml")), "a stream of more than the 1 MiB"),
-        (lambda: faze4.replay(robot, tmp_path / "zero.yaml"), "more than the 64 MiB a trajectory text file may hold"),
+        (lambda: faze4.replay(robot, tmp_path / "zero.yaml"), "more than the 16 MiB a YAML trajectory may hold"),
         (lambda: faze4.replay(robot, tmp_path / "bomb.mcap"), "bomb.mcap: not a readable MCAP file"),
         (lambda: faze4.shape(robot, "circle", shape_points=100_000_000), "shape_points: 100000000 samples: at most 100000"),
         (lambda: faze4.wave(robot, freq=1e308), "freq: 1e308 rad/s turns the wave more than half a period"),

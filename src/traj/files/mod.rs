@@ -22,7 +22,7 @@ use std::path::Path;
 
 use crate::atomic::Outputs;
 use crate::error::{Error, Result};
-use crate::input::{MAX_MCAP_BYTES, MAX_TRAJECTORY_TEXT_BYTES, read_capped};
+use crate::input::{MAX_MCAP_BYTES, MAX_TRAJECTORY_TEXT_BYTES, MAX_YAML_TRAJECTORY_BYTES, read_capped};
 use crate::traj::TimedTrajectory;
 
 /// Which message or topic of a file to read (`--message K`, `--topic NAME`).
@@ -68,7 +68,8 @@ pub const EXTENSIONS: &str = ".yaml, .yml, .json, .mcap or .csv";
 
 /// Reads the trajectory in `path`, its format by extension, the message or topic `selection`
 /// names; the trajectory is checked ([`TimedTrajectory::check`]). The file is read whole, at
-/// most [`MAX_TRAJECTORY_TEXT_BYTES`] of text or [`MAX_MCAP_BYTES`] of MCAP (a stream too). Every error is one line
+/// most [`MAX_YAML_TRAJECTORY_BYTES`] of YAML, [`MAX_TRAJECTORY_TEXT_BYTES`] of JSON or CSV,
+/// [`MAX_MCAP_BYTES`] of MCAP (a stream too). Every error is one line
 /// naming the file (or the option, for a `--message` or `--topic` that does not fit it).
 pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
     let format = format_of(path)?;
@@ -81,6 +82,7 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
     // read whole, under a cap checked before memory is taken (a stream up to it)
     let bytes = match format {
         Format::Mcap => read_capped(path, MAX_MCAP_BYTES, "an .mcap trajectory")?,
+        Format::Yaml => read_capped(path, MAX_YAML_TRAJECTORY_BYTES, "a YAML trajectory")?,
         _ => read_capped(path, MAX_TRAJECTORY_TEXT_BYTES, "a trajectory text file")?,
     };
     parse(&bytes, format, selection, path)
