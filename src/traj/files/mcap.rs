@@ -384,4 +384,23 @@ mod tests {
             "{e}"
         );
     }
+
+    /// A small file whose trajectory topic holds more than the kept-messages cap once
+    /// decompressed (257 messages of 1 MiB, compressed to a few kB) is refused when the cap is
+    /// passed, not read into memory without end; one message fewer than the cap is read on.
+    #[test]
+    fn messages_past_the_kept_cap_are_refused() {
+        let mib = vec![0u8; 1 << 20];
+        let messages = |n: usize| vec![mib.clone(); n];
+        let over = bag(&[("/joint_states", JOINT_STATE, messages(257))]);
+        assert!(over.len() < (8 << 20), "compressed: {} bytes", over.len());
+        let e = read(&over, None).unwrap_err().to_string();
+        assert!(
+            e.contains("its trajectory topics hold more than 256 MiB of messages once decompressed"),
+            "{e}"
+        );
+        // under the cap the messages are kept and decoded (zeros decode as empty JointStates)
+        let under = bag(&[("/joint_states", JOINT_STATE, messages(250))]);
+        assert_eq!(read(&under, None).unwrap().points.len(), 250);
+    }
 }
