@@ -57,6 +57,14 @@ const EXPECTED: &[(&str, &str, Option<&str>)] = &[
         "xml-namespace-panic-min",
         Some("urdf-rs panicked: No namespace prefix bound"),
     ),
+    // trajectory_file in CI's smoke run: an MCAP header record claiming a 4 GB profile string;
+    // the mcap crate's decoding reserved it (an out-of-memory under libFuzzer). The header is
+    // not decoded any more, and the reader stops at the first record over the length cap.
+    (
+        "trajectory_file",
+        "oom-mcap-header-string",
+        Some("not a readable MCAP file: record with opcode 13 length exceeds limit"),
+    ),
 ];
 
 fn inputs(target: &str) -> Vec<(PathBuf, bool)> {

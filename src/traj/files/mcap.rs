@@ -42,28 +42,132 @@ impl Topic {
     }
 }
 
+/// Calls `each` with every message of the MCAP file `bytes` in file order: its topic (the
+/// channel's, with its schema's name and the channel's message encoding), log time and data.
+///
+/// The records are read by the `mcap` crate's linear reader (magic, record lengths, chunks
+/// decompressed, CRCs; a record, or one inside a compressed chunk, whatever size it claims,
+/// is read only up to [`MAX_MCAP_MESSAGE_BYTES`]), and the three this needs (schema, channel,
+/// message) are decoded here, each length checked against what its record holds: the crate's
+/// own decoding reserves whatever a string's length claims (a 300-byte file claiming a 4 GB
+/// profile string asked for 4 GB). The summary after the data end repeats schemas and channels
+/// and is not read.
+fn each_message(bytes: &[u8], path: &Path, mut each: impl FnMut(&Topic, u64, &[u8]) -> Result<()>) -> Result<()> {
+    use ::mcap::records::op;
+    use ::mcap::sans_io::{LinearReadEvent, LinearReader};
+    let bad = |what: String| invalid(path, format!("not a readable MCAP file: {what}"));
+    let options = LinearReaderOptions::default().with_record_length_limit(MAX_MCAP_MESSAGE_BYTES as usize);
+    let mut reader = LinearReader::new_with_options(options);
+    let mut fed = 0;
+    // schema id → name; channel id → its topic
+    let mut schemas: BTreeMap<u16, String> = BTreeMap::new();
+    let mut channels: BTreeMap<u16, Topic> = BTreeMap::new();
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| bad(e.to_string()))? {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.min(bytes.len() - fed);
+                reader.insert(n).copy_from_slice(&bytes[fed..fed + n]);
+                reader.notify_read(n);
+                fed += n;
+            }
+            LinearReadEvent::Record {
+                opcode: op::DATA_END, ..
+            } => break,
+            LinearReadEvent::Record { opcode, data } => {
+                let mut r = Fields(data);
+                let malformed = |record: &str| bad(format!("a malformed {record} record"));
+                match opcode {
+                    op::SCHEMA => {
+                        // id, name, encoding, data (u32-prefixed)
+                        let (id, name) = (r.u16(), r.string());
+                        let (Some(id), Some(name)) = (id, name) else {
+                            return Err(malformed("schema"));
+                        };
+                        schemas.insert(id, name);
+                    }
+                    op::CHANNEL => {
+                        // id, schema id, topic, message encoding, metadata
+                        let (id, schema, topic, encoding) = (r.u16(), r.u16(), r.string(), r.string());
+                        let (Some(id), Some(schema), Some(name), Some(encoding)) = (id, schema, topic, encoding) else {
+                            return Err(malformed("channel"));
+                        };
+                        let kind = match schema {
+                            0 => String::new(),
+                            id => (schemas.get(&id).cloned()).ok_or_else(|| {
+                                bad(format!("channel {id}'s schema {schema} is not declared before it"))
+                            })?,
+                        };
+                        channels.insert(id, Topic { name, kind, encoding });
+                    }
+                    op::MESSAGE => {
+                        // channel id, sequence, log time, publish time, then the data
+                        let (channel, _sequence, log_time, _publish) = (r.u16(), r.u32(), r.u64(), r.u64());
+                        let (Some(channel), Some(log_time)) = (channel, log_time) else {
+                            return Err(malformed("message"));
+                        };
+                        let topic = (channels.get(&channel)).ok_or_else(|| {
+                            bad(format!(
+                                "a message on channel {channel}, which no channel record declares"
+                            ))
+                        })?;
+                        each(topic, log_time, r.0)?;
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The fields of one MCAP record, read in order (little-endian); `None` past its end.
+struct Fields<'a>(&'a [u8]);
+
+impl Fields<'_> {
+    fn take<const N: usize>(&mut self) -> Option<[u8; N]> {
+        let (head, rest) = self.0.split_first_chunk::<N>()?;
+        self.0 = rest;
+        Some(*head)
+    }
+
+    fn u16(&mut self) -> Option<u16> {
+        self.take().map(u16::from_le_bytes)
+    }
+
+    fn u32(&mut self) -> Option<u32> {
+        self.take().map(u32::from_le_bytes)
+    }
+
+    fn u64(&mut self) -> Option<u64> {
+        self.take().map(u64::from_le_bytes)
+    }
+
+    /// A u32-prefixed UTF-8 string, its length at most what the record holds (lossy: a name is
+    /// only compared and shown, escaped).
+    fn string(&mut self) -> Option<String> {
+        let n = usize::try_from(self.u32()?).ok()?;
+        if n > self.0.len() {
+            return None;
+        }
+        let (text, rest) = self.0.split_at(n);
+        self.0 = rest;
+        Some(String::from_utf8_lossy(text).into_owned())
+    }
+}
+
 /// The trajectory `selection` picks in an MCAP file's bytes, unchecked.
 pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
-    let bad_mcap = |e: ::mcap::McapError| invalid(path, format!("not a readable MCAP file: {e}"));
     // every topic with its messages' count; the messages of the JointTrajectory and JointState
     // topics (small), with their log times
     let mut topics: BTreeMap<Topic, usize> = BTreeMap::new();
     let mut candidates: BTreeMap<String, Vec<(u64, Vec<u8>)>> = BTreeMap::new();
     // a record (a message, or one inside a compressed chunk, whatever size it claims) is read
     // only up to the cap, and what is kept of the messages too (MAX_MCAP_MESSAGE_BYTES)
-    let options = LinearReaderOptions::default().with_record_length_limit(MAX_MCAP_MESSAGE_BYTES as usize);
     let mut kept: u64 = 0;
-    for message in ::mcap::io::MessageReader::new_with_options(Cursor::new(bytes), options) {
-        let message = message.map_err(bad_mcap)?;
-        let channel = &message.channel;
-        let topic = Topic {
-            name: channel.topic.clone(),
-            kind: channel.schema.as_ref().map_or(String::new(), |s| s.name.clone()),
-            encoding: channel.message_encoding.clone(),
-        };
+    each_message(bytes, path, |topic, log_time, data| {
         if [JOINT_TRAJECTORY, JOINT_STATE].contains(&topic.kind.as_str()) {
             // each message kept costs its bytes and its place in the list
-            kept += (message.data.len() + std::mem::size_of::<(u64, Vec<u8>)>()) as u64;
+            kept += (data.len() + std::mem::size_of::<(u64, Vec<u8>)>()) as u64;
             if kept > MAX_MCAP_MESSAGE_BYTES {
                 return Err(invalid(
                     path,
@@ -73,10 +177,11 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
                     ),
                 ));
             }
-            (candidates.entry(topic.name.clone()).or_default()).push((message.log_time, message.data.into_owned()));
+            (candidates.entry(topic.name.clone()).or_default()).push((log_time, data.to_vec()));
         }
-        *topics.entry(topic).or_default() += 1;
-    }
+        *topics.entry(topic.clone()).or_default() += 1;
+        Ok(())
+    })?;
     let listed = |topics: &mut dyn Iterator<Item = &Topic>| topics.map(Topic::describe).collect::<Vec<_>>().join(", ");
     let topic = match &selection.topic {
         Some(name) => topics.keys().find(|t| &t.name == name).cloned().ok_or_else(|| {
@@ -402,5 +507,53 @@ mod tests {
         // under the cap the messages are kept and decoded (zeros decode as empty JointStates)
         let under = bag(&[("/joint_states", JOINT_STATE, messages(250))]);
         assert_eq!(read(&under, None).unwrap().points.len(), 250);
+    }
+
+    /// A schema or channel whose string claims more than its record holds is refused as
+    /// malformed, without taking what it claims (the mcap crate's decoding reserved it).
+    #[test]
+    fn strings_longer_than_their_record_are_refused() {
+        let record = |op: u8, content: &[u8]| {
+            let mut r = vec![op];
+            r.extend((content.len() as u64).to_le_bytes());
+            r.extend(content);
+            r
+        };
+        let string = |s: &str| [&(s.len() as u32).to_le_bytes()[..], s.as_bytes()].concat();
+        let claims = |n: u32| [&n.to_le_bytes()[..], b"abc"].concat();
+        let file = |records: &[Vec<u8>]| {
+            let mut f = b"\x89MCAP0\r\n".to_vec();
+            f.extend(record(0x01, &[string("ros2"), string("")].concat()));
+            for r in records {
+                f.extend(r);
+            }
+            f
+        };
+        let schema = |name: &[u8]| record(0x03, &[&1u16.to_le_bytes()[..], name].concat());
+        let e = read(&file(&[schema(&claims(0xF000_0000))]), None)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("not a readable MCAP file: a malformed schema record"),
+            "{e}"
+        );
+        let channel = |topic: &[u8]| {
+            record(
+                0x04,
+                &[&1u16.to_le_bytes()[..], &0u16.to_le_bytes(), topic, &string("cdr")].concat(),
+            )
+        };
+        let e = read(&file(&[channel(&claims(4))]), None).unwrap_err().to_string();
+        assert!(
+            e.ends_with("not a readable MCAP file: a malformed channel record"),
+            "{e}"
+        );
+        // a message on a channel never declared
+        let message = record(0x05, &[&7u16.to_le_bytes()[..], &[0; 20]].concat());
+        let e = read(&file(&[message]), None).unwrap_err().to_string();
+        assert!(
+            e.contains("a message on channel 7, which no channel record declares"),
+            "{e}"
+        );
     }
 }
