@@ -256,8 +256,14 @@ def _run(command: str, robot: Robot, options: dict[str, Any], frames=None, timed
     if not quiet:
         sys.stdout.flush()  # the progress lines come from the binding, after what Python printed
     *fields, printed, diverged = _faze4._run(command, merged, frames, timed)
-    run = Run(*fields)
-    if not quiet:
+    return _reported(merged, Run(*fields), printed, diverged)
+
+
+def _reported(merged: dict[str, Any], run: Run, printed: str, diverged: str | None = None) -> Run:
+    """``run`` as the binary reports it: unless ``quiet``, its warnings on stderr, what it
+    prints and its verdict on stdout, a divergence on stderr; under ``strict``, a run that does
+    not follow raises :class:`CannotFollow`."""
+    if not merged.get("quiet", True):
         for line in run.warnings:
             print(f"faze4: {line}", file=sys.stderr)
         print(printed + run.verdict, flush=True)
@@ -335,13 +341,7 @@ def retime(robot: Robot, q_path: Any, **options: Any) -> Retimed:
         # no timing of the path follows: under strict the reason is what cannot be followed
         # (the binary's exit status 3), else bad input (status 2)
         raise (CannotFollow if merged.get("strict") else Error)(str(e)) from None
-    run = Run(*fields)
-    if not quiet:
-        for line in run.warnings:
-            print(f"faze4: {line}", file=sys.stderr)
-        print(printed + run.verdict, flush=True)
-    if merged.get("strict") and not run.follows:
-        raise CannotFollow(run.verdict, run)
+    run = _reported(merged, Run(*fields), printed)
     return Retimed(run, timing, duration, own, printed)
 
 
