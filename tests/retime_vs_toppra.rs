@@ -9,8 +9,8 @@
 //!   constant loses steps in faze4's loop; toppra given the envelope at the best single top
 //!   speed follows but is slower than retime, which follows.
 //!
-//! `FAZE4_UPDATE_DOCS=1 cargo test --release --test retime_vs_toppra` rewrites the table of
-//! docs/retime.md between its markers.
+//! `FAZE4_UPDATE_DOCS=1 cargo test --release --test retime_vs_toppra` rewrites the two tables
+//! of docs/retime.md between their markers.
 
 mod common;
 
@@ -82,7 +82,9 @@ fn coefficients_match(model: &Model, path: &PathSpline, f: &Value) {
     }
 }
 
-fn constant_limits(name: &str) {
+/// Checks the constant-limit fixture `name` (`retime_toppra_{name}.json`) and returns its row of
+/// the constant table and how far its profile is from toppra's (share of the top speed).
+fn constant_limits(name: &str, arm_name: &str) -> (String, f64) {
     let f = fixture(&format!("retime_toppra_{name}.json"));
     let model = arm(&f);
     let path = PathSpline::through(&mat_f64(&f["waypoints"])).unwrap();
@@ -125,21 +127,39 @@ fn constant_limits(name: &str) {
         "{name}: with the margin {} s, toppra without {theirs} s",
         margined.profile.duration()
     );
+    let apart = (duration - theirs) / theirs;
+    let sign = if apart < 0.0 { "−" } else { "+" };
+    let row = format!(
+        "| {arm_name} | {theirs:.6} | {duration:.6} | {sign}{:.1e} | {:.4} | {:.3} | {} | {} |\n",
+        apart.abs(),
+        margined.profile.duration(),
+        margined.profile.duration() / theirs,
+        check.attempts,
+        check.summary.verdict.to_string().trim_start_matches("verdict: ")
+    );
+    (row, worst / top)
 }
 
 #[test]
-fn ur5_constant_limits_as_toppra() {
-    constant_limits("ur5");
-}
-
-#[test]
-fn panda_constant_limits_as_toppra() {
-    constant_limits("panda");
-}
-
-#[test]
-fn faze4_constant_limits_as_toppra() {
-    constant_limits("faze4_arm");
+fn constant_limits_as_toppra() {
+    let arms = [
+        ("ur5", "UR5 (example-robot-data)"),
+        ("panda", "Panda (example-robot-data)"),
+        ("faze4_arm", "Faze4 (constant limits)"),
+    ];
+    let mut table = String::from(
+        "| arm | toppra (s) | retime, no margin (s) | relative | retime, margin 0.3, checked (s) | × toppra | check runs | verdict |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut worst: f64 = 0.0;
+    for (name, arm_name) in arms {
+        let (row, apart) = constant_limits(name, arm_name);
+        table.push_str(&row);
+        worst = worst.max(apart);
+    }
+    table.push_str(&format!("\nProfiles agree within {worst:.1e} of the top speed.\n"));
+    if std::env::var_os("FAZE4_UPDATE_DOCS").is_some() {
+        replace_between("<!-- constant table -->\n", "<!-- /constant table -->", &table);
+    }
 }
 
 /// One row of the stepper table.
@@ -220,8 +240,7 @@ fn circle_with_steppers_beats_toppra_constants() {
     }
 }
 
-/// Rewrites docs/retime.md's stepper table between `<!-- circle table -->` and
-/// `<!-- /circle table -->`.
+/// Rewrites docs/retime.md's stepper table between its markers.
 fn update_docs(rows: &[Row], ours: &faze4::retime::Retimed, omega: f64) {
     let mut table = String::from("| timing | duration (s) | in faze4's loop (`--motors faze4`) |\n|---|---|---|\n");
     for r in rows {
@@ -238,9 +257,13 @@ fn update_docs(rows: &[Row], ours: &faze4::retime::Retimed, omega: f64) {
         ours.check.as_ref().map_or(0, |c| c.attempts),
         ours.relaxed_duration
     ));
+    replace_between("<!-- circle table -->\n", "<!-- /circle table -->", &table);
+}
+
+/// Rewrites docs/retime.md between the markers `open` and `close` with `table`.
+fn replace_between(open: &str, close: &str, table: &str) {
     let doc = repo_path("docs/retime.md");
     let text = std::fs::read_to_string(&doc).unwrap();
-    let (open, close) = ("<!-- circle table -->\n", "<!-- /circle table -->");
     let start = text.find(open).expect("the opening marker") + open.len();
     let end = text.find(close).expect("the closing marker");
     std::fs::write(&doc, format!("{}{table}{}", &text[..start], &text[end..])).unwrap();

@@ -51,15 +51,16 @@ const LOOK_PERIOD: f64 = 1e-3;
 
 /// A speed found beyond its limit is capped at this share of x below what would have kept it
 /// (1 % of speed): room for the next check's own overshoot.
-const SPEED_HEADROOM: f64 = 0.98;
+pub(crate) const SPEED_HEADROOM: f64 = 0.98;
 
-/// Where a check failed: the time (s) and the share of x = ṡ² that would have kept the
-/// limit there (for a speed beyond its limit, [`SPEED_HEADROOM`]·(limit/speed)²; else
-/// [`SLOWDOWN`]).
+/// Where a check failed: the time (s), the share of x = ṡ² that would have kept the limit
+/// there (for a speed beyond its limit, [`SPEED_HEADROOM`]·(limit/speed)²; else
+/// [`SLOWDOWN`]), and for a speed beyond its limit, the joint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Failure {
     pub t: f64,
     pub keep: f64,
+    pub too_fast: Option<usize>,
 }
 
 /// Runs `scenario` and returns its summary and where it failed to follow: where a torque was
@@ -77,7 +78,11 @@ pub(crate) fn run_check(scenario: &Scenario, stop: &StopFlag) -> Result<(Summary
         .flatten()
         .filter_map(|m| m.step_loss.map(|l| l.t));
     let diverged = summary.diverged.as_ref().map(|d| d.t);
-    found.extend(lost.chain(diverged).map(|t| Failure { t, keep: SLOWDOWN }));
+    found.extend(lost.chain(diverged).map(|t| Failure {
+        t,
+        keep: SLOWDOWN,
+        too_fast: None,
+    }));
     Ok((summary, found))
 }
 
@@ -112,11 +117,11 @@ impl Failures {
         }
     }
 
-    /// The share of x that would keep joint j within its limits at `sample`, if it fails
-    /// there: [`SPEED_HEADROOM`]·(limit/speed)² for a speed beyond its limit; [`SLOWDOWN`] for a torque at a bound
-    /// of what actuation allowed (the loop clips τ to exactly that bound) or an error beyond
-    /// half the threshold.
-    fn fails(&self, sample: &Sample, j: usize) -> Option<f64> {
+    /// Where joint j fails at `sample`, if it does: [`SPEED_HEADROOM`]·(limit/speed)² of x for
+    /// a speed beyond its limit (with the joint); [`SLOWDOWN`] for a torque at a bound of what
+    /// actuation allowed (the loop clips τ to exactly that bound) or an error beyond half the
+    /// threshold.
+    fn fails(&self, sample: &Sample, j: usize) -> Option<Failure> {
         let e = self.effort[j];
         let (lo, hi) = match &self.motors[j] {
             Some((m, r)) => {
@@ -127,14 +132,23 @@ impl Failures {
         };
         let tau = sample.tau[j];
         let speed = sample.v[j].abs();
-        let mut keep = None;
-        if speed > self.speed_limit[j] {
-            keep = Some(SPEED_HEADROOM * (self.speed_limit[j] / speed).powi(2));
-        }
+        let t = sample.t;
         if tau <= lo || tau >= hi || (sample.q_cmd[j] - sample.q[j]).abs() > self.error {
-            keep = Some(keep.map_or(SLOWDOWN, |k: f64| k.min(SLOWDOWN)));
+            let keep = match speed > self.speed_limit[j] {
+                true => SLOWDOWN.min(SPEED_HEADROOM * (self.speed_limit[j] / speed).powi(2)),
+                false => SLOWDOWN,
+            };
+            return Some(Failure {
+                t,
+                keep,
+                too_fast: None,
+            });
         }
-        keep
+        (speed > self.speed_limit[j]).then(|| Failure {
+            t,
+            keep: SPEED_HEADROOM * (self.speed_limit[j] / speed).powi(2),
+            too_fast: Some(j),
+        })
     }
 }
 
@@ -144,11 +158,10 @@ impl Recorder for Failures {
     }
 
     fn record(&mut self, sample: &Sample) -> Result<()> {
-        let keep = (0..sample.q.len())
-            .filter_map(|j| self.fails(sample, j))
-            .fold(f64::INFINITY, f64::min);
-        if keep.is_finite() {
-            self.found.push(Failure { t: sample.t, keep });
+        for j in 0..sample.q.len() {
+            if let Some(failure) = self.fails(sample, j) {
+                self.found.push(failure);
+            }
         }
         Ok(())
     }

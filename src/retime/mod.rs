@@ -306,7 +306,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
             let done = summary.verdict.follows || attempt == options.attempts || summary.interrupted_at_s.is_some();
             let slowed_now = match done {
                 true => 0,
-                false => slow_down(&solved.profile, &failed_at, &mut cap, &mut slowed),
+                false => slow_down(&solved.profile, &grid, &limits, &failed_at, &mut cap, &mut slowed),
             };
             check = Some(Check {
                 summary,
@@ -336,24 +336,53 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
 }
 
 /// Caps x at the failure's share of the profile's at the ends of every segment the timing
-/// spends within [`LOOKBACK_S`] before a failure (a failure after the end: the last segments).
-/// Returns how many points it capped lower.
-fn slow_down(profile: &Profile, failures: &[check::Failure], cap: &mut [f64], slowed: &mut [bool]) -> usize {
+/// spends within [`LOOKBACK_S`] before a failure (a failure after the end: the last segments);
+/// and where a joint passed its speed limit, at every point where the profile rides that
+/// joint's limit ([`RIDING`]), at the lowest share its failures found: the loop overshoots
+/// each stretch at the limit alike, and one run then slows them all. Returns how many points
+/// it capped lower.
+fn slow_down(
+    profile: &Profile,
+    grid: &grid::PathGrid,
+    limits: &limits::Limits,
+    failures: &[check::Failure],
+    cap: &mut [f64],
+    slowed: &mut [bool],
+) -> usize {
     let mut capped = 0;
+    let mut lower = |i: usize, keep: f64| {
+        let limit = keep * profile.x[i];
+        if limit < cap[i] && profile.x[i] > 0.0 {
+            cap[i] = limit;
+            slowed[i] = true;
+            capped += 1;
+        }
+    };
     for f in failures {
         let last = profile.interval_at(f.t);
         let first = profile.interval_at(f.t - LOOKBACK_S);
         for i in first..=last + 1 {
-            let limit = f.keep * profile.x[i];
-            if limit < cap[i] && profile.x[i] > 0.0 {
-                cap[i] = limit;
-                slowed[i] = true;
-                capped += 1;
+            lower(i, f.keep);
+        }
+    }
+    let mut too_fast = vec![false; grid.dof];
+    for j in failures.iter().filter_map(|f| f.too_fast) {
+        too_fast[j] = true;
+    }
+    for j in (0..grid.dof).filter(|&j| too_fast[j]) {
+        for (i, &x) in profile.x.iter().enumerate() {
+            // x at joint j's limit: (v̄_j / |q′_j|)²
+            let at_limit = (limits.speed[j] / grid.dq[i * grid.dof + j].abs()).powi(2);
+            if x >= RIDING * at_limit {
+                lower(i, check::SPEED_HEADROOM);
             }
         }
     }
     capped
 }
+
+/// A profile rides a joint's speed limit where its x is at least this share of the limit's.
+const RIDING: f64 = 0.99;
 
 /// Every point of the path within the model's joints and their limits.
 fn check_points(model: &crate::model::Model, path: &PathSpline) -> Result<()> {
