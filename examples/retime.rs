@@ -4,7 +4,11 @@
 //!
 //!     cargo run --release --example retime -- PATH.npy [--urdf F.urdf] [--motors faze4]
 //!         [--margin 0.2] [--grid 200] [--attempts 8] [--max-speed V] [--effort E] [--no-check]
-//!         [--zero-damping] [--repeat N] [--plot F.svg] [--segments]
+//!         [--zero-damping] [--repeat N] [--plot F.svg] [--segments] [--clearance]
+//!
+//! `--clearance` (the bundled Faze4 only): the check runs measure the self-clearance of the
+//! real meshes, their collision set loaded once before the runs (outside `wall_ms`), so
+//! `wall_ms` is the retime and its checks with clearance on, the loading apart.
 //!
 //! Prints one line per run: `duration_s <T> wall_ms <ms> follows <bool> attempts <n> …`; on
 //! stderr the check's verdict and, with `--segments`, what binds on each grid interval.
@@ -31,6 +35,7 @@ fn main() -> faze4::Result<()> {
     let mut repeat = 1;
     let mut plot: Option<PathBuf> = None;
     let mut segments = false;
+    let mut clearance = false;
     let number = |v: Option<String>, name: &str| -> f64 {
         v.and_then(|v| v.parse().ok())
             .unwrap_or_else(|| panic!("{name} takes a number"))
@@ -49,6 +54,7 @@ fn main() -> faze4::Result<()> {
             "--repeat" => repeat = number(args.next(), "--repeat") as usize,
             "--plot" => plot = args.next().map(PathBuf::from),
             "--segments" => segments = true,
+            "--clearance" => clearance = true,
             _ => path = Some(PathBuf::from(a)),
         }
     }
@@ -61,6 +67,17 @@ fn main() -> faze4::Result<()> {
         model.joints.iter_mut().for_each(|j| j.damping = 0.0);
     }
     let dof = model.dof();
+    // the real meshes' collision set, loaded once (its BVHs built on loader threads meanwhile)
+    let collisions = match clearance {
+        true => {
+            let robot = faze4::geometry::Robot::faze4();
+            let collisions = faze4::sim::Collisions::default();
+            let (set, _) =
+                faze4::geometry::CollisionSet::new(&model, &robot.geometry, collisions.geometry, collisions.pairs)?;
+            Some((robot.geometry, std::sync::Arc::new(set)))
+        }
+        false => None,
+    };
     for _ in 0..repeat {
         let started = Instant::now();
         let spline = PathSpline::through(&points)?;
@@ -70,6 +87,10 @@ fn main() -> faze4::Result<()> {
             false => None,
         };
         let mut base = Scenario::builder(motored, hold(&spline));
+        base = match &collisions {
+            Some((geometry, set)) => base.geometry(geometry.clone()).collision_set(set.clone()),
+            None => base.collisions(None),
+        };
         if let Some(fitted) = fitted {
             base = base.motors(fitted);
         }
