@@ -251,8 +251,10 @@ pub const MOTORS_LABEL: &str = "fuzz.toml";
 /// may be 0) where given. `None` if the bytes are not UTF-8.
 pub fn motors_file(data: &[u8]) -> Option<Result<Vec<Option<crate::control::JointMotor>>>> {
     let text = std::str::from_utf8(data).ok()?;
-    let model = crate::faze4::model();
-    let result = crate::config::motors::file_motors(text, Path::new(MOTORS_LABEL), &model);
+    // the bundled model, parsed once: its URDF parse was most of an execution (about 70 a second)
+    static MODEL: std::sync::OnceLock<Model> = std::sync::OnceLock::new();
+    let model = MODEL.get_or_init(crate::faze4::model);
+    let result = crate::config::motors::file_motors(text, Path::new(MOTORS_LABEL), model);
     match &result {
         Ok(motors) => {
             assert_eq!(motors.len(), model.dof());
