@@ -42,23 +42,9 @@ SAMPLES = 201
 
 def toppra_timing():
     """toppra's timing of the circle under the holding torques: (t, q, qd, qdd) at SAMPLES times."""
-    import toppra
-    import toppra.algorithm as algo
-    import toppra.constraint as constraint
-    import pinocchio as pin
-    from toppra_retime import case
-    from retime_fixtures import INTERVALS
+    from toppra_retime import case, solve
 
-    model, armature, waypoints, vlim, tau = case("circle")
-    data = model.createData()
-    knots = chord_knots(waypoints)
-    path = toppra.SplineInterpolator(knots, waypoints, bc_type="not-a-knot")
-    grid = np.linspace(0.0, knots[-1], INTERVALS + 1)
-    pc_v = constraint.JointVelocityConstraint(np.column_stack([-np.asarray(vlim), np.asarray(vlim)]))
-    pc_t = constraint.JointTorqueConstraint(
-        lambda q, v, a: pin.rnea(model, data, q, v, a) + armature * a,
-        np.column_stack([-np.asarray(tau), np.asarray(tau)]), np.zeros(len(tau)))
-    trajectory = algo.TOPPRA([pc_v, pc_t], path, gridpoints=grid, solver_wrapper="seidel").compute_trajectory(0.0, 0.0)
+    trajectory = solve(*case("circle"))
     t = np.linspace(0.0, trajectory.duration, SAMPLES)
     return t, trajectory(t), trajectory(t, 1), trajectory(t, 2)
 

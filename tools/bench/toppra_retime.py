@@ -45,10 +45,11 @@ def case(name):
     return model, np.zeros(model.nv), np.array(f["waypoints"]), f["velocity_limit"], f["torque_limit"]
 
 
-def main():
-    model, armature, waypoints, vlim, tau = case(sys.argv[1] if len(sys.argv) > 1 else "circle")
+def solve(model, armature, waypoints, vlim, tau):
+    """toppra's trajectory of the waypoints' not-a-knot spline over chord length, on the
+    200-interval grid, under the velocity limits `vlim` and torque limits `tau` (RNEA plus the
+    armature's torque)."""
     data = model.createData()
-    started = time.perf_counter()
     knots = chord_knots(waypoints)
     path = toppra.SplineInterpolator(knots, waypoints, bc_type="not-a-knot")
     grid = np.linspace(0.0, knots[-1], INTERVALS + 1)
@@ -57,7 +58,13 @@ def main():
         lambda q, v, a: pin.rnea(model, data, q, v, a) + armature * a,
         np.column_stack([-np.asarray(tau), np.asarray(tau)]), np.zeros(len(tau)))
     instance = algo.TOPPRA([pc_v, pc_t], path, gridpoints=grid, solver_wrapper="seidel")
-    trajectory = instance.compute_trajectory(0.0, 0.0)
+    return instance.compute_trajectory(0.0, 0.0)
+
+
+def main():
+    limits = case(sys.argv[1] if len(sys.argv) > 1 else "circle")
+    started = time.perf_counter()
+    trajectory = solve(*limits)
     wall = time.perf_counter() - started
     print(f"duration_s {trajectory.duration} wall_ms {wall * 1e3:.3f}")
 
