@@ -132,21 +132,18 @@ impl Failures {
         };
         let tau = sample.tau[j];
         let speed = sample.v[j].abs();
+        let too_fast = (speed > self.speed_limit[j]).then(|| SPEED_HEADROOM * (self.speed_limit[j] / speed).powi(2));
         let t = sample.t;
         if tau <= lo || tau >= hi || (sample.q_cmd[j] - sample.q[j]).abs() > self.error {
-            let keep = match speed > self.speed_limit[j] {
-                true => SLOWDOWN.min(SPEED_HEADROOM * (self.speed_limit[j] / speed).powi(2)),
-                false => SLOWDOWN,
-            };
             return Some(Failure {
                 t,
-                keep,
+                keep: too_fast.map_or(SLOWDOWN, |k| k.min(SLOWDOWN)),
                 too_fast: None,
             });
         }
-        (speed > self.speed_limit[j]).then(|| Failure {
+        too_fast.map(|keep| Failure {
             t,
-            keep: SPEED_HEADROOM * (self.speed_limit[j] / speed).powi(2),
+            keep,
             too_fast: Some(j),
         })
     }
