@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::control::catalog::{sts3215, xm540_w270};
 use crate::control::{Envelope, JointMotor, Motor, Stepping};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, escape_controls, quoted};
 use crate::faze4::motors::{faze4, faze4_bom};
 use crate::model::{Joint, Model};
 use crate::sim::check::override_per_joint;
@@ -37,7 +37,11 @@ impl Motors {
         } else {
             Err(Error::option(
                 "motors",
-                format!("'{text}' is not a preset ({}) nor a .toml file", PRESETS.join(", ")),
+                format!(
+                    "{} is not a preset ({}) nor a .toml file",
+                    quoted(text),
+                    PRESETS.join(", ")
+                ),
             ))
         }
     }
@@ -104,7 +108,10 @@ pub fn file_motors(text: &str, path: &Path, model: &Model) -> Result<Vec<Option<
 }
 
 fn unknown(name: &str) -> Error {
-    Error::option("motors", format!("'{name}' is not a preset ({})", PRESETS.join(", ")))
+    Error::option(
+        "motors",
+        format!("{} is not a preset ({})", quoted(name), PRESETS.join(", ")),
+    )
 }
 
 fn no_supply(supply: Option<f64>) -> Result<()> {
@@ -142,16 +149,17 @@ fn pair(entries: Vec<MotorEntry>, model: &Model) -> std::result::Result<Vec<Opti
         for (k, e) in entries.into_iter().enumerate() {
             let name = e.name.clone().unwrap_or_default();
             let i = (model.joints.iter()).position(|j| j.name == name).ok_or_else(|| {
-                let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+                let names: Vec<String> = model.joints.iter().map(|j| escape_controls(&j.name)).collect();
                 format!(
-                    "joint {} names '{name}', not a moving joint of {} ({})",
+                    "joint {} names {}, not a moving joint of {} ({})",
                     k + 1,
-                    model.source,
+                    quoted(&name),
+                    escape_controls(&model.source),
                     names.join(", ")
                 )
             })?;
             if out[i].is_some() {
-                return Err(format!("'{name}' has two [[joint]] entries"));
+                return Err(format!("{} has two [[joint]] entries", quoted(&name)));
             }
             out[i] = Some(entry(e, i)?);
         }
@@ -163,7 +171,10 @@ fn pair(entries: Vec<MotorEntry>, model: &Model) -> std::result::Result<Vec<Opti
 
 /// One entry as joint i's motor.
 fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
-    let what = |m: &str| format!("J{} ({}): {m}", i + 1, e.name.as_deref().unwrap_or("by order"));
+    let what = |m: &str| {
+        let name = e.name.as_deref().map_or("by order".to_string(), escape_controls);
+        format!("J{} ({name}): {m}", i + 1)
+    };
     let need = |field: Option<f64>, name: &str| field.ok_or_else(|| what(&format!("kind \"{}\" needs {name}", e.kind)));
     let envelope = match e.kind.as_str() {
         "dc" => {
@@ -201,7 +212,12 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
                 curve: points.collect::<std::result::Result<_, _>>()?,
             }
         }
-        other => return Err(what(&format!("kind \"{other}\" is not \"dc\" or \"stepper\""))),
+        other => {
+            return Err(what(&format!(
+                "kind \"{}\" is not \"dc\" or \"stepper\"",
+                escape_controls(other)
+            )));
+        }
     };
     let stepping = match e.step_angle {
         Some(a) if !(a.is_finite() && a > 0.0 && a <= 90.0) => {
