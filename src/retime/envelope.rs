@@ -339,6 +339,25 @@ impl JointTorque {
         }
     }
 
+    /// The tangent of the side's value at `x_at` (a line in x that may pass above the value
+    /// elsewhere: the caller checks the profile it gives against [`JointTorque::range`]).
+    pub fn line_tangent(&self, side: Side, w: f64, x_at: f64) -> Line {
+        if !self.varies() || w == 0.0 || x_at <= 0.0 {
+            return Line {
+                offset: self.value(side, 0.0),
+                slope: 0.0,
+            };
+        }
+        let c = w.abs();
+        let curve = &self.curves[side as usize][usize::from(w < 0.0)];
+        let v_at = (c * x_at.sqrt()).min(curve.end());
+        let m = curve.slope(curve.piece(v_at)) / (2.0 * v_at);
+        Line {
+            offset: curve.value(v_at) - curve.slack - m * v_at * v_at,
+            slope: m * c * c,
+        }
+    }
+
     /// A line below the side's value (hi, or −lo) as a function of x over [0, `x_max`], for
     /// the joint moving at q'_j = `w` per unit ṡ, as tight as it can be at `x_at` (see the
     /// module doc). Without a motor or damping, or with w = 0: the constant value (which may

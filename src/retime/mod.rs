@@ -4,8 +4,8 @@
 //! The path is a C² spline through the given points ([`PathSpline`]); on a grid in s the
 //! limits become rows linear in x = ṡ² and u = s̈ (`grid.rs`, `envelope.rs`, `limits.rs`);
 //! TOPP-RA's backward and forward passes give the time-optimal profile under them (`reach.rs`),
-//! iterated so the motors' speed-dependent envelopes are bounded soundly around it
-//! (`solve.rs`); the timing is then played in faze4's closed loop, and where it does not
+//! iterated with lines tangent to the motors' speed-dependent envelopes and each profile
+//! checked against them at every grid point (`solve.rs`); the timing is then played in faze4's closed loop, and where it does not
 //! follow the segments where it failed are slowed and it is tried again (`check.rs`).
 //!
 //! ```no_run
