@@ -128,7 +128,8 @@ impl<'a> Solver<'a> {
         }
         // 2. sound lines tangent at the relaxed profile: a profile inside every range
         let mut at = relaxed.x.clone();
-        self.sound_lines(&at);
+        let mut sound = vec![true; self.lines.len()];
+        self.lines_at(&at, &sound);
         let sound_profile = self.pass()?;
         at.copy_from_slice(&sound_profile.x);
         let mut best: Fastest = (sound_profile, self.lines.clone(), self.k.clone());
@@ -136,11 +137,11 @@ impl<'a> Solver<'a> {
         // 3. tangent lines around the previous profile, each point checked against the true
         // ranges; a point and joint found outside them keeps the sound line from then on; the
         // fastest profile inside every range is kept with the lines and sets it was found under
-        let mut sound = vec![false; self.lines.len()];
+        sound.fill(false);
         let mut previous = f64::INFINITY;
         while iterations < MAX_ITERATIONS {
             iterations += 1;
-            self.tangent_lines(&at, &sound);
+            self.lines_at(&at, &sound);
             let Ok(profile) = self.pass() else { break };
             let outside = self.mark_outside(&profile, &mut sound);
             let duration = profile.duration();
@@ -167,23 +168,10 @@ impl<'a> Solver<'a> {
         })
     }
 
-    /// The sound lines of every joint at every point, as tight as they can be at `at` (x per
-    /// point).
-    fn sound_lines(&mut self, at: &[f64]) {
-        let dof = self.grid.dof;
-        for i in 0..self.grid.points() {
-            for j in 0..dof {
-                let torque = &self.limits.torque[j];
-                let w = self.grid.dq[i * dof + j];
-                let cap = self.stages.cap[i];
-                self.lines[i * dof + j] = [Side::Upper, Side::Lower].map(|side| torque.line_below(side, w, cap, at[i]));
-            }
-        }
-    }
-
-    /// The tangents of every joint at every point at `at` (x per point), but the sound line
-    /// below where `sound` says (per point and joint).
-    fn tangent_lines(&mut self, at: &[f64], sound: &[bool]) {
+    /// The lines of every joint at every point around `at` (x per point): per point and joint
+    /// the sound line below ([`JointTorque::line_below`], as tight as it can be at `at`) where
+    /// `sound` says, the tangent at `at` ([`JointTorque::line_tangent`]) elsewhere.
+    fn lines_at(&mut self, at: &[f64], sound: &[bool]) {
         let dof = self.grid.dof;
         for i in 0..self.grid.points() {
             for j in 0..dof {
