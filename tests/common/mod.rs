@@ -3,7 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
+use faze4::algo::{Data, rnea};
+use faze4::control::JointMotor;
 use faze4::model::{Model, PackagePaths};
+use faze4::retime::{PathSpline, Profile};
 use serde_json::Value;
 
 /// The repository root.
@@ -263,4 +266,41 @@ pub fn check_refusal(args: &[&str], code: Option<i32>, stderr: &str, parts: &[&s
     for p in parts {
         assert!(lines[0].contains(p), "{args:?}: {:?} should mention {p:?}", lines[0]);
     }
+}
+
+/// The most `profile` asks of a motor at the grid points: the largest share |τ| / |bound| over
+/// joints and points, where τ is the inverse dynamics at (s_i, ṡ_i, s̈ on the interval from
+/// s_i; reflected rotor inertia included) plus the joint's damping d·q̇, and the bound the
+/// motor's envelope on τ's side at the joint's speed there. Returns (share, joint, grid point, motor speed rad/s).
+pub fn most_asked(
+    model: &Model,
+    motors: &[Option<JointMotor>],
+    path: &PathSpline,
+    profile: &Profile,
+) -> (f64, usize, usize, f64) {
+    let n = model.dof();
+    let mut data = Data::new(model);
+    let (mut q, mut dq, mut ddq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut most = (0.0, 0, 0, 0.0);
+    for (i, &u) in profile.u.iter().enumerate() {
+        let x = profile.x[i];
+        path.eval(profile.s[i], &mut q, &mut dq, &mut ddq);
+        let qd: Vec<f64> = dq.iter().map(|d| d * x.sqrt()).collect();
+        let qdd: Vec<f64> = (ddq.iter().zip(&dq)).map(|(dd, d)| dd * x + d * u).collect();
+        let tau = rnea(model, &mut data, &q, &qd, &qdd).as_slice().to_vec();
+        for (j, m) in motors.iter().enumerate() {
+            let m = m.as_ref().unwrap();
+            let ratio = m.gear_ratio.unwrap();
+            let (lo, hi) = m.motor.joint_bounds(ratio, qd[j]);
+            let needed = tau[j] + model.joints[j].damping * qd[j];
+            let share = match needed >= 0.0 {
+                true => needed / hi,
+                false => needed / lo,
+            };
+            if share > most.0 {
+                most = (share, j, i, ratio * qd[j].abs());
+            }
+        }
+    }
+    most
 }
