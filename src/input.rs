@@ -29,6 +29,11 @@ pub const MAX_MOVING_JOINTS: usize = 256;
 /// bytes of plan (100 million asked for 19.5 GB). The default loop of 12 s at the default
 /// step of 0.2 ms has 60,000 steps, so more samples than this are finer than the steps.
 pub const MAX_SHAPE_POINTS: usize = 100_000;
+/// Most grid intervals `retime` takes (`grid`, 100,000): each grid point holds about 2 kB (the
+/// path's derivatives, the solver's rows, the timing written out; 100,000 peaked at 204 MB and
+/// wrote a 53 MB YAML timing), and a billion aborted on a 48 GB allocation. The default is 200;
+/// toppra's examples use a few hundred.
+pub const MAX_RETIME_INTERVALS: usize = 100_000;
 /// Largest mesh file read (256 MiB): a binary STL of [`MAX_MESH_TRIANGLES`] (250 MB) fits.
 pub const MAX_MESH_BYTES: u64 = 256 << 20;
 /// Most triangles one mesh file may hold (5 million). Each triangle costs about 300 bytes while

@@ -857,6 +857,24 @@ fn options_beyond_what_a_run_can_do_name_their_cause() {
             vec!["shape", "--shape", "circle", "--shape-points", "4294967297", "-q"],
             &["--shape-points: 4294967297 samples: at most 100000"],
         ),
+        // a grid of a billion intervals aborted on a 48 GB allocation
+        (
+            vec![
+                "retime",
+                "--urdf",
+                "arm.urdf",
+                "--package-path",
+                "pkg",
+                "--q-traj",
+                "q.npy",
+                "--out",
+                "t.yaml",
+                "--grid",
+                "1000000000",
+                "-q",
+            ],
+            &["--grid: 1000000000 intervals: at most 100000"],
+        ),
         (
             vec!["wave", "--freq", "1e308", "-q"],
             &["--freq: 1e308 rad/s turns the wave more than half a period per step of --dt 0.0002 s"],

@@ -129,7 +129,7 @@ pub struct RetimeArgs {
     /// Where the timing is written, by extension: a JointTrajectory as .yaml or .json, a rosbag2 .mcap, or a .csv (positions, velocities, accelerations, time from start); `faze4 replay --q-traj` plays it.
     #[arg(long, value_name = "F.yaml|F.json|F.mcap|F.csv")]
     pub out: PathBuf,
-    /// Grid intervals in s: the limits are kept at the grid's points.
+    /// Grid intervals in s (at most 100,000): the limits are kept at the grid's points.
     #[arg(long, default_value_t = DEFAULT_GRID, value_name = "N", allow_hyphen_values = true)]
     pub grid: usize,
     /// The share of every torque limit (each motor's envelope at its speed, or the constant limit) left for the feedback, in [0, 1).

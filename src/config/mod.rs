@@ -252,7 +252,7 @@ pub struct RetimeConfig {
     /// velocities, accelerations, time from start), which `replay` plays (`None`: nowhere; the
     /// command line asks for one).
     pub out: Option<PathBuf>,
-    /// Grid intervals in s (≥ 1).
+    /// Grid intervals in s (1 to 100,000, `input::MAX_RETIME_INTERVALS`).
     pub grid: usize,
     /// The share of every torque limit left for the feedback, in [0, 1).
     pub margin: f64,

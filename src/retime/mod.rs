@@ -44,6 +44,7 @@ pub use timing::timed_trajectory;
 
 use crate::error::{Error, Result};
 use crate::id::JointId;
+use crate::input::MAX_RETIME_INTERVALS;
 use crate::sim::{ScenarioBuilder, StopFlag, Summary};
 use crate::traj::{Interpolated, TimedTrajectory, Trajectory, Wrap};
 
@@ -65,7 +66,8 @@ pub const LOOKBACK_S: f64 = 0.05;
 /// How to retime.
 #[derive(Clone, Debug)]
 pub struct RetimeOptions {
-    /// Grid intervals in s (≥ 1): the limits are kept at the N + 1 grid points.
+    /// Grid intervals in s (1 to [`MAX_RETIME_INTERVALS`]): the limits are kept at the N + 1
+    /// grid points.
     pub intervals: usize,
     /// The share of each torque limit left for the feedback, in [0, 1).
     pub margin: f64,
@@ -95,6 +97,15 @@ impl RetimeOptions {
     pub fn check(&self) -> Result<()> {
         if self.intervals == 0 {
             return Err(Error::option("grid", "0 intervals: at least 1"));
+        }
+        if self.intervals > MAX_RETIME_INTERVALS {
+            return Err(Error::option(
+                "grid",
+                format!(
+                    "{} intervals: at most {MAX_RETIME_INTERVALS} (each grid point holds about 2 kB; docs/development.md, Caps)",
+                    self.intervals
+                ),
+            ));
         }
         if !(self.margin >= 0.0 && self.margin < 1.0) {
             return Err(Error::option(
