@@ -20,18 +20,7 @@ pub fn forward_dynamics<'d>(
     qd: &[f64],
     tau: &[f64],
 ) -> Result<&'d DVector<f64>> {
-    for (name, x) in [("q", q), ("qd", qd), ("tau", tau)] {
-        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-            return Err(Error::argument(
-                name,
-                format!(
-                    "entry {i} (joint {}) is {}: forward dynamics needs finite inputs",
-                    i + 1,
-                    x[i]
-                ),
-            ));
-        }
-    }
+    super::check_finite_inputs("forward dynamics", &[("q", q), ("qd", qd), ("tau", tau)])?;
     compute_all_terms(model, data, q, qd);
     cholesky_factor(&data.m, &mut data.chol).map_err(|(joint, pivot)| Error::Diverged {
         joint: JointId(joint),
@@ -42,20 +31,13 @@ pub fn forward_dynamics<'d>(
     }
     cholesky_solve(&data.chol, &mut data.qdd);
     if let Some(i) = data.qdd.iter().position(|a| !a.is_finite()) {
-        // the input that overflowed: the largest in magnitude of the torques and speeds
-        let largest = |x: &[f64]| x.iter().copied().map(f64::abs).fold(0.0, f64::max);
-        let (name, size) = match largest(tau) >= largest(qd) {
-            true => ("tau", largest(tau)),
-            false => ("qd", largest(qd)),
-        };
-        return Err(Error::argument(
-            name,
-            format!(
-                "forward dynamics overflows: the acceleration of joint {} is {} (|{name}| up to {}, too large for the arm's masses)",
-                i + 1,
-                data.qdd[i],
-                crate::error::shortest(size)
-            ),
+        let inputs = [("tau", tau), ("qd", qd)];
+        return Err(super::overflow(
+            "forward dynamics",
+            "acceleration",
+            i,
+            data.qdd[i],
+            &inputs,
         ));
     }
     Ok(&data.qdd)

@@ -5,6 +5,7 @@ use nalgebra::DVector;
 
 use super::mimic::{Terms, on_bodies};
 use super::{Data, update_joint_transforms};
+use crate::error::Result;
 use crate::model::Model;
 use crate::spatial::Motion;
 
@@ -20,6 +21,28 @@ pub fn rnea<'d>(model: &Model, data: &'d mut Data, q: &[f64], qd: &[f64], qdd: &
     };
     run(model, data, (q, Some(qd), Some(qdd)), terms, true, |_| {});
     &data.tau
+}
+
+/// [`rnea`], for inputs from outside (Python's `Robot.rnea`): fails if an input is not finite
+/// ([`Error::InvalidArgument`] naming it, `q`, `qd` or `qdd`, and its entry), or if a torque is
+/// not finite though the inputs are (a speed or acceleration too large for the arm's masses:
+/// the error names the largest).
+///
+/// [`Error::InvalidArgument`]: crate::error::Error::InvalidArgument
+pub fn rnea_checked<'d>(
+    model: &Model,
+    data: &'d mut Data,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) -> Result<&'d DVector<f64>> {
+    super::check_finite_inputs("inverse dynamics", &[("q", q), ("qd", qd), ("qdd", qdd)])?;
+    rnea(model, data, q, qd, qdd);
+    if let Some(i) = data.tau.iter().position(|t| !t.is_finite()) {
+        let inputs = [("qdd", qdd), ("qd", qd)];
+        return Err(super::overflow("inverse dynamics", "torque", i, data.tau[i], &inputs));
+    }
+    Ok(&data.tau)
 }
 
 /// Gravity forces: `data.g = g(q)`, the joint forces that hold the arm still at q.
@@ -129,5 +152,41 @@ fn rnea_passes(model: &Model, data: &mut Data, qd: Option<&[f64]>, qdd: Option<&
             let fp = data.xup[i].transpose_apply_force(&data.f[i]);
             data.f[p] += fp;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `robot.rnea(q, v=1e200, a)` gave NaN: a torque that is not finite is an error naming
+    /// the input that overflowed, as is an input that is not finite.
+    #[test]
+    fn overflowing_or_non_finite_inputs_are_errors_naming_them() {
+        let model = crate::faze4::model();
+        let mut data = Data::new(&model);
+        let zero = vec![0.0; model.dof()];
+        let checked = rnea_checked(&model, &mut data, &zero, &zero, &zero).unwrap().clone();
+        assert_eq!(checked, rnea(&model, &mut data, &zero, &zero, &zero).clone());
+        let huge_speed = vec![1e200; model.dof()];
+        let e = rnea_checked(&model, &mut data, &zero, &huge_speed, &zero)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("qd: inverse dynamics overflows: the torque of joint"),
+            "{e}"
+        );
+        assert!(e.contains("(|qd| up to 1e200, too large for the arm's masses)"), "{e}");
+        let huge_acceleration = vec![1e308; model.dof()];
+        let e = rnea_checked(&model, &mut data, &zero, &zero, &huge_acceleration)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("qdd: inverse dynamics overflows"), "{e}");
+        let mut nan = zero.clone();
+        nan[4] = f64::NAN;
+        let e = rnea_checked(&model, &mut data, &zero, &zero, &nan)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "qdd: entry 4 (joint 5) is NaN: inverse dynamics needs finite inputs");
     }
 }

@@ -30,7 +30,7 @@ use pyo3::prelude::*;
 
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
-use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea};
+use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea_checked};
 use crate::config::fields::{Kind, Value, field};
 use crate::config::{self, Motion, Motors, Replayed, RunConfig, ShapeConfig, WaveConfig};
 use crate::error::{Words, in_words};
@@ -56,6 +56,26 @@ const SIGNAL_POLL: Duration = Duration::from_millis(20);
 /// characters escaped as the binary does).
 fn error(message: impl std::fmt::Display) -> PyErr {
     Error::new_err(crate::error::escape_controls(&keywords(&message.to_string())))
+}
+
+/// A dynamics algorithm's error with its argument names (`qd`, `qdd`) as `Robot`'s methods
+/// call them (`v`, `a`).
+fn dynamics_error(e: crate::error::Error) -> PyErr {
+    let as_method = |name: &str| {
+        match name {
+            "qd" => "v",
+            "qdd" => "a",
+            other => other,
+        }
+        .to_string()
+    };
+    match e {
+        crate::error::Error::InvalidArgument { option, message } => {
+            let message = message.replace(&format!("|{option}|"), &format!("|{}|", as_method(&option)));
+            error(format!("{}: {message}", as_method(&option)))
+        }
+        other => error(other),
+    }
 }
 
 /// A library message with the options it names as Python keywords.
@@ -419,10 +439,8 @@ impl PyRobot {
         let n = self.model.dof();
         let (q, v, a) = (vector(q, "q", n)?, vector(v, "v", n)?, vector(a, "a", n)?);
         let mut data = self.data();
-        Ok(PyArray1::from_slice(
-            py,
-            rnea(&self.model, &mut data, &q, &v, &a).as_slice(),
-        ))
+        let tau = rnea_checked(&self.model, &mut data, &q, &v, &a).map_err(dynamics_error)?;
+        Ok(PyArray1::from_slice(py, tau.as_slice()))
     }
 
     /// a = M(q)⁻¹ (τ − D v − C(q, v) v − g(q)), forward dynamics (dof,), D the joint damping.
@@ -436,7 +454,7 @@ impl PyRobot {
         let n = self.model.dof();
         let (q, v, tau) = (vector(q, "q", n)?, vector(v, "v", n)?, vector(tau, "tau", n)?);
         let mut data = self.data();
-        let qdd = forward_dynamics(&self.model, &mut data, &q, &v, &tau).map_err(error)?;
+        let qdd = forward_dynamics(&self.model, &mut data, &q, &v, &tau).map_err(dynamics_error)?;
         Ok(PyArray1::from_slice(py, qdd.as_slice()))
     }
 
