@@ -37,10 +37,7 @@ impl Axis {
         let values = if values.contains(':') {
             Steps::parse(&name, values)?.values()
         } else {
-            values
-                .split(',')
-                .map(|v| number(&name, v))
-                .collect::<Result<Vec<f64>>>()?
+            list(&name, values)?
         };
         Ok(Axis { name, values })
     }
@@ -54,7 +51,7 @@ impl Axis {
         let name = name.trim().trim_start_matches("--");
         match values.contains(':') {
             true => Ok(Steps::parse(name, values)?.count),
-            false => values.split(',').try_fold(0, |n, v| number(name, v).map(|_| n + 1)),
+            false => list(name, values).map(|values| values.len()),
         }
     }
 }
@@ -131,7 +128,24 @@ fn decimals(text: &str) -> Option<usize> {
     Some(text.split_once('.').map_or(0, |(_, after)| after.len()))
 }
 
+/// `v1,v2,…`, each value checked.
+fn list(name: &str, text: &str) -> Result<Vec<f64>> {
+    if text.trim().is_empty() {
+        return Err(Error::argument(
+            VARY,
+            format!("{name}: no values: give LO:HI:STEP or v1,v2,…"),
+        ));
+    }
+    text.split(',').map(|v| number(name, v)).collect()
+}
+
 fn number(name: &str, text: &str) -> Result<f64> {
+    if text.trim().is_empty() {
+        return Err(Error::argument(
+            VARY,
+            format!("{name}: an empty value (a comma too many)"),
+        ));
+    }
     let x: f64 = text
         .trim()
         .parse()
@@ -288,6 +302,11 @@ mod tests {
         ] {
             assert!(Axis::parse(spec).is_err(), "{spec}");
         }
+        // an empty list, and an empty value in one, say so (they said "'' is not a number")
+        let message = |spec: &str| Axis::parse(spec).unwrap_err().to_string();
+        assert_eq!(message("freq="), "`vary`: freq: no values: give LO:HI:STEP or v1,v2,…");
+        assert_eq!(message("freq=1,"), "`vary`: freq: an empty value (a comma too many)");
+        assert_eq!(Axis::count("freq= ").unwrap_err().to_string(), message("freq="));
     }
 
     #[test]
