@@ -63,6 +63,7 @@ def test_bad_input_raises_one_line_and_the_interpreter_lives_on(tmp_path):
         (lambda: faze4.replay(robot, tmp_path / "bomb.mcap"), "bomb.mcap: not a readable MCAP file"),
         (lambda: faze4.shape(robot, "circle", shape_points=100_000_000), "shape_points: 100000000 samples: at most 100000"),
         (lambda: faze4.wave(robot, freq=1e308), "freq: 1e308 rad/s turns the wave more than half a period"),
+        (lambda: faze4.retime(robot, [[0.0] * 6, [0.1] * 6], grid=10**9), "grid: 1000000000 intervals: at most 100000"),
     ]
     for call, part in cases:
         with pytest.raises(faze4.Error) as caught:
@@ -79,6 +80,16 @@ def test_forward_dynamics_overflow_is_an_error_not_nan():
         robot.aba(q, q, np.full(robot.dof, 1e308))
     _one_line(caught.value)
     assert np.all(np.isfinite(robot.aba(q, q, np.zeros(robot.dof))))
+
+
+def test_inverse_dynamics_overflow_is_an_error_not_nan():
+    robot = faze4.Robot.faze4()
+    q = np.zeros(robot.dof)
+    with pytest.raises(faze4.Error) as caught:
+        robot.rnea(q, np.full(robot.dof, 1e200), q)
+    message = _one_line(caught.value)
+    assert message.startswith("v: inverse dynamics overflows: the torque of joint"), message
+    assert np.all(np.isfinite(robot.rnea(q, q, q)))
 
 
 def test_an_output_never_replaces_an_input(tmp_path):
