@@ -219,15 +219,22 @@ impl fmt::Display for Reason {
                 "{joint} asks its motor for more than its torque–speed envelope in {} of the steps (limit {limit} %)",
                 percent(pct)
             ),
-            Reason::LosesSteps { joint, loss } => write!(
-                f,
-                "{joint}'s stepper loses steps at t = {:.2} s: it needs {:.4} N·m at {:.0} rad/s, {} more than its curve gives ({:.4})",
-                loss.t,
-                loss.needs,
-                loss.speed,
-                excess(loss.needs, loss.gives),
-                loss.gives
-            ),
+            Reason::LosesSteps { joint, loss } => {
+                // four decimals, unless they would show the need as nothing or equal to the
+                // curve (a supply of 1e-300 V gives 1e-300 N·m)
+                let (needs, gives) = (format!("{:.4}", loss.needs), format!("{:.4}", loss.gives));
+                let (needs, gives) = match needs != gives && needs.parse::<f64>().is_ok_and(|x| x > 0.0) {
+                    true => (needs, gives),
+                    false => (scientific(loss.needs), scientific(loss.gives)),
+                };
+                write!(
+                    f,
+                    "{joint}'s stepper loses steps at t = {:.2} s: it needs {needs} N·m at {:.0} rad/s, {} more than its curve gives ({gives})",
+                    loss.t,
+                    loss.speed,
+                    excess(loss.needs, loss.gives),
+                )
+            }
             Reason::Slips {
                 joint,
                 t,
@@ -262,11 +269,22 @@ impl Serialize for Reason {
     }
 }
 
-/// How much more `needs` is than `gives`, in percent for people (`+0.05 %`), or `all of it`
-/// where the curve gives nothing.
+/// Four significant digits in scientific notation (`4.237e-7`); a zero is `0`.
+fn scientific(x: f64) -> String {
+    match x == 0.0 {
+        true => "0".into(),
+        false => format!("{x:.3e}"),
+    }
+}
+
+/// How much more `needs` is than `gives`, in percent for people (`0.05 %`, scientific past
+/// 10⁶ %), or `all of it` where the curve gives nothing.
 fn excess(needs: f64, gives: f64) -> String {
-    if gives > 0.0 {
-        format!("{:.2} %", 100.0 * (needs - gives) / gives)
+    let pct = 100.0 * (needs - gives) / gives;
+    if gives > 0.0 && pct < 1e6 {
+        format!("{pct:.2} %")
+    } else if gives > 0.0 {
+        format!("{pct:.2e} %")
     } else {
         "all of it".into()
     }
@@ -449,6 +467,43 @@ mod tests {
         let v = Verdict::judge(&summary([0.0, 0.0], [0.0, 0.001], None), &strict, &[false, true]);
         assert_eq!(v.reasons.len(), 1);
         assert!(v.to_string().contains("J2 tracking error 0.001 m"), "{v}");
+    }
+
+    /// A lost step is shown with the digits that tell the need from the curve: a supply of
+    /// 1e-300 V printed "needs 0.0000 N·m … gives (0.0000)".
+    #[test]
+    fn a_lost_step_shows_its_need_and_its_curve_apart() {
+        let lost = |needs: f64, gives: f64| {
+            Reason::LosesSteps {
+                joint: JointId(0),
+                loss: crate::sim::StepLoss {
+                    t: 0.0,
+                    needs,
+                    speed: 5.0,
+                    gives,
+                },
+            }
+            .to_string()
+        };
+        assert!(
+            lost(4.237e-7, 0.0).contains("it needs 4.237e-7 N·m at 5 rad/s, all of it more than its curve gives (0)")
+        );
+        assert_eq!(
+            lost(0.1068, 0.0),
+            "J1's stepper loses steps at t = 0.00 s: it needs 0.1068 N·m at 5 rad/s, all of it more than its curve gives (0.0000)"
+        );
+        assert!(
+            lost(1.2e-5, 3e-301)
+                .contains("it needs 1.200e-5 N·m at 5 rad/s, 4.00e297 % more than its curve gives (3.000e-301)"),
+            "{}",
+            lost(1.2e-5, 3e-301)
+        );
+        assert!(
+            lost(0.50004, 0.50001)
+                .contains("needs 5.000e-1 N·m at 5 rad/s, 0.01 % more than its curve gives (5.000e-1)"),
+            "{}",
+            lost(0.50004, 0.50001)
+        );
     }
 
     #[test]
