@@ -116,6 +116,28 @@ fn an_output_never_replaces_an_input() {
     for (args, parts) in cases {
         fails_leaving_all_as_was(&dir, args, parts);
     }
+    // retime's path is an input too: its timing, summary or figure replaced it, exit 0
+    std::fs::write(dir.join("path.csv"), "t,j1,j2,j3\n0,0,0,0\n1,0.3,0.2,0.1\n2,0,0,0\n").unwrap();
+    let retime = |extra: &[&'static str]| {
+        let base = [
+            "retime",
+            "--urdf",
+            "arm.urdf",
+            "--package-path",
+            "pkg",
+            "--q-traj",
+            "path.csv",
+            "-q",
+        ];
+        [&base[..], extra].concat()
+    };
+    for (extra, field) in [
+        (&["--out", "path.csv"][..], "--out"),
+        (&["--out", "t.yaml", "--summary", "path.csv"][..], "--summary"),
+        (&["--out", "t.yaml", "--plot", "path.csv"][..], "--plot"),
+    ] {
+        fails_leaving_all_as_was(&dir, &retime(extra), &[field, "path.csv is the --q-traj input"]);
+    }
     // the parts of a merge and their metadata
     two_parts(&dir);
     let merge = |out: &'static str| vec!["sweep", "merge", "p1.csv", "p2.csv", "--out", out];

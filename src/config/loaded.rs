@@ -271,8 +271,8 @@ fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
 }
 
 /// The files a run of `config` on `arm` reads: the URDF, the meshes its geometry found, a
-/// motors file, and the replay's trajectory file when it was read (`replay_read`; Python may
-/// give the frames in memory), each named by the field that gives it.
+/// motors file, and the trajectory file of a replay or a retime when it was read
+/// (`replay_read`; Python may give the frames in memory), each named by the field that gives it.
 fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
     let mut inputs = Inputs::new();
     if let Some(urdf) = &config.arm.urdf {
@@ -281,8 +281,10 @@ fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
     if let Some(Motors::File(path)) = &config.arm.motors {
         inputs.add(path, "`motors`");
     }
-    if let (Motion::Replay(r), true) = (&config.motion, replay_read) {
-        inputs.add(&r.q_traj, "`q_traj`");
+    match (&config.motion, replay_read) {
+        (Motion::Replay(r), true) => inputs.add(&r.q_traj, "`q_traj`"),
+        (Motion::Retime(r), true) => inputs.add(&r.path.q_traj, "`q_traj`"),
+        _ => {}
     }
     for (link, path) in arm.robot.geometry.mesh_files() {
         inputs.add(path, format!("the mesh of link {}", quoted(link)));
