@@ -238,7 +238,17 @@ fn bad_paths_and_limits_give_one_line() {
     assert!(matches!(e, Error::BadPath { point: None, .. }));
     assert!(one_line(e).contains("at least two distinct points"));
     let e = PathSpline::through(&[vec![0.1; 6], vec![0.1; 6]]).unwrap_err();
-    assert!(one_line(e).contains("2 points (1 distinct)"));
+    assert!(one_line(e).contains("2 points (1 distinct, points within 1e-9 of the one before being one)"));
+    // a step too small to divide by is no step: 1e-300 rad said the masses were too large
+    let mut nearly = vec![vec![0.1; 6], vec![0.1; 6], vec![0.1; 6]];
+    nearly[1][0] += 1e-300;
+    nearly[2][0] += 5e-10;
+    let e = PathSpline::through(&nearly).unwrap_err();
+    assert!(one_line(e).contains("3 points (1 distinct"));
+    // points closer than that merge with the point kept before them, not with each other
+    let creeping: Vec<Vec<f64>> = (0..4).map(|k| vec![0.1 + 3e-10 * k as f64; 6]).collect();
+    let path = PathSpline::through(&creeping).unwrap();
+    assert_eq!(path.knots().len(), 2, "{:?}", path.knots());
     assert!(one_line(PathSpline::through(&[]).unwrap_err()).contains("no points"));
     // NaN
     let mut points = vec![vec![0.0; 6], vec![0.1; 6], vec![0.2; 6]];

@@ -15,6 +15,10 @@
 
 use crate::error::{Error, Result};
 
+/// Consecutive points closer than this (rad or m, joint-space distance) are one point: a pause
+/// has no length to time, and a step of 1e-300 rad none a spline can divide by (it overflowed).
+pub const SAME_POINT: f64 = 1e-9;
+
 /// A cubic spline through joint-space points, parameterised by cumulative chord length:
 /// q(s), q'(s), q''(s) for s in [0, [`PathSpline::length`]].
 #[derive(Clone, Debug, PartialEq)]
@@ -32,8 +36,9 @@ pub struct PathSpline {
 }
 
 impl PathSpline {
-    /// The spline through `points` (rows of one value per joint). Consecutive points that
-    /// coincide are one point (a pause in a recorded motion has no length to time). Errors:
+    /// The spline through `points` (rows of one value per joint). A point within
+    /// [`SAME_POINT`] of the point kept before it is one point with it (a pause in a recorded
+    /// motion has no length to time). Errors:
     /// fewer than two distinct points, rows of different lengths or none, a value that is not
     /// finite.
     pub fn through(points: &[Vec<f64>]) -> Result<PathSpline> {
@@ -59,7 +64,7 @@ impl PathSpline {
                     message: format!("J{} is {}, not a finite number", j + 1, p[j]),
                 });
             }
-            if kept.last() != Some(&p.as_slice()) {
+            if kept.last().is_none_or(|last| distance(last, p) >= SAME_POINT) {
                 kept.push(p);
                 indices.push(k);
             }
@@ -68,7 +73,7 @@ impl PathSpline {
             return Err(Error::BadPath {
                 point: None,
                 message: format!(
-                    "{} point{} ({} distinct): a path needs at least two distinct points",
+                    "{} point{} ({} distinct, points within {SAME_POINT:e} of the one before being one): a path needs at least two distinct points",
                     points.len(),
                     if points.len() == 1 { "" } else { "s" },
                     kept.len()
@@ -78,13 +83,7 @@ impl PathSpline {
         let mut knots = Vec::with_capacity(kept.len());
         knots.push(0.0);
         for w in kept.windows(2) {
-            let chord = w[0]
-                .iter()
-                .zip(w[1])
-                .map(|(a, b)| (b - a) * (b - a))
-                .sum::<f64>()
-                .sqrt();
-            knots.push(knots.last().copied().unwrap_or(0.0) + chord);
+            knots.push(knots.last().copied().unwrap_or(0.0) + distance(w[0], w[1]));
         }
         let intervals = kept.len() - 1;
         let mut coefficients = vec![[0.0; 4]; intervals * dof];
@@ -170,6 +169,11 @@ impl PathSpline {
             *qj = y + t * (b + t * (c + t * d));
         }
     }
+}
+
+/// ‖b − a‖₂, the joint-space distance of two points (rad or m).
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(a, b)| (b - a) * (b - a)).sum::<f64>().sqrt()
 }
 
 /// The second derivatives M_k of the not-a-knot cubic spline through (x_k, y_k) into
