@@ -967,5 +967,33 @@ fn options_beyond_what_a_run_can_do_name_their_cause() {
         "{verdict}"
     );
     assert!(!verdict.contains(" 0.000 rad (limit 0 rad)"), "{verdict}");
+    // a trajectory no arm follows (2.5 rad in 2 ms) diverges naming its timing, not the gains
+    std::fs::write(dir.join("fast.csv"), "t,j1,j2,j3\n0,0,0,0\n0.002,2.5,0,0\n").unwrap();
+    let run = faze4(
+        &dir,
+        &[
+            "replay",
+            "--urdf",
+            "arm.urdf",
+            "--package-path",
+            "pkg",
+            "--q-traj",
+            "fast.csv",
+            "--trail",
+            "none",
+            "-q",
+        ],
+    );
+    assert_eq!(run.status.code(), Some(1), "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("on joint J1 ('j1'): the command asks it for 1250.0 rad/s there")
+            && run
+                .stderr
+                .contains("the trajectory's timing, not the gains, is the cause"),
+        "{}",
+        run.stderr
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

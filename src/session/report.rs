@@ -7,7 +7,7 @@ use crate::config::RunConfig;
 use crate::error::quoted;
 use crate::output::format::number;
 use crate::output::sizing_table;
-use crate::sim::{Diverged, Scenario, Summary};
+use crate::sim::{Diverged, RUNAWAY_SPEED, Scenario, Summary};
 
 /// What a run prints on stdout before its verdict: the `[done]` line (unless `quiet`), then
 /// the `sizing` table; each line ends in a newline. Both front ends print it (the command line
@@ -66,9 +66,32 @@ pub fn done_line(outputs: &Recorders, config: &RunConfig, summary: &Summary) -> 
 /// How many of the stiffest joints a divergence message names.
 const STIFFEST_NAMED: usize = 3;
 
-/// The line that says where and why `scenario`'s run diverged (`d`).
+/// The line that says where and why `scenario`'s run diverged (`d`): the command, when it
+/// asks the joint for more than [`RUNAWAY_SPEED`] over the last step (a trajectory of 10⁹
+/// rad in 1 s was blamed on the gains), else the gains.
 pub fn divergence_line(scenario: &Scenario, d: &Diverged) -> String {
     let joint = scenario.model.joint(d.joint);
+    let n = scenario.model.dof();
+    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+    let step = scenario.dt;
+    let commanded = [d.t - step, d.t]
+        .iter()
+        .map(|&t| {
+            scenario.trajectory.eval(t.max(0.0), &mut q, &mut v);
+            v[d.joint.0].abs()
+        })
+        .fold(0.0, f64::max);
+    if commanded > RUNAWAY_SPEED {
+        return format!(
+            "diverged at t = {:.4} s on joint {} ({}): the command asks it for {} {}/s there, faster than the {RUNAWAY_SPEED} {}/s a run takes for a runaway (no arm moves so fast): the trajectory's timing, not the gains, is the cause; the outputs keep the steps before it",
+            d.t,
+            d.joint,
+            quoted(&joint.name),
+            number(commanded, 0),
+            joint.kind.unit(),
+            joint.kind.unit(),
+        );
+    }
     format!(
         "diverged at t = {:.4} s on joint {} ({}): {} (the tuning rule keeps b ≤ 0.4: lower `dt` or `kp`); the outputs keep the steps before it",
         d.t,
