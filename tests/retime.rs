@@ -245,6 +245,10 @@ fn bad_paths_and_limits_give_one_line() {
     nearly[2][0] += 5e-10;
     let e = PathSpline::through(&nearly).unwrap_err();
     assert!(one_line(e).contains("3 points (1 distinct"));
+    // a length that overflows: its spline was NaN, reported as masses too large to simulate
+    let e = PathSpline::through(&[vec![0.0, 0.0], vec![1e200, 0.0]]).unwrap_err();
+    assert!(matches!(e, Error::BadPath { point: Some(1), .. }));
+    assert!(one_line(e).contains("point 1: the path's length up to here overflows"));
     // points closer than that merge with the point kept before them, not with each other
     let creeping: Vec<Vec<f64>> = (0..4).map(|k| vec![0.1 + 3e-10 * k as f64; 6]).collect();
     let path = PathSpline::through(&creeping).unwrap();

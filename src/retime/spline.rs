@@ -82,8 +82,15 @@ impl PathSpline {
         }
         let mut knots = Vec::with_capacity(kept.len());
         knots.push(0.0);
-        for w in kept.windows(2) {
-            knots.push(knots.last().copied().unwrap_or(0.0) + distance(w[0], w[1]));
+        for (k, w) in kept.windows(2).enumerate() {
+            let s = knots.last().copied().unwrap_or(0.0) + distance(w[0], w[1]);
+            if !s.is_finite() {
+                return Err(Error::BadPath {
+                    point: Some(indices[k + 1]),
+                    message: "the path's length up to here overflows floating-point numbers (a step of 1e200 rad or m is no path an arm follows)".into(),
+                });
+            }
+            knots.push(s);
         }
         let intervals = kept.len() - 1;
         let mut coefficients = vec![[0.0; 4]; intervals * dof];
