@@ -36,9 +36,9 @@ pub struct PathSpline {
 }
 
 impl PathSpline {
-    /// The spline through `points` (rows of one value per joint). A point within
-    /// [`SAME_POINT`] of the point kept before it is one point with it (a pause in a recorded
-    /// motion has no length to time). Errors:
+    /// The spline through `points` (rows of one value per joint). A point within `SAME_POINT`
+    /// (1e-9) of the point kept before it is one point with it (a pause in a recorded motion
+    /// has no length to time). Errors:
     /// fewer than two distinct points, rows of different lengths or none, a value that is not
     /// finite.
     pub fn through(points: &[Vec<f64>]) -> Result<PathSpline> {
