@@ -37,7 +37,7 @@ impl Axis {
         let values = if values.contains(':') {
             Steps::parse(&name, values)?.values()
         } else {
-            list(&name, values)?
+            list(&name, values)?.collect::<Result<Vec<f64>>>()?
         };
         Ok(Axis { name, values })
     }
@@ -51,7 +51,7 @@ impl Axis {
         let name = name.trim().trim_start_matches("--");
         match values.contains(':') {
             true => Ok(Steps::parse(name, values)?.count),
-            false => list(name, values).map(|values| values.len()),
+            false => list(name, values)?.try_fold(0, |n, value| value.map(|_| n + 1)),
         }
     }
 }
@@ -128,15 +128,15 @@ fn decimals(text: &str) -> Option<usize> {
     Some(text.split_once('.').map_or(0, |(_, after)| after.len()))
 }
 
-/// `v1,v2,…`, each value checked.
-fn list(name: &str, text: &str) -> Result<Vec<f64>> {
+/// `v1,v2,…`: an error if it gives no values, else each value, checked as it is read.
+fn list<'t>(name: &'t str, text: &'t str) -> Result<impl Iterator<Item = Result<f64>> + 't> {
     if text.trim().is_empty() {
         return Err(Error::argument(
             VARY,
             format!("{name}: no values: give LO:HI:STEP or v1,v2,…"),
         ));
     }
-    text.split(',').map(|v| number(name, v)).collect()
+    Ok(text.split(',').map(move |v| number(name, v)))
 }
 
 fn number(name: &str, text: &str) -> Result<f64> {
