@@ -350,8 +350,11 @@ fn every_shown_run_is_checked_or_says_why() {
     );
 }
 
-/// The long options `help` lists (`--name` at the start of an option line).
+/// The long options `help` lists (`--name` at the start of an option line), and their aliases
+/// (`[alias: --urdf]`).
 fn options_in_help(help: &str) -> BTreeSet<String> {
+    let aliases = (help.match_indices("[alias: ").chain(help.match_indices("[aliases: ")))
+        .flat_map(|(k, _)| options_in_line(help[k..].split(']').next().unwrap_or_default()));
     (help.lines())
         .filter_map(|l| {
             let l = l.trim_start();
@@ -368,6 +371,7 @@ fn options_in_help(help: &str) -> BTreeSet<String> {
                 )
             })
         })
+        .chain(aliases)
         .collect()
 }
 

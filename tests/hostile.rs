@@ -58,7 +58,7 @@ fn an_output_never_replaces_an_input() {
     let cases: &[(Vec<&str>, &[&str])] = &[
         (
             arm_wave(&["--trail", "arm.urdf"]),
-            &["--trail", "arm.urdf is the --urdf input"],
+            &["--trail", "arm.urdf is the --robot input"],
         ),
         (
             arm_wave(&["--summary", mesh]),
@@ -70,11 +70,11 @@ fn an_output_never_replaces_an_input() {
         ),
         (
             arm_wave(&["--plot", "urdf.svg"]),
-            &["--plot", "urdf.svg is the --urdf input (arm.urdf)"],
+            &["--plot", "urdf.svg is the --robot input (arm.urdf)"],
         ),
         (
             arm_wave(&["--trail", "hard.csv"]),
-            &["--trail", "hard.csv is the --urdf input"],
+            &["--trail", "hard.csv is the --robot input"],
         ),
         (
             vec![
@@ -110,7 +110,7 @@ fn an_output_never_replaces_an_input() {
                 "--duration",
                 "0.1",
             ],
-            &["--out", "urdf.csv is the --urdf input"],
+            &["--out", "urdf.csv is the --robot input"],
         ),
     ];
     for (args, parts) in cases {

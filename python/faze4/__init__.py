@@ -91,7 +91,7 @@ _TABLES = {c: _table(c) for c in (*_RUN_COMMANDS, "retime", "sweep", "run")}
 
 def options(command: str) -> list[Option]:
     """The keywords of ``command`` ('wave', 'replay', 'shape', 'retime', 'sweep'; 'run': those every run
-    command shares, which ``Robot.faze4`` and ``Robot.from_urdf`` take), as the binary declares
+    command shares, which ``Robot``, ``Robot.faze4`` and ``Robot.from_urdf`` take), as the binary declares
     them: name, long option, kind, default, choices, help."""
     if command not in _TABLES:
         raise Error(f"no command '{command}' (wave, replay, shape, retime, sweep, run)")
@@ -112,7 +112,9 @@ def _given(options: dict[str, Any]) -> dict[str, Any]:
 
 class Robot(_faze4.Robot):
     """An arm: its model (as the binary loads it from the same options) and a dynamics
-    workspace. Build it with :meth:`Robot.faze4` or :meth:`Robot.from_urdf`.
+    workspace. ``faze4.Robot(robot="ur.urdf.xacro", xacro_arg=["ur_type:=ur5e"])`` reads a
+    robot file (URDF or xacro, told apart by their content); :meth:`Robot.faze4` is the bundled
+    arm and :meth:`Robot.from_urdf` a robot file by its path.
 
     The dynamics take and return float64 numpy arrays, one joint per entry, SI units, as
     Pinocchio does: ``mass_matrix(q)``, ``gravity(q)``, ``rnea(q, v, a)``, ``aba(q, v, tau)``,
@@ -121,6 +123,12 @@ class Robot(_faze4.Robot):
     change a run's, and every run of the robot starts from them."""
 
     _options: dict[str, Any]
+
+    def __new__(cls, **options: Any) -> Robot:
+        """The arm the keywords describe: the options every run command shares
+        (``faze4.options('run')``): ``robot`` (a URDF or xacro file; ``urdf`` is its old name),
+        ``xacro_arg``, ``package_path``, ``motors``, ... Without ``robot``, the bundled Faze4."""
+        return cls._load(options)
 
     @classmethod
     def faze4(cls, **options: Any) -> Robot:
@@ -136,30 +144,50 @@ class Robot(_faze4.Robot):
         tool_link: str | None = None,
         **options: Any,
     ) -> Robot:
-        """The arm of a URDF file; ``package_path``: where ``package://`` meshes are looked for
-        (ROS_PACKAGE_PATH after); ``tool_link``: the link traced as the tool. Other keywords:
-        as :meth:`Robot.faze4`."""
+        """The arm of a robot file (URDF or xacro, told apart by their content); ``package_path``:
+        where ``package://`` meshes and xacro's ``$(find PKG)`` are looked for (ROS_PACKAGE_PATH
+        after); ``tool_link``: the link traced as the tool. Other keywords: as :meth:`Robot.faze4`
+        (``xacro_arg=["NAME:=VALUE", ...]`` for a xacro file)."""
         if not isinstance(path, (str, os.PathLike)):
             # None would load the bundled arm, not the file meant (Robot.faze4() is that)
             raise TypeError(f"from_urdf: path is {type(path).__name__}, not a path (Robot.faze4() is the bundled arm)")
-        return cls._load(dict(urdf=path, package_path=package_path, tool_link=tool_link, **options))
+        return cls._load(dict(robot=path, package_path=package_path, tool_link=tool_link, **options))
 
     @classmethod
     def _load(cls, options: dict[str, Any]) -> Robot:
         table = _TABLES["run"]
+        options = _renamed(options)
         for name in options:
             if name not in table:
                 raise Error(
                     f"{name}: not an option a robot takes (the options every run command shares: {', '.join(table)})"
                 )
         options = _given(options)
-        robot = cls(options)
+        robot = _faze4.Robot.__new__(cls, options)
         robot._options = options
         return robot
 
     def __reduce__(self):
         # pickled and copied by its options: the model is read again from them
         return (_robot, (type(self), dict(getattr(self, "_options", {}))))
+
+
+#: Options' old names: ``urdf`` is ``robot``.
+_OLD_NAMES = {"urdf": "robot"}
+
+
+def _renamed(options: dict[str, Any]) -> dict[str, Any]:
+    """``options`` with each old name replaced by its option's name (``urdf`` by ``robot``);
+    both given is an error."""
+    renamed = dict(options)
+    for old, new in _OLD_NAMES.items():
+        if old in renamed:
+            if renamed.get(new) is not None and renamed[old] is not None:
+                raise Error(f"{old}: is {new}'s old name: give one of them")
+            value = renamed.pop(old)
+            if renamed.get(new) is None:
+                renamed[new] = value
+    return renamed
 
 
 def _robot(cls: type[Robot], options: dict[str, Any]) -> Robot:
@@ -220,6 +248,7 @@ def _options(command: str, robot: Robot, options: dict[str, Any]) -> dict[str, A
     """The keywords of a run: Python's defaults, then the robot's, then the call's (each one a
     keyword of ``command``, as a Python function's would be)."""
     table = _TABLES[command]
+    options = _renamed(options)
     for name in options:
         if name not in table:
             raise TypeError(f"{command}() got an unexpected keyword argument '{name}'")

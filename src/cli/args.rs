@@ -146,10 +146,13 @@ pub struct RetimeArgs {
 /// Options every run command shares: model, controller, outputs.
 #[derive(Clone, Debug, Args)]
 pub struct RunArgs {
-    /// The arm (default: the bundled Faze4, urdf/faze4_arm.urdf).
-    #[arg(long, value_name = "F.urdf")]
-    pub urdf: Option<PathBuf>,
-    /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
+    /// The arm: a URDF or a xacro file (.urdf.xacro), told apart by their content (default: the bundled Faze4, urdf/faze4_arm.urdf).
+    #[arg(long, visible_alias = "urdf", value_name = "F.urdf|F.xacro")]
+    pub robot: Option<PathBuf>,
+    /// A xacro file's argument, NAME:=VALUE, as xacro takes it (repeatable), e.g. ur_type:=ur5e.
+    #[arg(long = "xacro-arg", value_name = "NAME:=VALUE")]
+    pub xacro_arg: Vec<String>,
+    /// Where `package://` meshes and xacro's $(find PKG) packages are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
     #[arg(long = "package-path", value_name = "DIR")]
     pub package_path: Vec<PathBuf>,
     /// A moving body whose inertia no rigid body has (not positive definite, or its principal

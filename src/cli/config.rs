@@ -83,7 +83,8 @@ fn with_run(motion: Motion, duration: Option<f64>, run: &RunArgs) -> Result<RunC
     Ok(RunConfig {
         motion,
         arm: ArmConfig {
-            urdf: run.urdf.clone(),
+            robot: run.robot.clone(),
+            xacro_arg: run.xacro_arg.clone(),
             package_path: run.package_path.clone(),
             balance_inertia: run.balance_inertia,
             tool_link: run.tool_link.clone(),

@@ -1,4 +1,4 @@
-//! The arm a configuration names, read once: its URDF (or the bundled Faze4), the motors put on
+//! The arm a configuration names, read once: its robot file (or the bundled Faze4), the motors put on
 //! its joints, its tool frame.
 
 use super::ArmConfig;
@@ -6,7 +6,7 @@ use super::motors::{fit, resolve};
 use crate::control::Motor;
 use crate::error::{Error, Result};
 use crate::geometry::Robot;
-use crate::model::{FrameId, LoadOptions, Model, PackagePaths};
+use crate::model::{FrameId, LoadOptions, Model, PackagePaths, ReadOptions};
 
 /// An arm as a run uses it: the robot (its model with the motors' ratios and rotors on its
 /// joints, its geometry, what reading it changed), the motors' envelopes, and the tool frame.
@@ -20,18 +20,21 @@ pub struct Arm {
     pub tool: FrameId,
 }
 
-/// Reads the arm `arm` names: `urdf` (else the bundled Faze4), with `motors`, `gear_ratio` and
+/// Reads the arm `arm` names: `robot` (else the bundled Faze4), with `motors`, `gear_ratio` and
 /// `rotor_inertia` resolved onto its joints once ([`fit`]), and its tool frame.
 pub fn load_arm(arm: &ArmConfig) -> Result<Arm> {
     let options = LoadOptions {
         balance_inertia: arm.balance_inertia,
     };
-    let mut robot = match &arm.urdf {
-        Some(path) => Robot::from_urdf_file_with(
-            path,
-            &PackagePaths::with_ros_package_path(arm.package_path.clone()),
-            &options,
-        )?,
+    let read = ReadOptions {
+        packages: PackagePaths::with_ros_package_path(arm.package_path.clone()),
+        xacro_args: arm.xacro_arg.clone(),
+    };
+    let mut robot = match &arm.robot {
+        Some(path) => Robot::from_file_with(path, &read, &options)?,
+        None if !arm.xacro_arg.is_empty() => {
+            return Err(Error::option("xacro_arg", "is for a xacro file given as `robot`"));
+        }
         None => Robot::faze4(),
     };
     let motors = resolve(arm.motors.as_ref(), arm.supply_voltage, &robot.model)?;

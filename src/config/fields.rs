@@ -29,6 +29,8 @@ pub enum Kind {
     Path,
     /// Several files or directories.
     Paths,
+    /// Several words or texts.
+    Texts,
     /// One value per joint (`None`: keep the joint's own).
     PerJoint,
     /// One number per joint, all given.
@@ -56,6 +58,8 @@ pub enum Value {
     Path(PathBuf),
     /// Several paths.
     Paths(Vec<PathBuf>),
+    /// Several texts.
+    Texts(Vec<String>),
     /// One value per joint (`None`: keep the joint's own).
     PerJoint(Vec<Option<f64>>),
     /// Motors given as values.
@@ -156,8 +160,12 @@ impl Field {
     }
 }
 
-/// The field called `name`.
+/// The field called `name` (`urdf` is `robot`'s old name).
 pub fn field(name: &str) -> Option<&'static Field> {
+    let name = match name {
+        "urdf" => "robot",
+        name => name,
+    };
     FIELDS.iter().find(|f| f.name == name)
 }
 
@@ -205,6 +213,7 @@ fn wrong(name: &str, kind: Kind, value: &Value) -> Error {
         Value::Text(t) => format!("'{t}'"),
         Value::Path(p) => format!("'{}'", p.display()),
         Value::Paths(_) => "several paths".to_string(),
+        Value::Texts(_) => "several texts".to_string(),
         Value::PerJoint(v) => format!("{} values", v.len()),
         Value::Motors(_) => "motors".to_string(),
     };
@@ -221,6 +230,7 @@ pub fn kind_name(kind: Kind) -> String {
         Kind::Choice(words) => format!("one of {}", words.join(", ")),
         Kind::Path => "a path".into(),
         Kind::Paths => "paths".into(),
+        Kind::Texts => "texts".into(),
         Kind::PerJoint => "one value per joint".into(),
         Kind::Numbers => "one number per joint".into(),
         Kind::Center => "'mid' or one value per joint".into(),
@@ -612,7 +622,22 @@ pub const FIELDS: &[Field] = &[
         },
         number: None,
     },
-    optional_path!("urdf", arm.urdf),
+    optional_path!("robot", arm.robot),
+    Field {
+        name: "xacro_arg",
+        kind: Kind::Texts,
+        commands: Commands::All,
+        set: |c, v| {
+            c.arm.xacro_arg = match v {
+                Value::Texts(t) => t,
+                Value::Text(t) => vec![t],
+                Value::Default => Vec::new(),
+                other => return Err(wrong("xacro_arg", Kind::Texts, &other)),
+            };
+            Ok(())
+        },
+        number: None,
+    },
     Field {
         name: "package_path",
         kind: Kind::Paths,

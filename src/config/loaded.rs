@@ -149,7 +149,8 @@ impl Loaded {
             false => {
                 let file = |a: &ArmConfig| {
                     (
-                        a.urdf.clone(),
+                        a.robot.clone(),
+                        a.xacro_arg.clone(),
                         a.package_path.clone(),
                         a.balance_inertia,
                         a.tool_link.clone(),
@@ -157,7 +158,7 @@ impl Loaded {
                 };
                 if file(&config.arm) != file(&self.arm_config) {
                     return Err(Error::option(
-                        "urdf",
+                        "robot",
                         "the arm was loaded from another file or tool link",
                     ));
                 }
@@ -275,8 +276,8 @@ fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
 /// (`replay_read`; Python may give the frames in memory), each named by the field that gives it.
 fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
     let mut inputs = Inputs::new();
-    if let Some(urdf) = &config.arm.urdf {
-        inputs.add(urdf, "`urdf`");
+    if let Some(robot) = &config.arm.robot {
+        inputs.add(robot, "`robot`");
     }
     if let Some(Motors::File(path)) = &config.arm.motors {
         inputs.add(path, "`motors`");

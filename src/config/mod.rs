@@ -317,9 +317,11 @@ impl ShapeConfig {
 /// The arm: its file, its motors, and what is added to it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ArmConfig {
-    /// The URDF (`None`: the bundled Faze4).
-    pub urdf: Option<PathBuf>,
-    /// Where `package://` meshes are looked for (before ROS_PACKAGE_PATH).
+    /// The robot file, URDF or xacro (`None`: the bundled Faze4).
+    pub robot: Option<PathBuf>,
+    /// A xacro file's arguments, `NAME:=VALUE`, in order.
+    pub xacro_arg: Vec<String>,
+    /// Where `package://` meshes and `$(find …)` packages are looked for (before ROS_PACKAGE_PATH).
     pub package_path: Vec<PathBuf>,
     /// Balance a body's inertia that no rigid body has instead of refusing the model.
     pub balance_inertia: bool,

@@ -38,7 +38,10 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::faze4;
-use crate::model::{FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, RobotDescription, urdf};
+use crate::model::{
+    FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, ReadOptions, RobotDescription, describe_file,
+    urdf,
+};
 use crate::spatial::Pose;
 
 /// A robot as read from a file: the dynamics [`Model`] and, beside it, the shapes attached to
@@ -64,6 +67,12 @@ impl Robot {
     pub fn from_urdf_file_with(path: &Path, packages: &PackagePaths, options: &LoadOptions) -> Result<Robot> {
         let text = urdf::read_text(path)?;
         Robot::from_urdf_str_with(&text, &path.display().to_string(), path.parent(), packages, options)
+    }
+
+    /// Reads and validates the robot file at `path` in whichever format it is (URDF, xacro:
+    /// [`crate::model::robot_file`]), with `read` (packages, xacro arguments) and `options`.
+    pub fn from_file_with(path: &Path, read: &ReadOptions, options: &LoadOptions) -> Result<Robot> {
+        Robot::from_description_with(&describe_file(path, read)?, options)
     }
 
     /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
@@ -100,11 +109,15 @@ impl Robot {
         packages: &PackagePaths,
         options: &LoadOptions,
     ) -> Result<Robot> {
-        let desc = urdf::describe(text, file, base_dir, packages)?;
-        let (mut model, warnings) = Model::from_description_with(&desc, options)?;
+        Robot::from_description_with(&urdf::describe(text, file, base_dir, packages)?, options)
+    }
+
+    /// The robot `desc` describes, read with `options`.
+    fn from_description_with(desc: &RobotDescription, options: &LoadOptions) -> Result<Robot> {
+        let (mut model, warnings) = Model::from_description_with(desc, options)?;
         // what the arm's maker knows beyond the file, when this is an arm faze4 knows
         model.defaults = faze4::defaults_for(&model);
-        let geometry = GeometryModel::new(&model, &desc);
+        let geometry = GeometryModel::new(&model, desc);
         Ok(Robot {
             model,
             geometry,

@@ -14,13 +14,17 @@
 //!
 //! Only [`urdf`] knows the URDF format (and the urdf-rs crate); it produces a
 //! [`RobotDescription`], and [`Model::from_description`] turns any description into a model.
+//! [`robot_file`] is the one place that picks a robot file's format and hands it to the file
+//! that owns it ([`urdf`], [`xacro`]).
 
 mod build;
 pub use build::{LoadOptions, LoadWarning};
 mod defaults;
 mod description;
 mod package;
+pub mod robot_file;
 pub mod urdf;
+pub mod xacro;
 
 pub use defaults::{ArmDefaults, ShapeIk};
 pub use description::{
@@ -28,6 +32,7 @@ pub use description::{
     Visual,
 };
 pub use package::{PackagePaths, not_found_advice};
+pub use robot_file::{ReadOptions, RobotFormat, describe_file};
 
 pub use crate::id::{FrameId, JointId};
 

@@ -6,7 +6,7 @@
 //!   another type is a `TypeError`); the runs, sweeps and searches are then the library's, as
 //!   the binary's are, so defaults, checks, summaries are the binary's, and a message names
 //!   options as keywords (`dt`) where the binary writes flags (`--dt`);
-//! * `Robot` holds the model its keywords load (`urdf`, `motors`, …; `payload_kg` and
+//! * `Robot` holds the model its keywords load (`robot`, `motors`, …; `payload_kg` and
 //!   `no_gravity` applied as a run applies them) and one `Data` workspace for the dynamics
 //!   calls.
 //!
@@ -131,6 +131,14 @@ fn value(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Value> {
             _ => Value::Paths(
                 (obj.try_iter().map_err(|_| bad())?)
                     .map(|item| item.and_then(|i| i.extract::<std::path::PathBuf>()).map_err(|_| bad()))
+                    .collect::<PyResult<_>>()?,
+            ),
+        },
+        Kind::Texts => match text() {
+            Some(t) => Value::Text(t),
+            None => Value::Texts(
+                (obj.try_iter().map_err(|_| bad())?)
+                    .map(|item| item.and_then(|i| i.extract::<String>()).map_err(|_| bad()))
                     .collect::<PyResult<_>>()?,
             ),
         },
@@ -357,7 +365,7 @@ impl PyRobot {
 
 #[pymethods]
 impl PyRobot {
-    /// Loads the arm the keywords describe (`urdf`, `motors`, `payload_kg`, …, the options every
+    /// Loads the arm the keywords describe (`robot`, `motors`, `payload_kg`, …, the options every
     /// run command shares). `faze4.Robot.faze4()` and `faze4.Robot.from_urdf()` call it.
     #[new]
     fn new(options: &Bound<'_, PyDict>) -> PyResult<Self> {
