@@ -26,6 +26,17 @@ pub enum Error {
         message: String,
     },
 
+    /// A xacro file could not be expanded: what is wrong, the construct named, and where.
+    #[error("{file} line {line}: xacro: {message}")]
+    Xacro {
+        /// The xacro, included or YAML file.
+        file: String,
+        /// The line of the element at fault (1-based).
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+
     /// The URDF is well-formed but describes something faze4 cannot model.
     #[error("{file}: {element}: {message}")]
     InvalidModel {

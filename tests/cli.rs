@@ -74,6 +74,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
             "max_tracking_error_rad",
             "meshes",
             "robot",
+            "robot_source",
             "saturation_pct",
             "stability",
             "steps",

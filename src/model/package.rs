@@ -132,3 +132,37 @@ fn find_package_below(dir: &Path, name: &str, depth: usize) -> Option<PathBuf> {
         .cloned()
         .or_else(|| subdirs.iter().find_map(|d| find_package_below(d, name, depth - 1)))
 }
+
+impl PackagePaths {
+    /// The folder of the ROS package `name`, as xacro's `$(find name)` finds it: a folder with a
+    /// `package.xml` naming it, among the directories searched (in order), each one itself,
+    /// its sub-folder `name`, or a folder up to three levels below it.
+    pub fn find_package(&self, name: &str) -> Option<PathBuf> {
+        let named = |dir: &Path| {
+            let xml = crate::input::read_file_capped(&dir.join("package.xml"), MAX_SIDE_FILE_BYTES, "a package.xml");
+            xml.is_ok_and(|xml| String::from_utf8_lossy(&xml).contains(&format!("<name>{name}</name>")))
+        };
+        if name.is_empty() || name == "." || name == ".." || name.contains('/') {
+            return None;
+        }
+        (self.dirs.iter().cloned())
+            .chain(self.dirs.iter().map(|d| d.join(name)))
+            .find(|d| named(d))
+            .or_else(|| self.dirs.iter().find_map(|d| find_named_below(d, &named, 3)))
+    }
+}
+
+/// A folder below `dir` (up to `depth` levels, sorted by name) that `named` accepts.
+fn find_named_below(dir: &Path, named: &dyn Fn(&Path) -> bool, depth: usize) -> Option<PathBuf> {
+    if depth == 0 {
+        return None;
+    }
+    let mut subdirs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    subdirs.sort();
+    (subdirs.iter().find(|d| named(d)).cloned())
+        .or_else(|| subdirs.iter().find_map(|d| find_named_below(d, named, depth - 1)))
+}

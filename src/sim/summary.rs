@@ -16,6 +16,9 @@ use crate::traj::Interpolation;
 pub struct Simulated {
     /// The robot's name (the URDF's `<robot name>`).
     pub robot: String,
+    /// Where the model was read from, in which format: a URDF's path, `xacro PATH, NAME:=VALUE, …`
+    /// (the arguments given) for a xacro file, `bundled urdf/faze4_arm.urdf` for the bundled arm.
+    pub robot_source: String,
     /// The degrees of freedom in order (J1 … Jn, the order of every per-joint list): the moving
     /// joints that mimic no other.
     pub joints: Vec<DofJoint>,
@@ -36,6 +39,7 @@ impl Simulated {
         let (default, choice) = model.default_tool();
         Simulated {
             robot: model.name.clone(),
+            robot_source: model.source.clone(),
             joints: (model.joints.iter())
                 .map(|j| DofJoint {
                     name: j.name.clone(),

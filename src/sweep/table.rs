@@ -8,7 +8,7 @@
 //! `a_b`; an unlimited torque limit is empty. A failed run has empty figures. Lists of objects
 //! (the clearance's per-pair `pairs`) stay in the summary: the table keeps the closest pair,
 //! `clearance_min_m`, `clearance_links_1`, `clearance_links_2`, `clearance_t` (and
-//! `clearance_geometry`), the same columns in every row. What was simulated (`robot`,
+//! `clearance_geometry`), the same columns in every row. What was simulated (`robot`, `robot_source`,
 //! `joints`, `tool_link`, `tool_choice`, `meshes`) is the same in every run of a sweep and has
 //! no column.
 
@@ -25,11 +25,12 @@ use crate::output::format::push_exact;
 
 /// The summary fields that are not figures of the run, or that have their own columns: the
 /// description of what was simulated is the same in every row of a sweep and left out.
-const NOT_FIGURES: [&str; 8] = [
+const NOT_FIGURES: [&str; 9] = [
     "verdict",
     "diverged",
     "interrupted_at_s",
     "robot",
+    "robot_source",
     "joints",
     "tool_link",
     "tool_choice",
