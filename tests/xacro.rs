@@ -40,6 +40,54 @@ fn read(path: &Path, args: &[String]) -> faze4::Result<RobotDescription> {
     )
 }
 
+/// An XML document as a canonical text: each element's name, its attributes sorted, its text
+/// (trimmed, whitespace-only text left out) and its children, comments left out.
+fn canonical(text: &str) -> String {
+    fn walk(node: roxmltree::Node, depth: usize, out: &mut String) {
+        let mut attrs: Vec<String> = node
+            .attributes()
+            .map(|a| format!("{}={:?}", a.name(), a.value()))
+            .collect();
+        attrs.sort();
+        out.push_str(&format!(
+            "{}<{} {}>\n",
+            " ".repeat(depth),
+            node.tag_name().name(),
+            attrs.join(" ")
+        ));
+        for child in node.children() {
+            if child.is_element() {
+                walk(child, depth + 1, out);
+            } else if let Some(t) = child
+                .text()
+                .filter(|_| child.is_text())
+                .map(str::trim)
+                .filter(|t| !t.is_empty())
+            {
+                out.push_str(&format!("{}{t:?}\n", " ".repeat(depth + 1)));
+            }
+        }
+    }
+    let doc = roxmltree::Document::parse(text).unwrap();
+    let mut out = String::new();
+    walk(doc.root_element(), 0, &mut out);
+    out
+}
+
+#[test]
+fn every_fixture_expands_to_xacros_document_element_for_element() {
+    for (name, source, args) in cases() {
+        let text = std::fs::read_to_string(&source).unwrap();
+        let packages = PackagePaths::new(vec![repo_path("tests/xacro")]);
+        let ours =
+            faze4::model::xacro::expand(&text, &source, &args, &packages).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let oracle = std::fs::read_to_string(repo_path(&format!("tests/fixtures/xacro/{name}.urdf"))).unwrap();
+        let (ours, oracle) = (canonical(&ours.urdf), canonical(&oracle));
+        assert!(oracle.lines().count() > 40, "{name}");
+        assert_eq!(ours, oracle, "{name}");
+    }
+}
+
 /// The description without where it came from: its name, links, joints and transmissions.
 fn facts(d: &RobotDescription) -> String {
     format!("{}\n{:#?}\n{:#?}\n{:#?}", d.name, d.links, d.joints, d.transmissions)
@@ -50,10 +98,10 @@ fn the_official_descriptions_expand_to_the_model_xacro_expands_them_to() {
     let cases = cases();
     assert_eq!(
         cases.len(),
-        12,
-        "every ur_type, a prefixed UR, fr3 with and without its hand"
+        14,
+        "every ur_type, a prefixed UR, fr3 with and without its hand, odd"
     );
-    for (name, source, args) in cases {
+    for (name, source, args) in cases.into_iter().filter(|(n, ..)| !n.starts_with("odd")) {
         let ours = read(&source, &args).unwrap_or_else(|e| panic!("{name}: {e}"));
         let fixture = repo_path(&format!("tests/fixtures/xacro/{name}.urdf"));
         let text = std::fs::read_to_string(&fixture).unwrap();

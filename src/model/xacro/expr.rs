@@ -610,10 +610,14 @@ const MATH_FUNCTIONS: [&str; 31] = [
     "exp", "log", "log10", "log2", "pow", "fabs", "floor", "ceil", "trunc", "degrees", "radians", "hypot", "fmod",
     "copysign", "isnan", "isinf", "isfinite",
 ];
-/// The built-ins xacro exposes directly and in `python.`.
+/// The built-ins xacro exposes in `python.`.
 const BUILTINS: [&str; 17] = [
     "abs", "min", "max", "round", "int", "float", "str", "bool", "len", "list", "sum", "sorted", "range", "any", "all",
     "repr", "tuple",
+];
+/// The built-ins xacro exposes as bare names too (`sorted` and `range` deprecated there).
+const DIRECT_BUILTINS: [&str; 11] = [
+    "min", "max", "round", "int", "float", "str", "bool", "len", "list", "sorted", "range",
 ];
 /// xacro's own functions (`xacro.load_yaml`, …; `load_yaml` also bare, as xacro keeps it).
 const XACRO_FUNCTIONS: [&str; 9] = [
@@ -669,7 +673,7 @@ fn builtin(namespace: &str, name: &str) -> Option<Value> {
             _ => constant
                 .map(Value::Float)
                 .or_else(|| find(&MATH_FUNCTIONS).map(function))
-                .or_else(|| find(&BUILTINS[..13]).map(function))
+                .or_else(|| find(&DIRECT_BUILTINS).map(function))
                 .or_else(|| match name {
                     "load_yaml" => Some(function("load_yaml")),
                     "abs_filename" => Some(function("abs_filename")),
@@ -1505,13 +1509,13 @@ mod tests {
             ("max(1, 2.5, 2)", "2.5"),
             ("min([4, 3])", "3"),
             ("str(1.0) + 'x'", "1.0x"),
-            ("abs(-2)", "2"),
+            ("python.abs(-2)", "2"),
             ("None is None", "True"),
             ("x if x > 5 else -x", "-3"),
             ("xacro.arg('t')", "arg:t"),
             ("True + 1", "2"),
             ("'a' 'b'", "ab"),
-            ("sum([1, 2.5])", "3.5"),
+            ("python.sum([1, 2.5])", "3.5"),
             ("link.get('nope', 7)", "7"),
             ("sorted([3, 1, 2])", "[1, 2, 3]"),
             ("python.range(3)", "[0, 1, 2]"),
@@ -1545,6 +1549,7 @@ mod tests {
             ("'abc' * 100000000", "a string of more than"),
             ("sqrt(-1)", "math domain error"),
             ("max()", "of nothing"),
+            ("abs(-1)", "name 'abs' is not defined"),
         ];
         for (expr, expect) in cases {
             let got = text(expr);
