@@ -348,6 +348,40 @@ fn hostile_xacro_is_refused_within_its_caps_naming_the_construct_and_its_line() 
             vec!["line 3"],
         ),
         (
+            "lazy-chain",
+            {
+                // each property refers to the one before: evaluated on first use, recursively
+                let mut t = HEAD.to_string() + "<xacro:property name=\"p0\" value=\"1\"/>\n";
+                for i in 1..2000 {
+                    t += &format!("<xacro:property name=\"p{i}\" value=\"${{p{} + 1}}\"/>\n", i - 1);
+                }
+                t + "<link name=\"${p1999}\"/>\n</robot>"
+            },
+            vec![],
+            vec![],
+            vec!["line 2002", "properties refer to each other more than 250 deep"],
+        ),
+        (
+            "wrapped-lists",
+            {
+                // a global property wrapped in a list by each of 2^12 calls
+                let mut t = HEAD.to_string();
+                t += "<xacro:property name=\"x\" value=\"${[]}\" lazy_eval=\"false\"/>\n";
+                t += "<xacro:macro name=\"w0\"><xacro:property name=\"x\" value=\"${[x]}\" scope=\"global\"/></xacro:macro>\n";
+                for i in 1..13 {
+                    t += &format!(
+                        "<xacro:macro name=\"w{i}\"><xacro:w{}/><xacro:w{}/></xacro:macro>\n",
+                        i - 1,
+                        i - 1
+                    );
+                }
+                t + "<xacro:w12/>\n</robot>"
+            },
+            vec![],
+            vec![],
+            vec!["lists and dicts nested more than 100 deep"],
+        ),
+        (
             "deep-nesting",
             format!("{HEAD}{}{}</robot>", "<a>".repeat(150), "</a>".repeat(150)),
             vec![],

@@ -534,8 +534,9 @@ def _document(
     function, command: str, positional: tuple[str, ...], optional: tuple[str, ...] = (), skip: tuple[str, ...] = ()
 ) -> None:
     """``function``'s doc and signature from the options of ``command``; ``skip``: options the
-    function takes under another name (a positional one)."""
-    table = {name: option for name, option in _TABLES[command].items() if name not in skip}
+    function takes under another name (a positional one). Its first argument, ``robot``, is the
+    :class:`Robot`, whose own option ``robot`` (the robot file) a run does not take."""
+    table = {name: option for name, option in _TABLES[command].items() if name not in skip and name != "robot"}
     returns = "Retimed" if command == "retime" else "Run"
     lines = [
         _ABOUT[command],

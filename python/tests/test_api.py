@@ -99,6 +99,31 @@ def test_the_summary_says_what_was_simulated():
     assert [(m["link"], m["source"]) for m in summary["meshes"]] == [(j["name"], "built-in") for j in summary["joints"]]
 
 
+def test_a_xacro_robot_is_read_by_keywords_as_the_binary_reads_it():
+    """``faze4.Robot(robot=…, xacro_arg=…)``: the official UR description expanded equals
+    xacro's expansion (tests/fixtures/xacro, by tools/oracle/xacro_fixtures.py)."""
+    import pickle
+
+    ur = ROOT / "tests" / "xacro" / "ur_description" / "urdf" / "ur.urdf.xacro"
+    expanded = ROOT / "tests" / "fixtures" / "xacro" / "ur5e.urdf"
+    robot = faze4.Robot(robot=ur, xacro_arg=["name:=ur5e", "ur_type:=ur5e"], package_path=[ROOT / "tests" / "xacro"])
+    oracle = faze4.Robot(urdf=expanded)  # the old name of robot
+    assert robot.dof == 6 and robot.joint_names == oracle.joint_names
+    q = np.linspace(-1.0, 1.0, 6)
+    assert np.array_equal(robot.mass_matrix(q), oracle.mass_matrix(q))
+    assert np.array_equal(robot.gravity(q), oracle.gravity(q))
+    ours, theirs = faze4.wave(robot, duration=0.2, no_collisions=True), faze4.wave(oracle, duration=0.2, no_collisions=True)
+    assert np.array_equal(ours.q, theirs.q)
+    assert ours.summary["robot_source"] == f"xacro {ur}, name:=ur5e, ur_type:=ur5e"
+    assert pickle.loads(pickle.dumps(robot)).joint_names == robot.joint_names
+    with pytest.raises(faze4.Error, match="xacro_arg: .* takes no xacro arguments"):
+        faze4.Robot(robot=expanded, xacro_arg="a:=1")
+    with pytest.raises(faze4.Error, match="urdf: is robot's old name"):
+        faze4.Robot(robot=expanded, urdf=expanded)
+    with pytest.raises(TypeError, match="xacro_arg: takes texts"):
+        faze4.Robot(robot=ur, xacro_arg=[1])
+
+
 def test_model_options_change_the_model():
     q = np.zeros(6)
     plain, heavy = faze4.Robot.faze4(), faze4.Robot.faze4(payload_kg=1.0)
@@ -236,13 +261,14 @@ def test_help_lists_every_option():
     for command, function in (("wave", faze4.wave), ("replay", faze4.replay), ("shape", faze4.shape)):
         doc = function.__doc__
         names = [o.name for o in faze4.options(command)]
-        assert names and all(f"    {name} (" in doc or name in ("q_traj", "shape") for name in names)
+        assert names and all(f"    {name} (" in doc or name in ("q_traj", "shape", "robot") for name in names)
         import inspect
 
         parameters = inspect.signature(function).parameters
         assert set(names) <= set(parameters)
         for option in faze4.options(command):
-            if option.name not in ("q_traj", "shape"):
+            # a run's `robot` is the Robot, whose own option the robot file is
+            if option.name not in ("q_traj", "shape", "robot"):
                 assert parameters[option.name].default == faze4._default(option)
 
 
@@ -259,12 +285,13 @@ def test_stub_keywords_are_the_binarys_options():
     rewrites it."""
     tree = ast.parse((ROOT / "python" / "faze4" / "__init__.pyi").read_text())
     expect = {
-        ("wave", None): ("wave", ()),
-        ("replay", None): ("replay", ("q_traj",)),
-        ("shape", None): ("shape", ("shape",)),
-        ("retime", None): ("retime", ("q_traj",)),
+        ("wave", None): ("wave", ("robot",)),
+        ("replay", None): ("replay", ("q_traj", "robot")),
+        ("shape", None): ("shape", ("shape", "robot")),
+        ("retime", None): ("retime", ("q_traj", "robot")),
+        ("__new__", "Robot"): ("run", ()),
         ("faze4", "Robot"): ("run", ()),
-        ("from_urdf", "Robot"): ("run", ("urdf", "package_path", "tool_link")),
+        ("from_urdf", "Robot"): ("run", ("robot", "package_path", "tool_link")),
     }
     for (function, cls), (command, skip) in expect.items():
         options = [(o.name, faze4._default(o)) for o in faze4.options(command) if o.name not in skip]

@@ -100,7 +100,7 @@ def test_an_output_never_replaces_an_input(tmp_path):
     with pytest.raises(faze4.Error) as caught:
         faze4.wave(robot, duration=0.01, summary=str(urdf))
     message = _one_line(caught.value)
-    assert "is the urdf input" in message, message
+    assert "is the robot input" in message, message
     assert urdf.read_bytes() == before
     assert sorted(os.listdir(tmp_path)) == ["arm.urdf"]
 

@@ -151,9 +151,10 @@ class Found:
 
 def robot_constructors() -> str:
     run = keywords("run")
+    new = ["    def __new__(", "        cls,", "        *,"] + ["    " + k for k in run] + ["    ) -> Robot: ..."]
     faze4_ = ["    @classmethod", "    def faze4(", "        cls,", "        *,"]
     faze4_ += ["    " + k for k in run] + ["    ) -> Robot: ..."]
-    urdf_kw = [k for k in keywords("run", ("urdf", "package_path", "tool_link"))]
+    urdf_kw = [k for k in keywords("run", ("robot", "package_path", "tool_link"))]
     from_urdf = [
         "    @classmethod",
         "    def from_urdf(",
@@ -165,12 +166,13 @@ def robot_constructors() -> str:
         *["    " + k for k in urdf_kw],
         "    ) -> Robot: ...",
     ]
-    return "\n".join(faze4_ + from_urdf)
+    return "\n".join(new + faze4_ + from_urdf)
 
 
 def main() -> None:
     parts = [HEADER + robot_constructors(), RUN]
-    parts.append(function("wave", ["    robot: Robot,"], "wave", (), "Run"))
+    # a run's `robot` is the Robot (the robot file is the Robot's own option)
+    parts.append(function("wave", ["    robot: Robot,"], "wave", ("robot",), "Run"))
     replay_head = [
         "    robot: Robot,",
         "    q_traj: npt.ArrayLike | str | os.PathLike[str],",
@@ -179,10 +181,10 @@ def main() -> None:
         "    a: npt.ArrayLike | None = None,",
         "    joint_names: Sequence[str] | None = None,",
     ]
-    parts.append(function("replay", replay_head, "replay", ("q_traj",), "Run"))
-    parts.append(function("shape", ["    robot: Robot,", "    shape: Literal['sine', 'circle', 'tri'],"], "shape", ("shape",), "Run"))
+    parts.append(function("replay", replay_head, "replay", ("q_traj", "robot"), "Run"))
+    parts.append(function("shape", ["    robot: Robot,", "    shape: Literal['sine', 'circle', 'tri'],"], "shape", ("shape", "robot"), "Run"))
     retime_head = ["    robot: Robot,", "    q_path: npt.ArrayLike | str | os.PathLike[str],"]
-    parts.append(function("retime", retime_head, "retime", ("q_traj",), "Retimed"))
+    parts.append(function("retime", retime_head, "retime", ("q_traj", "robot"), "Retimed"))
     sweep_head = [
         "    robot: Robot,",
         "    command: Literal['wave', 'replay', 'shape'],",

@@ -313,7 +313,11 @@ impl<'a> Expander<'a> {
                         scope: scope.clone(),
                     },
                 )
-                .map_err(|e| format!("{e} (in the expression '{}')", inner.trim()))?;
+                // the innermost expression and property are named, once
+                .map_err(|e| match e.contains(" (in ") {
+                    true => e,
+                    false => format!("{e} (in the expression '{}')", inner.trim()),
+                })?;
                 pieces.push(value);
                 rest = &rest[end + 1..];
             } else if dollars == 1 && after == Some(b'(') {
@@ -916,13 +920,23 @@ impl Names for Env<'_, '_> {
                 Some(Prop::Value(v)) => return Ok(Some(v)),
                 Some(Prop::Resolving) => return Err(format!("circular variable definition: {name}")),
                 Some(Prop::Lazy(text)) => {
+                    if self.x.depth > MAX_DEPTH {
+                        return Err(format!(
+                            "properties refer to each other more than {MAX_DEPTH} deep (docs/development.md, Caps)"
+                        ));
+                    }
                     t.borrow_mut().vars.insert(name.to_string(), Prop::Resolving);
+                    self.x.depth += 1;
                     let value = self.x.eval_text(&text, &t).map(literal);
+                    self.x.depth -= 1;
                     let value = match value {
                         Ok(v) => v,
                         Err(e) => {
                             t.borrow_mut().vars.insert(name.to_string(), Prop::Lazy(text));
-                            return Err(format!("{e} (in property {name})"));
+                            return Err(match e.contains(" (in property ") {
+                                true => e,
+                                false => format!("{e} (in property {name})"),
+                            });
                         }
                     };
                     t.borrow_mut().vars.insert(name.to_string(), Prop::Value(value.clone()));

@@ -793,13 +793,15 @@ impl Evaluator<'_> {
                 }
                 Value::Bool(true)
             }
-            Expr::List(items) => Value::List(Rc::new(items.iter().map(|i| self.eval(i)).collect::<Result<_, _>>()?)),
-            Expr::Dict(pairs) => Value::Dict(Rc::new(
+            Expr::List(items) => shallow(Value::List(Rc::new(
+                items.iter().map(|i| self.eval(i)).collect::<Result<_, _>>()?,
+            )))?,
+            Expr::Dict(pairs) => shallow(Value::Dict(Rc::new(
                 pairs
                     .iter()
                     .map(|(k, v)| Ok((self.eval(k)?, self.eval(v)?)))
                     .collect::<Result<_, String>>()?,
-            )),
+            )))?,
         })
     }
 
@@ -859,6 +861,33 @@ impl Evaluator<'_> {
 
 fn list(items: Vec<Value>) -> Value {
     Value::List(Rc::new(items))
+}
+
+/// Deepest nesting of lists and dicts a value may have (100; a YAML file's nest at most 64):
+/// values are dropped, compared and written recursively, and a property wrapping the one
+/// before it a million times over would overflow the stack.
+const MAX_VALUE_NESTING: usize = 100;
+
+/// `v`, refused if its lists and dicts nest deeper than [`MAX_VALUE_NESTING`]. Each shared
+/// list or dict is looked at once (a YAML alias bomb holds ten distinct lists).
+fn shallow(v: Value) -> Result<Value, String> {
+    fn deeper(v: &Value, left: usize, seen: &mut std::collections::HashSet<*const ()>) -> bool {
+        let children: Box<dyn Iterator<Item = &Value>> = match v {
+            Value::List(items) if seen.insert(Rc::as_ptr(items).cast()) => Box::new(items.iter()),
+            Value::Dict(pairs) if seen.insert(Rc::as_ptr(pairs).cast()) => {
+                Box::new(pairs.iter().flat_map(|(k, v)| [k, v]))
+            }
+            _ => return false,
+        };
+        match left {
+            0 => true,
+            _ => children.into_iter().any(|c| deeper(c, left - 1, seen)),
+        }
+    }
+    match deeper(&v, MAX_VALUE_NESTING, &mut std::collections::HashSet::new()) {
+        true => Err(format!("lists and dicts nested more than {MAX_VALUE_NESTING} deep")),
+        false => Ok(v),
+    }
 }
 
 /// `target.name`: a namespace's member, a method, or a YAML dict's key (`link.origin`).
@@ -1424,7 +1453,9 @@ fn method(name: &str, this: &Value, args: &[Value]) -> Result<Value, String> {
             }
             "keys" => list(pairs.iter().map(|(k, _)| k.clone()).collect()),
             "values" => list(pairs.iter().map(|(_, v)| v.clone()).collect()),
-            "items" => list(pairs.iter().map(|(k, v)| list(vec![k.clone(), v.clone()])).collect()),
+            "items" => shallow(list(
+                pairs.iter().map(|(k, v)| list(vec![k.clone(), v.clone()])).collect(),
+            ))?,
             other => return Err(format!("dict.{other}() is not supported")),
         }),
         other => Err(format!("'{}' has no method {name}()", other.type_name())),
@@ -1555,6 +1586,16 @@ mod tests {
             let got = text(expr);
             assert!(got.starts_with("error:") && got.contains(expect), "{expr}: {got}");
         }
+        let mut nested = Value::Int(1);
+        for _ in 0..150 {
+            nested = list(vec![nested]);
+        }
+        let mut props = Props(vec![("deep", nested)]);
+        assert!(
+            eval("[deep]", &mut props)
+                .unwrap_err()
+                .contains("nested more than 100 deep")
+        );
         let deep = format!("{}1{}", "(".repeat(200), ")".repeat(200));
         assert!(text(&deep).contains("nests more than"));
         let unary = format!("{}1", "-".repeat(500));
