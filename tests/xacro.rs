@@ -514,6 +514,30 @@ fn the_command_line_names_the_format_and_refuses_arguments_it_cannot_use() {
         "{}",
         run.stderr
     );
+    // $(find) through ROS_PACKAGE_PATH, as ROS users have it, without --package-path
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args([
+            "wave",
+            "--duration",
+            "0.01",
+            "--trail",
+            "none",
+            "--no-collisions",
+            "-q",
+            "--robot",
+        ])
+        .args([
+            ur.to_str().unwrap(),
+            "--xacro-arg",
+            "name:=ur3",
+            "--xacro-arg",
+            "ur_type:=ur3",
+        ])
+        .env("ROS_PACKAGE_PATH", format!("/nonexistent:{}", package.display()))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     // the old name of --robot
     let urdf = repo_path("tests/urdf/arm_prismatic.urdf");
     let run = faze4(

@@ -69,7 +69,11 @@ impl PackagePaths {
         // (package folder, candidate) in the order of the search
         let candidates = (self.dirs.iter().map(|d| d.join(name)))
             .chain(self.dirs.iter().filter(|d| is_package(d, name)).cloned())
-            .chain(self.dirs.iter().filter_map(|d| find_package_below(d, name, 3)))
+            .chain(
+                self.dirs
+                    .iter()
+                    .filter_map(|d| find_named_below(d, &|p| is_package(p, name), 3)),
+            )
             .chain(self.dirs.iter().cloned());
         for package in candidates {
             let path = package.join(rel);
@@ -93,6 +97,20 @@ impl PackagePaths {
         }
         Ok(None)
     }
+
+    /// The folder of the ROS package `name`, as xacro's `$(find name)` finds it: a folder with a
+    /// `package.xml` naming it, among the directories searched (in order), each one itself,
+    /// its sub-folder `name`, or a folder up to three levels below it.
+    pub fn find_package(&self, name: &str) -> Option<PathBuf> {
+        let named = |dir: &Path| has_package_xml(dir, name);
+        if name.is_empty() || name == "." || name == ".." || name.contains('/') {
+            return None;
+        }
+        (self.dirs.iter().cloned())
+            .chain(self.dirs.iter().map(|d| d.join(name)))
+            .find(|d| named(d))
+            .or_else(|| self.dirs.iter().find_map(|d| find_named_below(d, &named, 3)))
+    }
 }
 
 /// What to do about a mesh reference that was not found, for its warning: for
@@ -107,49 +125,15 @@ pub fn not_found_advice(uri: &str) -> String {
     }
 }
 
-/// Whether directory `dir` is the ROS package `name`.
+/// Whether directory `dir` is the ROS package `name`: named so, or its `package.xml` says so.
 fn is_package(dir: &Path, name: &str) -> bool {
-    if dir.file_name().is_some_and(|n| n == name) {
-        return true;
-    }
+    dir.file_name().is_some_and(|n| n == name) || has_package_xml(dir, name)
+}
+
+/// Whether `dir`'s `package.xml` names the package `name`.
+fn has_package_xml(dir: &Path, name: &str) -> bool {
     let xml = crate::input::read_file_capped(&dir.join("package.xml"), MAX_SIDE_FILE_BYTES, "a package.xml");
     xml.is_ok_and(|xml| String::from_utf8_lossy(&xml).contains(&format!("<name>{name}</name>")))
-}
-
-fn find_package_below(dir: &Path, name: &str, depth: usize) -> Option<PathBuf> {
-    if depth == 0 {
-        return None;
-    }
-    let mut subdirs: Vec<PathBuf> = std::fs::read_dir(dir)
-        .ok()?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_dir())
-        .collect();
-    subdirs.sort();
-    subdirs
-        .iter()
-        .find(|d| is_package(d, name))
-        .cloned()
-        .or_else(|| subdirs.iter().find_map(|d| find_package_below(d, name, depth - 1)))
-}
-
-impl PackagePaths {
-    /// The folder of the ROS package `name`, as xacro's `$(find name)` finds it: a folder with a
-    /// `package.xml` naming it, among the directories searched (in order), each one itself,
-    /// its sub-folder `name`, or a folder up to three levels below it.
-    pub fn find_package(&self, name: &str) -> Option<PathBuf> {
-        let named = |dir: &Path| {
-            let xml = crate::input::read_file_capped(&dir.join("package.xml"), MAX_SIDE_FILE_BYTES, "a package.xml");
-            xml.is_ok_and(|xml| String::from_utf8_lossy(&xml).contains(&format!("<name>{name}</name>")))
-        };
-        if name.is_empty() || name == "." || name == ".." || name.contains('/') {
-            return None;
-        }
-        (self.dirs.iter().cloned())
-            .chain(self.dirs.iter().map(|d| d.join(name)))
-            .find(|d| named(d))
-            .or_else(|| self.dirs.iter().find_map(|d| find_named_below(d, &named, 3)))
-    }
 }
 
 /// A folder below `dir` (up to `depth` levels, sorted by name) that `named` accepts.

@@ -487,31 +487,11 @@ impl<'a> Expander<'a> {
         attrs: &mut Vec<(String, String)>,
     ) -> Result<()> {
         match e.name.as_str() {
-            "xacro:insert_block" => {
-                let name = e.attr("name").ok_or_else(|| self.fail(e, "needs a name"))?;
-                let find = |key: String| Env::find(scope, &key);
-                let (block, content_only) = match (find(format!("**{name}")), find(format!("*{name}"))) {
-                    (Some(Prop::Value(Value::Block(b))), _) => (b, true),
-                    (_, Some(Prop::Value(Value::Block(b)))) => (b, false),
-                    _ => return Err(self.fail(e, format!("Undefined block \"{name}\""))),
-                };
-                match content_only {
-                    true => self.nodes(&block.children, scope, macros, out, attrs),
-                    false => self.element(&block, scope, macros, out, attrs),
-                }
-            }
+            "xacro:insert_block" => self.insert_block(e, scope, macros, out, attrs),
             "xacro:include" => self.include(e, scope, macros, out, attrs),
             "xacro:property" => self.property(e, scope),
             "xacro:macro" => self.define(e, macros),
-            "xacro:arg" => {
-                let name = e.attr("name").ok_or_else(|| self.fail(e, "needs a name"))?;
-                let default = e.attr("default").ok_or_else(|| self.fail(e, "needs a default"))?;
-                if !self.args.contains_key(name) {
-                    let value = self.text(default, scope).map_err(|m| self.fail(e, m))?;
-                    self.args.insert(name.to_string(), value);
-                }
-                Ok(())
-            }
+            "xacro:arg" => self.argument(e, scope),
             "xacro:if" | "xacro:unless" => {
                 let condition = e.attr("value").ok_or_else(|| self.fail(e, "needs a value"))?;
                 let value = self.eval_text(condition, scope).map_err(|m| self.fail(e, m))?;
@@ -522,39 +502,12 @@ impl<'a> Expander<'a> {
                 }
             }
             "xacro:element" => {
-                let name = e.attr("xacro:name").ok_or_else(|| self.fail(e, "needs xacro:name"))?;
-                let name = self.text(name, scope).map_err(|m| self.fail(e, m))?;
-                if name.is_empty() {
-                    return Err(self.fail(e, "empty name"));
-                }
-                let mut renamed = e.clone();
-                renamed.name = name;
-                renamed.attrs.retain(|(k, _)| k != "xacro:name");
+                let renamed = self.renamed(e, scope, "xacro:name", "")?;
                 self.element(&renamed, scope, macros, out, attrs)
             }
-            "xacro:attribute" => {
-                let (Some(name), Some(value)) = (e.attr("name"), e.attr("value")) else {
-                    return Err(self.fail(e, "needs a name and a value"));
-                };
-                let name = self.text(name, scope).map_err(|m| self.fail(e, m))?;
-                let value = self.text(value, scope).map_err(|m| self.fail(e, m))?;
-                if name.is_empty() {
-                    return Err(self.fail(e, "empty name"));
-                }
-                match attrs.iter_mut().find(|(k, _)| *k == name) {
-                    Some(slot) => slot.1 = value,
-                    None => attrs.push((name, value)),
-                }
-                Ok(())
-            }
+            "xacro:attribute" => self.attribute(e, scope, attrs),
             "xacro:call" => {
-                let name = e
-                    .attr("macro")
-                    .ok_or_else(|| self.fail(e, "xacro:call is missing the 'macro' attribute"))?;
-                let name = self.text(name, scope).map_err(|m| self.fail(e, m))?;
-                let mut call = e.clone();
-                call.name = format!("xacro:{name}");
-                call.attrs.retain(|(k, _)| k != "macro");
+                let call = self.renamed(e, scope, "macro", "xacro:")?;
                 self.call(&call, scope, macros, out)
             }
             name if name.starts_with("xacro:") => self.call(e, scope, macros, out),
@@ -572,6 +525,68 @@ impl<'a> Expander<'a> {
                 Ok(())
             }
         }
+    }
+
+    /// `<xacro:insert_block name>`: a `**` block's content, or a `*` block itself, expanded here.
+    fn insert_block(
+        &mut self,
+        e: &Element,
+        scope: &Scope,
+        macros: &MacroScope,
+        out: &mut Vec<Node>,
+        attrs: &mut Vec<(String, String)>,
+    ) -> Result<()> {
+        let name = e.attr("name").ok_or_else(|| self.fail(e, "needs a name"))?;
+        let find = |key: String| Env::find(scope, &key);
+        match (find(format!("**{name}")), find(format!("*{name}"))) {
+            (Some(Prop::Value(Value::Block(b))), _) => self.nodes(&b.children, scope, macros, out, attrs),
+            (_, Some(Prop::Value(Value::Block(b)))) => self.element(&b, scope, macros, out, attrs),
+            _ => Err(self.fail(e, format!("Undefined block \"{name}\""))),
+        }
+    }
+
+    /// `<xacro:arg name default>`: the argument's default, unless it was given.
+    fn argument(&mut self, e: &Element, scope: &Scope) -> Result<()> {
+        let name = e.attr("name").ok_or_else(|| self.fail(e, "needs a name"))?;
+        let default = e.attr("default").ok_or_else(|| self.fail(e, "needs a default"))?;
+        if !self.args.contains_key(name) {
+            let value = self.text(default, scope).map_err(|m| self.fail(e, m))?;
+            self.args.insert(name.to_string(), value);
+        }
+        Ok(())
+    }
+
+    /// `e` named by its attribute `key` (evaluated, after `prefix`), without that attribute:
+    /// `<xacro:element xacro:name>`, `<xacro:call macro>`.
+    fn renamed(&mut self, e: &Element, scope: &Scope, key: &str, prefix: &str) -> Result<Element> {
+        let name = e
+            .attr(key)
+            .ok_or_else(|| self.fail(e, format!("needs the attribute {key}")))?;
+        let name = self.text(name, scope).map_err(|m| self.fail(e, m))?;
+        if name.is_empty() {
+            return Err(self.fail(e, "empty name"));
+        }
+        let mut renamed = e.clone();
+        renamed.name = format!("{prefix}{name}");
+        renamed.attrs.retain(|(k, _)| k != key);
+        Ok(renamed)
+    }
+
+    /// `<xacro:attribute name value>`: an attribute of the enclosing element (`attrs`).
+    fn attribute(&mut self, e: &Element, scope: &Scope, attrs: &mut Vec<(String, String)>) -> Result<()> {
+        let (Some(name), Some(value)) = (e.attr("name"), e.attr("value")) else {
+            return Err(self.fail(e, "needs a name and a value"));
+        };
+        let name = self.text(name, scope).map_err(|m| self.fail(e, m))?;
+        let value = self.text(value, scope).map_err(|m| self.fail(e, m))?;
+        if name.is_empty() {
+            return Err(self.fail(e, "empty name"));
+        }
+        match attrs.iter_mut().find(|(k, _)| *k == name) {
+            Some(slot) => slot.1 = value,
+            None => attrs.push((name, value)),
+        }
+        Ok(())
     }
 
     /// `<xacro:include filename=… [optional=…]>`: the file's content, expanded in this scope.
@@ -751,11 +766,31 @@ impl<'a> Expander<'a> {
                 format!("macros call each other more than {MAX_MACRO_DEPTH} deep (docs/development.md, Caps)"),
             ));
         }
-        let local = child_scope(scope);
+        let local = self.bind(&m, e, scope, macros)?;
         let local_macros = Rc::new(RefCell::new(Macros {
             table: HashMap::new(),
             parent: Some(macros.clone()),
         }));
+        self.macro_depth += 1;
+        let result = (|| {
+            self.attributes(&m.body, &local)?;
+            let mut ignored = Vec::new();
+            self.nodes(&m.body.children, &local, &local_macros, out, &mut ignored)
+        })();
+        self.macro_depth -= 1;
+        result.map_err(|mut f| {
+            if f.message.matches(" (in macro ").count() < 3 {
+                f.message += &format!(" (in macro {} called at {} line {})", m.name, e.file, e.line);
+            }
+            f
+        })
+    }
+
+    /// The scope of a call `e` of macro `m`: its attributes evaluated where the call is, its
+    /// blocks (expanded there) handed in order to the `*` parameters, the defaults of the rest
+    /// (a forwarded one taken from the caller's property of that name).
+    fn bind(&mut self, m: &Macro, e: &Element, scope: &Scope, macros: &MacroScope) -> Result<Scope> {
+        let local = child_scope(scope);
         let mut params = m.params.clone();
         for (k, v) in &e.attrs {
             let Some(at) = params.iter().position(|p| p == k) else {
@@ -767,7 +802,6 @@ impl<'a> Expander<'a> {
                 .map_err(|msg| self.fail(e, format!("{k}=\"{v}\": {msg}")))?;
             set(&local, k.clone(), value, false);
         }
-        // the blocks are expanded where the call is, then handed in order to the * parameters
         let mut blocks = Vec::new();
         let mut ignored = Vec::new();
         self.nodes(&e.children, scope, macros, &mut blocks, &mut ignored)?;
@@ -814,19 +848,7 @@ impl<'a> Expander<'a> {
                 format!("Undefined parameters [{}] of macro {}", params.join(","), m.name),
             ));
         }
-        self.macro_depth += 1;
-        let result = (|| {
-            self.attributes(&m.body, &local)?;
-            let mut ignored = Vec::new();
-            self.nodes(&m.body.children, &local, &local_macros, out, &mut ignored)
-        })();
-        self.macro_depth -= 1;
-        result.map_err(|mut f| {
-            if f.message.matches(" (in macro ").count() < 3 {
-                f.message += &format!(" (in macro {} called at {} line {})", m.name, e.file, e.line);
-            }
-            f
-        })
+        Ok(local)
     }
 
     /// `xacro.load_yaml(name)`: the YAML file relative to the file being read.

@@ -1138,8 +1138,8 @@ fn items(v: &Value) -> Result<Vec<Value>, String> {
     }
 }
 
-/// A built-in function of numbers and sequences.
-fn call_builtin(name: &str, args: &[Value]) -> Result<Value, String> {
+/// A function of Python's `math` ([`MATH_FUNCTIONS`]).
+fn math_function(name: &str, args: &[Value]) -> Result<Value, String> {
     let count = |n: usize| match args.len() == n {
         true => Ok(()),
         false => Err(format!(
@@ -1182,6 +1182,7 @@ fn call_builtin(name: &str, args: &[Value]) -> Result<Value, String> {
         "degrees" => float1(f64::to_degrees),
         "radians" => float1(f64::to_radians),
         "log" => match args.len() {
+            1 if num(0).is_ok_and(|x| x <= 0.0) => Err("ValueError: math domain error in log()".into()),
             1 => float1(f64::ln),
             _ => {
                 count(2)?;
@@ -1221,6 +1222,24 @@ fn call_builtin(name: &str, args: &[Value]) -> Result<Value, String> {
                 _ => x.is_finite(),
             }))
         }
+        other => Err(format!("{other}() is not supported")),
+    }
+}
+
+/// A built-in function of numbers and sequences.
+fn call_builtin(name: &str, args: &[Value]) -> Result<Value, String> {
+    if MATH_FUNCTIONS.contains(&name) {
+        return math_function(name, args);
+    }
+    let count = |n: usize| match args.len() == n {
+        true => Ok(()),
+        false => Err(format!(
+            "{name}() takes {n} argument{}, {} given",
+            if n == 1 { "" } else { "s" },
+            args.len()
+        )),
+    };
+    match name {
         "abs" => {
             count(1)?;
             Ok(match &args[0] {
@@ -1386,80 +1405,90 @@ pub fn parse_float(text: &str) -> Option<f64> {
 
 /// A method of `str` or `dict`.
 fn method(name: &str, this: &Value, args: &[Value]) -> Result<Value, String> {
+    match this {
+        Value::Str(s) => str_method(name, s, args),
+        Value::Dict(pairs) => dict_method(name, pairs, args),
+        other => Err(format!("'{}' has no method {name}()", other.type_name())),
+    }
+}
+
+/// A method of `str`.
+fn str_method(name: &str, s: &str, args: &[Value]) -> Result<Value, String> {
     let text = |i: usize| match args.get(i) {
         Some(Value::Str(s)) => Ok(Some(s.to_string())),
         Some(Value::None) | None => Ok(None),
         Some(v) => Err(format!("{name}() takes a str, not {}", v.type_name())),
     };
-    match this {
-        Value::Str(s) => Ok(match name {
-            "split" => match text(0)? {
-                Some(sep) if sep.is_empty() => return Err("ValueError: empty separator".into()),
-                Some(sep) => list(s.split(sep.as_str()).map(Value::str).collect()),
-                None => list(s.split_whitespace().map(Value::str).collect()),
-            },
-            "strip" | "lstrip" | "rstrip" => {
-                let chars = text(0)?;
-                let pattern = |c: char| match &chars {
-                    Some(set) => set.contains(c),
-                    None => c.is_whitespace(),
-                };
-                Value::str(match name {
-                    "strip" => s.trim_matches(pattern),
-                    "lstrip" => s.trim_start_matches(pattern),
-                    _ => s.trim_end_matches(pattern),
-                })
-            }
-            "lower" => Value::str(s.to_lowercase()),
-            "upper" => Value::str(s.to_uppercase()),
-            "replace" => match (text(0)?, text(1)?) {
-                (Some(from), Some(to)) => {
-                    if from.is_empty() {
-                        return Err("replace() of an empty string is not supported".into());
-                    }
-                    let grown = s.matches(from.as_str()).count().saturating_mul(to.len());
-                    if grown > super::MAX_TEXT_BYTES {
-                        return Err(format!("a string of more than {} bytes", super::MAX_TEXT_BYTES));
-                    }
-                    Value::str(s.replace(from.as_str(), &to))
+    Ok(match name {
+        "split" => match text(0)? {
+            Some(sep) if sep.is_empty() => return Err("ValueError: empty separator".into()),
+            Some(sep) => list(s.split(sep.as_str()).map(Value::str).collect()),
+            None => list(s.split_whitespace().map(Value::str).collect()),
+        },
+        "strip" | "lstrip" | "rstrip" => {
+            let chars = text(0)?;
+            let pattern = |c: char| match &chars {
+                Some(set) => set.contains(c),
+                None => c.is_whitespace(),
+            };
+            Value::str(match name {
+                "strip" => s.trim_matches(pattern),
+                "lstrip" => s.trim_start_matches(pattern),
+                _ => s.trim_end_matches(pattern),
+            })
+        }
+        "lower" => Value::str(s.to_lowercase()),
+        "upper" => Value::str(s.to_uppercase()),
+        "replace" => match (text(0)?, text(1)?) {
+            (Some(from), Some(to)) => {
+                if from.is_empty() {
+                    return Err("replace() of an empty string is not supported".into());
                 }
-                _ => return Err("replace() takes two strings".into()),
-            },
-            "startswith" => Value::Bool(s.starts_with(text(0)?.unwrap_or_default().as_str())),
-            "endswith" => Value::Bool(s.ends_with(text(0)?.unwrap_or_default().as_str())),
-            "find" => {
-                let needle = text(0)?.unwrap_or_default();
-                Value::Int(s.find(needle.as_str()).map_or(-1, |i| s[..i].chars().count() as i64))
+                let grown = s.matches(from.as_str()).count().saturating_mul(to.len());
+                if grown > super::MAX_TEXT_BYTES {
+                    return Err(format!("a string of more than {} bytes", super::MAX_TEXT_BYTES));
+                }
+                Value::str(s.replace(from.as_str(), &to))
             }
-            "count" => Value::Int(s.matches(text(0)?.unwrap_or_default().as_str()).count() as i64),
-            "join" => {
-                let parts = items(args.first().ok_or("join() needs an iterable")?)?;
-                let parts: Result<Vec<String>, String> = (parts.iter())
-                    .map(|p| match p {
-                        Value::Str(t) => Ok(t.to_string()),
-                        v => Err(format!("join() takes strings, not {}", v.type_name())),
-                    })
-                    .collect();
-                Value::str(parts?.join(s))
-            }
-            other => return Err(format!("str.{other}() is not supported")),
-        }),
-        Value::Dict(pairs) => Ok(match name {
-            "get" => {
-                let key = args.first().ok_or("get() needs a key")?;
-                lookup(pairs, key)
-                    .cloned()
-                    .unwrap_or_else(|| args.get(1).cloned().unwrap_or(Value::None))
-            }
-            "keys" => list(pairs.iter().map(|(k, _)| k.clone()).collect()),
-            "values" => list(pairs.iter().map(|(_, v)| v.clone()).collect()),
-            "items" => shallow(list(
-                pairs.iter().map(|(k, v)| list(vec![k.clone(), v.clone()])).collect(),
-            ))?,
-            other => return Err(format!("dict.{other}() is not supported")),
-        }),
-        other => Err(format!("'{}' has no method {name}()", other.type_name())),
-    }
+            _ => return Err("replace() takes two strings".into()),
+        },
+        "startswith" => Value::Bool(s.starts_with(text(0)?.unwrap_or_default().as_str())),
+        "endswith" => Value::Bool(s.ends_with(text(0)?.unwrap_or_default().as_str())),
+        "find" => {
+            let needle = text(0)?.unwrap_or_default();
+            Value::Int(s.find(needle.as_str()).map_or(-1, |i| s[..i].chars().count() as i64))
+        }
+        "count" => Value::Int(s.matches(text(0)?.unwrap_or_default().as_str()).count() as i64),
+        "join" => {
+            let parts = items(args.first().ok_or("join() needs an iterable")?)?;
+            let parts: Result<Vec<String>, String> = (parts.iter())
+                .map(|p| match p {
+                    Value::Str(t) => Ok(t.to_string()),
+                    v => Err(format!("join() takes strings, not {}", v.type_name())),
+                })
+                .collect();
+            Value::str(parts?.join(s))
+        }
+        other => return Err(format!("str.{other}() is not supported")),
+    })
+}
+
+/// A method of `dict`.
+fn dict_method(name: &str, pairs: &[(Value, Value)], args: &[Value]) -> Result<Value, String> {
+    Ok(match name {
+        "get" => {
+            let key = args.first().ok_or("get() needs a key")?;
+            lookup(pairs, key)
+                .cloned()
+                .unwrap_or_else(|| args.get(1).cloned().unwrap_or(Value::None))
+        }
+        "keys" => list(pairs.iter().map(|(k, _)| k.clone()).collect()),
+        "values" => list(pairs.iter().map(|(_, v)| v.clone()).collect()),
+        "items" => shallow(list(
+            pairs.iter().map(|(k, v)| list(vec![k.clone(), v.clone()])).collect(),
+        ))?,
+        other => return Err(format!("dict.{other}() is not supported")),
+    })
 }
 
 #[cfg(test)]
