@@ -573,3 +573,91 @@ fn the_command_line_names_the_format_and_refuses_arguments_it_cannot_use() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Mutations of the odd xacro of our own making (ranges deleted and repeated, the characters
+/// xacro gives a meaning inserted), each expanded: an error or a URDF, never a panic, and an
+/// error is one line naming its file. A cheap stand-in for a fuzzer, seeded.
+#[test]
+fn mutated_xacro_is_expanded_or_refused_in_one_line_never_a_panic() {
+    let source = repo_path("tests/xacro/odd/odd.urdf.xacro");
+    let original = std::fs::read_to_string(&source).unwrap();
+    let packages = PackagePaths::new(vec![repo_path("tests/xacro")]);
+    let args = vec!["name:=m".to_string()];
+    let mut random = common::Rng::new(44);
+    const SPECIAL: [&str; 16] = [
+        "$", "{", "}", "(", ")", "'", "\"", "<", ">", "/", ":=", "*", "^", "|", "[", "**",
+    ];
+    let (mut expanded, mut refused) = (0, 0);
+    for _ in 0..1500 {
+        let mut text: Vec<char> = original.chars().collect();
+        for _ in 0..1 + random.next_u64() % 3 {
+            let at = (random.next_u64() as usize) % text.len();
+            let len = 1 + (random.next_u64() as usize) % 40;
+            let end = (at + len).min(text.len());
+            match random.next_u64() % 3 {
+                0 => drop(text.drain(at..end)),
+                1 => {
+                    let piece: Vec<char> = text[at..end].to_vec();
+                    text.splice(at..at, piece);
+                }
+                _ => {
+                    let special = SPECIAL[(random.next_u64() as usize) % SPECIAL.len()];
+                    text.splice(at..at, special.chars());
+                }
+            }
+        }
+        let text: String = text.into_iter().collect();
+        let result = std::panic::catch_unwind(|| faze4::model::xacro::expand(&text, &source, &args, &packages));
+        match result.unwrap_or_else(|_| panic!("a panic on:\n{text}")) {
+            Ok(_) => expanded += 1,
+            Err(e) => {
+                let message = e.to_string();
+                assert!(!message.contains('\n') && message.contains("odd"), "{message}");
+                refused += 1;
+            }
+        }
+    }
+    assert!(
+        expanded > 100 && refused > 100,
+        "{expanded} expanded, {refused} refused"
+    );
+}
+
+/// Mesh references in a xacro file resolve as in a URDF: relative to the xacro file's folder,
+/// `package://` through the package path, `file://$(find PKG)/…` to the package's folder.
+#[test]
+fn mesh_references_of_a_xacro_resolve_as_a_urdfs() {
+    let dir = temp_dir("xacro-meshes");
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    let stl = repo_path("tests/urdf/mesh_arms/meshes/base.stl");
+    std::fs::copy(&stl, dir.join("meshes/base.stl")).unwrap();
+    let text = format!(
+        r#"{HEAD}<xacro:property name="m" value="meshes/base.stl"/>
+  <link name="a"><visual><geometry><mesh filename="${{m}}"/></geometry></visual>
+    <collision><geometry><mesh filename="package://mesh_arms/meshes/base.stl"/></geometry></collision>
+    <collision><geometry><mesh filename="file://$(find mesh_arms)/meshes/base.stl"/></geometry></collision>
+  </link>
+</robot>"#
+    );
+    std::fs::write(dir.join("m.urdf.xacro"), text).unwrap();
+    std::fs::write(dir.join("package.xml"), "<package><name>mesh_arms</name></package>").unwrap();
+    let desc = describe_file(
+        &dir.join("m.urdf.xacro"),
+        &ReadOptions {
+            packages: PackagePaths::new(vec![dir.clone()]),
+            xacro_args: Vec::new(),
+        },
+    )
+    .unwrap();
+    let link = &desc.links[0];
+    let paths: Vec<PathBuf> = (link.visuals.iter().map(|v| &v.geometry))
+        .chain(link.collisions.iter().map(|c| &c.geometry))
+        .map(|g| match g {
+            faze4::model::Geometry::Mesh { path: Some(p), .. } => std::fs::canonicalize(p).unwrap(),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let expected = std::fs::canonicalize(dir.join("meshes/base.stl")).unwrap();
+    assert_eq!(paths, vec![expected.clone(), expected.clone(), expected]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
