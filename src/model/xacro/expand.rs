@@ -897,7 +897,9 @@ fn find_macro(macros: &MacroScope, name: &str) -> Option<Rc<Macro>> {
 fn set(table: &Scope, name: String, value: Value, lazy: bool) {
     let value = literal(value);
     let prop = match (&value, lazy) {
-        (Value::Str(s), true) if s.contains('$') => Prop::Lazy(s.to_string()),
+        // xacro evaluates a lazy text on first use even without `${`: a quoted `''x''` loses
+        // one pair of quotes when set and the other when used
+        (Value::Str(s), true) => Prop::Lazy(s.to_string()),
         _ => Prop::Value(value),
     };
     table.borrow_mut().vars.insert(name, prop);
