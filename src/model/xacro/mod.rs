@@ -3,7 +3,7 @@
 //! `*` and `**` blocks), `xacro:include`, `xacro:if`/`unless`, `xacro:arg` and
 //! `--xacro-arg NAME:=VALUE`, `$(arg)`, `$(find PKG)` (`--package-path`, `ROS_PACKAGE_PATH`),
 //! `$(env)`, `$(optenv)`, `$(dirname)`, `$(eval)`, and `${…}` Python expressions
-//! ([`expr`]) with `xacro.load_yaml` ([`yaml`]). What is not supported is refused naming the
+//! (`expr.rs`) with `xacro.load_yaml` (`yaml.rs`). What is not supported is refused naming the
 //! construct, its file and line (docs/robots.md, "xacro").
 //!
 //! Why not the `xacro` crate (0.1.3): its macros, conditionals and loops return their input
