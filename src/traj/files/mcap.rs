@@ -18,12 +18,12 @@ use ::mcap::sans_io::LinearReaderOptions;
 use byteorder::{BigEndian, LittleEndian};
 use serde::de::DeserializeOwned;
 
+use super::joint_states::{StampedState, recorded_motion};
 use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JOINT_TRAJECTORY_DEFINITION, JointStateMsg, JointTrajectoryMsg};
 use super::{Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
 use crate::input::{MAX_MCAP_MESSAGE_BYTES, size_text};
-use crate::traj::timed::seconds_from_nanoseconds;
-use crate::traj::{TimedTrajectory, TrajectoryPoint};
+use crate::traj::TimedTrajectory;
 
 /// The topic [`to_bytes`] writes the trajectory on.
 pub const TOPIC: &str = "/joint_trajectory";
@@ -339,62 +339,15 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
         ));
     }
     let states = (messages.iter().enumerate())
-        .map(|(k, (_, data))| decode::<JointStateMsg>(data, path, &topic, k))
+        .map(|(k, (log_time, data))| {
+            let message = decode::<JointStateMsg>(data, path, &topic, k)?;
+            Ok(StampedState {
+                log_time: Some(*log_time),
+                message,
+            })
+        })
         .collect::<Result<Vec<_>>>()?;
-    recorded_motion(states, &topic, path)
-}
-
-/// JointState messages as a trajectory: the first message's joints, each later message's
-/// values put in that order; its velocities when every message has them.
-fn recorded_motion(states: Vec<JointStateMsg>, topic: &Topic, path: &Path) -> Result<TimedTrajectory> {
-    let Some(first) = states.first() else {
-        return Err(invalid(path, format!("topic {} has no messages", topic.name)));
-    };
-    let start = first.header.stamp.nanoseconds();
-    let names = first.name.clone();
-    let with_velocity = states.iter().all(|s| !s.velocity.is_empty());
-    let mut points = Vec::with_capacity(states.len());
-    for (k, s) in states.iter().enumerate() {
-        let bad = |what: String| invalid(path, format!("topic {}, message {}: {what}", topic.name, k + 1));
-        if s.position.len() != s.name.len() {
-            return Err(bad(format!(
-                "{} positions for {} joint names",
-                s.position.len(),
-                s.name.len()
-            )));
-        }
-        if with_velocity && s.velocity.len() != s.name.len() {
-            return Err(bad(format!(
-                "{} velocities for {} joint names",
-                s.velocity.len(),
-                s.name.len()
-            )));
-        }
-        let order = (names.iter())
-            .map(|n| s.name.iter().position(|m| m == n))
-            .collect::<Option<Vec<_>>>()
-            .filter(|_| s.name.len() == names.len())
-            .ok_or_else(|| {
-                bad(format!(
-                    "names the joints {:?}; the first message names {names:?}",
-                    s.name
-                ))
-            })?;
-        points.push(TrajectoryPoint {
-            // from the first stamp in whole nanoseconds: an absolute stamp in s would round to 0.2 µs
-            time_from_start: seconds_from_nanoseconds(s.header.stamp.nanoseconds() - start),
-            positions: order.iter().map(|&i| s.position[i]).collect(),
-            velocities: match with_velocity {
-                true => order.iter().map(|&i| s.velocity[i]).collect(),
-                false => Vec::new(),
-            },
-            accelerations: Vec::new(),
-        });
-    }
-    Ok(TimedTrajectory {
-        joint_names: names,
-        points,
-    })
+    Ok(recorded_motion(states, &topic.name, path)?.trajectory)
 }
 
 /// A CDR message (encapsulation header, then the fields) of `topic`, its `k`-th (0-based).

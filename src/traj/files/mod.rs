@@ -8,11 +8,15 @@
 //!   `sensor_msgs/msg/JointState` topic ([`mcap`]);
 //! * `.csv`: a time column and one column per joint ([`csv`]).
 //!
+//! A recorded `JointState` stream, whatever holds it, becomes a trajectory through
+//! [`joint_states::recorded_motion`].
+//!
 //! [`read`] returns a checked trajectory ([`TimedTrajectory::check`]); [`write()`] writes one so
 //! that [`read`] gives it back bit for bit (the ROS formats hold whole nanoseconds: see
 //! [`TimedTrajectory::round_times_to_nanoseconds`]).
 
 pub mod csv;
+pub mod joint_states;
 pub mod json;
 pub mod mcap;
 pub mod ros;
