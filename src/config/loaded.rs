@@ -17,8 +17,8 @@ use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
-use crate::traj::files::{self, Format, Selection};
-use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
+use crate::traj::files::{self, Content, Selection};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
 
 /// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
 #[derive(Clone, Debug)]
@@ -43,6 +43,8 @@ pub struct Loaded {
     collision_set: Option<Arc<CollisionSet>>,
     /// What a replay plays.
     replay: Option<Replayed>,
+    /// What the replayed file is, where its name does not say ([`files::Opened::what`]).
+    replay_what: Option<String>,
     /// A shape's plan and the number of samples it was made with.
     plan: Option<(usize, (Trajectory, ShapeRun))>,
     /// What loading found that changes the result (collision meshes not found): said once,
@@ -66,11 +68,11 @@ impl Loaded {
         })?;
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
-        let replay = match (&config.motion, replayed) {
-            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => Some(given),
-            (Motion::Replay(r), None) => Some(read_replay(r)?),
-            (Motion::Retime(r), None) => Some(read_replay(&r.path)?),
-            _ => None,
+        let (replay, replay_what) = match (&config.motion, replayed) {
+            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => (Some(given), None),
+            (Motion::Replay(r), None) => read_replay(r).map(|(r, what)| (Some(r), what))?,
+            (Motion::Retime(r), None) => read_replay(&r.path).map(|(r, what)| (Some(r), what))?,
+            _ => (None, None),
         };
         let plan = match &config.motion {
             Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
@@ -90,10 +92,20 @@ impl Loaded {
             arm_config: config.arm.clone(),
             collision_set,
             replay,
+            replay_what,
             plan,
             warnings,
             inputs,
         })
+    }
+
+    /// The banner's name of `command` (`replay`), with what its file is where its name does not
+    /// say (`replay of a ROS 1 bag, topic /joint_states`).
+    fn command(&self, command: &str) -> String {
+        match &self.replay_what {
+            Some(what) => format!("{command} of {what}"),
+            None => command.to_string(),
+        }
     }
 
     /// The arm, with the loaded configuration's motors.
@@ -182,12 +194,12 @@ impl Loaded {
                     let timed = TimedCommand::new(model, timed, &r.q_traj)?;
                     command_warnings.extend(timed.warning(&r.q_traj));
                     duration = duration.or(Some(timed.duration));
-                    (timed.trajectory, "replay".to_string(), None)
+                    (timed.trajectory, self.command("replay"), None)
                 }
                 Some(Replayed::Samples(frames)) => {
                     check_samples(model, frames, &r.q_traj)?;
                     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
-                    (trajectory, "replay".to_string(), None)
+                    (trajectory, self.command("replay"), None)
                 }
                 None => unreachable!("a replay's trajectory is loaded"),
             },
@@ -248,26 +260,20 @@ impl Loaded {
     }
 }
 
-/// What a replay's file holds: a time-stamped trajectory by its extension (`.yaml`, `.json`,
-/// `.mcap`, `.csv`; `message` and `topic` pick from it), else a `.npy`'s frames.
-fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
-    if Format::of(&r.q_traj).is_some() {
-        let selection = Selection {
-            message: r.message,
-            topic: r.topic.clone(),
-        };
-        return Ok(Replayed::Timed(files::read(&r.q_traj, &selection)?));
-    }
-    if let Some(field) = [(r.message.is_some(), "message"), (r.topic.is_some(), "topic")]
-        .iter()
-        .find_map(|(given, field)| given.then_some(*field))
-    {
-        return Err(Error::option(
-            field,
-            "picks from a .yaml, .json or .mcap file, not a .npy",
-        ));
-    }
-    Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
+/// What a replay's file holds ([`files::open`]: a time-stamped trajectory, a bag, a rosbag2
+/// folder, a `.npy`'s frames; `message` and `topic` pick from it), and what it is where its
+/// name does not say.
+fn read_replay(r: &ReplayConfig) -> Result<(Replayed, Option<String>)> {
+    let selection = Selection {
+        message: r.message,
+        topic: r.topic.clone(),
+    };
+    let opened = files::open(&r.q_traj, &selection)?;
+    let replayed = match opened.content {
+        Content::Timed(timed) => Replayed::Timed(timed),
+        Content::Samples(frames) => Replayed::Samples(frames),
+    };
+    Ok((replayed, opened.what))
 }
 
 /// The files a run of `config` on `arm` reads: the URDF, the meshes its geometry found, a

@@ -18,6 +18,11 @@ Writes:
   accelerations; the SO-101 MCAP holds a JointTrajectory topic and a recorded JointState
   topic, stamps at an epoch time, joints in another order, the gripper too);
   bad_topics.mcap: two JointState topics and a std_msgs/msg/String one (the refusals);
+* tests/fixtures/trajectories/bags/: the same trajectories in bags as `rosbags` (PyPI, a writer
+  of ROS 1 and rosbag2 bags without ROS) writes them: rosbag2 folders with SQLite (.db3, as
+  ROS 2 Humble records) and MCAP storage, uncompressed, zstd per message and zstd per file;
+  ROS 1 bags with bz2 and lz4 chunks. Each is read back with rosbags' readers (the oracle) and
+  must hold the messages written;
 * tests/fixtures/trajectory_<case>.json: per case, faze4's arguments, the interpolation and
   feed-forward it must report, and Pinocchio's trail (t, tool x y z, q1..qn);
 * tests/fixtures/trajectories/written/ur5_toppra.{yaml,json,mcap,csv}: the quintic UR5
@@ -48,6 +53,12 @@ import yaml
 from mcap.reader import make_reader
 from mcap_ros2.reader import read_ros2_messages
 from mcap_ros2.writer import Writer
+from rosbags.rosbag1 import Reader as Ros1Reader
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
+from rosbags.rosbag2 import Reader as Ros2Reader
+from rosbags.rosbag2 import Writer as Ros2Writer
+from rosbags.typesys import Stores, get_typestore
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools/oracle"))
@@ -55,6 +66,7 @@ import pin_closed_loop as pcl  # noqa: E402
 
 FIXTURES = os.path.join(ROOT, "tests/fixtures")
 FILES = os.path.join(FIXTURES, "trajectories")
+BAGS = os.path.join(FILES, "bags")
 UR5 = "tests/urdf/example_robot_data/ur5_robot.urdf"
 SO101 = "tests/urdf/example_robot_data/so101.urdf"
 TOL = 1e-9
@@ -223,6 +235,118 @@ def joint_states(plan, hold, epoch_ns):
 
 
 # --------------------------------------------------------------------------------------------
+# Bags, as rosbags writes them.
+# --------------------------------------------------------------------------------------------
+
+ROS2_STORE = get_typestore(Stores.ROS2_HUMBLE)
+ROS1_STORE = get_typestore(Stores.ROS1_NOETIC)
+JS, JT, STR = "sensor_msgs/msg/JointState", "trajectory_msgs/msg/JointTrajectory", "std_msgs/msg/String"
+
+
+def ros_message(store, kind, m):
+    """The rosbags message object of the dict `m` (message() or joint_states())."""
+    t = store.types
+    arr = lambda xs: np.array(xs, dtype=np.float64)  # noqa: E731
+    if kind == STR:
+        return t[STR](data=m["data"])
+    h = m["header"]
+    header = {"stamp": t["builtin_interfaces/msg/Time"](sec=h["stamp"]["sec"], nanosec=h["stamp"]["nanosec"]),
+              "frame_id": h["frame_id"]}
+    if store is ROS1_STORE:
+        header["seq"] = 0
+    header = t["std_msgs/msg/Header"](**header)
+    if kind == JS:
+        return t[JS](header=header, name=m["name"], position=arr(m["position"]), velocity=arr(m["velocity"]),
+                     effort=arr(m["effort"]))
+    point = t["trajectory_msgs/msg/JointTrajectoryPoint"]
+    duration = t["builtin_interfaces/msg/Duration"]
+    return t[JT](header=header, joint_names=m["joint_names"], points=[
+        point(positions=arr(p["positions"]), velocities=arr(p["velocities"]), accelerations=arr(p["accelerations"]),
+              effort=arr(p["effort"]), time_from_start=duration(sec=p["time_from_start"]["sec"],
+                                                                nanosec=p["time_from_start"]["nanosec"]))
+        for p in m["points"]])
+
+
+def as_dict(msg):
+    """A read-back message as the dicts written (floats compared bit for bit)."""
+    if hasattr(msg, "data"):
+        return {"data": msg.data}
+    h = {"stamp": {"sec": msg.header.stamp.sec, "nanosec": msg.header.stamp.nanosec},
+         "frame_id": msg.header.frame_id}
+    if hasattr(msg, "position"):
+        return {"header": h, "name": list(msg.name), "position": msg.position.tolist(),
+                "velocity": msg.velocity.tolist(), "effort": msg.effort.tolist()}
+    return {"header": h, "joint_names": list(msg.joint_names), "points": [
+        {"positions": p.positions.tolist(), "velocities": p.velocities.tolist(),
+         "accelerations": p.accelerations.tolist(), "effort": p.effort.tolist(),
+         "time_from_start": {"sec": p.time_from_start.sec, "nanosec": p.time_from_start.nanosec}}
+        for p in msg.points]}
+
+
+def write_rosbag2(name, storage, compression, topics):
+    """A rosbag2 folder tests/fixtures/trajectories/bags/NAME; topics as write_mcap's (type,
+    messages); read back with rosbags' reader, every message as written."""
+    path = os.path.join(BAGS, name)
+    if os.path.exists(path):
+        import shutil
+        shutil.rmtree(path)
+    writer = Ros2Writer(path, version=8, storage_plugin=storage)
+    if compression is not None:
+        writer.set_compression(compression, CompressionFormat.ZSTD)
+    with writer:
+        for topic, kind, _, messages in topics:
+            conn = writer.add_connection(topic, kind, typestore=ROS2_STORE)
+            for log_time, m in messages:
+                writer.write(conn, log_time, ROS2_STORE.serialize_cdr(ros_message(ROS2_STORE, kind, m), kind))
+    with Ros2Reader(path) as reader:
+        check_read_back(topics, [(c.topic, ROS2_STORE.deserialize_cdr(raw, c.msgtype), t)
+                                 for c, t, raw in reader.messages()], name)
+
+
+def write_rosbag1(name, compression, topics):
+    """A ROS 1 bag tests/fixtures/trajectories/bags/NAME.bag, chunks compressed with
+    `compression` (bz2, lz4), read back with rosbags' ROS 1 reader."""
+    path = os.path.join(BAGS, f"{name}.bag")
+    if os.path.exists(path):
+        os.remove(path)
+    writer = Ros1Writer(path)
+    writer.set_compression(Ros1Writer.CompressionFormat[compression.upper()])
+    with writer:
+        for topic, kind, _, messages in topics:
+            conn = writer.add_connection(topic, kind, typestore=ROS1_STORE)
+            for log_time, m in messages:
+                writer.write(conn, log_time, ROS1_STORE.serialize_ros1(ros_message(ROS1_STORE, kind, m), kind))
+    with Ros1Reader(path) as reader:
+        check_read_back(topics, [(c.topic, ROS1_STORE.deserialize_ros1(raw, c.msgtype), t)
+                                 for c, t, raw in reader.messages()], name)
+
+
+def check_read_back(topics, read, name):
+    for topic, _, _, messages in topics:
+        got = [(t, as_dict(m)) for tp, m, t in read if tp == topic]
+        assert got == messages, f"{name}: {topic} does not read back as written"
+    print(f"{os.path.relpath(os.path.join(BAGS, name), ROOT)}: read back by rosbags exactly")
+
+
+def write_bags(ur5, so101, epoch):
+    """The bags of the cases below (names as the cases give them)."""
+    os.makedirs(BAGS, exist_ok=True)
+    states = joint_states(so101, {"gripper": 0.0}, epoch)
+    chatter = [(epoch + k * 10**8, {"data": f"hello {k}"}) for k in range(3)]
+    so101_topics = [("/arm_controller/joint_trajectory", JT, None, [(epoch, message(so101, 3))]),
+                    ("/joint_states", JS, None, states), ("/chatter", STR, None, chatter)]
+    write_rosbag2("so101_humble_db3", StoragePlugin.SQLITE3, None, so101_topics)
+    write_rosbag2("so101_mcap_zstd_per_message", StoragePlugin.MCAP, CompressionMode.MESSAGE, so101_topics)
+    write_rosbag2("ur5_db3_zstd_per_file", StoragePlugin.SQLITE3, CompressionMode.FILE,
+                  [("/scaled_joint_trajectory_controller/joint_trajectory", JT, None, [(0, message(ur5, 1))])])
+    write_rosbag2("ur5_mcap_zstd_per_file", StoragePlugin.MCAP, CompressionMode.FILE,
+                  [("/scaled_joint_trajectory_controller/joint_trajectory", JT, None, [(0, message(ur5, 2))])])
+    write_rosbag1("so101_noetic_bz2", "bz2", so101_topics)
+    write_rosbag1("ur5_noetic_lz4", "lz4",
+                  [("/arm_controller/command", JT, None, [(epoch, message(ur5, 3, [2, 0, 5, 1, 4, 3]))])])
+
+
+# --------------------------------------------------------------------------------------------
 # The runs.
 # --------------------------------------------------------------------------------------------
 
@@ -338,6 +462,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--faze4", default=os.path.join(ROOT, "target/debug/faze4"))
     ap.add_argument("--convert", default=os.path.join(ROOT, "target/debug/examples/convert_trajectory"))
+    ap.add_argument("--only", nargs="*", help="the cases to run (default: all)")
     args = ap.parse_args()
     os.makedirs(FILES, exist_ok=True)
     ur5, so101 = toppra_ur5(), ruckig_so101()
@@ -366,8 +491,20 @@ def main():
         ("/right_arm/joint_states", "sensor_msgs/msg/JointState", JOINT_STATE, states[:3]),
     ])
 
+    write_bags(ur5, so101, epoch)
+    bag = lambda name: f"tests/fixtures/trajectories/bags/{name}"  # noqa: E731
+
     # name, URDF, input, options, plan, level (1 linear, 2 cubic, 3 quintic), feed-forward
     cases = [
+        ("so101_db3_joint_states_cubic_full", SO101, bag("so101_humble_db3"), ["--topic", "/joint_states"], so101, 2,
+         "full"),
+        ("so101_mcap_zstd_per_message_quintic_gravity", SO101, bag("so101_mcap_zstd_per_message"), [], so101, 3,
+         "gravity"),
+        ("ur5_db3_zstd_per_file_linear_gravity", UR5, bag("ur5_db3_zstd_per_file"), [], ur5, 1, "gravity"),
+        ("ur5_mcap_zstd_per_file_cubic_full", UR5, bag("ur5_mcap_zstd_per_file"), [], ur5, 2, "full"),
+        ("so101_ros1_bz2_joint_states_cubic_gravity", SO101, bag("so101_noetic_bz2.bag"),
+         ["--topic", "/joint_states"], so101, 2, "gravity"),
+        ("ur5_ros1_lz4_quintic_full", UR5, bag("ur5_noetic_lz4.bag"), [], ur5, 3, "full"),
         ("ur5_yaml_linear_full", UR5, rel("ur5_toppra.yaml"), [], ur5, 1, "full"),
         ("ur5_yaml_quintic_gravity", UR5, rel("ur5_toppra.yaml"), ["--message", "2"], ur5, 3, "gravity"),
         ("ur5_json_cubic_gravity", UR5, rel("ur5_toppra.json"), [], ur5, 2, "gravity"),
@@ -378,7 +515,10 @@ def main():
         ("so101_mcap_joint_states_cubic_full", SO101, rel("so101_ruckig.mcap"), ["--topic", "/joint_states"],
          so101, 2, "full"),
     ]
+    only = set(args.only or [])
     for case in cases:
+        if only and case[0] not in only:
+            continue
         fixture = run_case(args.faze4, case)
         out = os.path.join(FIXTURES, f"trajectory_{case[0]}.json")
         with open(out, "w") as f:
