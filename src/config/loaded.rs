@@ -17,6 +17,7 @@ use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
+use crate::traj::files::lerobot::Units;
 use crate::traj::files::{self, Content, Selection};
 use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
 
@@ -43,8 +44,8 @@ pub struct Loaded {
     collision_set: Option<Arc<CollisionSet>>,
     /// What a replay plays.
     replay: Option<Replayed>,
-    /// What the replayed file is, where its name does not say ([`files::Opened::what`]).
-    replay_what: Option<String>,
+    /// What reading the replayed file said ([`files::Opened`]).
+    read: ReadNotes,
     /// A shape's plan and the number of samples it was made with.
     plan: Option<(usize, (Trajectory, ShapeRun))>,
     /// What loading found that changes the result (collision meshes not found): said once,
@@ -68,11 +69,11 @@ impl Loaded {
         })?;
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
-        let (replay, replay_what) = match (&config.motion, replayed) {
-            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => (Some(given), None),
-            (Motion::Replay(r), None) => read_replay(r).map(|(r, what)| (Some(r), what))?,
-            (Motion::Retime(r), None) => read_replay(&r.path).map(|(r, what)| (Some(r), what))?,
-            _ => (None, None),
+        let (replay, read) = match (&config.motion, replayed) {
+            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => (Some(given), ReadNotes::default()),
+            (Motion::Replay(r), None) => read_replay(r).map(|(r, read)| (Some(r), read))?,
+            (Motion::Retime(r), None) => read_replay(&r.path).map(|(r, read)| (Some(r), read))?,
+            _ => (None, ReadNotes::default()),
         };
         let plan = match &config.motion {
             Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
@@ -92,7 +93,7 @@ impl Loaded {
             arm_config: config.arm.clone(),
             collision_set,
             replay,
-            replay_what,
+            read,
             plan,
             warnings,
             inputs,
@@ -102,9 +103,22 @@ impl Loaded {
     /// The banner's name of `command` (`replay`), with what its file is where its name does not
     /// say (`replay of a ROS 1 bag, topic /joint_states`).
     fn command(&self, command: &str) -> String {
-        match &self.replay_what {
+        match &self.read.what {
             Some(what) => format!("{command} of {what}"),
             None => command.to_string(),
+        }
+    }
+
+    /// `error` with the read's limit hint when it is a joint-limit refusal.
+    fn with_limit_hint(&self, error: Error) -> Error {
+        match (error, &self.read.limit_hint) {
+            (Error::InvalidData { path, message }, Some(hint)) if message.contains("beyond its limits") => {
+                Error::InvalidData {
+                    path,
+                    message: format!("{message}{hint}"),
+                }
+            }
+            (error, _) => error,
         }
     }
 
@@ -191,7 +205,8 @@ impl Loaded {
             ),
             Motion::Replay(r) => match &self.replay {
                 Some(Replayed::Timed(timed)) => {
-                    let timed = TimedCommand::new(model, timed, &r.q_traj)?;
+                    let timed = TimedCommand::new(model, timed, &r.q_traj).map_err(|e| self.with_limit_hint(e))?;
+                    command_warnings.extend(self.read.warnings.iter().cloned());
                     command_warnings.extend(timed.warning(&r.q_traj));
                     duration = duration.or(Some(timed.duration));
                     (timed.trajectory, self.command("replay"), None)
@@ -261,19 +276,39 @@ impl Loaded {
 }
 
 /// What a replay's file holds ([`files::open`]: a time-stamped trajectory, a bag, a rosbag2
-/// folder, a `.npy`'s frames; `message` and `topic` pick from it), and what it is where its
-/// name does not say.
-fn read_replay(r: &ReplayConfig) -> Result<(Replayed, Option<String>)> {
+/// folder, a LeRobot dataset, a `.npy`'s frames; `message`, `topic`, `episode` and the
+/// LeRobot options pick from it), and what reading said.
+fn read_replay(r: &ReplayConfig) -> Result<(Replayed, ReadNotes)> {
     let selection = Selection {
         message: r.message,
         topic: r.topic.clone(),
+        episode: r.episode,
+        lerobot_key: r.lerobot_key.clone(),
+        units: r.units.as_deref().map(Units::parse).transpose()?,
+        calibration: r.calibration.clone(),
     };
     let opened = files::open(&r.q_traj, &selection)?;
     let replayed = match opened.content {
         Content::Timed(timed) => Replayed::Timed(timed),
         Content::Samples(frames) => Replayed::Samples(frames),
     };
-    Ok((replayed, opened.what))
+    let read = ReadNotes {
+        what: opened.what,
+        warnings: opened.warnings.into_iter().map(Warning::Trajectory).collect(),
+        limit_hint: opened.limit_hint,
+    };
+    Ok((replayed, read))
+}
+
+/// What reading a replay's file said besides its content ([`files::Opened`]).
+#[derive(Clone, Debug, Default)]
+struct ReadNotes {
+    /// What the file is, where its name does not say.
+    what: Option<String>,
+    /// What reading noticed, said with each run's command warnings.
+    warnings: Vec<Warning>,
+    /// Said after a joint-limit refusal.
+    limit_hint: Option<String>,
 }
 
 /// The files a run of `config` on `arm` reads: the URDF, the meshes its geometry found, a
@@ -288,7 +323,12 @@ fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
         inputs.add(path, "`motors`");
     }
     match (&config.motion, replay_read) {
-        (Motion::Replay(r), true) => inputs.add(&r.q_traj, "`q_traj`"),
+        (Motion::Replay(r), true) => {
+            inputs.add(&r.q_traj, "`q_traj`");
+            if let Some(calibration) = &r.calibration {
+                inputs.add(calibration, "`calibration`");
+            }
+        }
         (Motion::Retime(r), true) => inputs.add(&r.path.q_traj, "`q_traj`"),
         _ => {}
     }

@@ -19,6 +19,7 @@ pub mod bag;
 pub mod csv;
 pub mod joint_states;
 pub mod json;
+pub mod lerobot;
 pub mod mcap;
 pub mod ros;
 pub mod sniff;
@@ -43,6 +44,28 @@ pub struct Selection {
     /// The MCAP topic; `None`: the file's one `JointTrajectory` topic, else its one
     /// `JointState` topic.
     pub topic: Option<String>,
+    /// A LeRobot dataset's episode, from 0 (`None`: 0).
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (`None`: `action`).
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's values are (`None`: `calibration`'s, else taken as radians).
+    pub units: Option<lerobot::Units>,
+    /// LeRobot's calibration file of the arm, which turns normalised values into radians.
+    pub calibration: Option<std::path::PathBuf>,
+}
+
+impl Selection {
+    /// The LeRobot option given, if any (for a refusal on another input).
+    fn lerobot_option(&self) -> Option<&'static str> {
+        [
+            (self.episode.is_some(), "episode"),
+            (self.lerobot_key.is_some(), "lerobot_key"),
+            (self.units.is_some(), "units"),
+            (self.calibration.is_some(), "calibration"),
+        ]
+        .into_iter()
+        .find_map(|(given, field)| given.then_some(field))
+    }
 }
 
 /// A time-stamped trajectory file's format.
@@ -93,6 +116,11 @@ pub struct Opened {
     /// it (`a rosbag2 folder of 2 MCAP files, topic /joint_states`); `None` for a file of the
     /// format its extension names.
     pub what: Option<String>,
+    /// What reading noticed, for people (a LeRobot gripper column left out).
+    pub warnings: Vec<String>,
+    /// Said after a joint-limit refusal of the trajectory: the likely cause (a LeRobot
+    /// dataset's values taken as radians unasked).
+    pub limit_hint: Option<String>,
 }
 
 /// Reads the `--q-traj` in `path`, whatever it is: a file or stream told by its first bytes
@@ -110,6 +138,22 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
         source,
     };
     let meta = std::fs::metadata(path).map_err(io)?;
+    if meta.is_dir() && path.join(lerobot::INFO).is_file() {
+        let episode = lerobot::read(path, selection)?;
+        episode.trajectory.check(path)?;
+        return Ok(Opened {
+            content: Content::Timed(episode.trajectory),
+            what: Some(episode.what),
+            warnings: episode.warnings,
+            limit_hint: episode.limit_hint,
+        });
+    }
+    if let Some(field) = selection.lerobot_option() {
+        return Err(Error::option(
+            field,
+            "applies to a LeRobot dataset (a folder holding meta/info.json)",
+        ));
+    }
     if meta.is_dir() {
         return folder(path, selection);
     }
@@ -147,6 +191,8 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
         return Ok(Opened {
             content: Content::Samples(npy::parse_samples(&bytes, path)?),
             what: None,
+            warnings: Vec::new(),
+            limit_hint: None,
         });
     }
     let Some(format) = format else {
@@ -165,6 +211,8 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
     Ok(Opened {
         content: Content::Timed(parse(&bytes, format, selection, path)?),
         what: None,
+        warnings: Vec::new(),
+        limit_hint: None,
     })
 }
 
@@ -193,6 +241,8 @@ fn timed_from_bag(found: bag::Collected, what: String, selection: &Selection, pa
     Ok(Opened {
         content: Content::Timed(trajectory),
         what: Some(format!("{what}, topic {topic}")),
+        warnings: Vec::new(),
+        limit_hint: None,
     })
 }
 
