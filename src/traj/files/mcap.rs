@@ -102,7 +102,7 @@ mod tests {
     fn read(bytes: &[u8], topic: Option<&str>) -> Result<TimedTrajectory> {
         let selection = Selection {
             topic: topic.map(String::from),
-            message: None,
+            ..Default::default()
         };
         parse(bytes, &selection, Path::new("b.mcap"))
     }
@@ -131,7 +131,7 @@ mod tests {
         let e = read(&two, None).unwrap_err().to_string();
         assert_eq!(
             e,
-            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState), /right (sensor_msgs/msg/JointState); pick one with --topic"
+            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState, 1 message), /right (sensor_msgs/msg/JointState, 1 message); pick one with --topic"
         );
         assert_eq!(read(&two, Some("/right")).unwrap().joint_names, ["a"]);
         let e = read(&two, Some("/chatter")).unwrap_err().to_string();
@@ -141,7 +141,7 @@ mod tests {
         );
         let e = read(&two, Some("/nope")).unwrap_err().to_string();
         assert!(
-            e.contains("no such topic (its topics: /chatter (std_msgs/msg/String), /left"),
+            e.contains("no such topic (its topics: /chatter (std_msgs/msg/String, 1 message), /left"),
             "{e}"
         );
         let none = bag(&[("/chatter", "std_msgs/msg/String", vec![vec![1, 0, 0, 0, 0]])]);

@@ -412,15 +412,20 @@ mod tests {
         };
         assert_eq!(
             read(&path, &topic).unwrap_err().to_string(),
-            "`topic`: picks a topic of an .mcap file"
+            "`topic`: picks a topic of a bag (.mcap, .db3, .bag, a rosbag2 folder)"
         );
         let message = Selection {
             message: Some(1),
             ..Default::default()
         };
         assert!(read(&path, &message).unwrap_err().to_string().starts_with("`message`"));
+        std::fs::write(dir.join("t.txt"), "t,q1\n").unwrap();
         let e = read(&dir.join("t.txt"), &Selection::default()).unwrap_err().to_string();
-        assert!(e.contains("its extension must be .yaml"), "{e}");
+        assert!(
+            e.contains("not a trajectory faze4 reads: its extension must be .yaml")
+                && e.ends_with("it starts with t,q1\\x0a"),
+            "{e}"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

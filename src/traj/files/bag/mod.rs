@@ -50,12 +50,6 @@ pub struct Topic {
     pub encoding: String,
 }
 
-impl Topic {
-    fn describe(&self) -> String {
-        format!("{} ({})", self.name, self.kind)
-    }
-}
-
 /// The two message types faze4 plays.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Joint {
@@ -141,12 +135,23 @@ impl Collected {
         *self.topics.entry(topic.clone()).or_default() += n;
     }
 
-    /// The topics found, for messages: `/a (type), /b (type)`, or `none`.
+    /// The topics found, for messages: `/a (type, 3 messages), /b (type, 1 message)`, or `none`.
     pub fn topic_list(&self) -> String {
         match self.topics.is_empty() {
             true => "none".into(),
-            false => listed(self.topics.keys()),
+            false => self.listed(self.topics.keys()),
         }
+    }
+
+    /// `topics` for messages, each with its type and number of messages.
+    fn listed<'a>(&self, topics: impl Iterator<Item = &'a Topic>) -> String {
+        (topics.map(|t| {
+            let n = self.topics.get(t).copied().unwrap_or(0);
+            let kind = if t.kind.is_empty() { "no type" } else { &t.kind };
+            format!("{} ({kind}, {n} message{})", t.name, if n == 1 { "" } else { "s" })
+        }))
+        .collect::<Vec<_>>()
+        .join(", ")
     }
 
     /// The topic `selection` names, else the one candidate.
@@ -184,7 +189,7 @@ impl Collected {
                 format!(
                     "has {} candidate topics: {}; pick one with --topic",
                     several.len(),
-                    listed(several.iter().copied())
+                    self.listed(several.iter().copied())
                 ),
             )),
         }
@@ -247,10 +252,6 @@ impl Collected {
             .collect::<Result<Vec<_>>>()?;
         Ok((recorded_motion(states, &topic.name, path)?.trajectory, topic.name))
     }
-}
-
-fn listed<'a>(topics: impl Iterator<Item = &'a Topic>) -> String {
-    topics.map(Topic::describe).collect::<Vec<_>>().join(", ")
 }
 
 /// A message of `topic`, its `k`-th (0-based): ROS 2's CDR (encapsulation header, then the
