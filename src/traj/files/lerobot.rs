@@ -177,16 +177,22 @@ pub fn read(dir: &Path, selection: &Selection) -> Result<Episode> {
         Some(path) => Some(calibration(path)?),
         None => None,
     };
-    episode_trajectory(
+    let source = Source {
         dir,
-        &info,
+        info: &info,
         episode,
         key,
-        &names,
-        frames,
-        selection.units,
-        calibration.as_ref(),
-    )
+    };
+    episode_trajectory(&source, &names, frames, selection.units, calibration.as_ref())
+}
+
+/// Which episode of which dataset, for the trajectory's description.
+#[derive(Clone, Copy)]
+struct Source<'a> {
+    dir: &'a Path,
+    info: &'a Info,
+    episode: usize,
+    key: &'a str,
 }
 
 /// The joint names of column `key`: `features.<key>.names`, a list or `{"motors": [...]}`.
@@ -420,17 +426,19 @@ fn calibration(path: &Path) -> Result<BTreeMap<String, MotorCalibration>> {
 
 /// The frames as a trajectory over the joints named by `names` (`X.pos` → `X`), a gripper left
 /// out, values converted by `units` or `calibration`.
-#[allow(clippy::too_many_arguments)]
 fn episode_trajectory(
-    dir: &Path,
-    info: &Info,
-    episode: usize,
-    key: &str,
+    source: &Source,
     names: &[String],
     frames: Vec<Frame>,
     units: Option<Units>,
     calibration: Option<&BTreeMap<String, MotorCalibration>>,
 ) -> Result<Episode> {
+    let Source {
+        dir,
+        info,
+        episode,
+        key,
+    } = *source;
     let joint = |name: &str| name.strip_suffix(".pos").unwrap_or(name).to_string();
     let mut warnings = Vec::new();
     // the columns kept: every joint but a gripper (LeRobot's 0–100 % opening)
