@@ -55,7 +55,8 @@ pub const MAX_TRAJECTORY_TEXT_BYTES: u64 = 64 << 20;
 /// serde_norway lists every event of the document before it builds anything, about 13 times the
 /// text (a 64 MiB YAML trajectory peaked at 876 MB; docs/development.md, "Caps").
 pub const MAX_YAML_TRAJECTORY_BYTES: u64 = 16 << 20;
-/// Largest `.mcap` file read (256 MiB, the `.npy` cap: rosbag2 compresses a recorded motion).
+/// Largest bag read into memory whole (256 MiB, the `.npy` cap): a rosbag2 `.db3` from a stream
+/// or a `.db3.zstd` (SQLite opens it there); other bags are streamed (see [`MAX_BAG_BYTES`]).
 pub const MAX_MCAP_BYTES: u64 = 256 << 20;
 /// Most bytes an `.mcap` file's trajectory messages may hold once decompressed (256 MiB), and
 /// the largest record it may have: a compressed chunk may claim any size, so what is kept and

@@ -1,5 +1,8 @@
-//! Time-stamped trajectory files, read into and written from a [`TimedTrajectory`], the format
-//! chosen by the file's extension (docs/trajectories.md):
+//! Time-stamped trajectory files, read into and written from a [`TimedTrajectory`] (docs/
+//! trajectories.md). [`open`] reads what a `--q-traj` is, a file told by its first bytes where it
+//! has a magic number (a bag: [`bag`]; a `.npy`), else by its extension, a folder being a
+//! rosbag2 bag ([`bag::folder`]) or a LeRobot dataset ([`lerobot`]); [`write()`] writes the
+//! format its extension names:
 //!
 //! * `.yaml`/`.yml`: a `trajectory_msgs/msg/JointTrajectory` as `ros2 topic echo` prints it,
 //!   one or more messages separated by `---` ([`yaml`]);
