@@ -266,7 +266,15 @@ pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -
     let trajectory = match format {
         Format::Yaml => yaml::parse(text(bytes, path)?, selection.message, path)?,
         Format::Json => json::parse(text(bytes, path)?, selection.message, path)?,
-        Format::Mcap => mcap::parse(bytes, selection, path)?,
+        Format::Mcap => match Magic::of(bytes) {
+            // another bag in memory (ROS 1, SQLite, zstd): told by its bytes, as `open` tells it
+            Some(magic @ (Magic::Ros1 | Magic::Sqlite | Magic::Zstd)) => {
+                let mut found = bag::Collected::default();
+                bag::collect_stream(Some(magic), bytes, Box::new(bytes), false, &mut found, path)?;
+                found.trajectory(selection, path)?.0
+            }
+            _ => mcap::parse(bytes, selection, path)?,
+        },
         Format::Csv => {
             if selection.message.is_some() {
                 return Err(Error::option(
