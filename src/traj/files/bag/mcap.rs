@@ -1,5 +1,5 @@
 //! The records of an MCAP file (rosbag2's storage since ROS 2 Iron), streamed: its schemas,
-//! channels and messages, each handed to a [`Collected`](super::Collected).
+//! channels and messages, each handed to a [`Collected`].
 
 use std::collections::BTreeMap;
 use std::io::{Cursor, Read};
@@ -26,7 +26,7 @@ pub const MAGIC: &[u8] = b"\x89MCAP0\r\n";
 /// message) are decoded here, each length checked against what its record holds: the crate's
 /// own decoding reserves whatever a string's length claims (a 300-byte file claiming a 4 GB
 /// profile string asked for 4 GB). Each chunk is handed to a second reader of its own, after
-/// [`check_uncompressed_chunk`]: the crate's reader does not check a record inside an
+/// `check_uncompressed_chunk`: the crate's reader does not check a record inside an
 /// uncompressed chunk against what the chunk has left (mcap 0.26, `linear_reader.rs:745`, an
 /// underflow: a panic in a debug build, records read past the chunk in a release one). The
 /// summary after the data end repeats schemas and channels and is not read.
