@@ -9,27 +9,34 @@
 //! | `claims.rs` | what a mesh file claims (counts, nesting, a binary STL's length) checked against what it holds, before mesh-loader allocates |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
+//! | `bvh.rs` | [`bvh::Bvh`]: a mesh's bounding-volume hierarchy, flat; nearest triangle to a point (std only: `build.rs` builds the Faze4's with it) |
+//! | `triangles.rs` | a mesh's exact triangles with their hierarchy, as the searches read them |
+//! | `mesh_cache.rs` | each mesh's hierarchy made once: carried in the binary for the Faze4, kept in the user's cache folder for other meshes ([`cache_folder`]) |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |
 //! | `clearance.rs` | [`Clearance`]: a run's accumulator, sample by sample, into a [`ClearanceReport`] |
 //! | `path.rs` | [`PathClearance`]: a path's bounds, computed once, shared by the runs that follow it |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
+mod bvh;
 mod claims;
 mod clearance;
 mod collision_set;
 mod contact;
 mod hull;
 pub mod mesh;
+mod mesh_cache;
 mod motion_bound;
 mod pairs;
 mod path;
 mod report;
 mod search;
+mod triangles;
 
 pub use clearance::Clearance;
 pub use collision_set::{CollisionSet, GeometryData, Warning};
 pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
+pub use mesh_cache::{FORMAT as CACHE_FORMAT, folder as cache_folder};
 pub use pairs::{PairFilter, checked_pairs};
 pub use path::{MAX_PATH_BYTES, PathBuilder, PathClearance};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
