@@ -9,7 +9,7 @@
 //! | `claims.rs` | what a mesh file claims (counts, nesting, a binary STL's length) checked against what it holds, before mesh-loader allocates |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
-//! | `bvh.rs` | [`bvh::Bvh`]: a mesh's bounding-volume hierarchy, flat; nearest triangle to a point (std only: `build.rs` builds the Faze4's with it) |
+//! | `bvh.rs` | `Bvh`: a mesh's bounding-volume hierarchy, flat; nearest triangle to a point (std only: `build.rs` builds the Faze4's with it) |
 //! | `triangles.rs` | a mesh's exact triangles with their hierarchy, as the searches read them |
 //! | `mesh_cache.rs` | each mesh's hierarchy made once: carried in the binary for the Faze4, kept in the user's cache folder for other meshes ([`cache_folder`]) |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |

@@ -18,7 +18,7 @@ printed, with the medians of A and B:
 
 Usage (repository root, after `cargo build --release`):
 
-    python3 tools/bench/clearance_targets.py [--runs 7] [--drake] [--nice -5]
+    python3 tools/bench/clearance_targets.py [--runs 7] [--drake [--oracle-python PY]] [--nice -5]
 
 `--nice N` runs every command at that niceness (negative needs root): the machine is shared.
 The load average at the start and the end is printed: read the figures with it.
@@ -60,6 +60,7 @@ def main():
     ap.add_argument("--runs", type=int, default=7)
     ap.add_argument("--drake", action="store_true", help="also the default wave against the Drake loop")
     ap.add_argument("--nice", type=int, default=0)
+    ap.add_argument("--oracle-python", default=DRAKE_PY, help="the oracle venv's python (pydrake)")
     ap.add_argument("--pinocchio-us", type=float, default=1.5, help="Pinocchio's step (µs), the target")
     args = ap.parse_args()
     if not os.path.exists(FAZE4):
@@ -92,9 +93,9 @@ def main():
           f"{per_step['without']:.2f} µs without (target with ≤ Pinocchio's {args.pinocchio_us} µs)", flush=True)
 
     if args.drake:
-        if not os.path.exists(DRAKE_PY):
-            sys.exit(f"missing {DRAKE_PY}: tools/oracle/setup.sh")
-        drake = [DRAKE_PY, DRAKE_LOOP, "wave", "--duration", "8", "--quiet"]
+        if not os.path.exists(args.oracle_python):
+            sys.exit(f"missing {args.oracle_python}: tools/oracle/setup.sh, or --oracle-python")
+        drake = [args.oracle_python, DRAKE_LOOP, "wave", "--duration", "8", "--quiet"]
         md, mf, ratio = paired(drake, [FAZE4, "wave"] + QUIET, args.runs, args.nice)
         rows.append(("Drake loop / default wave", md, mf, ratio, "≥ 50x"))
         print(f"  Drake loop {md:.3f} s, default wave {mf:.3f} s: {ratio:.1f}x (target ≥ 50x)", flush=True)
