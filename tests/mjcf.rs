@@ -106,3 +106,78 @@ fn mass_matrix_and_bias_equal_mujocos_at_random_states() {
         );
     }
 }
+
+/// The fixture's wave on an MJCF model, run as the binary: the trail within 1e-9 of MuJoCo's
+/// dynamics stepped as docs/model.md steps (frictionloss left out on both sides), the gains
+/// tuned from the same inertia and effort limits, the same errors and saturation.
+#[test]
+fn closed_loop_wave_matches_mujocos_dynamics() {
+    for name in ["so101", "feature_arm"] {
+        let fx = fixture(&format!("mjcf_{name}.json"));
+        let cl = &fx["closed_loop"];
+        let a = &cl["args"];
+        let num = |k: &str| a[k].as_f64().unwrap().to_string();
+        let dir = temp_dir(&format!("mjcf-wave-{name}"));
+        let model = repo_path(fx["model"].as_str().unwrap()).display().to_string();
+        let run = faze4(
+            &dir,
+            &[
+                "wave",
+                "--urdf",
+                &model,
+                "--center",
+                "mid",
+                "--amp-deg",
+                &num("amp_deg"),
+                "--amp-m",
+                &num("amp_m"),
+                "--freq",
+                &num("freq"),
+                "--duration",
+                &num("duration"),
+                "--dt",
+                &num("dt"),
+                "--record-period",
+                &num("record_period"),
+                "--tool-link",
+                a["tool_link"].as_str().unwrap(),
+                "--no-collisions",
+                "--trail",
+                "trail.csv",
+                "--summary",
+                "summary.json",
+            ],
+        );
+        assert!(run.status.success(), "{}", run.stderr);
+        assert!(
+            run.stderr.contains("frictionloss of") && run.stderr.contains("not simulated"),
+            "{name}: the friction left out is said: {}",
+            run.stderr
+        );
+        let rows = fixture_trail(&dir, cl);
+        let ours: Value = summary(&dir, "summary.json");
+        std::fs::remove_dir_all(&dir).unwrap();
+        let theirs = mat_f64(&cl["trail"]["rows"]);
+        assert_eq!(rows.len(), theirs.len());
+        let mut worst = 0.0f64;
+        for (r, p) in rows.iter().zip(&theirs) {
+            assert_eq!(r[0], p[0], "sample times");
+            worst = worst.max(max_abs_diff(&r[1..], &p[1..]));
+        }
+        eprintln!("{name} wave: trail worst difference {worst:.1e}");
+        assert!(worst <= 1e-9, "{name}: trail differs from MuJoCo's by {worst:e}");
+        let mj = &cl["summary"];
+        assert_eq!(ours["steps"], mj["steps"]);
+        for key in ["effective_inertia", "kp", "kd", "effort"] {
+            let e = relative(&vec_f64(&ours[key]), &vec_f64(&mj[key]));
+            assert!(e < 1e-12, "{name}: {key} differs (relative {e:e})");
+        }
+        let e = max_abs_diff(
+            &vec_f64(&ours["max_tracking_error_rad"]),
+            &vec_f64(&mj["max_tracking_error_rad"]),
+        );
+        assert!(e < 1e-9, "{name}: max tracking error differs by {e:e}");
+        assert_eq!(ours["saturation_pct"], mj["saturation_pct"]);
+        assert_eq!(ours["format"], "mjcf");
+    }
+}

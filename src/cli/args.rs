@@ -56,8 +56,8 @@ pub struct WaveArgs {
     /// has limits, else 0.05 m.
     #[arg(long = "amp-m", allow_hyphen_values = true)]
     pub amp_m: Option<f64>,
-    /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
-    #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
+    /// The pose to wave about: one value per joint (rad or m), 'mid' (the middle of each limited joint's range, 0 for an unlimited one) or 'home' (an MJCF model's home keyframe). Default: zero.
+    #[arg(long, value_name = "Q1,Q2,…|mid|home", allow_hyphen_values = true)]
     pub center: Option<String>,
     /// Options every run command shares.
     #[command(flatten)]

@@ -253,16 +253,21 @@ pub fn all_given(name: &str, values: &[Option<f64>]) -> Result<Vec<f64>> {
         .collect()
 }
 
-/// A wave's centre as the command line writes it: `mid`, or one value per joint.
+/// A wave's centre as the command line writes it: `mid`, `home`, or one value per joint.
 pub fn parse_center(text: &str) -> Result<Center> {
     match text.trim() {
         "mid" => Ok(Center::Mid),
+        "home" => Ok(Center::Home),
         list => (list.split(',').enumerate())
             .map(|(i, x)| {
                 x.trim().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
                     Error::option(
                         "center",
-                        format!("J{} value '{}' is not a finite number (or use 'mid')", i + 1, x.trim()),
+                        format!(
+                            "J{} value '{}' is not a finite number (or use 'mid' or 'home')",
+                            i + 1,
+                            x.trim()
+                        ),
                     )
                 })
             })

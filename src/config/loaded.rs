@@ -405,6 +405,15 @@ pub fn wave_center(model: &Model, center: &Center) -> Result<Vec<f64>> {
             })
             .collect(),
         Center::Given(values) => values.clone(),
+        Center::Home => model.home.clone().ok_or_else(|| {
+            Error::option(
+                "center",
+                format!(
+                    "'home': {} offers no start pose (an MJCF model's keyframe named home)",
+                    model.source
+                ),
+            )
+        })?,
     };
     if center.len() != n {
         return Err(Error::option(

@@ -209,6 +209,8 @@ pub enum Center {
     Zero,
     /// The middle of each limited joint's range (0 for an unlimited one).
     Mid,
+    /// The start pose the robot file offers (MJCF's `home` keyframe).
+    Home,
     /// One value per joint (rad or m).
     Given(Vec<f64>),
 }

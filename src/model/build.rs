@@ -81,15 +81,7 @@ impl std::fmt::Display for LoadWarning {
                 "{file}: link '{link}' <inertial>: principal moments {a:e}, {b:e}, {c:e} kg·m² (about the centre of mass of the body it heads) set to their mean {balanced:e} kg·m² (--balance-inertia)"
             ),
             LoadWarning::NotSimulated { file, what, why, items } => {
-                write!(
-                    f,
-                    "{file}: {what} of {} {}: {why}",
-                    items.join(", "),
-                    match items.len() {
-                        1 => "is",
-                        _ => "are",
-                    }
-                )
+                write!(f, "{file}: {what} of {}: {why}", items.join(", "))
             }
         }
     }
