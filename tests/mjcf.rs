@@ -181,3 +181,164 @@ fn closed_loop_wave_matches_mujocos_dynamics() {
         assert_eq!(ours["format"], "mjcf");
     }
 }
+
+/// The feature arm as faze4 reads it beyond its dynamics: what was mapped and left out, its
+/// shapes (meshes found under `meshdir`, a capsule as the cylinder around it, the visual class
+/// drawn and not checked), its site and hinge-axis frames.
+#[test]
+fn the_feature_arm_maps_and_leaves_out_what_it_says() {
+    use faze4::geometry::Robot;
+    use faze4::model::{Geometry, PackagePaths};
+    let path = repo_path("tests/mjcf/feature_arm.xml");
+    let robot = Robot::from_urdf_file(&path, &PackagePaths::default()).unwrap();
+    let mapped = |from: &str| {
+        let m = robot.model.mapped.iter().find(|m| m.from == from);
+        m.unwrap_or_else(|| panic!("{from} not in {:?}", robot.model.mapped))
+    };
+    assert_eq!(mapped("world geom").items, ["floor"]);
+    let friction = mapped("frictionloss");
+    assert!(friction.changes_dynamics && friction.items.len() == 6, "{friction:?}");
+    assert_eq!(mapped("armature").items.len(), 6);
+    assert_eq!(mapped("equality joint").items, ["finger_b"]);
+    assert_eq!(mapped("motor ctrlrange").items, ["yaw", "extend"]);
+    assert!(!mapped("armature").changes_dynamics);
+    assert_eq!(robot.model.format, "mjcf");
+    assert!(
+        robot
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("frictionloss of yaw, shoulder")),
+        "{:?}",
+        robot.warnings
+    );
+    // the site and the hinge away from its body's origin are frames
+    for frame in ["world", "base", "tool", "upper", "upper:shoulder"] {
+        assert!(robot.model.frame_index(frame).is_some(), "frame {frame}");
+    }
+    let g = &robot.geometry;
+    let meshes: Vec<(&str, &Geometry)> = g.visuals.iter().map(|v| (v.link.as_str(), &v.geometry)).collect();
+    let Some((_, Geometry::Mesh { uri, path, .. })) = meshes.iter().find(|(l, _)| *l == "base") else {
+        panic!("no base mesh in {meshes:?}")
+    };
+    assert_eq!(uri, "../urdf/mesh_arms/meshes/base.stl");
+    assert!(path.as_ref().is_some_and(|p| p.is_file()), "{path:?}");
+    // the class's rgba, not MuJoCo's grey, takes precedence over the material (as MuJoCo says)
+    let colour = g.visuals.iter().find(|v| v.link == "base").unwrap().rgba;
+    assert_eq!(colour, Some([0.7, 0.7, 0.7, 1.0]));
+    // without an rgba of its own or its class's, a geom takes its material's (the SO-101's yellow)
+    let so101 = Robot::from_urdf_file(&repo_path("tests/mjcf/so101/scene.xml"), &PackagePaths::default()).unwrap();
+    assert_eq!(so101.geometry.visuals[0].rgba, Some([1.0, 0.82, 0.12, 1.0]));
+    let capsule = Geometry::Cylinder {
+        radius: 0.03,
+        length: 2.0 * (0.5 * (0.01f64.powi(2) + 0.09).sqrt() + 0.03),
+    };
+    assert!(
+        g.collisions.iter().any(|c| c.geometry == capsule),
+        "the capsule as its cylinder"
+    );
+    // visual-class meshes are drawn, not checked; the collision class is checked, not drawn
+    assert!(!g.collisions.iter().any(|c| matches!(c.geometry, Geometry::Mesh { .. })));
+    assert_eq!(g.visuals.iter().filter(|v| v.link == "slider").count(), 0);
+    assert_eq!(g.collisions.iter().filter(|c| c.link == "slider").count(), 1);
+}
+
+/// Each construct faze4 does not simulate, and each malformed one, is refused naming it.
+#[test]
+fn what_faze4_cannot_simulate_is_refused_naming_it() {
+    let body = |inside: &str| {
+        format!(
+            "<mujoco><worldbody><body name=\"b\"><inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 1 1\"/>{inside}</body></worldbody></mujoco>"
+        )
+    };
+    let cases: Vec<(String, Vec<&str>)> = vec![
+        (body("<freejoint/>"), vec!["<freejoint>", "body 'b'", "floating base"]),
+        (body("<joint type=\"free\"/>"), vec!["body 'b'", "floating base"]),
+        (body("<joint type=\"ball\"/>"), vec!["type=\"ball\"", "hinge and slide"]),
+        (body("<joint name=\"a\"/><joint name=\"c\"/>"), vec!["<body name=\"b\">", "has 2 joints"]),
+        (body("<joint class=\"nope\"/>"), vec!["names class 'nope'"]),
+        (body("<joint range=\"0 1\" limited=\"true\" axis=\"0 0 x\"/>"), vec!["axis=\"0 0 x\"", "'x' is not a number"]),
+        (body("<joint limited=\"true\"/>"), vec!["limited but gives no range"]),
+        (body("<geom size=\"0.1\" quat=\"1 0 0 0\" euler=\"0 0 1\"/>"), vec!["gives 2 orientations"]),
+        (
+            "<mujoco><asset><mesh file=\"m.stl\"/></asset><worldbody><body name=\"b\"><joint/><geom type=\"mesh\" mesh=\"m\"/></body></worldbody></mujoco>".into(),
+            vec!["body 'b' has no <inertial>", "mesh"],
+        ),
+        (
+            "<mujoco><worldbody><body name=\"b\"><joint/></body></worldbody></mujoco>".into(),
+            vec!["link 'b'", "has no mass"],
+        ),
+        (
+            format!("{}<equality><connect body1=\"b\" anchor=\"0 0 0\"/></equality></mujoco>", body("<joint/>").trim_end_matches("</mujoco>")),
+            vec!["<equality connect>", "not simulated"],
+        ),
+        (
+            format!(
+                "{}<equality><joint joint1=\"j\" joint2=\"k\" polycoef=\"0 1 0.5 0 0\"/></equality></mujoco>",
+                body("<joint name=\"j\"/><body name=\"c\"><inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 1 1\"/><joint name=\"k\"/></body>").trim_end_matches("</mujoco>")
+            ),
+            vec!["degree 2"],
+        ),
+        (
+            format!("{}<keyframe><key name=\"home\" qpos=\"0 1\"/></keyframe></mujoco>", body("<joint/>").trim_end_matches("</mujoco>")),
+            vec!["<key name=\"home\">", "qpos has 2 numbers for the model's 1"],
+        ),
+        (
+            format!("{}<actuator><motor joint=\"nowhere\"/></actuator></mujoco>", body("<joint/>").trim_end_matches("</mujoco>")),
+            vec!["joint 'nowhere'", "not a moving joint"],
+        ),
+        ("<mujoco><compiler boundmass=\"0.1\"/></mujoco>".into(), vec!["<compiler>", "boundmass"]),
+        ("<mujoco><compiler angle=\"grad\"/></mujoco>".into(), vec!["angle=\"grad\""]),
+        ("<robot name=\"r\"/>".into(), vec!["root element is <robot>", "no MJCF model"]),
+        ("<mujoco><worldbody>".into(), vec!["t.xml"]),
+        ("".into(), vec!["t.xml", "empty"]),
+    ];
+    for (xml, parts) in cases {
+        let e = mjcf::describe_str(&xml, "t.xml", None)
+            .and_then(|d| Model::from_description(&d))
+            .expect_err(&xml)
+            .to_string();
+        assert!(e.starts_with("t.xml"), "{e}");
+        for part in parts {
+            assert!(e.contains(part), "{xml}\n  gave: {e}\n  without: {part}");
+        }
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
+
+/// `<include>`: files are found beside the main file, a missing one is named, a file that
+/// includes itself stops.
+#[test]
+fn includes_are_read_beside_the_model_and_a_cycle_stops() {
+    let dir = temp_dir("mjcf-include");
+    let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+    write("arm.xml", "<mujoco model=\"a\"><include file=\"parts.xml\"/></mujoco>");
+    write(
+        "parts.xml",
+        "<mujoco><worldbody><body name=\"b\"><joint/><geom size=\"0.1\"/></body></worldbody></mujoco>",
+    );
+    write("loop.xml", "<mujoco><include file=\"loop.xml\"/></mujoco>");
+    write("missing.xml", "<mujoco><include file=\"nowhere.xml\"/></mujoco>");
+    let model = mjcf::read_file(&dir.join("arm.xml")).unwrap();
+    assert_eq!(
+        model.joints[0].name, "joint0",
+        "an unnamed joint is named by its MuJoCo id"
+    );
+    // a 0.1 m sphere of water: 4.19 kg, as MuJoCo weighs it
+    assert!((model.inertia[0].mass - 4.0 / 3.0 * std::f64::consts::PI * 1e-3 * 1000.0).abs() < 1e-12);
+    let e = mjcf::read_file(&dir.join("loop.xml")).unwrap_err().to_string();
+    assert!(e.contains("includes nest more than 8 deep"), "{e}");
+    let e = mjcf::read_file(&dir.join("missing.xml")).unwrap_err().to_string();
+    assert!(e.contains("nowhere.xml"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_root_element_tells_mjcf() {
+    assert!(mjcf::is_mjcf(
+        "<?xml version=\"1.0\"?>\n<!-- an arm -->\n<mujoco model=\"m\">"
+    ));
+    assert!(mjcf::is_mjcf("\u{feff}<mujoco>"));
+    assert!(!mjcf::is_mjcf("<robot name=\"r\"><!-- <mujoco> --></robot>"));
+    assert!(!mjcf::is_mjcf("<mujocoo/>"));
+    assert!(!mjcf::is_mjcf(""));
+}

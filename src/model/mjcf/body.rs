@@ -485,9 +485,10 @@ fn mesh_shape(a: &Attrs, ctx: &Context) -> Result<Option<Geometry>> {
         ctx.note("mesh without a file", "left out: faze4 reads mesh files", name, false);
         return Ok(None);
     };
+    let (reference, path) = ctx.mesh_path(&asset.file);
     Ok(Some(Geometry::Mesh {
-        path: ctx.mesh_path(&asset.file),
-        uri: asset.file,
+        uri: reference.display().to_string(),
+        path,
         scale: asset.scale,
     }))
 }
@@ -519,14 +520,15 @@ fn geom_inertia(a: &Attrs, placement: &Pose, kind: &str, size: &[f64], body: &st
     Ok(Inertia::from_com(density * volume, placement.pos, i_com))
 }
 
-/// A geom's colour: its `rgba`, else its material's, else MuJoCo's grey.
+/// A geom's colour as MuJoCo documents it: its `rgba` (its own or its class's) where that is not
+/// MuJoCo's grey, else its material's, else the grey.
 fn geom_rgba(a: &Attrs, ctx: &Context) -> Result<[f64; 4]> {
-    if let Some(c) = a.list("rgba", Some(4))? {
-        return Ok([c[0], c[1], c[2], c[3]]);
-    }
-    Ok((a.text("material"))
-        .and_then(|m| ctx.materials.get(m).copied())
-        .unwrap_or(DEFAULT_RGBA))
+    let rgba = (a.list("rgba", Some(4))?).map_or(DEFAULT_RGBA, |c| [c[0], c[1], c[2], c[3]]);
+    let material = (a.text("material")).and_then(|m| ctx.materials.get(m).copied());
+    Ok(match (rgba == DEFAULT_RGBA, material) {
+        (true, Some(m)) => m,
+        _ => rgba,
+    })
 }
 
 /// The elements of `parent` with the frames around them: a `<frame>`'s children take its

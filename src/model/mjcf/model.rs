@@ -95,19 +95,20 @@ impl Context<'_> {
         }
     }
 
-    /// Where mesh `file` is: beside the model, under `meshdir`; `None` if no file is there.
-    pub fn mesh_path(&self, file: &str) -> Option<PathBuf> {
+    /// Mesh `file` as the model refers to it (under `meshdir`, relative to the model's folder)
+    /// and the file that is there (`None`: none is).
+    pub fn mesh_path(&self, file: &str) -> (PathBuf, Option<PathBuf>) {
         let file = match self.compiler.strippath {
             true => Path::new(file).file_name().map_or(file.into(), PathBuf::from),
             false => PathBuf::from(file),
         };
-        let dir = self.compiler.meshdir.clone().unwrap_or_default();
-        let path = match (file.is_absolute(), dir.is_absolute(), self.base_dir) {
-            (true, _, _) => file,
-            (false, true, _) | (false, false, None) => dir.join(file),
-            (false, false, Some(base)) => base.join(dir).join(file),
+        let reference = self.compiler.meshdir.clone().unwrap_or_default().join(file);
+        let path = match (reference.is_absolute(), self.base_dir) {
+            (false, Some(base)) => base.join(&reference),
+            _ => reference.clone(),
         };
-        path.is_file().then_some(path)
+        let found = path.is_file().then_some(path);
+        (reference, found)
     }
 }
 
