@@ -228,14 +228,11 @@ fn the_feature_arm_maps_and_leaves_out_what_it_says() {
     // without an rgba of its own or its class's, a geom takes its material's (the SO-101's yellow)
     let so101 = Robot::from_urdf_file(&repo_path("tests/mjcf/so101/scene.xml"), &PackagePaths::default()).unwrap();
     assert_eq!(so101.geometry.visuals[0].rgba, Some([1.0, 0.82, 0.12, 1.0]));
-    let capsule = Geometry::Cylinder {
+    let capsule = Geometry::Capsule {
         radius: 0.03,
-        length: 2.0 * (0.5 * (0.01f64.powi(2) + 0.09).sqrt() + 0.03),
+        length: (0.01f64.powi(2) + 0.09).sqrt(),
     };
-    assert!(
-        g.collisions.iter().any(|c| c.geometry == capsule),
-        "the capsule as its cylinder"
-    );
+    assert!(g.collisions.iter().any(|c| c.geometry == capsule), "the fromto capsule");
     // visual-class meshes are drawn, not checked; the collision class is checked, not drawn
     assert!(!g.collisions.iter().any(|c| matches!(c.geometry, Geometry::Mesh { .. })));
     assert_eq!(g.visuals.iter().filter(|v| v.link == "slider").count(), 0);
@@ -341,4 +338,38 @@ fn the_root_element_tells_mjcf() {
     assert!(!mjcf::is_mjcf("<robot name=\"r\"><!-- <mujoco> --></robot>"));
     assert!(!mjcf::is_mjcf("<mujocoo/>"));
     assert!(!mjcf::is_mjcf(""));
+}
+
+/// A capsule is a capsule in the clearance, not the cylinder around it: two capsules whose
+/// distance is the same in every pose (tests/mjcf/capsule_pair.xml) measured by a run.
+#[test]
+fn capsules_are_measured_as_capsules() {
+    let dir = temp_dir("mjcf-capsules");
+    let model = repo_path("tests/mjcf/capsule_pair.xml").display().to_string();
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--urdf",
+            &model,
+            "--duration",
+            "0.2",
+            "--trail",
+            "none",
+            "--summary",
+            "s.json",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    let s = summary(&dir, "s.json");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let pairs = s["clearance"]["pairs"].as_array().unwrap();
+    assert_eq!(pairs.len(), 1, "{pairs:?}");
+    let expected = (0.03f64.powi(2) + 0.1f64.powi(2)).sqrt() - 0.04;
+    let d = pairs[0]["min_m"].as_f64().unwrap();
+    // GJK's distance to within 0.01 mm; the cylinders around the capsules would be 4.4 mm nearer
+    assert!(
+        (d - expected).abs() < 1e-5,
+        "capsule distance {d} m, expected {expected} m"
+    );
 }

@@ -747,6 +747,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
             match &v.geometry {
                 Geometry::Box { size } => bad(e(), "box size", size.as_slice())?,
                 Geometry::Cylinder { radius, length } => bad(e(), "cylinder", &[*radius, *length])?,
+                Geometry::Capsule { radius, length } => bad(e(), "capsule", &[*radius, *length])?,
                 Geometry::Sphere { radius } => bad(e(), "sphere radius", &[*radius])?,
                 Geometry::Mesh { scale, .. } => bad(e(), "mesh scale", scale.as_slice())?,
             }
@@ -759,6 +760,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
             let (field, sizes): (&str, &[f64]) = match &c.geometry {
                 Geometry::Box { size } => ("box size", size.as_slice()),
                 Geometry::Cylinder { radius, length } => ("cylinder radius and length", &[*radius, *length]),
+                Geometry::Capsule { radius, length } => ("capsule radius and length", &[*radius, *length]),
                 Geometry::Sphere { radius } => ("sphere radius", &[*radius]),
                 Geometry::Mesh { scale, .. } => ("mesh scale", scale.as_slice()),
             };

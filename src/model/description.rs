@@ -151,6 +151,14 @@ pub enum Geometry {
         /// Length (m).
         length: f64,
     },
+    /// Capsule along z, centred on the visual origin: a cylinder with a hemisphere on each end
+    /// (MJCF's capsule).
+    Capsule {
+        /// Radius of the cylinder and the hemispheres (m).
+        radius: f64,
+        /// Length of the cylinder between the hemispheres' centres (m).
+        length: f64,
+    },
     /// Sphere centred on the visual origin.
     Sphere {
         /// Radius (m).

@@ -450,18 +450,10 @@ fn geom_shape(
             radius: size[0],
             length: 2.0 * size[1],
         }),
-        "capsule" => {
-            ctx.note(
-                "capsule geom",
-                "the cylinder around it (its length plus its caps)",
-                &name(),
-                false,
-            );
-            Some(Geometry::Cylinder {
-                radius: size[0],
-                length: 2.0 * (size[1] + size[0]),
-            })
-        }
+        "capsule" => Some(Geometry::Capsule {
+            radius: size[0],
+            length: 2.0 * size[1],
+        }),
         "ellipsoid" => {
             ctx.note("ellipsoid geom", "the box around it", &name(), false);
             Some(Geometry::Box {
