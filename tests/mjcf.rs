@@ -373,3 +373,20 @@ fn capsules_are_measured_as_capsules() {
         "capsule distance {d} m, expected {expected} m"
     );
 }
+
+/// The caps of docs/development.md hold for MJCF: nesting is refused before the parser, and so
+/// are more bodies than faze4 reads.
+#[test]
+fn nesting_and_body_counts_are_capped() {
+    let deep = format!(
+        "<mujoco><worldbody>{}{}</worldbody></mujoco>",
+        "<body>".repeat(20_000),
+        "</body>".repeat(20_000)
+    );
+    let e = mjcf::describe_str(&deep, "deep.xml", None).unwrap_err().to_string();
+    assert!(e.contains("nest more than 400 deep"), "{e}");
+    let body = "<body><inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 1 1\"/></body>";
+    let wide = format!("<mujoco><worldbody>{}</worldbody></mujoco>", body.repeat(5000));
+    let e = mjcf::describe_str(&wide, "wide.xml", None).unwrap_err().to_string();
+    assert!(e.contains("more than the 4096 faze4 reads"), "{e}");
+}

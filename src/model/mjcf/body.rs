@@ -90,7 +90,7 @@ impl Tree {
         if self.links.len() >= MAX_LINKS {
             return Err(Error::model(
                 ctx.file,
-                label(element),
+                label(element, ctx.file),
                 format!("is one body more than the {MAX_LINKS} faze4 reads (docs/development.md, Caps)"),
             ));
         }
@@ -99,7 +99,7 @@ impl Tree {
         if !ctx.classes.has(childclass) {
             return Err(Error::model(
                 ctx.file,
-                label(element),
+                label(element, ctx.file),
                 format!("childclass '{childclass}' is not defined"),
             ));
         }
@@ -152,10 +152,10 @@ impl Tree {
             }
             [one] => *one,
             many => {
-                let names: Vec<String> = many.iter().map(|j| label(j)).collect();
+                let names: Vec<String> = many.iter().map(|j| label(j, ctx.file)).collect();
                 return Err(Error::model(
                     ctx.file,
-                    label(body),
+                    label(body, ctx.file),
                     format!(
                         "has {} joints ({}): faze4 moves a body by one joint; give each its own body",
                         many.len(),
@@ -331,7 +331,7 @@ impl Tree {
 fn free_joint(ctx: &Context, element: &Element, body: &str) -> Error {
     Error::model(
         ctx.file,
-        label(element),
+        label(element, ctx.file),
         format!(
             "body '{body}' floats on a free joint (a floating base): faze4 simulates an arm fixed to the world; remove the free joint to fix its base"
         ),

@@ -125,7 +125,7 @@ pub(super) struct Attrs<'a> {
 impl<'a> Attrs<'a> {
     /// The element as messages name it: `<joint name="elbow"> (arm.xml:12)`.
     pub fn label(&self) -> String {
-        label(self.element)
+        label(self.element, self.file)
     }
 
     /// An error about this element.
@@ -223,11 +223,16 @@ impl<'a> Attrs<'a> {
 /// The five ways to write an orientation.
 const ORIENTATIONS: [&str; 5] = ["quat", "axisangle", "xyaxes", "zaxis", "euler"];
 
-/// An element as messages name it: `<joint name="elbow"> (arm.xml:12)`.
-pub(super) fn label(element: &Element) -> String {
+/// An element as messages about `file` name it: `<joint name="elbow"> (line 12)`, the file
+/// named too when it is an included one.
+pub(super) fn label(element: &Element, file: &str) -> String {
+    let at = match element.at.strip_prefix(file).and_then(|l| l.strip_prefix(':')) {
+        Some(line) => format!("line {line}"),
+        None => element.at.clone(),
+    };
     match element.get("name") {
-        Some(name) => format!("<{} name=\"{name}\"> ({})", element.name, element.at),
-        None => format!("<{}> ({})", element.name, element.at),
+        Some(name) => format!("<{} name=\"{name}\"> ({at})", element.name),
+        None => format!("<{}> ({at})", element.name),
     }
 }
 

@@ -57,6 +57,20 @@ pub(super) fn parse_model(text: &str, file: &str, base_dir: Option<&Path>) -> Re
     reader.parse(text, file, 0)
 }
 
+/// One file being read: its name, how many includes down it is, where its lines end.
+struct Source<'a> {
+    file: &'a str,
+    depth: usize,
+    newlines: Vec<usize>,
+}
+
+impl Source<'_> {
+    /// The line (from 1) on which `node` starts.
+    fn line(&self, node: roxmltree::Node) -> usize {
+        self.newlines.partition_point(|&i| i < node.range().start) + 1
+    }
+}
+
 /// The state of one model's reading: where includes are found, how many elements were read.
 struct Reader<'a> {
     base_dir: Option<&'a Path>,
@@ -90,60 +104,52 @@ impl Reader<'_> {
                 root.tag_name().name()
             )));
         }
-        self.convert(&doc, root, file, depth)
+        let source = Source {
+            file,
+            depth,
+            newlines: text.match_indices('\n').map(|(i, _)| i).collect(),
+        };
+        self.convert(&source, root)
     }
 
     /// `node` and its children as [`Element`]s, each `<include>` replaced by its file's
     /// children.
-    fn convert(
-        &mut self,
-        doc: &roxmltree::Document,
-        node: roxmltree::Node,
-        file: &str,
-        depth: usize,
-    ) -> Result<Element> {
+    fn convert(&mut self, source: &Source, node: roxmltree::Node) -> Result<Element> {
         self.elements += 1;
         if self.elements > MAX_ELEMENTS {
             return Err(Error::model(
-                file,
+                source.file,
                 "<mujoco>",
                 format!("has more than {MAX_ELEMENTS} elements, more than faze4 reads (docs/development.md, Caps)"),
             ));
         }
-        let at = format!("{file}:{}", doc.text_pos_at(node.range().start).row);
         let mut element = Element {
             name: node.tag_name().name().to_string(),
             attributes: (node.attributes())
                 .map(|a| (a.name().to_string(), a.value().to_string()))
                 .collect(),
             children: Vec::new(),
-            at,
+            at: format!("{}:{}", source.file, source.line(node)),
         };
         for child in node.children().filter(|n| n.is_element()) {
             if child.tag_name().name() == "include" {
-                let included = self.include(doc, child, file, depth)?;
+                let included = self.include(source, child)?;
                 element.children.extend(included.children);
             } else {
-                element.children.push(self.convert(doc, child, file, depth)?);
+                element.children.push(self.convert(source, child)?);
             }
         }
         Ok(element)
     }
 
     /// The `<mujoco>` of the file an `<include file>` names.
-    fn include(
-        &mut self,
-        doc: &roxmltree::Document,
-        node: roxmltree::Node,
-        file: &str,
-        depth: usize,
-    ) -> Result<Element> {
-        let line = doc.text_pos_at(node.range().start).row;
-        let element = format!("<include> (line {line})");
+    fn include(&mut self, source: &Source, node: roxmltree::Node) -> Result<Element> {
+        let element = format!("<include> (line {})", source.line(node));
+        let file = source.file;
         let Some(name) = node.attribute("file") else {
             return Err(Error::model(file, element, "has no file attribute"));
         };
-        if depth >= MAX_INCLUDE_DEPTH {
+        if source.depth >= MAX_INCLUDE_DEPTH {
             return Err(Error::model(
                 file,
                 element,
@@ -155,6 +161,6 @@ impl Reader<'_> {
             None => Path::new(name).to_path_buf(),
         };
         let text = into_text(&path, read_capped(&path, MAX_URDF_BYTES, "an MJCF file")?)?;
-        self.parse(&text, &path.display().to_string(), depth + 1)
+        self.parse(&text, &path.display().to_string(), source.depth + 1)
     }
 }
