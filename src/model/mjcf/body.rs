@@ -180,40 +180,8 @@ impl Tree {
             }
         };
         let mut desc = joint_desc(&a, &joint, ctx, hinge)?;
-        let axis = Vec3::from(desc.axis);
-        let unit = if axis.norm() > 0.0 { axis / axis.norm() } else { axis };
-        let reference = a.number("ref", 0.0)?;
-        let reference = if hinge {
-            ctx.compiler.angles.radians(reference)
-        } else {
-            reference
-        };
-        // the file places the body at q = ref: faze4's q = 0 is a motion of −ref from there
-        let undo = match hinge {
-            true => {
-                let (s, c) = (-reference).sin_cos();
-                Pose::new(rotation_about_axis(&unit, s, c), Vec3::zeros())
-            }
-            false => Pose::new(Mat3::identity(), -unit * reference),
-        };
-        let pos = Vec3::from(a.vector("pos", [0.0; 3])?);
-        let through = Pose::new(Mat3::identity(), pos);
         desc.parent = parent.to_string();
-        if hinge && pos != Vec3::zeros() {
-            let axis_link = format!("{name}:{joint}");
-            desc.child = axis_link.clone();
-            desc.origin = placement.compose(&through).compose(&undo);
-            self.links.push(LinkDesc {
-                name: axis_link.clone(),
-                ..LinkDesc::default()
-            });
-            self.joints.push(desc);
-            self.weld(format!("{name} (on {joint})"), &axis_link, name, through.inverse());
-        } else {
-            desc.child = name.to_string();
-            desc.origin = placement.compose(&undo);
-            self.joints.push(desc);
-        }
+        let reference = self.attach(desc, &a, name, placement, ctx, hinge)?;
         self.moving.push(joint.clone());
         self.references.push(reference);
         self.armature.push((joint.clone(), a.number("armature", 0.0)?));
@@ -230,6 +198,51 @@ impl Tree {
             ctx.note("stiffness", "not simulated: faze4 has no joint springs", &joint, true);
         }
         Ok(())
+    }
+
+    /// Adds moving joint `desc` (its axis, limits and parent set) that moves body `name` placed
+    /// at `placement` in its parent: the file places the body at q = `ref`, so faze4's q = 0 is
+    /// a motion of −ref from there; a hinge at `pos` ≠ 0 moves a massless link there, to which
+    /// the body is welded. Returns the `ref` (rad or m).
+    fn attach(
+        &mut self,
+        mut desc: JointDesc,
+        a: &Attrs,
+        name: &str,
+        placement: Pose,
+        ctx: &Context,
+        hinge: bool,
+    ) -> Result<f64> {
+        let axis = Vec3::from(desc.axis);
+        let unit = if axis.norm() > 0.0 { axis / axis.norm() } else { axis };
+        let reference = a.number("ref", 0.0)?;
+        let (undo, reference) = match hinge {
+            true => {
+                let reference = ctx.compiler.angles.radians(reference);
+                let (s, c) = (-reference).sin_cos();
+                (Pose::new(rotation_about_axis(&unit, s, c), Vec3::zeros()), reference)
+            }
+            false => (Pose::new(Mat3::identity(), -unit * reference), reference),
+        };
+        let pos = Vec3::from(a.vector("pos", [0.0; 3])?);
+        let through = Pose::new(Mat3::identity(), pos);
+        if hinge && pos != Vec3::zeros() {
+            let axis_link = format!("{name}:{}", desc.name);
+            let weld = format!("{name} (on {})", desc.name);
+            desc.child = axis_link.clone();
+            desc.origin = placement.compose(&through).compose(&undo);
+            self.links.push(LinkDesc {
+                name: axis_link.clone(),
+                ..LinkDesc::default()
+            });
+            self.joints.push(desc);
+            self.weld(weld, &axis_link, name, through.inverse());
+        } else {
+            desc.child = name.to_string();
+            desc.origin = placement.compose(&undo);
+            self.joints.push(desc);
+        }
+        Ok(reference)
     }
 
     /// A fixed joint `name` welding link `child` to `parent` at `origin`.
@@ -291,7 +304,13 @@ impl Tree {
         for item in items.iter().filter(|i| i.element.name == "geom") {
             let class = ctx.classes.class_of(item.element, item.childclass, ctx.file)?;
             let a = ctx.attrs(item.element, class);
-            let Some((placement, shape, kind, size)) = geom_shape(&a, item.frame, name, ctx)? else {
+            let Some(GeomShape {
+                placement,
+                shape,
+                kind,
+                size,
+            }) = geom_shape(&a, item.frame, name, ctx)?
+            else {
                 continue;
             };
             if from_geoms {
@@ -392,15 +411,20 @@ fn inertial_desc(a: &Attrs, ctx: &Context) -> Result<InertialDesc> {
     Ok(InertialDesc { origin, mass, inertia })
 }
 
-/// A geom's placement in its body, its shape for the views and the clearance (`None`: a shape
-/// faze4 does not draw), its type and MJCF size; `None` for a plane or height field (left out).
-#[allow(clippy::type_complexity)]
-fn geom_shape(
-    a: &Attrs,
-    frame: Pose,
-    body: &str,
-    ctx: &Context,
-) -> Result<Option<(Pose, Option<Geometry>, &'static str, Vec<f64>)>> {
+/// A geom as its body's link holds it.
+struct GeomShape {
+    /// Its placement in the body's frame.
+    placement: Pose,
+    /// Its shape for the views and the clearance (`None`: one faze4 does not draw).
+    shape: Option<Geometry>,
+    /// Its MJCF type.
+    kind: &'static str,
+    /// Its MJCF size (half sizes, radius and half length), at least three numbers.
+    size: Vec<f64>,
+}
+
+/// A geom read; `None` for a plane or height field (left out).
+fn geom_shape(a: &Attrs, frame: Pose, body: &str, ctx: &Context) -> Result<Option<GeomShape>> {
     let kind = match a.text("type").unwrap_or("sphere") {
         "sphere" => "sphere",
         "capsule" => "capsule",
@@ -462,7 +486,12 @@ fn geom_shape(
         }
         _ => mesh_shape(a, ctx)?,
     };
-    Ok(Some((placement, shape, kind, size)))
+    Ok(Some(GeomShape {
+        placement,
+        shape,
+        kind,
+        size,
+    }))
 }
 
 /// A mesh geom's file (located, not read) and scale; `None` for a mesh given by its vertices.
