@@ -146,7 +146,7 @@ pub struct RetimeArgs {
 /// Options every run command shares: model, controller, outputs.
 #[derive(Clone, Debug, Args)]
 pub struct RunArgs {
-    /// The arm: a URDF, or a MuJoCo MJCF model (root <mujoco>) (default: the bundled Faze4, urdf/faze4_arm.urdf).
+    /// The arm: a URDF, or a MuJoCo MJCF model (a file whose root element is mujoco) (default: the bundled Faze4, urdf/faze4_arm.urdf).
     #[arg(long, value_name = "F.urdf")]
     pub urdf: Option<PathBuf>,
     /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
