@@ -3,8 +3,8 @@
 //! inertia), its geoms as visuals and collision elements, its named sites as welded links.
 
 use super::classes::MAIN;
+use super::context::{Attrs, Context, FromGeom, label};
 use super::frames::{fromto_pose, unit_inertia};
-use super::model::{Attrs, Context, FromGeom, label};
 use super::xml::Element;
 use crate::error::{Error, Result};
 use crate::input::MAX_LINKS;

@@ -15,13 +15,15 @@
 //! | `xml.rs` | the XML as an owned element tree, `<include>`s expanded |
 //! | `classes.rs` | `<default>` classes and `childclass` |
 //! | `frames.rs` | attribute numbers, the five orientations, primitive geoms' inertia |
+//! | `context.rs` | what one reading shares: compiler settings, assets, the mapped list, attributes |
 //! | `body.rs` | the body tree: links, joints, inertials, geoms, sites |
-//! | `model.rs` | the model's other sections: compiler, assets, actuators, equalities, keyframes |
+//! | `model.rs` | the model's sections around the body tree: compiler, assets, actuators, equalities, keyframes |
 //!
 //! [`LoadWarning`]: super::LoadWarning
 
 mod body;
 mod classes;
+mod context;
 mod frames;
 mod model;
 mod xml;
