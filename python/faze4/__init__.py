@@ -136,7 +136,8 @@ class Robot(_faze4.Robot):
         tool_link: str | None = None,
         **options: Any,
     ) -> Robot:
-        """The arm of a URDF file; ``package_path``: where ``package://`` meshes are looked for
+        """The arm of a URDF file or of a MuJoCo MJCF model (a file whose root is ``<mujoco>``,
+        docs/robots.md); ``package_path``: where ``package://`` meshes are looked for
         (ROS_PACKAGE_PATH after); ``tool_link``: the link traced as the tool. Other keywords:
         as :meth:`Robot.faze4`."""
         if not isinstance(path, (str, os.PathLike)):

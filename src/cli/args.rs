@@ -56,8 +56,8 @@ pub struct WaveArgs {
     /// has limits, else 0.05 m.
     #[arg(long = "amp-m", allow_hyphen_values = true)]
     pub amp_m: Option<f64>,
-    /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
-    #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
+    /// The pose to wave about: one value per joint (rad or m), 'mid' (the middle of each limited joint's range, 0 for an unlimited one) or 'home' (an MJCF model's home keyframe). Default: zero.
+    #[arg(long, value_name = "Q1,Q2,…|mid|home", allow_hyphen_values = true)]
     pub center: Option<String>,
     /// Options every run command shares.
     #[command(flatten)]
@@ -93,6 +93,18 @@ pub struct TrajectoryFileArgs {
     /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
     #[arg(long, value_name = "NAME")]
     pub topic: Option<String>,
+    /// A LeRobot dataset's episode, counted from 0 (default: 0).
+    #[arg(long, value_name = "N")]
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (default: action; e.g. observation.state).
+    #[arg(long = "lerobot-key", value_name = "KEY")]
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's joint values are: deg (an arm recorded with use_degrees) or rad (default: normalised −100…100, turned into radians by --calibration).
+    #[arg(long, value_name = "deg|rad", value_parser = ["deg", "rad"])]
+    pub units: Option<String>,
+    /// LeRobot's calibration file of the arm that recorded a dataset (JSON, per motor drive_mode, range_min, range_max): turns its normalised values into radians.
+    #[arg(long, value_name = "FILE.json")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// `faze4 shape`.
@@ -146,7 +158,7 @@ pub struct RetimeArgs {
 /// Options every run command shares: model, controller, outputs.
 #[derive(Clone, Debug, Args)]
 pub struct RunArgs {
-    /// The arm (default: the bundled Faze4, urdf/faze4_arm.urdf).
+    /// The arm: a URDF, or a MuJoCo MJCF model (a file whose root element is mujoco) (default: the bundled Faze4, urdf/faze4_arm.urdf).
     #[arg(long, value_name = "F.urdf")]
     pub urdf: Option<PathBuf>,
     /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).

@@ -51,6 +51,10 @@ fn file(a: &TrajectoryFileArgs) -> ReplayConfig {
         traj_period: a.traj_period,
         message: a.message,
         topic: a.topic.clone(),
+        episode: a.episode,
+        lerobot_key: a.lerobot_key.clone(),
+        units: a.units.clone(),
+        calibration: a.calibration.clone(),
     }
 }
 

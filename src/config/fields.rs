@@ -253,16 +253,21 @@ pub fn all_given(name: &str, values: &[Option<f64>]) -> Result<Vec<f64>> {
         .collect()
 }
 
-/// A wave's centre as the command line writes it: `mid`, or one value per joint.
+/// A wave's centre as the command line writes it: `mid`, `home`, or one value per joint.
 pub fn parse_center(text: &str) -> Result<Center> {
     match text.trim() {
         "mid" => Ok(Center::Mid),
+        "home" => Ok(Center::Home),
         list => (list.split(',').enumerate())
             .map(|(i, x)| {
                 x.trim().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
                     Error::option(
                         "center",
-                        format!("J{} value '{}' is not a finite number (or use 'mid')", i + 1, x.trim()),
+                        format!(
+                            "J{} value '{}' is not a finite number (or use 'mid' or 'home')",
+                            i + 1,
+                            x.trim()
+                        ),
                     )
                 })
             })
@@ -508,6 +513,75 @@ pub const FIELDS: &[Field] = &[
             };
             if let Some(r) = replay(c) {
                 r.topic = topic;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "episode",
+        kind: Kind::Count,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let episode = match v {
+                Value::Count(k) => Some(usize::try_from(k).map_err(|_| Error::option("episode", "too large"))?),
+                Value::Default => None,
+                other => return Err(wrong("episode", Kind::Count, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.episode = episode;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "lerobot_key",
+        kind: Kind::Text,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let key = match v {
+                Value::Text(t) => Some(t),
+                Value::Default => None,
+                other => return Err(wrong("lerobot_key", Kind::Text, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.lerobot_key = key;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "units",
+        kind: Kind::Choice(&["deg", "rad"]),
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let units = match v {
+                Value::Text(t) => Some(crate::traj::files::lerobot::Units::parse(&t)?.name().to_string()),
+                Value::Default => None,
+                other => return Err(wrong("units", Kind::Choice(&["deg", "rad"]), &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.units = units;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "calibration",
+        kind: Kind::Path,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let path = match v {
+                Value::Path(p) => Some(p),
+                Value::Text(t) => Some(PathBuf::from(t)),
+                Value::Default => None,
+                other => return Err(wrong("calibration", Kind::Path, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.calibration = path;
             }
             Ok(())
         },

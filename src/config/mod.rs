@@ -209,6 +209,8 @@ pub enum Center {
     Zero,
     /// The middle of each limited joint's range (0 for an unlimited one).
     Mid,
+    /// The start pose the robot file offers (MJCF's `home` keyframe).
+    Home,
     /// One value per joint (rad or m).
     Given(Vec<f64>),
 }
@@ -227,6 +229,16 @@ pub struct ReplayConfig {
     /// The topic of an `.mcap` file (`None`: its one JointTrajectory topic, else its one
     /// JointState topic).
     pub topic: Option<String>,
+    /// A LeRobot dataset's episode, from 0 (`None`: 0).
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (`None`: `action`).
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's values are: `deg` or `rad` (`None`: normalised, turned into
+    /// radians by `calibration`, else taken as radians).
+    pub units: Option<String>,
+    /// LeRobot's calibration file of the arm (JSON: per motor `drive_mode`, `range_min`,
+    /// `range_max`), for a dataset's normalised values.
+    pub calibration: Option<PathBuf>,
 }
 
 impl ReplayConfig {
@@ -237,6 +249,10 @@ impl ReplayConfig {
             traj_period: DEFAULT_TRAJ_PERIOD,
             message: None,
             topic: None,
+            episode: None,
+            lerobot_key: None,
+            units: None,
+            calibration: None,
         }
     }
 }

@@ -40,7 +40,7 @@
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints, details};
-use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap};
+use parry3d_f64::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap};
 use parry3d_f64::transformation::try_convex_hull;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -130,7 +130,7 @@ impl Object {
         match (self.convex.as_convex_polyhedron(), &self.climb) {
             (Some(hull), Some(adjacency)) => Support::Hull(Climber::new(hull, adjacency, start)),
             _ => Support::Primitive(
-                (self.convex.as_support_map()).expect("parry's boxes, balls and cylinders have support maps"),
+                (self.convex.as_support_map()).expect("parry's boxes, balls, cylinders and capsules have support maps"),
             ),
         }
     }
@@ -156,6 +156,9 @@ impl Object {
                 g.placement.compose(&axis_fix),
                 None,
             ),
+            Geometry::Capsule { radius, length } => {
+                (Arc::new(Capsule::new_z(length / 2.0, *radius)), None, g.placement, None)
+            }
             Geometry::Mesh { .. } => {
                 let mesh = meshes.get(&MeshKey::of(g)?)?.as_ref()?;
                 (

@@ -45,7 +45,7 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::faze4;
-use crate::model::{FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, RobotDescription, urdf};
+use crate::model::{FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, RobotDescription, mjcf, urdf};
 use crate::spatial::Pose;
 
 /// A robot as read from a file: the dynamics [`Model`] and, beside it, the shapes attached to
@@ -67,10 +67,15 @@ impl Robot {
         Robot::from_urdf_file_with(path, packages, &LoadOptions::default())
     }
 
-    /// [`Robot::from_urdf_file`] read with `options`.
+    /// [`Robot::from_urdf_file`] read with `options`. A file whose root is `<mujoco>` is read
+    /// as MJCF ([`crate::model::mjcf`]).
     pub fn from_urdf_file_with(path: &Path, packages: &PackagePaths, options: &LoadOptions) -> Result<Robot> {
         let text = urdf::read_text(path)?;
-        Robot::from_urdf_str_with(&text, &path.display().to_string(), path.parent(), packages, options)
+        let file = path.display().to_string();
+        match mjcf::is_mjcf(&text) {
+            true => Robot::from_description_with(&mjcf::describe_str(&text, &file, path.parent())?, options),
+            false => Robot::from_urdf_str_with(&text, &file, path.parent(), packages, options),
+        }
     }
 
     /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
@@ -107,11 +112,15 @@ impl Robot {
         packages: &PackagePaths,
         options: &LoadOptions,
     ) -> Result<Robot> {
-        let desc = urdf::describe(text, file, base_dir, packages)?;
-        let (mut model, warnings) = Model::from_description_with(&desc, options)?;
+        Robot::from_description_with(&urdf::describe(text, file, base_dir, packages)?, options)
+    }
+
+    /// The robot `desc` describes, read with `options`.
+    pub fn from_description_with(desc: &RobotDescription, options: &LoadOptions) -> Result<Robot> {
+        let (mut model, warnings) = Model::from_description_with(desc, options)?;
         // what the arm's maker knows beyond the file, when this is an arm faze4 knows
         model.defaults = faze4::defaults_for(&model);
-        let geometry = GeometryModel::new(&model, &desc);
+        let geometry = GeometryModel::new(&model, desc);
         Ok(Robot {
             model,
             geometry,

@@ -103,7 +103,7 @@ pub fn not_found_advice(uri: &str) -> String {
         Some((name, _)) => format!(
             "package '{name}': give --package-path the folder that contains the package folder '{name}', as ROS_PACKAGE_PATH would"
         ),
-        None => "a relative path is taken from the URDF's folder".to_string(),
+        None => "a relative path is taken from the robot file's folder".to_string(),
     }
 }
 

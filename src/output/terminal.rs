@@ -103,6 +103,21 @@ impl Terminal {
     }
 }
 
+/// The banner's line for a model read from a format other than URDF: the format and what its
+/// reading mapped or left out, each with the number of elements concerned (`None` for a URDF).
+fn mapped_line(m: &crate::model::Model) -> Option<String> {
+    if m.format.is_empty() || m.format == "urdf" {
+        return None;
+    }
+    let mapped: Vec<String> = (m.mapped.iter())
+        .map(|x| format!("{} → {} ({})", x.from, x.to, x.items.len()))
+        .collect();
+    Some(match mapped.is_empty() {
+        true => format!("[faze4] read as {}", m.format),
+        false => format!("[faze4] read as {}: {}", m.format, mapped.join(" · ")),
+    })
+}
+
 /// A control rate for people: "5 kHz", "1 kHz", "250 Hz".
 fn rate(hz: f64) -> String {
     if hz >= 1e3 {
@@ -151,6 +166,9 @@ impl Recorder for Terminal {
             run.steps as f64 * run.dt,
             run.steps
         ))?;
+        if let Some(line) = mapped_line(m) {
+            out(&line)?;
+        }
         // how a default tool was chosen, said only where it is not the chain's obvious one
         let how = match m.default_tool() {
             (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => {
