@@ -287,7 +287,7 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
                     return Err(invalid(
                         path,
                         format!(
-                            "has {} candidate topics: {}; pick one with --topic",
+                            "has {} candidate topics: {}; pick one with `topic`",
                             several.len(),
                             listed(&mut several.iter())
                         ),
@@ -531,7 +531,7 @@ mod tests {
         let e = read(&two, None).unwrap_err().to_string();
         assert_eq!(
             e,
-            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState), /right (sensor_msgs/msg/JointState); pick one with --topic"
+            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState), /right (sensor_msgs/msg/JointState); pick one with `topic`"
         );
         assert_eq!(read(&two, Some("/right")).unwrap().joint_names, ["a"]);
         let e = read(&two, Some("/chatter")).unwrap_err().to_string();
