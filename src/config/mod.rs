@@ -23,6 +23,7 @@ use std::path::PathBuf;
 use crate::control::FeedForward;
 use crate::error::Words;
 use crate::geometry::{ClearanceGeometry, PairFilter};
+pub use crate::sim::DriveMode;
 use crate::sim::{Drive, Thresholds};
 use crate::traj::shape::Shape;
 
@@ -405,18 +406,6 @@ pub struct ControlConfig {
     /// motors').
     pub microsteps: Vec<Option<f64>>,
 }
-
-/// How the joints with a stepper are driven (`drive`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DriveMode {
-    /// The controller's torque clipped to each motor's envelope (the original's).
-    #[default]
-    Pd,
-    /// Open loop: the driver's microstep through the stepper's torque–angle curve.
-    Stepper,
-}
-
-crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper" });
 
 impl Default for ControlConfig {
     fn default() -> Self {
