@@ -17,6 +17,7 @@ use crate::choice::Choice;
 use crate::control::FeedForward;
 use crate::error::{Error, Result, Words, in_words, shortest};
 use crate::geometry::{ClearanceGeometry, PairFilter};
+use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
 /// The kind of value a field takes.
@@ -707,6 +708,76 @@ pub const FIELDS: &[Field] = &[
     )
     .value_name("NAME")
     .help("The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic)."),
+    Field::new(
+        "episode",
+        Kind::Count,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let episode = count("episode", v)?;
+            if let Some(r) = replay(c) {
+                r.episode = episode;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("N")
+    .help("A LeRobot dataset's episode, counted from 0 (default: 0)."),
+    Field::new(
+        "lerobot_key",
+        Kind::Text,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let key = match v {
+                Value::Text(t) => Some(t),
+                Value::Default => None,
+                other => return Err(wrong("lerobot_key", Kind::Text, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.lerobot_key = key;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("KEY")
+    .help("A LeRobot dataset's column of joint values (default: action; e.g. observation.state)."),
+    Field::new(
+        "units",
+        Kind::Choice(Units::WORDS),
+        Commands::TRAJECTORY,
+        |c, v| {
+            let units = choose("units", &v)?;
+            if let Some(r) = replay(c) {
+                r.units = units;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("deg|rad")
+    .help(
+        "What a LeRobot dataset's joint values are: deg (an arm recorded with use_degrees) or rad (default: \
+         normalised −100…100, turned into radians by `calibration`).",
+    ),
+    Field::new(
+        "calibration",
+        Kind::Path,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let calibration = path("calibration", v)?;
+            if let Some(r) = replay(c) {
+                r.calibration = calibration;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("FILE.json")
+    .help(
+        "LeRobot's calibration file of the arm that recorded a dataset (JSON, per motor drive_mode, range_min, \
+         range_max): turns its normalised values into radians.",
+    ),
     duration(Commands::REPLAY)
         .help("Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy."),
     // retime

@@ -25,6 +25,7 @@ use crate::error::Words;
 use crate::geometry::{ClearanceGeometry, PairFilter};
 pub use crate::sim::DriveMode;
 use crate::sim::{Drive, Thresholds};
+use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
 pub use arm::{Arm, load_arm, tool_frame};
@@ -267,6 +268,16 @@ pub struct ReplayConfig {
     /// The topic of an `.mcap` file (`None`: its one JointTrajectory topic, else its one
     /// JointState topic).
     pub topic: Option<String>,
+    /// A LeRobot dataset's episode, from 0 (`None`: 0).
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (`None`: `action`).
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's values are: `deg` or `rad` (`None`: normalised, turned into
+    /// radians by `calibration`, else taken as radians).
+    pub units: Option<Units>,
+    /// LeRobot's calibration file of the arm (JSON: per motor `drive_mode`, `range_min`,
+    /// `range_max`), for a dataset's normalised values.
+    pub calibration: Option<PathBuf>,
 }
 
 impl ReplayConfig {
@@ -277,6 +288,10 @@ impl ReplayConfig {
             traj_period: DEFAULT_TRAJ_PERIOD,
             message: None,
             topic: None,
+            episode: None,
+            lerobot_key: None,
+            units: None,
+            calibration: None,
         }
     }
 }

@@ -39,6 +39,8 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
+    /// What reading the trajectory noticed (a LeRobot dataset's gripper column left out).
+    Trajectory(String),
     /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
     /// its natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) times Δt is above
     /// [`STEPPER_STEPS_PER_RADIAN`]; a run near a slip can change with Δt.
@@ -106,6 +108,7 @@ impl fmt::Display for Warning {
                 std::f64::consts::TAU / (omega * fine_dt(*omega)),
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
+            Warning::Trajectory(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
             Warning::HeldJoints { source, joints } => write!(
                 f,
