@@ -1,4 +1,4 @@
-"""Type stubs of faze4 (written by tools/python/stubs.py from the binary's options)."""
+"""Type stubs of faze4 (written by tools/python/stubs.py from the options the library declares)."""
 
 import os
 from typing import Any, Literal, NamedTuple, Sequence
@@ -79,7 +79,7 @@ class Robot:
         max_error: float = 0.05,
         max_deviation_mm: float = 5.0,
         strict: bool = False,
-        trail: str | os.PathLike[str] = 'none',
+        trail: str | os.PathLike[str] | None = None,
         summary: str | os.PathLike[str] | None = None,
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -126,7 +126,7 @@ class Robot:
         max_error: float = 0.05,
         max_deviation_mm: float = 5.0,
         strict: bool = False,
-        trail: str | os.PathLike[str] = 'none',
+        trail: str | os.PathLike[str] | None = None,
         summary: str | os.PathLike[str] | None = None,
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -219,7 +219,7 @@ def wave(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -279,7 +279,7 @@ def replay(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -330,7 +330,7 @@ def shape(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -389,7 +389,7 @@ def retime(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',

@@ -78,7 +78,7 @@ impl std::fmt::Display for LoadWarning {
                 balanced,
             } => write!(
                 f,
-                "{file}: link '{link}' <inertial>: principal moments {a:e}, {b:e}, {c:e} kg·m² (about the centre of mass of the body it heads) set to their mean {balanced:e} kg·m² (--balance-inertia)"
+                "{file}: link '{link}' <inertial>: principal moments {a:e}, {b:e}, {c:e} kg·m² (about the centre of mass of the body it heads) set to their mean {balanced:e} kg·m² (`balance_inertia`)"
             ),
             LoadWarning::NotSimulated { file, what, why, items } => {
                 write!(f, "{file}: {what} of {}: {why}", items.join(", "))
@@ -466,7 +466,7 @@ fn check_inertias(
             format!("violate the triangle inequality ({a:e} + {b:e} < {c:e})")
         };
         let fix = if mean > 0.0 {
-            " (--balance-inertia sets them to their mean, as MuJoCo's balanceinertia does)"
+            " (`balance_inertia` sets them to their mean, as MuJoCo's balanceinertia does)"
         } else {
             ""
         };

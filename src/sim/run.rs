@@ -4,8 +4,9 @@ use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use super::step::{self, Step};
-use super::{ContactStep, ContactSummary};
+use super::{ContactStep, ContactSummary, DriveMode};
 use crate::algo::{Data, State, forward_kinematics};
+use crate::choice::Choice;
 use crate::control::{Envelope, Slips};
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet, PathClearance};
@@ -501,7 +502,10 @@ impl MotorMetrics {
                     MotorSummary {
                         label: m.label.clone(),
                         kind: m.envelope.kind(),
-                        drive: if drive.is_some() { "stepper" } else { "pd" },
+                        drive: match drive {
+                            Some(_) => DriveMode::Stepper.word(),
+                            None => DriveMode::Pd.word(),
+                        },
                         envelope_pct: 100.0
                             * match drive {
                                 Some(_) => slips.past_peak,
