@@ -1,4 +1,4 @@
-"""Type stubs of faze4 (written by tools/python/stubs.py from the binary's options)."""
+"""Type stubs of faze4 (written by tools/python/stubs.py from the options the library declares)."""
 
 import os
 from typing import Any, Literal, NamedTuple, Sequence
@@ -127,7 +127,7 @@ class Robot:
         max_error: float = 0.05,
         max_deviation_mm: float = 5.0,
         strict: bool = False,
-        trail: str | os.PathLike[str] = 'none',
+        trail: str | os.PathLike[str] | None = None,
         summary: str | os.PathLike[str] | None = None,
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -175,7 +175,7 @@ class Robot:
         max_error: float = 0.05,
         max_deviation_mm: float = 5.0,
         strict: bool = False,
-        trail: str | os.PathLike[str] = 'none',
+        trail: str | os.PathLike[str] | None = None,
         summary: str | os.PathLike[str] | None = None,
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -268,7 +268,7 @@ def wave(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -328,7 +328,7 @@ def replay(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -379,7 +379,7 @@ def shape(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',
@@ -438,7 +438,7 @@ def retime(
     max_error: float = 0.05,
     max_deviation_mm: float = 5.0,
     strict: bool = False,
-    trail: str | os.PathLike[str] = 'none',
+    trail: str | os.PathLike[str] | None = None,
     summary: str | os.PathLike[str] | None = None,
     record_period: float = 0.02,
     collision_geometry: Literal['mesh', 'hull'] = 'mesh',

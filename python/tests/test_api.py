@@ -114,7 +114,8 @@ def test_a_xacro_robot_is_read_by_keywords_as_the_binary_reads_it():
     assert np.array_equal(robot.gravity(q), oracle.gravity(q))
     ours, theirs = faze4.wave(robot, duration=0.2, no_collisions=True), faze4.wave(oracle, duration=0.2, no_collisions=True)
     assert np.array_equal(ours.q, theirs.q)
-    assert ours.summary["robot_source"] == f"xacro {ur}, name:=ur5e, ur_type:=ur5e"
+    assert ours.summary["robot_source"] == f"{ur}, name:=ur5e, ur_type:=ur5e"
+    assert ours.summary["format"] == "xacro" and theirs.summary["format"] == "urdf"
     assert pickle.loads(pickle.dumps(robot)).joint_names == robot.joint_names
     with pytest.raises(faze4.Error, match="xacro_arg: .* takes no xacro arguments"):
         faze4.Robot(robot=expanded, xacro_arg="a:=1")
@@ -122,6 +123,29 @@ def test_a_xacro_robot_is_read_by_keywords_as_the_binary_reads_it():
         faze4.Robot(robot=expanded, urdf=expanded)
     with pytest.raises(TypeError, match="xacro_arg: takes texts"):
         faze4.Robot(robot=ur, xacro_arg=[1])
+
+
+def test_an_mjcf_model_runs_from_its_home_keyframe():
+    # Menagerie's UR5e: MuJoCo's home keyframe is the wave's centre, its actuators' forcerange the
+    # torque limits, and the summary says the format and what the reading mapped
+    robot = faze4.Robot.from_urdf(ROOT / "tests" / "mjcf" / "menagerie" / "ur5e.xml")
+    run = faze4.wave(robot, duration=0.05, center="home", amp_deg=1, no_collisions=True)
+    summary = run.summary
+    assert summary["format"] == "mjcf" and summary["effort"] == [150.0, 150.0, 150.0, 28.0, 28.0, 28.0]
+    assert {m["from"] for m in summary["mapped"]} >= {"armature", "actuator forcerange", "keyframe home"}
+    # the command starts at the centre plus A sin(i pi/3) (A = 1 degree)
+    home = np.array(fixture("mjcf_ur5e.json")["home"])
+    start = home + np.radians(1.0) * np.sin(np.arange(6) * np.pi / 3)
+    assert np.allclose(run.q_cmd[0], start, rtol=0, atol=1e-12)
+    # robot= reads an MJCF model as from_urdf does; a xacro argument for it is refused
+    by_keyword = faze4.Robot(robot=ROOT / "tests" / "mjcf" / "menagerie" / "ur5e.xml")
+    assert by_keyword.joint_names == robot.joint_names
+    q = np.linspace(-1.0, 1.0, 6)
+    assert np.array_equal(by_keyword.mass_matrix(q), robot.mass_matrix(q))
+    with pytest.raises(faze4.Error, match="xacro_arg: .* is an MJCF file, not a xacro file"):
+        faze4.Robot(robot=ROOT / "tests" / "mjcf" / "menagerie" / "ur5e.xml", xacro_arg="a:=1")
+    with pytest.raises(ValueError, match="offers no start pose"):
+        faze4.wave(faze4.Robot.from_urdf(ROOT / "tests" / "mjcf" / "so101" / "scene.xml"), center="home")
 
 
 def test_model_options_change_the_model():
@@ -301,9 +325,10 @@ def test_stub_keywords_are_the_binarys_options():
 
 
 def test_python_defaults_are_the_only_ones_that_differ():
-    assert set(faze4.PYTHON_DEFAULTS) == {"trail", "quiet"}
-    binary = {o.name: o.default for o in faze4.options("wave")}
-    assert binary["trail"] == "faze4_trail.csv"
+    assert set(faze4.PYTHON_DEFAULTS) == {"quiet"}
+    # the library writes no trail file unless asked: faze4_trail.csv is the binary's own default
+    declared = {o.name: o.default for o in faze4.options("wave")}
+    assert declared["trail"] is None
 
 
 def test_motors_as_a_dict_equal_the_motors_file():

@@ -9,27 +9,34 @@
 //! | `claims.rs` | what a mesh file claims (counts, nesting, a binary STL's length) checked against what it holds, before mesh-loader allocates |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
+//! | `bvh.rs` | `Bvh`: a mesh's bounding-volume hierarchy, flat; nearest triangle to a point (std only: `build.rs` builds the Faze4's with it) |
+//! | `triangles.rs` | a mesh's exact triangles with their hierarchy, as the searches read them |
+//! | `mesh_cache.rs` | each mesh's hierarchy made once: carried in the binary for the Faze4, kept in the user's cache folder for other meshes ([`cache_folder`]) |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |
 //! | `clearance.rs` | [`Clearance`]: a run's accumulator, sample by sample, into a [`ClearanceReport`] |
 //! | `path.rs` | [`PathClearance`]: a path's bounds, computed once, shared by the runs that follow it |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
+mod bvh;
 mod claims;
 mod clearance;
 mod collision_set;
 mod contact;
 mod hull;
 pub mod mesh;
+mod mesh_cache;
 mod motion_bound;
 mod pairs;
 mod path;
 mod report;
 mod search;
+mod triangles;
 
 pub use clearance::Clearance;
 pub use collision_set::{CollisionSet, GeometryData, Warning};
 pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
+pub use mesh_cache::{FORMAT as CACHE_FORMAT, folder as cache_folder};
 pub use pairs::{PairFilter, checked_pairs};
 pub use path::{MAX_PATH_BYTES, PathBuilder, PathClearance};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
@@ -57,20 +64,19 @@ pub struct Robot {
 }
 
 impl Robot {
-    /// Reads and validates the URDF file at `path`: its model and its geometry. Mesh files are
-    /// only located (`packages` resolves `package://`), not read.
+    /// Reads and validates the robot file at `path`, of any format faze4 reads (URDF, xacro
+    /// without arguments, MJCF: [`crate::model::robot_file`]): its model and its geometry. Mesh
+    /// files are only located (`packages` resolves `package://`), not read.
     pub fn from_urdf_file(path: &Path, packages: &PackagePaths) -> Result<Robot> {
-        Robot::from_urdf_file_with(path, packages, &LoadOptions::default())
+        let read = ReadOptions {
+            packages: packages.clone(),
+            xacro_args: Vec::new(),
+        };
+        Robot::from_file_with(path, &read, &LoadOptions::default())
     }
 
-    /// [`Robot::from_urdf_file`] read with `options`.
-    pub fn from_urdf_file_with(path: &Path, packages: &PackagePaths, options: &LoadOptions) -> Result<Robot> {
-        let text = urdf::read_text(path)?;
-        Robot::from_urdf_str_with(&text, &path.display().to_string(), path.parent(), packages, options)
-    }
-
-    /// Reads and validates the robot file at `path` in whichever format it is (URDF, xacro:
-    /// [`crate::model::robot_file`]), with `read` (packages, xacro arguments) and `options`.
+    /// Reads and validates the robot file at `path` in whichever format it is (URDF, xacro,
+    /// MJCF: [`crate::model::robot_file`]), with `read` (packages, xacro arguments) and `options`.
     pub fn from_file_with(path: &Path, read: &ReadOptions, options: &LoadOptions) -> Result<Robot> {
         Robot::from_description_with(&describe_file(path, read)?, options)
     }
@@ -113,7 +119,7 @@ impl Robot {
     }
 
     /// The robot `desc` describes, read with `options`.
-    fn from_description_with(desc: &RobotDescription, options: &LoadOptions) -> Result<Robot> {
+    pub fn from_description_with(desc: &RobotDescription, options: &LoadOptions) -> Result<Robot> {
         let (mut model, warnings) = Model::from_description_with(desc, options)?;
         // what the arm's maker knows beyond the file, when this is an arm faze4 knows
         model.defaults = faze4::defaults_for(&model);

@@ -12,15 +12,16 @@
 //! coordinate: `q_body = multiplier·q[coordinate] + offset` ([`Body`]). Without mimic joints
 //! body i is moved by joint i (`nb = n`) and the two numberings are the same.
 //!
-//! Only [`urdf`] knows the URDF format (and the urdf-rs crate); it produces a
-//! [`RobotDescription`], and [`Model::from_description`] turns any description into a model.
-//! [`robot_file`] is the one place that picks a robot file's format and hands it to the file
-//! that owns it ([`urdf`], [`xacro`]).
+//! Only [`urdf`] knows the URDF format (and the urdf-rs crate), only [`xacro`] xacro, only
+//! [`mjcf`] MuJoCo's MJCF; each produces a [`RobotDescription`] (xacro through `urdf`), and
+//! [`Model::from_description`] turns any description into a model. [`robot_file`] is the one
+//! place that picks a robot file's format and hands it to the file that owns it.
 
 mod build;
 pub use build::{LoadOptions, LoadWarning};
 mod defaults;
 mod description;
+pub mod mjcf;
 mod package;
 pub mod robot_file;
 pub mod urdf;
@@ -28,8 +29,8 @@ pub mod xacro;
 
 pub use defaults::{ArmDefaults, ShapeIk};
 pub use description::{
-    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
-    Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, Mapping, MimicDesc, RobotDescription,
+    TransmissionDesc, Visual,
 };
 pub use package::{PackagePaths, not_found_advice};
 pub use robot_file::{ReadOptions, RobotFormat, describe_file};
@@ -246,7 +247,8 @@ pub enum ToolChoice {
 pub struct Model {
     /// The robot's name (URDF `<robot name>`).
     pub name: String,
-    /// Where the model came from (a file path, or the name of a bundled model).
+    /// Where the model came from (a file path, with a xacro file's arguments, or the name of a
+    /// bundled model).
     pub source: String,
     /// The n degrees of freedom: the moving joints that mimic no other, in generalised-coordinate
     /// order (`q[i]` is joint i's position). A leader's limits are its own intersected with each
@@ -277,6 +279,15 @@ pub struct Model {
     /// What the arm's maker knows beyond the URDF (default limits, the shapes' IK pose): none
     /// for a model read from a file, unless its loader knows the arm.
     pub defaults: ArmDefaults,
+    /// The format of the file it was read from (`urdf`, `xacro`, `mjcf`; empty for a description built
+    /// in memory without one).
+    pub format: String,
+    /// What reading that format mapped onto faze4's terms or left out (MJCF's armature as
+    /// rotor inertia, its world geoms left out); empty for a URDF.
+    pub mapped: Vec<Mapping>,
+    /// The start pose the file offers (MJCF's `home` keyframe), one position per coordinate
+    /// (rad or m), if it offers one.
+    pub home: Option<Vec<f64>>,
 }
 
 impl Model {

@@ -5,14 +5,14 @@
 //! |---|---|---|
 //! | URDF | root `<robot>`, no `<xacro:…>` element; or `.urdf`, or anything unknown | [`super::urdf`] (the only file that knows urdf-rs) |
 //! | xacro | root `<robot>` with `<xacro:…>` elements, or a `.xacro` file (`.urdf.xacro`) | [`super::xacro`]: expanded to URDF text, then read by `urdf` |
-//! | MJCF | root `<mujoco>` | not read yet: refused naming the format |
+//! | MJCF | root `<mujoco>` | [`super::mjcf`] |
 //!
 //! The root element decides; the extension only where the text has no root element (an empty
 //! or malformed file, which its owner then names).
 
 use std::path::Path;
 
-use super::{PackagePaths, RobotDescription, urdf, xacro};
+use super::{PackagePaths, RobotDescription, mjcf, urdf, xacro};
 use crate::error::{Error, Result};
 
 /// The formats of robot files.
@@ -63,39 +63,37 @@ pub struct ReadOptions {
 }
 
 /// The description in the robot file `path`, of whichever format it is ([`RobotFormat::detect`]),
-/// mesh references resolved (not read). Its `file` names where it came from for the banner,
-/// the summary and messages: the path for a URDF, `xacro PATH` and the arguments given for a
-/// xacro file.
+/// mesh references resolved (not read). Its `format` is the format's name, its `file` names
+/// where it came from for the banner, the summary and messages: the path, and for a xacro file
+/// the arguments given (`PATH, NAME:=VALUE, …`). Arguments for a file that is not xacro are
+/// refused naming `xacro_arg`.
 pub fn describe_file(path: &Path, options: &ReadOptions) -> Result<RobotDescription> {
     let text = urdf::read_text(path)?;
     let format = RobotFormat::detect(path, &text);
     if format != RobotFormat::Xacro && !options.xacro_args.is_empty() {
+        let article = match format {
+            RobotFormat::Mjcf => "an MJCF",
+            _ => "a URDF",
+        };
         return Err(Error::option(
             "xacro_arg",
             format!(
-                "{} is {} file, not a xacro file: it takes no xacro arguments",
-                path.display(),
-                match format {
-                    RobotFormat::Mjcf => "an MJCF",
-                    _ => "a URDF",
-                }
+                "{} is {article} file, not a xacro file: it takes no xacro arguments",
+                path.display()
             ),
         ));
     }
-    match format {
-        RobotFormat::Urdf => urdf::describe(&text, &path.display().to_string(), path.parent(), &options.packages),
+    let file = path.display().to_string();
+    let mut desc = match format {
+        RobotFormat::Urdf => urdf::describe(&text, &file, path.parent(), &options.packages)?,
         RobotFormat::Xacro => {
             let expanded = xacro::expand(&text, path, &options.xacro_args, &options.packages)?;
-            let file = expanded.label();
-            urdf::describe(&expanded.urdf, &file, path.parent(), &options.packages)
+            urdf::describe(&expanded.urdf, &expanded.label(), path.parent(), &options.packages)?
         }
-        // the MJCF reader's arm (issue 44, item 3)
-        RobotFormat::Mjcf => Err(Error::model(
-            &path.display().to_string(),
-            "<mujoco>",
-            "is an MJCF model, which faze4 does not read yet: give a URDF or a xacro file",
-        )),
-    }
+        RobotFormat::Mjcf => mjcf::describe_str(&text, &file, path.parent())?,
+    };
+    desc.format = format.name().to_string();
+    Ok(desc)
 }
 
 /// The name of the document's root element, if the text has one before any malformed markup.

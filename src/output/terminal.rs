@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
 use crate::control::FeedForward;
-use crate::error::{escape_controls, quoted};
+use crate::error::{Words, escape_controls, in_words, quoted};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
@@ -23,6 +23,8 @@ const BAR_REDRAW: Duration = Duration::from_millis(100);
 /// a terminal.
 pub struct Terminal {
     debug: bool,
+    /// How the lines name options (`--tool-link` or `tool_link`).
+    words: Words,
     /// Simulated time between progress lines (s).
     print_period: f64,
     dof: usize,
@@ -52,14 +54,15 @@ impl Terminal {
     }
 
     /// A printer with a progress line every `print_period` s of simulated time; `debug` adds τ,
-    /// the tracking error, v and g(q) to every progress line.
-    pub fn new(debug: bool, print_period: f64) -> Self {
+    /// the tracking error, v and g(q) to every progress line; `words`: how its lines name options.
+    pub fn new(debug: bool, print_period: f64, words: Words) -> Self {
         let bar = std::io::stderr().is_terminal().then(|| Bar {
             started: Instant::now(),
             drawn: None,
         });
         Self {
             debug,
+            words,
             print_period,
             dof: 0,
             prismatic: Vec::new(),
@@ -103,6 +106,27 @@ impl Terminal {
     }
 }
 
+/// Where the banner says the model came from: its format and source (`urdf PATH`,
+/// `xacro PATH, NAME:=VALUE`, `mjcf PATH`; the source alone for a model built in memory).
+fn origin(m: &crate::model::Model) -> String {
+    match m.format.is_empty() {
+        true => m.source.clone(),
+        false => format!("{} {}", m.format, m.source),
+    }
+}
+
+/// The banner's line of what reading the model mapped onto faze4's terms or left out, each with
+/// the number of elements concerned (`None` when nothing was: a URDF, a xacro file).
+fn mapped_line(m: &crate::model::Model) -> Option<String> {
+    if m.mapped.is_empty() {
+        return None;
+    }
+    let mapped: Vec<String> = (m.mapped.iter())
+        .map(|x| format!("{} → {} ({})", x.from, x.to, x.items.len()))
+        .collect();
+    Some(format!("[faze4] mapped from {}: {}", m.format, mapped.join(" · ")))
+}
+
 /// A control rate for people: "5 kHz", "1 kHz", "250 Hz".
 fn rate(hz: f64) -> String {
     if hz >= 1e3 {
@@ -139,7 +163,7 @@ impl Recorder for Terminal {
             "[faze4] {} · {} ({}) · {} dof · gravity {} · Δt {} ms ({}) · {} s = {} steps",
             run.command,
             m.name,
-            m.source,
+            origin(m),
             m.dof(),
             if g == 0.0 {
                 "off".to_string()
@@ -151,12 +175,16 @@ impl Recorder for Terminal {
             run.steps as f64 * run.dt,
             run.steps
         ))?;
+        if let Some(line) = mapped_line(m) {
+            out(&line)?;
+        }
         // how a default tool was chosen, said only where it is not the chain's obvious one
         let how = match m.default_tool() {
-            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => {
-                " (deepest common ancestor of the deepest leaves; --tool-link to choose)"
-            }
-            _ => "",
+            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => in_words(
+                " (deepest common ancestor of the deepest leaves; `tool_link` to choose)",
+                self.words,
+            ),
+            _ => String::new(),
         };
         out(&format!(
             "[faze4] tool {}{how} · {}",

@@ -6,7 +6,7 @@ use super::{Scenario, Sizing, Verdict};
 use crate::control::{FeedForward, Gains};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
-use crate::model::{Geometry, JointId, ToolChoice};
+use crate::model::{Geometry, JointId, Mapping, ToolChoice};
 use crate::traj::Interpolation;
 
 /// What a run simulated: the robot, its degrees of freedom and their units, the tool, and where
@@ -16,8 +16,9 @@ use crate::traj::Interpolation;
 pub struct Simulated {
     /// The robot's name (the URDF's `<robot name>`).
     pub robot: String,
-    /// Where the model was read from, in which format: a URDF's path, `xacro PATH, NAME:=VALUE, …`
-    /// (the arguments given) for a xacro file, `bundled urdf/faze4_arm.urdf` for the bundled arm.
+    /// Where the model was read from: the robot file's path, with a xacro file's arguments
+    /// (`PATH, NAME:=VALUE, …`, the arguments given), `bundled urdf/faze4_arm.urdf` for the
+    /// bundled arm. Its format is [`Simulated::format`].
     pub robot_source: String,
     /// The degrees of freedom in order (J1 … Jn, the order of every per-joint list): the moving
     /// joints that mimic no other.
@@ -30,6 +31,12 @@ pub struct Simulated {
     /// found. Listed whether or not the run checks the self-clearance (`--no-collisions` too):
     /// whether it did, and the links it left out, is `clearance`.
     pub meshes: Vec<MeshSource>,
+    /// The robot file's format: `urdf`, `xacro`, `mjcf` (empty for a model built in memory).
+    pub format: String,
+    /// What reading the file mapped onto faze4's terms or left out (MJCF's `armature` as rotor
+    /// inertia, its world geoms left out, its `frictionloss` not simulated), each with the
+    /// elements concerned; empty for a URDF.
+    pub mapped: Vec<Mapping>,
 }
 
 impl Simulated {
@@ -54,6 +61,8 @@ impl Simulated {
                 ToolChoice::DeepestCommonAncestor => ToolRule::DeepestCommonAncestor,
             },
             meshes: sc.meshes.clone(),
+            format: model.format.clone(),
+            mapped: model.mapped.clone(),
         }
     }
 }

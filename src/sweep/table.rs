@@ -9,8 +9,8 @@
 //! (the clearance's per-pair `pairs`) stay in the summary: the table keeps the closest pair,
 //! `clearance_min_m`, `clearance_links_1`, `clearance_links_2`, `clearance_t` (and
 //! `clearance_geometry`), the same columns in every row. What was simulated (`robot`, `robot_source`,
-//! `joints`, `tool_link`, `tool_choice`, `meshes`) is the same in every run of a sweep and has
-//! no column.
+//! `format`, `mapped`, `joints`, `tool_link`, `tool_choice`, `meshes`) is the same in every run of a
+//! sweep and has no column.
 
 use std::io::Write;
 use std::path::Path;
@@ -25,12 +25,14 @@ use crate::output::format::push_exact;
 
 /// The summary fields that are not figures of the run, or that have their own columns: the
 /// description of what was simulated is the same in every row of a sweep and left out.
-const NOT_FIGURES: [&str; 9] = [
+const NOT_FIGURES: [&str; 11] = [
     "verdict",
     "diverged",
     "interrupted_at_s",
     "robot",
     "robot_source",
+    "format",
+    "mapped",
     "joints",
     "tool_link",
     "tool_choice",

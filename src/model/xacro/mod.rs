@@ -54,9 +54,9 @@ pub struct Expanded {
 
 impl Expanded {
     /// Where the model came from, for the banner, the summary and messages:
-    /// `xacro PATH, NAME:=VALUE, …` (the arguments given).
+    /// `PATH, NAME:=VALUE, …` (the arguments given).
     pub fn label(&self) -> String {
-        let mut label = format!("xacro {}", self.path.display());
+        let mut label = self.path.display().to_string();
         for (name, value) in &self.args {
             label += &format!(", {name}:={value}");
         }
