@@ -79,7 +79,7 @@ class Robot:
         max_error: float = 0.05,
         max_deviation_mm: float = 5.0,
         strict: bool = False,
-        trail: str | os.PathLike[str] = 'none',
+        trail: str | os.PathLike[str] | None = None,
         summary: str | os.PathLike[str] | None = None,
         record_period: float = 0.02,
         collision_geometry: Literal['mesh', 'hull'] = 'mesh',
