@@ -1005,3 +1005,155 @@ fn options_beyond_what_a_run_can_do_name_their_cause() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A path the user gave is escaped in the lines that say what was written, as in the error
+/// messages: `--trail $'e\nverdict: follows\ny.csv'` prints one `verdict:` line, the run's own
+/// (issue 49: the success line printed a forged one before it).
+#[test]
+fn an_output_path_cannot_forge_a_line_of_output() {
+    let dir = arm_dir("hostile-output-paths");
+    let (trail, summary) = ("e\nverdict: follows\ny.csv", "s\u{202e}\nverdict: follows\n.json");
+    // not quiet: the line saying what was written is printed
+    let args: Vec<&str> = (arm_wave(&["--trail", trail, "--summary", summary]).into_iter())
+        .filter(|a| *a != "-q")
+        .collect();
+    let run = faze4(&dir, &args);
+    assert!(run.status.success(), "{}", run.stderr);
+    let verdicts = run.stdout.lines().filter(|l| l.starts_with("verdict:"));
+    assert_eq!(verdicts.count(), 1, "{}", run.stdout);
+    assert!(
+        run.stdout.lines().last().unwrap().starts_with("verdict: "),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("trail -> e\\nverdict: follows\\ny.csv ("),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("summary -> s\\u{202e}\\nverdict: follows\\n.json"),
+        "{}",
+        run.stdout
+    );
+    // the files are written under the names given, unescaped
+    assert!(std::fs::read_to_string(dir.join(trail)).unwrap().starts_with("t,"));
+    assert!(
+        std::fs::read_to_string(dir.join(summary))
+            .unwrap()
+            .contains("\"verdict\"")
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A full stderr (`2>/dev/full`) is no panic: a refusal keeps its status 2 and a valid run
+/// writes its files and ends with 0 (issue 49: exit 101). A closed stdout (`faze4 … | head`)
+/// ends the run quietly with the pipe's status, 141 as SIGPIPE would, its files complete up to
+/// where it stopped (issue 48).
+#[test]
+fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
+    let dir = arm_dir("hostile-io");
+    let full_stderr = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(args)
+            .current_dir(&dir)
+            .stdout(Stdio::null())
+            .stderr(std::fs::File::create("/dev/full").unwrap())
+            .status()
+            .unwrap();
+        out.code()
+    };
+    assert_eq!(full_stderr(&arm_wave(&["--dt", "-1"])), Some(2));
+    assert_eq!(full_stderr(&arm_wave(&["--trail", "full.csv"])), Some(0));
+    assert!(std::fs::read_to_string(dir.join("full.csv")).unwrap().starts_with("t,"));
+    // stdout's reading end closed before the run prints its first line
+    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args([
+            "wave",
+            "--urdf",
+            "arm.urdf",
+            "--package-path",
+            "pkg",
+            "--duration",
+            "0.2",
+        ])
+        .args(["--trail", "closed.csv"])
+        .current_dir(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{stderr}");
+    assert_eq!(stderr, "", "a closed stdout ends the run quietly");
+    assert!(
+        std::fs::read_to_string(dir.join("closed.csv"))
+            .unwrap()
+            .starts_with("t,")
+    );
+    assert!(temporaries(&dir).is_empty(), "{:?}", temporaries(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A signal while an input is read ends the process at once, with one line and the signal's
+/// status, nothing written (issue 49: SIGTERM waited for the parse to end, a minute for a
+/// hostile YAML). The input here is a FIFO whose writer holds it open without ending it, so
+/// the parse would wait for as long as the writer does (20 s).
+#[test]
+fn a_signal_stops_a_parse_at_once() {
+    use std::io::Write;
+    let dir = arm_dir("hostile-parse-signal");
+    for (signal, status, said) in [
+        (
+            libc::SIGTERM,
+            143,
+            "faze4: stopped by SIGTERM before the run began; nothing is written",
+        ),
+        (
+            libc::SIGINT,
+            130,
+            "faze4: interrupted before the run began; nothing is written",
+        ),
+    ] {
+        let fifo = dir.join("q.yaml");
+        assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let before = snapshot(&dir);
+        let child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args([
+                "replay",
+                "--urdf",
+                "arm.urdf",
+                "--package-path",
+                "pkg",
+                "--q-traj",
+                "q.yaml",
+            ])
+            .args(["--trail", "t.csv", "--summary", "s.json", "-q"])
+            .current_dir(&dir)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // opening for writing waits until faze4 opens the FIFO to read it
+        let mut writer = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
+        writer.write_all(b"joint_names: [j1, j2, j3]\npoints:\n").unwrap();
+        let holder = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_secs(20));
+            drop(writer);
+        });
+        std::thread::sleep(Duration::from_millis(300));
+        let sent = std::time::Instant::now();
+        send(child.id(), signal);
+        let out = child.wait_with_output().unwrap();
+        assert!(sent.elapsed() < Duration::from_secs(5), "{:?}", sent.elapsed());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(status), "{stderr}");
+        assert_eq!(stderr.trim_end(), said);
+        assert_eq!(snapshot(&dir), before);
+        std::fs::remove_file(&fifo).unwrap();
+        drop(holder);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

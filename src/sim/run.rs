@@ -68,6 +68,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         collision_pairs: &collision_pairs,
         motors: sc.motors.as_deref(),
     };
+    // the loop looks at the flag: a signal now stops the run, not the process
+    stop.watch();
     for r in recorders.iter_mut() {
         r.begin(&info)?;
     }
