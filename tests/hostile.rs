@@ -1157,3 +1157,35 @@ fn a_signal_stops_a_parse_at_once() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A FIFO that no process opens for writing is refused after 10 s, naming it, where `open()`
+/// waited for ever (issue 49).
+#[test]
+fn a_fifo_nobody_writes_is_refused_in_time() {
+    let dir = arm_dir("hostile-fifo");
+    assert!(
+        Command::new("mkfifo")
+            .arg(dir.join("q.csv"))
+            .status()
+            .unwrap()
+            .success()
+    );
+    let args = [
+        "replay",
+        "--urdf",
+        "arm.urdf",
+        "--package-path",
+        "pkg",
+        "--q-traj",
+        "q.csv",
+        "-q",
+    ];
+    let before = snapshot(&dir);
+    let started = std::time::Instant::now();
+    let run = faze4(&dir, &args);
+    let parts = ["q.csv", "a FIFO that no process opened for writing within 10 s"];
+    check_refusal(&args, run.status.code(), &run.stderr, &parts);
+    assert_eq!(snapshot(&dir), before);
+    assert!(started.elapsed() < Duration::from_secs(30), "{:?}", started.elapsed());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

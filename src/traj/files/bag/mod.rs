@@ -304,7 +304,7 @@ pub fn collect_file(path: &Path, bag: &mut Collected) -> Result<&'static str> {
     if meta.is_file() && meta.len() > MAX_BAG_BYTES {
         return Err(too_large(path, Some(meta.len()), MAX_BAG_BYTES, "a bag file"));
     }
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = crate::input::open(path, &meta)?;
     let (head, source) = peek(Capped::new(file)).map_err(io)?;
     collect_stream(Magic::of(&head), &head, source, meta.is_file(), bag, path)
 }
