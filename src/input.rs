@@ -25,6 +25,13 @@ pub const MAX_LINKS: usize = 4096;
 /// 10,000 joints asked for 800 MB matrices and aborted). A humanoid with its fingers has about
 /// 60; the 200-link chain of tests/coupled_stability.rs is the longest the tests run.
 pub const MAX_MOVING_JOINTS: usize = 256;
+/// Most points a ROS trajectory may have (1 million: 16 minutes at 1 kHz), a `JointTrajectory`'s
+/// `points` in any file or bag, or the messages of a `JointState` topic, counted as they are
+/// read: each point costs about 100 bytes beside its values once read, so a bag of empty points
+/// (24 bytes each in CDR, compressed to almost nothing) would otherwise take gigabytes (10
+/// million took 1.37 GB, issue 49). A LeRobot episode has its own cap of as many frames;
+/// `retime` writes at most 100,001 points.
+pub const MAX_TRAJECTORY_POINTS: usize = 1_000_000;
 /// Most samples a shape may have (`shape_points`, 100,000): each is an IK solve and about 200
 /// bytes of plan (100 million asked for 19.5 GB). The default loop of 12 s at the default
 /// step of 0.2 ms has 60,000 steps, so more samples than this are finer than the steps.

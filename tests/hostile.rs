@@ -729,22 +729,37 @@ fn mcap_string(s: &str) -> Vec<u8> {
 /// A rosbag2-like MCAP file with a `JointState` channel whose data section is `data` (records),
 /// as the MCAP specification lays it out (https://mcap.dev/spec).
 fn mcap_file(data: &[u8]) -> Vec<u8> {
+    mcap_bag("sensor_msgs/msg/JointState", data)
+}
+
+/// A rosbag2-like MCAP file with one channel (1, on `/joint_states`) of type `kind` whose data
+/// section is `data` (records).
+fn mcap_bag(kind: &str, data: &[u8]) -> Vec<u8> {
+    mcap_channels(&[kind], data)
+}
+
+/// A rosbag2-like MCAP file whose channels, all on `/joint_states`, have the types `kinds`
+/// (channel and schema k + 1 the k-th), its data section `data` (records).
+fn mcap_channels(kinds: &[&str], data: &[u8]) -> Vec<u8> {
     const MAGIC: &[u8] = b"\x89MCAP0\r\n";
     let mut f = MAGIC.to_vec();
     f.extend(mcap_record(
         0x01,
         &[mcap_string("ros2"), mcap_string("hostile")].concat(),
     ));
-    let mut schema = 1u16.to_le_bytes().to_vec();
-    schema.extend(mcap_string("sensor_msgs/msg/JointState"));
-    schema.extend(mcap_string("ros2msg"));
-    schema.extend(0u32.to_le_bytes());
-    f.extend(mcap_record(0x03, &schema));
-    let mut channel = [1u16.to_le_bytes(), 1u16.to_le_bytes()].concat();
-    channel.extend(mcap_string("/joint_states"));
-    channel.extend(mcap_string("cdr"));
-    channel.extend(0u32.to_le_bytes());
-    f.extend(mcap_record(0x04, &channel));
+    for (k, kind) in kinds.iter().enumerate() {
+        let id = (k as u16 + 1).to_le_bytes();
+        let mut schema = id.to_vec();
+        schema.extend(mcap_string(kind));
+        schema.extend(mcap_string("ros2msg"));
+        schema.extend(0u32.to_le_bytes());
+        f.extend(mcap_record(0x03, &schema));
+        let mut channel = [id, id].concat();
+        channel.extend(mcap_string("/joint_states"));
+        channel.extend(mcap_string("cdr"));
+        channel.extend(0u32.to_le_bytes());
+        f.extend(mcap_record(0x04, &channel));
+    }
     f.extend(data);
     f.extend(mcap_record(0x0F, &0u32.to_le_bytes()));
     f.extend(mcap_record(
@@ -1187,5 +1202,128 @@ fn a_fifo_nobody_writes_is_refused_in_time() {
     check_refusal(&args, run.status.code(), &run.stderr, &parts);
     assert_eq!(snapshot(&dir), before);
     assert!(started.elapsed() < Duration::from_secs(30), "{:?}", started.elapsed());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs the `faze4` binary with `args` in `dir`: what it printed, and its peak resident memory
+/// (MiB: the kernel's `ru_maxrss` of that child alone, by `wait4`).
+fn faze4_peak(dir: &Path, args: &[&str]) -> (Run, f64) {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = child.stdout.take().unwrap();
+    let printed = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = out.read_to_string(&mut text);
+        text
+    });
+    let mut stderr = String::new();
+    let _ = child.stderr.take().unwrap().read_to_string(&mut stderr);
+    let stdout = printed.join().unwrap();
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    // SAFETY: wait4 writes the status and resource usage of this test's own child
+    let waited = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(waited, child.id() as libc::pid_t);
+    let run = Run {
+        status: std::process::ExitStatus::from_raw(status),
+        stdout,
+        stderr,
+    };
+    (run, usage.ru_maxrss as f64 / 1024.0)
+}
+
+/// The bytes `write` writes, compressed with zstd as they come (a few hundred MB of them take
+/// no memory here).
+fn zstd_stream(write: impl FnOnce(&mut dyn std::io::Write)) -> Vec<u8> {
+    let mut encoder = zstd::stream::Encoder::new(Vec::new(), 3).unwrap();
+    write(&mut encoder);
+    encoder.finish().unwrap()
+}
+
+/// A CDR header (encapsulation little-endian) and a ROS Header of stamp 0 and frame `""`.
+fn cdr_head(out: &mut dyn std::io::Write) {
+    out.write_all(&[0, 1, 0, 0]).unwrap();
+    out.write_all(&[0; 8]).unwrap(); // stamp
+    out.write_all(&[1, 0, 0, 0, 0, 0, 0, 0]).unwrap(); // frame_id "": length 1, NUL, padding
+}
+
+/// A JointState's CDR naming `names` one-letter joints with no values.
+fn cdr_state(names: usize, out: &mut dyn std::io::Write) {
+    cdr_head(out);
+    out.write_all(&(names as u32).to_le_bytes()).unwrap();
+    let name = [2, 0, 0, 0, b'a', 0, 0, 0]; // "a": length 2 with its NUL, padding to 4
+    for _ in 0..names {
+        out.write_all(&name).unwrap();
+    }
+    out.write_all(&[0; 12]).unwrap(); // position, velocity, effort: empty
+}
+
+/// A JointTrajectory's CDR of one joint and `points` empty points.
+fn cdr_trajectory(points: usize, out: &mut dyn std::io::Write) {
+    cdr_head(out);
+    out.write_all(&[1, 0, 0, 0, 2, 0, 0, 0, b'a', 0, 0, 0]).unwrap(); // joint_names ["a"]
+    out.write_all(&(points as u32).to_le_bytes()).unwrap();
+    for _ in 0..points {
+        out.write_all(&[0; 24]).unwrap(); // four empty lists, time_from_start 0
+    }
+}
+
+/// An MCAP message record on channel 1 at `log_time` holding `data`.
+fn mcap_message(log_time: u64, data: &[u8]) -> Vec<u8> {
+    mcap_message_on(1, log_time, data)
+}
+
+/// An MCAP message record on channel `channel` at `log_time` holding `data`.
+fn mcap_message_on(channel: u16, log_time: u64, data: &[u8]) -> Vec<u8> {
+    let mut body = channel.to_le_bytes().to_vec();
+    body.extend(0u32.to_le_bytes()); // sequence
+    body.extend(log_time.to_le_bytes());
+    body.extend(log_time.to_le_bytes());
+    body.extend(data);
+    mcap_record(0x05, &body)
+}
+
+/// Bags whose messages are small compressed and huge decoded (the counts of a list, the number
+/// of messages) are refused as their counts pass the caps, not after decoding them: the
+/// process stays within a few hundred MB where it took 1 to 4 GB (issue 49).
+#[test]
+fn bag_messages_are_bounded_once_decoded() {
+    let dir = temp_dir("hostile-decoded");
+    // one JointState of 30 million one-letter names: 240 MB in CDR, 23 kB with zstd
+    // (rosbag2's compression per message), under the 256 MiB kept
+    let names = zstd_stream(|w| cdr_state(30_000_000, w));
+    std::fs::write(dir.join("names.mcap"), mcap_file(&mcap_message(0, &names))).unwrap();
+    // a JointTrajectory of 10 million empty points: 240 MB in CDR
+    let points = zstd_stream(|w| cdr_trajectory(10_000_000, w));
+    let kind = "trajectory_msgs/msg/JointTrajectory";
+    std::fs::write(dir.join("points.mcap"), mcap_bag(kind, &mcap_message(0, &points))).unwrap();
+    // 120,000 JointStates of 250 names each: 240 MB in CDR, 2.1 GB once decoded
+    let state = zstd_stream(|w| cdr_state(250, w));
+    let states: Vec<u8> = (0..120_000u64).flat_map(|k| mcap_message(k, &state)).collect();
+    std::fs::write(dir.join("states.mcap"), mcap_file(&states)).unwrap();
+    let replay = |q: &'static str| vec!["replay", "--q-traj", q, "-q"];
+    for (args, parts, most_mib) in [
+        (
+            replay("names.mcap"),
+            &["more than 256 joint names in one list"][..],
+            450.0,
+        ),
+        (replay("points.mcap"), &["more than 1000000 points in one list"], 600.0),
+        (
+            replay("states.mcap"),
+            &["topic /joint_states's messages take more than 256 MiB once decoded, at message"],
+            750.0,
+        ),
+    ] {
+        let (run, peak) = faze4_peak(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, parts);
+        assert!(peak < most_mib, "{args:?} peaked at {peak:.0} MiB");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -19,6 +19,7 @@
 //! [`TimedTrajectory::round_times_to_nanoseconds`]).
 
 pub mod bag;
+pub mod bounded;
 pub mod csv;
 pub mod joint_states;
 pub mod json;

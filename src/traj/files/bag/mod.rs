@@ -28,7 +28,10 @@ use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JointStateMsg, JointTrajectoryMs
 use super::sniff::{Magic, peek, shown};
 use super::{Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
-use crate::input::{MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, read_stream_capped, size_text, too_large};
+use crate::input::{
+    MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, MAX_TRAJECTORY_POINTS, read_stream_capped, size_text,
+    too_large,
+};
 use crate::traj::TimedTrajectory;
 
 /// The magic a zstd frame starts with (RFC 8878 §3.1.1): a `.mcap.zstd` or `.db3.zstd` file
@@ -241,17 +244,64 @@ impl Collected {
                 ),
             ));
         }
-        let states = (messages.iter().enumerate())
+        if messages.len() > MAX_TRAJECTORY_POINTS {
+            return Err(invalid(
+                path,
+                format!(
+                    "topic {} holds {} messages, more than the {MAX_TRAJECTORY_POINTS} points a trajectory may have (docs/development.md, Caps)",
+                    topic.name,
+                    messages.len()
+                ),
+            ));
+        }
+        // each message decoded and its bytes let go, the decoded ones bounded
+        let mut decoded = 0;
+        let states = (messages.into_iter().enumerate())
             .map(|(k, (log_time, data))| {
-                let message = decode::<JointStateMsg>(data, path, &topic, k)?;
+                let message = decode::<JointStateMsg>(&data, path, &topic, k)?;
+                decoded += decoded_size(&message);
+                if decoded > MAX_DECODED_STATES_BYTES {
+                    return Err(invalid(
+                        path,
+                        format!(
+                            "topic {}'s messages take more than {} once decoded, at message {} (docs/development.md, Caps)",
+                            topic.name,
+                            size_text(MAX_DECODED_STATES_BYTES),
+                            k + 1
+                        ),
+                    ));
+                }
                 Ok(StampedState {
-                    log_time: Some(*log_time),
+                    log_time: Some(log_time),
                     message,
                 })
             })
             .collect::<Result<Vec<_>>>()?;
         Ok((recorded_motion(states, &topic.name, path)?.trajectory, topic.name))
     }
+}
+
+/// Most bytes a JointState topic's messages may take once decoded (256 MiB, as much as the
+/// bytes kept, [`MAX_MCAP_MESSAGE_BYTES`], which are let go as they are decoded): a decoded name
+/// costs a `String` and its allocation, up to seven times its 8 bytes of CDR, so a topic of
+/// short messages could otherwise take gigabytes. A recording of 6 joints decodes to about 2.2
+/// times its bytes: about 6 minutes at 1 kHz fit, an hour at 100 Hz.
+pub const MAX_DECODED_STATES_BYTES: u64 = MAX_MCAP_MESSAGE_BYTES;
+
+/// What `message` takes in memory once decoded: its struct in its list and its allocations, as
+/// the system allocator rounds them (16-byte steps beyond 8 bytes of header, 32 bytes at least).
+fn decoded_size(message: &JointStateMsg) -> u64 {
+    let heap = |bytes: usize| match bytes {
+        0 => 0,
+        n => (n + 8).next_multiple_of(16).max(32),
+    };
+    let names = (message.name.iter()).map(|n| heap(n.len())).sum::<usize>();
+    let lists = [&message.position, &message.velocity, &message.effort].map(|v| heap(8 * v.len()));
+    (std::mem::size_of::<StampedState>()
+        + heap(message.header.frame_id.len())
+        + heap(std::mem::size_of::<String>() * message.name.len())
+        + names
+        + lists.iter().sum::<usize>()) as u64
 }
 
 /// A message of `topic`, its `k`-th (0-based): ROS 2's CDR (encapsulation header, then the
