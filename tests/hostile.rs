@@ -1327,3 +1327,30 @@ fn bag_messages_are_bounded_once_decoded() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// One topic name recorded with two types is two streams, not one: a bag whose `/joint_states`
+/// carries both `JointState` and `JointTrajectory` messages is refused naming both types, with
+/// or without `--topic` (issue 49: their messages were merged into one list).
+#[test]
+fn one_topic_name_with_two_types_is_refused() {
+    let dir = temp_dir("hostile-two-types");
+    let (mut state, mut trajectory) = (Vec::new(), Vec::new());
+    cdr_state(1, &mut state);
+    cdr_trajectory(2, &mut trajectory);
+    let kinds = ["sensor_msgs/msg/JointState", "trajectory_msgs/msg/JointTrajectory"];
+    let data = [mcap_message_on(1, 0, &state), mcap_message_on(2, 1, &trajectory)].concat();
+    std::fs::write(dir.join("two.mcap"), mcap_channels(&kinds, &data)).unwrap();
+    let parts = [
+        "two.mcap",
+        "topic /joint_states is recorded with 2 types or encodings",
+        "sensor_msgs/msg/JointState in cdr (1 message)",
+        "trajectory_msgs/msg/JointTrajectory in cdr (1 message)",
+    ];
+    let named = ["replay", "--q-traj", "two.mcap", "--topic", "/joint_states"];
+    for args in [&named[..3], &named] {
+        let args = [args, &["-q"]].concat();
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &parts);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

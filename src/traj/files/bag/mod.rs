@@ -72,11 +72,12 @@ fn joint(kind: &str) -> Option<Joint> {
 }
 
 /// What a bag's readers found: every topic with its number of messages, and the messages of
-/// the joint topics with their log times (ns), decompressed.
+/// the joint topics with their log times (ns), decompressed. A topic is its name, type and
+/// encoding: one name recorded with two types is two topics, never one list of messages.
 #[derive(Debug, Default)]
 pub struct Collected {
     topics: BTreeMap<Topic, usize>,
-    messages: BTreeMap<String, Vec<(u64, Vec<u8>)>>,
+    messages: BTreeMap<Topic, Vec<(u64, Vec<u8>)>>,
     /// The bytes kept, with each message's place in its list.
     kept: u64,
 }
@@ -129,7 +130,7 @@ impl Collected {
         if self.kept > MAX_MCAP_MESSAGE_BYTES {
             return Err(over());
         }
-        (self.messages.entry(topic.name.clone()).or_default()).push((log_time, data));
+        (self.messages.entry(topic.clone()).or_default()).push((log_time, data));
         Ok(())
     }
 
@@ -160,16 +161,19 @@ impl Collected {
     /// The topic `selection` names, else the one candidate.
     fn topic(&self, selection: &Selection, path: &Path) -> Result<Topic> {
         if let Some(name) = &selection.topic {
-            return self.topics.keys().find(|t| &t.name == name).cloned().ok_or_else(|| {
-                Error::option(
+            let named: Vec<&Topic> = self.topics.keys().filter(|t| &t.name == name).collect();
+            return match named.as_slice() {
+                [one] => Ok((*one).clone()),
+                [] => Err(Error::option(
                     "topic",
                     format!(
                         "{name}: {} has no such topic (its topics: {})",
                         path.display(),
                         self.topic_list()
                     ),
-                )
-            });
+                )),
+                several => Err(self.one_name_several_types(several, path)),
+            };
         }
         let of = |kind: Joint| {
             (self.topics.keys())
@@ -179,6 +183,10 @@ impl Collected {
         let (trajectories, states) = (of(Joint::Trajectory), of(Joint::State));
         let found = if trajectories.is_empty() { states } else { trajectories };
         match found.as_slice() {
+            [one] if self.topics.keys().filter(|t| t.name == one.name).count() > 1 => {
+                let named: Vec<&Topic> = self.topics.keys().filter(|t| t.name == one.name).collect();
+                Err(self.one_name_several_types(&named, path))
+            }
             [one] => Ok((*one).clone()),
             [] => Err(invalid(
                 path,
@@ -196,6 +204,31 @@ impl Collected {
                 ),
             )),
         }
+    }
+
+    /// The refusal of a topic name that `topics` (two or more) give with different types or
+    /// encodings: their messages are not one stream.
+    fn one_name_several_types(&self, topics: &[&Topic], path: &Path) -> Error {
+        let kinds: Vec<String> = (topics.iter())
+            .map(|t| {
+                let n = self.topics.get(*t).copied().unwrap_or(0);
+                let kind = if t.kind.is_empty() { "no type" } else { &t.kind };
+                format!(
+                    "{kind} in {} ({n} message{})",
+                    t.encoding,
+                    if n == 1 { "" } else { "s" }
+                )
+            })
+            .collect();
+        invalid(
+            path,
+            format!(
+                "topic {} is recorded with {} types or encodings ({}): its messages are not one stream; faze4 reads a topic of one type",
+                topics[0].name,
+                topics.len(),
+                kinds.join("; ")
+            ),
+        )
     }
 
     /// The trajectory `selection` picks (unchecked), and its topic: one message of a
@@ -227,7 +260,7 @@ impl Collected {
                 ),
             ));
         }
-        let mut messages = self.messages.remove(&topic.name).unwrap_or_default();
+        let mut messages = self.messages.remove(&topic).unwrap_or_default();
         // log-time order (a stable sort keeps the file's order among equal times)
         messages.sort_by_key(|(log_time, _)| *log_time);
         if kind == Joint::Trajectory {
