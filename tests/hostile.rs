@@ -2,8 +2,10 @@
 //! input; every file read whole has a cap, checked before memory is taken, and streams are
 //! read up to it; a mesh's claims are checked against what it holds; a model's size is capped;
 //! mesh references stay in their package; names from a file cannot forge a line of output;
-//! messages name the cause. Each case checks the exit status, the one line on stderr, and the
-//! directory before and after.
+//! messages name the cause; a bag's messages are bounded as they are decoded; a signal stops a
+//! parse; a full stderr or a closed stdout is no panic; an output path cannot forge a line; a
+//! FIFO with no writer is not waited for for ever (issue 49). Each case checks the exit status,
+//! the one line on stderr, and the directory before and after.
 
 mod common;
 
