@@ -1358,3 +1358,23 @@ fn one_topic_name_with_two_types_is_refused() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A CSV column given twice is refused naming it and both places (the last one won, unsaid);
+/// a row is named by its line in the file, comments and blank lines counted (issue 49: the
+/// count skipped them).
+#[test]
+fn csv_columns_are_given_once_and_rows_named_by_their_line() {
+    let dir = temp_dir("hostile-csv");
+    let twice = "t,j1,j2,j1.velocity,j2.velocity,j1.velocity\n0,0,0,0,0,0\n1,0,0,0,0,0\n";
+    std::fs::write(dir.join("twice.csv"), twice).unwrap();
+    std::fs::write(dir.join("lines.csv"), "# by hand\nt,j1,j2\n\n# next\n0,0,0\n1,0,x\n").unwrap();
+    for (file, said) in [
+        ("twice.csv", "column 'j1.velocity' is given twice (columns 4 and 6)"),
+        ("lines.csv", "line 6, column 'j2': 'x' is not a number"),
+    ] {
+        let args = ["replay", "--q-traj", file, "-q"];
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &[file, said]);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
