@@ -49,6 +49,11 @@ fn arm_wave<'a>(extra: &[&'a str]) -> Vec<&'a str> {
     args
 }
 
+/// [`arm_wave`] not quiet: the banner and the line saying what was written are printed.
+fn arm_wave_told<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    arm_wave(extra).into_iter().filter(|a| *a != "-q").collect()
+}
+
 #[test]
 fn an_output_never_replaces_an_input() {
     let dir = arm_dir("hostile-inputs");
@@ -1030,11 +1035,7 @@ fn options_beyond_what_a_run_can_do_name_their_cause() {
 fn an_output_path_cannot_forge_a_line_of_output() {
     let dir = arm_dir("hostile-output-paths");
     let (trail, summary) = ("e\nverdict: follows\ny.csv", "s\u{202e}\nverdict: follows\n.json");
-    // not quiet: the line saying what was written is printed
-    let args: Vec<&str> = (arm_wave(&["--trail", trail, "--summary", summary]).into_iter())
-        .filter(|a| *a != "-q")
-        .collect();
-    let run = faze4(&dir, &args);
+    let run = faze4(&dir, &arm_wave_told(&["--trail", trail, "--summary", summary]));
     assert!(run.status.success(), "{}", run.stderr);
     let verdicts = run.stdout.lines().filter(|l| l.starts_with("verdict:"));
     assert_eq!(verdicts.count(), 1, "{}", run.stdout);
@@ -1085,16 +1086,7 @@ fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
     assert!(std::fs::read_to_string(dir.join("full.csv")).unwrap().starts_with("t,"));
     // stdout's reading end closed before the run prints its first line
     let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args([
-            "wave",
-            "--urdf",
-            "arm.urdf",
-            "--package-path",
-            "pkg",
-            "--duration",
-            "0.2",
-        ])
-        .args(["--trail", "closed.csv"])
+        .args(arm_wave_told(&["--trail", "closed.csv"]))
         .current_dir(&dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
