@@ -50,7 +50,7 @@ pub enum Kind {
 /// A value for a field, of its [`Kind`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Value {
-    /// Not given: the field's default ([`Field::default`]).
+    /// Not given: the field's default (`Field::default`).
     Default,
     /// A flag.
     Flag(bool),
@@ -313,7 +313,7 @@ pub fn any_field(name: &str) -> Option<&'static Field> {
 
 impl RunConfig {
     /// Sets the field `name` to `value` (of the field's kind; [`Value::Default`] sets its
-    /// [`Field::default`]). An error names the field: unknown, not an option of this command,
+    /// `Field::default`). An error names the field: unknown, not an option of this command,
     /// or a value of another kind.
     pub fn set(&mut self, name: &str, value: Value) -> Result<()> {
         let command = self.motion.command();

@@ -202,7 +202,7 @@ impl Command {
     }
 
     /// The command's motion with every option at its default. The options the command
-    /// requires ([`Field::required`]: `q_traj`, `shape`) hold a placeholder (the path
+    /// requires (`Field::required`: `q_traj`, `shape`) hold a placeholder (the path
     /// `q_traj`, the circle) until they are set.
     pub fn motion(self) -> Motion {
         match self {
