@@ -108,7 +108,7 @@ fn held_joints_are_said_and_the_duration_is_the_last_time() {
         "{}",
         warnings[0]
     );
-    let read = files::read(&input, &Selection::default()).unwrap();
+    let read = files::read(&input, &Selection::default()).unwrap().trajectory;
     let s = summary(&dir, "s.json");
     let steps = (read.duration() / 2e-4).round() as u64;
     assert_eq!(s["steps"].as_u64(), Some(steps));
@@ -135,7 +135,8 @@ fn what_faze4_writes_is_what_ros_readers_read() {
         &repo_path("tests/fixtures/trajectories/ur5_toppra.mcap"),
         &Selection::default(),
     )
-    .unwrap();
+    .unwrap()
+    .trajectory;
     let dir = temp_dir("trajectory-written");
     for ext in ["yaml", "json", "csv", "mcap"] {
         let checked = repo_path(&format!("tests/fixtures/trajectories/written/ur5_toppra.{ext}"));
@@ -146,7 +147,11 @@ fn what_faze4_writes_is_what_ros_readers_read() {
             "mcap" => assert_eq!(mcap_records(&a), mcap_records(&b)),
             _ => assert!(a == b, "{ext}: faze4 no longer writes what ROS's readers checked"),
         }
-        assert_eq!(files::read(&checked, &Selection::default()).unwrap(), source, "{ext}");
+        assert_eq!(
+            files::read(&checked, &Selection::default()).unwrap().trajectory,
+            source,
+            "{ext}"
+        );
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -336,7 +341,10 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
     refused(
         &bad_topics,
         &["--topic", "/left_arm/joint_states"],
-        &["names joint 'gripper', which the model does not have"],
+        &[
+            "topic /left_arm/joint_states's JointState messages name none of the model's joints (they name 'gripper', 'wrist_roll'",
+            "--rename maps a prefix to the model's",
+        ],
     );
     // --ff full and --no-ff together; --message on a .npy
     refused(&good, &["--ff", "full", "--no-ff"], &["--no-ff"]);

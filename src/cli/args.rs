@@ -73,6 +73,12 @@ pub struct ReplayArgs {
     /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
     #[arg(long, allow_hyphen_values = true)]
     pub duration: Option<f64>,
+    /// A time-stamped trajectory: where the arm starts, at rest, one value per joint (rad or m; default: the first point's positions). A first point at t > 0 is reached from it over that time, as joint_trajectory_controller plays a message from the arm's state.
+    #[arg(long, value_name = "Q1,Q2,…", allow_hyphen_values = true)]
+    pub start: Option<JointValues>,
+    /// A time-stamped trajectory: how its points are joined (default: as joint_trajectory_controller decides, by what the points give: linear with positions, cubic with velocities, quintic with accelerations). cubic on positions alone takes the velocities of the controller's positions_upsampling spline.
+    #[arg(long, value_name = "linear|cubic|quintic", value_parser = ["linear", "cubic", "quintic"])]
+    pub interpolation: Option<String>,
     /// Options every run command shares.
     #[command(flatten)]
     pub run: RunArgs,
@@ -93,6 +99,9 @@ pub struct TrajectoryFileArgs {
     /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
     #[arg(long, value_name = "NAME")]
     pub topic: Option<String>,
+    /// A joint-name prefix of the file renamed, FROM=TO (fr3_joint=panda_joint); repeatable, the first that fits a name applies.
+    #[arg(long, value_name = "FROM=TO", action = clap::ArgAction::Append)]
+    pub rename: Vec<String>,
 }
 
 /// `faze4 shape`.

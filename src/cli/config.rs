@@ -12,6 +12,8 @@ use crate::control::FeedForward;
 use crate::error::{Error, Result};
 use crate::geometry::{ClearanceGeometry, PairFilter};
 use crate::sim::Thresholds;
+use crate::traj::Interpolation;
+use crate::traj::files::Rename;
 use crate::traj::shape::Shape;
 
 /// The configuration of a run command (`wave`, `replay`, `shape`, `retime`).
@@ -40,18 +42,26 @@ fn wave(a: &WaveArgs) -> Result<RunConfig> {
 }
 
 fn replay(a: &ReplayArgs) -> Result<RunConfig> {
-    let motion = Motion::Replay(file(&a.file));
+    let motion = Motion::Replay(ReplayConfig {
+        start: a.start.as_ref().map(|s| all_given("start", &s.0)).transpose()?,
+        interpolation: a.interpolation.as_deref().and_then(Interpolation::from_name),
+        ..file(&a.file)?
+    });
     with_run(motion, a.duration, &a.run)
 }
 
 /// The trajectory file's options.
-fn file(a: &TrajectoryFileArgs) -> ReplayConfig {
-    ReplayConfig {
+fn file(a: &TrajectoryFileArgs) -> Result<ReplayConfig> {
+    Ok(ReplayConfig {
         q_traj: a.q_traj.clone(),
         traj_period: a.traj_period,
         message: a.message,
         topic: a.topic.clone(),
-    }
+        rename: (a.rename.iter().map(|r| Rename::parse_list(r)))
+            .collect::<Result<Vec<_>>>()?
+            .concat(),
+        ..ReplayConfig::new(&a.q_traj)
+    })
 }
 
 fn shape(a: &ShapeArgs) -> Result<RunConfig> {
@@ -67,7 +77,7 @@ fn shape(a: &ShapeArgs) -> Result<RunConfig> {
 
 fn retime(a: &RetimeArgs) -> Result<RunConfig> {
     let motion = Motion::Retime(RetimeConfig {
-        path: file(&a.file),
+        path: file(&a.file)?,
         out: Some(a.out.clone()),
         grid: a.grid,
         margin: a.margin,

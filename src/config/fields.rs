@@ -10,7 +10,11 @@ use super::{Center, DriveMode, Motion, Motors, RunConfig};
 use crate::control::FeedForward;
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, PairFilter};
+use crate::traj::Interpolation;
 use crate::traj::shape::Shape;
+
+/// The words of `interpolation`.
+const INTERPOLATIONS: &[&str] = &["linear", "cubic", "quintic"];
 
 /// The kind of value a field takes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,6 +78,8 @@ pub enum Commands {
     Wave,
     /// The commands that read a trajectory file (`replay`, `retime`).
     Trajectory,
+    /// `replay` only.
+    Replay,
     /// `shape` only.
     Shape,
     /// `retime` only.
@@ -89,6 +95,7 @@ impl Commands {
                 | (Commands::Runs, Motion::Wave(_) | Motion::Replay(_) | Motion::Shape(_))
                 | (Commands::Wave, Motion::Wave(_))
                 | (Commands::Trajectory, Motion::Replay(_) | Motion::Retime(_))
+                | (Commands::Replay, Motion::Replay(_))
                 | (Commands::Shape, Motion::Shape(_))
                 | (Commands::Retime, Motion::Retime(_))
         )
@@ -508,6 +515,56 @@ pub const FIELDS: &[Field] = &[
             };
             if let Some(r) = replay(c) {
                 r.topic = topic;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "rename",
+        kind: Kind::Text,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let rules = match v {
+                Value::Text(t) => crate::traj::files::Rename::parse_list(&t)?,
+                Value::Default => Vec::new(),
+                other => return Err(wrong("rename", Kind::Text, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.rename = rules;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "start",
+        kind: Kind::Numbers,
+        commands: Commands::Replay,
+        set: |c, v| {
+            let start = match v {
+                Value::Default => None,
+                other => Some(all_given("start", &per_joint("start", other)?)?),
+            };
+            if let Motion::Replay(r) = &mut c.motion {
+                r.start = start;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "interpolation",
+        kind: Kind::Choice(INTERPOLATIONS),
+        commands: Commands::Replay,
+        set: |c, v| {
+            let rule = match &v {
+                Value::Default => None,
+                Value::Text(t) if Interpolation::from_name(t).is_some() => Interpolation::from_name(t),
+                _ => return Err(wrong("interpolation", Kind::Choice(INTERPOLATIONS), &v)),
+            };
+            if let Motion::Replay(r) = &mut c.motion {
+                r.interpolation = rule;
             }
             Ok(())
         },

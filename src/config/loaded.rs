@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use super::arm::{Arm, load_arm};
 use super::motors::{Motors, fit, resolve};
-use super::{ArmConfig, Center, Motion, ReplayConfig, RunConfig};
+use super::{ArmConfig, Center, Motion, ReplayConfig, RetimeConfig, RunConfig};
 use crate::atomic::Inputs;
 use crate::error::{Error, Result, quoted, shortest};
 use crate::faze4::{BOARD, SHAPE_PERIOD};
@@ -16,7 +16,7 @@ use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
-use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
+use crate::sim::{Collisions, Play, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
 use crate::traj::files::{self, Format, Selection};
 use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
 
@@ -66,17 +66,25 @@ impl Loaded {
         })?;
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
+        let mut warnings = Vec::new();
+        let model = &arm.robot.model;
         let replay = match (&config.motion, replayed) {
-            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => Some(given),
-            (Motion::Replay(r), None) => Some(read_replay(r)?),
-            (Motion::Retime(r), None) => Some(read_replay(&r.path)?),
+            (Motion::Replay(r) | Motion::Retime(RetimeConfig { path: r, .. }), Some(given)) => Some(match given {
+                // arrays' names are renamed as a file's
+                Replayed::Timed(mut t) => {
+                    files::reading::rename(&mut t, &r.rename, &r.q_traj)?;
+                    Replayed::Timed(t)
+                }
+                samples => samples,
+            }),
+            (Motion::Replay(r), None) => Some(read_replay(r, model, &mut warnings)?),
+            (Motion::Retime(r), None) => Some(read_replay(&r.path, model, &mut warnings)?),
             _ => None,
         };
         let plan = match &config.motion {
             Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
             _ => None,
         };
-        let mut warnings = Vec::new();
         let (_, collision_set) = load_collisions(
             &arm.robot.model,
             arm.robot.geometry.clone(),
@@ -179,7 +187,11 @@ impl Loaded {
             ),
             Motion::Replay(r) => match &self.replay {
                 Some(Replayed::Timed(timed)) => {
-                    let timed = TimedCommand::new(model, timed, &r.q_traj)?;
+                    let play = Play {
+                        start: r.start.clone(),
+                        interpolation: r.interpolation,
+                    };
+                    let timed = TimedCommand::new(model, timed, &r.q_traj, &play)?;
                     command_warnings.extend(timed.warning(&r.q_traj));
                     duration = duration.or(Some(timed.duration));
                     (timed.trajectory, "replay".to_string(), None)
@@ -249,23 +261,39 @@ impl Loaded {
 }
 
 /// What a replay's file holds: a time-stamped trajectory by its extension (`.yaml`, `.json`,
-/// `.mcap`, `.csv`; `message` and `topic` pick from it), else a `.npy`'s frames.
-fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
+/// `.mcap`, `.csv`; `message` and `topic` pick from it, `rename` renames its joints, a
+/// recorded stream keeps `model`'s joints; what reading noticed goes to `warnings`), else a
+/// `.npy`'s frames.
+fn read_replay(r: &ReplayConfig, model: &Model, warnings: &mut Vec<Warning>) -> Result<Replayed> {
     if Format::of(&r.q_traj).is_some() {
         let selection = Selection {
             message: r.message,
             topic: r.topic.clone(),
+            rename: r.rename.clone(),
+            joints: Some(model.joints.iter().map(|j| j.name.clone()).collect()),
+            interpolation: r.interpolation,
         };
-        return Ok(Replayed::Timed(files::read(&r.q_traj, &selection)?));
+        let read = files::read(&r.q_traj, &selection)?;
+        let source = r.q_traj.display().to_string();
+        warnings.extend((read.notes.into_iter()).map(|note| Warning::Read {
+            source: source.clone(),
+            note,
+        }));
+        return Ok(Replayed::Timed(read.trajectory));
     }
-    if let Some(field) = [(r.message.is_some(), "message"), (r.topic.is_some(), "topic")]
-        .iter()
-        .find_map(|(given, field)| given.then_some(*field))
+    let picks = "picks from a .yaml, .json or .mcap file, not a .npy";
+    let timed = "is for a time-stamped trajectory (.yaml, .json, .mcap or .csv), not a .npy's frames";
+    if let Some((field, why)) = [
+        (r.message.is_some(), "message", picks),
+        (r.topic.is_some(), "topic", picks),
+        (!r.rename.is_empty(), "rename", timed),
+        (r.start.is_some(), "start", timed),
+        (r.interpolation.is_some(), "interpolation", timed),
+    ]
+    .iter()
+    .find_map(|(given, field, why)| given.then_some((*field, *why)))
     {
-        return Err(Error::option(
-            field,
-            "picks from a .yaml, .json or .mcap file, not a .npy",
-        ));
+        return Err(Error::option(field, why));
     }
     Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
 }

@@ -39,6 +39,14 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
+    /// Reading a trajectory file decided something the user should know (joints left out,
+    /// recorded velocities used or not).
+    Read {
+        /// The trajectory's file.
+        source: String,
+        /// What was decided.
+        note: crate::traj::files::Note,
+    },
     /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
     /// its natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) times Δt is above
     /// [`STEPPER_STEPS_PER_RADIAN`]; a run near a slip can change with Δt.
@@ -107,6 +115,7 @@ impl fmt::Display for Warning {
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
+            Warning::Read { source, note } => write!(f, "warning: {source}: {note}"),
             Warning::HeldJoints { source, joints } => write!(
                 f,
                 "warning: {source} gives no values for {}: {} its start position with zero velocity",

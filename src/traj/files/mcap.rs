@@ -20,7 +20,7 @@ use serde::de::DeserializeOwned;
 
 use super::joint_states::{StampedState, recorded_motion};
 use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JOINT_TRAJECTORY_DEFINITION, JointStateMsg, JointTrajectoryMsg};
-use super::{Selection, invalid, pick};
+use super::{Read, Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
 use crate::input::{MAX_MCAP_MESSAGE_BYTES, size_text};
 use crate::traj::TimedTrajectory;
@@ -227,7 +227,7 @@ impl Fields<'_> {
 }
 
 /// The trajectory `selection` picks in an MCAP file's bytes, unchecked.
-pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
+pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<Read> {
     // every topic with its messages' count; the messages of the JointTrajectory and JointState
     // topics (small), with their log times
     let mut topics: BTreeMap<Topic, usize> = BTreeMap::new();
@@ -327,7 +327,7 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
     if topic.kind == JOINT_TRAJECTORY {
         let k = pick(messages.len(), selection.message, "messages on the topic", path)?;
         let msg: JointTrajectoryMsg = decode(&messages[k].1, path, &topic, k)?;
-        return Ok(msg.into_trajectory());
+        return Ok(msg.into_trajectory().into());
     }
     if selection.message.is_some() {
         return Err(Error::option(
@@ -347,7 +347,11 @@ pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTr
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(recorded_motion(states, &topic.name, path)?.trajectory)
+    let recording = recorded_motion(states, Some(&topic.name), selection, path)?;
+    Ok(Read {
+        trajectory: recording.trajectory,
+        notes: recording.notes,
+    })
 }
 
 /// A CDR message (encapsulation header, then the fields) of `topic`, its `k`-th (0-based).
@@ -455,22 +459,22 @@ mod tests {
     fn read(bytes: &[u8], topic: Option<&str>) -> Result<TimedTrajectory> {
         let selection = Selection {
             topic: topic.map(String::from),
-            message: None,
+            ..Default::default()
         };
-        parse(bytes, &selection, Path::new("b.mcap"))
+        parse(bytes, &selection, Path::new("b.mcap")).map(|read| read.trajectory)
     }
 
     #[test]
     fn joint_states_are_a_recorded_motion() {
         let states = vec![
-            state(1_700_000_000, 999_000_000, &["a", "b"], &[1.0, 2.0], &[0.5, 0.25]),
-            state(1_700_000_001, 1_000_000, &["b", "a"], &[4.0, 3.0], &[0.0, 0.125]),
+            state(1_700_000_000, 999_000_000, &["a", "b"], &[1.0, 2.0], &[0.5, 0.0]),
+            state(1_700_000_001, 1_000_000, &["b", "a"], &[2.0, 1.001], &[0.0, 0.5]),
         ];
         let t = read(&bag(&[("/joint_states", JOINT_STATE, states)]), None).unwrap();
         assert_eq!(t.joint_names, ["a", "b"]);
         assert_eq!(t.points[1].time_from_start, 0.002);
-        assert_eq!(t.points[1].positions, [3.0, 4.0]);
-        assert_eq!(t.points[1].velocities, [0.125, 0.0]);
+        assert_eq!(t.points[1].positions, [1.001, 2.0]);
+        assert_eq!(t.points[1].velocities, [0.5, 0.0]);
     }
 
     #[test]
@@ -530,7 +534,11 @@ mod tests {
         );
         // under the cap the messages are kept and decoded (zeros decode as empty JointStates)
         let under = bag(&[("/joint_states", JOINT_STATE, messages(250))]);
-        assert_eq!(read(&under, None).unwrap().points.len(), 250);
+        let e = read(&under, None).unwrap_err().to_string();
+        assert!(
+            e.ends_with("topic /joint_states's JointState messages name no joint"),
+            "{e}"
+        );
     }
 
     /// A schema or channel whose string claims more than its record holds is refused as

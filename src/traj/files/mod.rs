@@ -19,8 +19,12 @@ pub mod csv;
 pub mod joint_states;
 pub mod json;
 pub mod mcap;
+mod messages;
+pub mod reading;
 pub mod ros;
 pub mod yaml;
+
+pub use reading::{Note, Read, Rename};
 
 use std::path::Path;
 
@@ -29,15 +33,34 @@ use crate::error::{Error, Result};
 use crate::input::{MAX_MCAP_BYTES, MAX_TRAJECTORY_TEXT_BYTES, MAX_YAML_TRAJECTORY_BYTES, read_capped};
 use crate::traj::TimedTrajectory;
 
-/// Which message or topic of a file to read (`--message K`, `--topic NAME`).
+/// Which message or topic of a file to read, and how (`--message K`, `--topic NAME`,
+/// `--rename FROM=TO`).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Selection {
-    /// The K-th `JointTrajectory` message of a YAML or JSON file or of an MCAP topic, counted
-    /// from 1; `None`: the first.
+    /// The K-th trajectory of a YAML or JSON file (a DisplayTrajectory's counted one by one)
+    /// or of an MCAP topic, counted from 1; `None`: the first.
     pub message: Option<usize>,
     /// The MCAP topic; `None`: the file's one `JointTrajectory` topic, else its one
     /// `JointState` topic.
     pub topic: Option<String>,
+    /// The joint names' prefixes renamed, in every format ([`Rename`]).
+    pub rename: Vec<Rename>,
+    /// The model's joints: a recorded `JointState` stream's other joints are left out (with a
+    /// [`Note`]); `None`: every joint kept.
+    pub joints: Option<Vec<String>>,
+    /// The interpolation the trajectory will be played with, when given: a recorded stream's
+    /// velocities then choose nothing ([`Note::VelocitiesChoseCubic`] is not said).
+    pub interpolation: Option<crate::traj::Interpolation>,
+}
+
+impl Selection {
+    /// Whether a recorded stream's joint `name` (as the file names it) is kept: renamed, it is
+    /// one of [`Selection::joints`] (or no joints are given).
+    pub fn keeps(&self, name: &str) -> bool {
+        self.joints
+            .as_ref()
+            .is_none_or(|joints| joints.iter().any(|j| *j == Rename::apply(&self.rename, name)))
+    }
 }
 
 /// A time-stamped trajectory file's format.
@@ -71,11 +94,12 @@ impl Format {
 pub const EXTENSIONS: &str = ".yaml, .yml, .json, .mcap or .csv";
 
 /// Reads the trajectory in `path`, its format by extension, the message or topic `selection`
-/// names; the trajectory is checked ([`TimedTrajectory::check`]). The file is read whole, at
+/// names, its joints renamed; the trajectory is checked ([`TimedTrajectory::check`]) and
+/// returned with what reading it noticed ([`Read`]). The file is read whole, at
 /// most [`MAX_YAML_TRAJECTORY_BYTES`] of YAML, [`MAX_TRAJECTORY_TEXT_BYTES`] of JSON or CSV,
 /// [`MAX_MCAP_BYTES`] of MCAP (a stream too). Every error is one line
 /// naming the file (or the option, for a `--message` or `--topic` that does not fit it).
-pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
+pub fn read(path: &Path, selection: &Selection) -> Result<Read> {
     let format = format_of(path)?;
     if selection.topic.is_some() && format != Format::Mcap {
         return Err(Error::option("topic", "picks a topic of an .mcap file"));
@@ -93,10 +117,10 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
 }
 
 /// [`read`] on a file's `bytes` in `format`; `path` names it in the errors.
-pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
-    let trajectory = match format {
-        Format::Yaml => yaml::parse(text(bytes, path)?, selection.message, path)?,
-        Format::Json => json::parse(text(bytes, path)?, selection.message, path)?,
+pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -> Result<Read> {
+    let mut read = match format {
+        Format::Yaml => yaml::parse(text(bytes, path)?, selection, path)?,
+        Format::Json => json::parse(text(bytes, path)?, selection, path)?,
         Format::Mcap => mcap::parse(bytes, selection, path)?,
         Format::Csv => {
             if selection.message.is_some() {
@@ -105,11 +129,12 @@ pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -
                     "picks a message of a .yaml, .json or .mcap file",
                 ));
             }
-            csv::parse(bytes, path)?
+            csv::parse(bytes, path)?.into()
         }
     };
-    trajectory.check(path)?;
-    Ok(trajectory)
+    reading::rename(&mut read.trajectory, &selection.rename, path)?;
+    read.trajectory.check(path)?;
+    Ok(read)
 }
 
 /// Writes `trajectory` to `path` in the format of its extension, whole or not at all. The
@@ -222,7 +247,7 @@ mod tests {
                 let t = awkward(v, a);
                 let path = dir.join(format!("t.{ext}"));
                 write(&path, &t).unwrap();
-                same_bits(&read(&path, &Selection::default()).unwrap(), &t);
+                same_bits(&read(&path, &Selection::default()).unwrap().trajectory, &t);
             }
         }
         // CSV holds any f64 time, not only whole nanoseconds
@@ -230,7 +255,7 @@ mod tests {
         t.points[1].time_from_start += 1e-12;
         let path = dir.join("fine.csv");
         write(&path, &t).unwrap();
-        same_bits(&read(&path, &Selection::default()).unwrap(), &t);
+        same_bits(&read(&path, &Selection::default()).unwrap().trajectory, &t);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
