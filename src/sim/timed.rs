@@ -160,3 +160,103 @@ fn check_start(model: &Model, start: &[f64]) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::traj::TrajectoryPoint;
+
+    /// The Faze4's six joints, named as the model names them.
+    fn faze4() -> Model {
+        crate::faze4::model()
+    }
+
+    fn goal(model: &Model, times: &[f64], q: f64, velocities: bool) -> TimedTrajectory {
+        TimedTrajectory {
+            joint_names: model.joints.iter().map(|j| j.name.clone()).collect(),
+            points: (times.iter().enumerate())
+                .map(|(k, &t)| TrajectoryPoint {
+                    time_from_start: t,
+                    positions: vec![q * (k + 1) as f64; 6],
+                    velocities: if velocities { vec![0.0; 6] } else { Vec::new() },
+                    accelerations: Vec::new(),
+                })
+                .collect(),
+        }
+    }
+
+    fn at(command: &TimedCommand, t: f64) -> ([f64; 6], [f64; 6]) {
+        let (mut q, mut v) = ([0.0; 6], [0.0; 6]);
+        command.trajectory.eval(t, &mut q, &mut v);
+        (q, v)
+    }
+
+    fn start_of(command: &TimedCommand) -> ([f64; 6], [f64; 6]) {
+        let (mut q, mut v) = ([0.0; 6], [0.0; 6]);
+        command.trajectory.start_state(&mut q, &mut v);
+        (q, v)
+    }
+
+    /// A first point at 4 s is kept: by default the arm holds the first point's positions until
+    /// then; from a start, it goes there over the 4 s (cubic from rest with velocities).
+    #[test]
+    fn a_first_time_is_the_approach_from_the_start() {
+        let model = faze4();
+        let source = Path::new("goal.yaml");
+        let one = goal(&model, &[4.0], 0.2, true);
+        let held = TimedCommand::new(&model, &one, source, &Play::default()).unwrap();
+        assert_eq!(held.duration, 4.0);
+        assert_eq!(at(&held, 2.0), ([0.2; 6], [0.0; 6]));
+        assert_eq!(start_of(&held), ([0.2; 6], [0.0; 6]));
+        let play = Play {
+            start: Some(vec![0.0; 6]),
+            interpolation: None,
+        };
+        let approach = TimedCommand::new(&model, &one, source, &play).unwrap();
+        assert_eq!(start_of(&approach), ([0.0; 6], [0.0; 6]));
+        let (q, v) = at(&approach, 2.0);
+        assert!((q[0] - 0.1).abs() < 1e-15 && v[0] > 0.0, "halfway, moving: {q:?} {v:?}");
+        assert_eq!(at(&approach, 4.0).0, [0.2; 6]);
+        let Trajectory::Spline(s) = &approach.trajectory else {
+            panic!()
+        };
+        let p = s.playback().unwrap();
+        assert_eq!(
+            (p.approach_s, p.points, p.start_given, p.interpolation),
+            (4.0, 1, true, Interpolation::Cubic)
+        );
+        // at t = 0 with a start: the controller commands the point at once, the arm at the start
+        let now = goal(&model, &[0.0, 1.0], 0.2, false);
+        let step = TimedCommand::new(&model, &now, source, &play).unwrap();
+        assert_eq!(start_of(&step), ([0.0; 6], [0.0; 6]));
+        assert_eq!(at(&step, 0.0).0, [0.2; 6]);
+        // without a start and at t = 0: the first point's own state, as before
+        let plain = TimedCommand::new(&model, &now, source, &Play::default()).unwrap();
+        assert_eq!(start_of(&plain), at(&plain, 0.0));
+        assert_eq!(start_of(&plain).1, [0.2; 6], "the first segment's slope");
+    }
+
+    #[test]
+    fn a_start_is_checked_against_the_model() {
+        let model = faze4();
+        let one = goal(&model, &[1.0], 0.2, false);
+        let bad = |start: Vec<f64>| {
+            let play = Play {
+                start: Some(start),
+                interpolation: None,
+            };
+            TimedCommand::new(&model, &one, Path::new("g.yaml"), &play)
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(
+            bad(vec![0.0; 5]).starts_with("`start`: gives 5 values; faze4_arm has 6 degrees of freedom ("),
+            "{}",
+            bad(vec![0.0; 5])
+        );
+        let e = bad(vec![0.0, 9.0, 0.0, 0.0, 0.0, 0.0]);
+        assert!(e.starts_with("`start`: J2 ('"), "{e}");
+        assert!(e.contains("is 9 rad, beyond its limits"), "{e}");
+        assert!(bad(vec![f64::NAN; 6]).contains("J1"));
+    }
+}

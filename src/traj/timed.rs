@@ -557,6 +557,84 @@ mod tests {
         assert_eq!(ordered.points[2].positions, [2.0, 1.0]);
     }
 
+    /// `positions_upsampling`'s velocities make the cubic spline C²: at every inner point the
+    /// acceleration from the left segment equals the one from the right; at rest at both ends.
+    #[test]
+    fn spline_velocities_are_continuous_in_acceleration() {
+        let times = [0.0, 0.3, 0.5, 1.1, 1.4];
+        let q = [0.0, 0.4, 0.1, -0.7, 0.2];
+        let mut t = TimedTrajectory {
+            joint_names: vec!["a".into()],
+            points: (times.iter().zip(q)).map(|(&t, q)| point(t, &[q])).collect(),
+        };
+        fill_cubic_spline_velocities(&mut t);
+        let v: Vec<f64> = t.points.iter().map(|p| p.velocities[0]).collect();
+        assert_eq!((v[0], v[4]), (0.0, 0.0));
+        // a cubic Hermite segment's acceleration at its start and end
+        let accelerations = |i: usize| {
+            let h = times[i + 1] - times[i];
+            let d = (q[i + 1] - q[i]) / h;
+            (
+                (6.0 * d - 4.0 * v[i] - 2.0 * v[i + 1]) / h,
+                (-6.0 * d + 2.0 * v[i] + 4.0 * v[i + 1]) / h,
+            )
+        };
+        for i in 1..4 {
+            let (end_before, start_after) = (accelerations(i - 1).1, accelerations(i).0);
+            assert!(
+                (end_before - start_after).abs() < 1e-12,
+                "point {i}: {end_before} {start_after}"
+            );
+        }
+        let mut one = two_joints();
+        one.points.pop();
+        fill_cubic_spline_velocities(&mut one);
+        assert_eq!(one.points[0].velocities, [0.0, 0.0]);
+    }
+
+    #[test]
+    fn a_given_interpolation_keeps_or_fills_what_it_needs() {
+        let source = Path::new("f.yaml");
+        let mut quintic = two_joints();
+        for p in &mut quintic.points {
+            p.velocities = vec![1.0, 2.0];
+            p.accelerations = vec![3.0, 4.0];
+        }
+        let linear = quintic.with_interpolation(Interpolation::Linear, source).unwrap();
+        assert_eq!(linear.interpolation(), Interpolation::Linear);
+        let cubic = quintic.with_interpolation(Interpolation::Cubic, source).unwrap();
+        assert_eq!(
+            (cubic.interpolation(), cubic.points[1].velocities.clone()),
+            (Interpolation::Cubic, vec![1.0, 2.0])
+        );
+        let filled = two_joints().with_interpolation(Interpolation::Cubic, source).unwrap();
+        assert_eq!(
+            filled.points[0].velocities,
+            [0.0, 0.0],
+            "two points: at rest at both ends"
+        );
+        assert_eq!(
+            quintic.with_interpolation(Interpolation::Quintic, source).unwrap(),
+            quintic
+        );
+        let e = cubic
+            .with_interpolation(Interpolation::Quintic, source)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "f.yaml: `interpolation` quintic needs accelerations at every point; its points give positions and velocities (joint_trajectory_controller plays them cubic)"
+        );
+        let e = two_joints()
+            .with_interpolation(Interpolation::Quintic, source)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("its points give positions only (joint_trajectory_controller plays them linear)"),
+            "{e}"
+        );
+    }
+
     #[test]
     fn nanoseconds_round_trip() {
         for ns in [0i64, 1, 999_999_999, 1_000_000_001, 123_456_789_012, (1 << 50) - 1] {

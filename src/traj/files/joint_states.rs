@@ -11,7 +11,7 @@
 //!   first and after its last. Two messages giving one joint different positions at one stamp
 //!   are refused (two publishers of the same joints).
 //! * The recorded velocities are used when every message gives them and they agree with the
-//!   positions (integrated over each interval by the trapezoid rule, they miss at most
+//!   positions (each between the slopes of the positions on either side of it, to within
 //!   [`VELOCITY_AGREEMENT`] of the positions' motion): joint_trajectory_controller's rule then
 //!   plays the points cubic ([`Note::VelocitiesChoseCubic`]). Zeros (a driver that does not
 //!   measure them), partial or disagreeing velocities (measured noise) are left out
@@ -28,11 +28,13 @@ use crate::traj::{Interpolation, Spline, TimedTrajectory, TrajectoryPoint};
 
 use super::ros::JointStateMsg;
 
-/// The largest share of the positions' motion the recorded velocities may miss, integrated
-/// over each interval, for them to be used: Σ|½(vᵢ + vᵢ₊₁)·Δt − Δq| ≤ 0.25 · Σ|Δq| over every
-/// joint and interval. A smooth motion's true velocities miss by the trapezoid rule's error
-/// (O(Δt³) per interval, far below); zeros miss all of it; velocity noise of a quarter of the
-/// speed misses about that much.
+/// The largest share of the positions' motion by which the recorded velocities may fall
+/// outside the positions' slopes for them to be used: Σᵢ dist(vᵢ, [sᵢ₋, sᵢ₊])·Δtᵢ ≤ 0.25 ·
+/// Σ|Δq| over every joint (sᵢ₋, sᵢ₊ the secant slopes before and after sample i, Δtᵢ half the
+/// time they span). A smooth motion's true velocities lie between them (outside by O(Δt²)
+/// where the acceleration turns: far below); zeros fall outside by about all of the motion,
+/// and velocity noise of a quarter of the speed by about a quarter. A choice of faze4's
+/// (docs/trajectories.md), not a figure from ros2_control.
 pub const VELOCITY_AGREEMENT: f64 = 0.25;
 
 /// One JointState message of a topic, and when its container logged it (ns since the epoch,
@@ -336,17 +338,11 @@ fn use_velocities(
         }));
         return false;
     }
-    // Σ|½(vᵢ + vᵢ₊₁)·Δt − Δq| against Σ|Δq|, and the joint missing most
+    // Σ dist(vᵢ, the slopes on either side)·Δtᵢ against Σ|Δq|, and the joint missing most
     let (mut miss, mut motion, mut worst) = (0.0, 0.0, (0.0, 0));
     for (j, s) in series.iter().enumerate() {
-        let mut joint_miss = 0.0;
-        for pair in s.windows(2) {
-            let (a, b) = (pair[0], pair[1]);
-            let dt = seconds_from_nanoseconds(b.t - a.t);
-            let dq = b.q - a.q;
-            joint_miss += (0.5 * (a.v.unwrap_or(0.0) + b.v.unwrap_or(0.0)) * dt - dq).abs();
-            motion += dq.abs();
-        }
+        let joint_miss = outside_slopes(s);
+        motion += s.windows(2).map(|p| (p[1].q - p[0].q).abs()).sum::<f64>();
         miss += joint_miss;
         if joint_miss > worst.0 {
             worst = (joint_miss, j);
@@ -371,6 +367,33 @@ fn use_velocities(
         });
     }
     true
+}
+
+/// How far a joint's recorded velocities fall outside the slopes of its positions, in
+/// position: Σᵢ dist(vᵢ, [min(sᵢ₋, sᵢ₊), max(sᵢ₋, sᵢ₊)])·Δtᵢ, sᵢ₋ and sᵢ₊ the secant slopes
+/// of the intervals before and after sample i (one at either end), Δtᵢ half the time they
+/// span. A smooth motion's velocity lies between the slopes on either side of it (to O(Δt²)
+/// where its acceleration turns); zeros, and noise even alternating in sign, do not.
+fn outside_slopes(series: &[Sample]) -> f64 {
+    let slopes: Vec<(f64, f64)> = (series.windows(2))
+        .map(|p| {
+            let dt = seconds_from_nanoseconds(p[1].t - p[0].t);
+            ((p[1].q - p[0].q) / dt, dt)
+        })
+        .collect();
+    (series.iter().enumerate())
+        .map(|(i, s)| {
+            let before = i.checked_sub(1).and_then(|i| slopes.get(i));
+            let after = slopes.get(i);
+            let (lo, hi, span) = match (before, after) {
+                (Some(&(a, ta)), Some(&(b, tb))) => (a.min(b), a.max(b), 0.5 * (ta + tb)),
+                (Some(&(a, ta)), None) | (None, Some(&(a, ta))) => (a, a, 0.5 * ta),
+                (None, None) => return 0.0,
+            };
+            let v = s.v.unwrap_or(0.0);
+            (lo - v).max(v - hi).max(0.0) * span
+        })
+        .sum()
 }
 
 /// A joint's samples at the `grid` times (ns), (position, velocity): its own where it has one,
@@ -411,4 +434,214 @@ fn resampled(series: &[Sample], grid: &[i64], velocities: bool) -> Vec<(f64, f64
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::traj::files::ros::{Header, RosTime};
+
+    /// A message at `ms` milliseconds (from an epoch stamp), logged then too.
+    fn at(ms: i64, names: &[&str], q: &[f64], v: &[f64]) -> StampedState {
+        let ns = 1_700_000_000_000_000_000 + ms * 1_000_000;
+        StampedState {
+            log_time: Some(ns as u64),
+            message: JointStateMsg {
+                header: Header {
+                    stamp: RosTime {
+                        sec: (ns / 1_000_000_000) as i32,
+                        nanosec: (ns % 1_000_000_000) as u32,
+                    },
+                    frame_id: String::new(),
+                },
+                name: names.iter().map(|s| s.to_string()).collect(),
+                position: q.to_vec(),
+                velocity: v.to_vec(),
+                effort: Vec::new(),
+            },
+        }
+    }
+
+    fn read(states: Vec<StampedState>, selection: &Selection) -> Result<Recording> {
+        recorded_motion(states, Some("/joint_states"), selection, Path::new("b.mcap"))
+    }
+
+    fn model(joints: &[&str]) -> Selection {
+        Selection {
+            joints: Some(joints.iter().map(|s| s.to_string()).collect()),
+            ..Default::default()
+        }
+    }
+
+    /// An arm and its gripper published apart, and a camera the model lacks: one point at every
+    /// stamp, each joint joined between its own messages, held outside them.
+    #[test]
+    fn publishers_are_merged_by_time_and_other_joints_left_out() {
+        let states = vec![
+            at(0, &["a", "b"], &[0.0, 1.0], &[]),
+            at(5, &["g"], &[0.5], &[]),
+            at(7, &["pan"], &[0.1], &[]),
+            at(10, &["b", "a"], &[2.0, 1.0], &[]),
+            at(15, &["g"], &[0.25], &[]),
+            at(20, &["a", "b"], &[0.0, 3.0], &[]),
+        ];
+        let r = read(states, &model(&["a", "b", "g"])).unwrap();
+        let t = &r.trajectory;
+        assert_eq!(t.joint_names, ["a", "b", "g"]);
+        let times: Vec<f64> = t.points.iter().map(|p| p.time_from_start).collect();
+        assert_eq!(times, [0.0, 0.005, 0.01, 0.015, 0.02]);
+        let q = |k: usize| t.points[k].positions.clone();
+        assert_eq!(q(0), [0.0, 1.0, 0.5], "the gripper held at its first state before it");
+        assert_eq!(q(1), [0.5, 1.5, 0.5], "the arm between its own messages");
+        assert_eq!(q(4), [0.0, 3.0, 0.25], "the gripper held after its last");
+        assert!(t.points.iter().all(|p| p.velocities.is_empty()));
+        assert_eq!(
+            r.notes,
+            vec![
+                Note::IgnoredJoints {
+                    stream: "topic /joint_states's JointState messages".into(),
+                    joints: vec!["pan".into()],
+                },
+                Note::Merged {
+                    stream: "topic /joint_states's JointState messages".into(),
+                    groups: vec![vec!["a".into(), "b".into()], vec!["g".into()]],
+                },
+            ]
+        );
+        // renamed, the camera's joint is the model's
+        let mut renamed = model(&["a", "b", "g", "cam_pan"]);
+        renamed.rename = crate::traj::files::Rename::parse_list("pan=cam_pan").unwrap();
+        let states = vec![
+            at(0, &["a", "pan"], &[0.0, 0.1], &[]),
+            at(10, &["a", "pan"], &[1.0, 0.2], &[]),
+        ];
+        assert_eq!(read(states, &renamed).unwrap().trajectory.joint_names, ["a", "pan"]);
+        // none of the model's
+        let e = read(vec![at(0, &["x", "y"], &[0.0, 0.0], &[])], &model(&["a"])).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "b.mcap: topic /joint_states's JointState messages name none of the model's joints (they name 'x', 'y'; `rename` maps a prefix to the model's)"
+        );
+    }
+
+    /// Recorded velocities: used when they agree with the positions (said), left out when they
+    /// are zeros, partial or noise (said why), not judged under a given linear.
+    #[test]
+    fn recorded_velocities_are_used_only_when_they_agree() {
+        // q = t² on a 10 ms grid: v = 2t is the true velocity
+        let smooth = |v: &dyn Fn(f64) -> f64| -> Vec<StampedState> {
+            (0..20)
+                .map(|k| {
+                    let t = k as f64 * 0.01;
+                    at(k * 10, &["a"], &[t * t], &[v(t)])
+                })
+                .collect()
+        };
+        let all = Selection::default();
+        let r = read(smooth(&|t| 2.0 * t), &all).unwrap();
+        assert!(!r.trajectory.points[3].velocities.is_empty());
+        assert!(
+            matches!(r.notes[..], [Note::VelocitiesChoseCubic { .. }]),
+            "{:?}",
+            r.notes
+        );
+        let r = read(smooth(&|_| 0.0), &all).unwrap();
+        assert!(r.trajectory.points[3].velocities.is_empty());
+        assert!(
+            matches!(r.notes[..], [Note::VelocitiesIgnored { why: Unused::Zero, .. }]),
+            "{:?}",
+            r.notes
+        );
+        // noise of the speed's size: alternating ±0.4 around the true velocity
+        let r = read(
+            smooth(&|t| 2.0 * t + if (t * 100.0).round() as i64 % 2 == 0 { 0.4 } else { -0.4 }),
+            &all,
+        )
+        .unwrap();
+        assert!(r.trajectory.points[3].velocities.is_empty());
+        let Note::VelocitiesIgnored {
+            why: Unused::Disagree { joint, share },
+            ..
+        } = &r.notes[0]
+        else {
+            panic!("{:?}", r.notes)
+        };
+        assert_eq!(joint, "a");
+        assert!(*share > VELOCITY_AGREEMENT, "{share}");
+        let forced = Selection {
+            interpolation: Some(Interpolation::Linear),
+            ..Default::default()
+        };
+        let r = read(smooth(&|t| 2.0 * t), &forced).unwrap();
+        assert!(r.notes.is_empty() && r.trajectory.points[3].velocities.is_empty());
+        let cubic = Selection {
+            interpolation: Some(Interpolation::Cubic),
+            ..Default::default()
+        };
+        assert!(
+            read(smooth(&|t| 2.0 * t), &cubic).unwrap().notes.is_empty(),
+            "a given rule: nothing chose it"
+        );
+        let mut partial = smooth(&|t| 2.0 * t);
+        partial[4].message.velocity.clear();
+        let r = read(partial, &all).unwrap();
+        assert!(matches!(&r.notes[0], Note::VelocitiesIgnored { why: Unused::Partial { joint }, .. } if joint == "a"));
+        let said = r.notes[0].to_string();
+        assert!(said.starts_with("topic /joint_states's JointState messages give velocities that some messages leave out ('a' has none in some): left out"), "{said}");
+    }
+
+    /// Times: the stamps, else the log times (said), else refused; two publishers of one joint
+    /// are refused, a repeated message is kept once.
+    #[test]
+    fn times_and_publishers_of_one_joint() {
+        let mut same = vec![at(0, &["a"], &[0.0], &[]), at(10, &["a"], &[1.0], &[])];
+        same[1].message.header = same[0].message.header.clone();
+        let r = read(same.clone(), &Selection::default()).unwrap();
+        assert_eq!(r.trajectory.points[1].time_from_start, 0.01);
+        assert!(matches!(r.notes[..], [Note::LogTimes { .. }]));
+        for s in &mut same {
+            s.log_time = None;
+        }
+        let e = read(same, &Selection::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("all have the header stamp 1700000000 s and the file keeps no other time"),
+            "{e}"
+        );
+        let mut zero = vec![at(0, &["a"], &[0.0], &[]), at(10, &["a"], &[1.0], &[])];
+        zero[1].message.header.stamp = RosTime::default();
+        let e = read(zero, &Selection::default()).unwrap_err().to_string();
+        assert!(
+            e.contains(
+                "topic /joint_states, message 2: header stamp 0 where topic /joint_states, message 1 is stamped"
+            ),
+            "{e}"
+        );
+        // two publishers of the same joints (a joint_state_publisher beside the broadcaster)
+        let two = vec![
+            at(0, &["a"], &[0.5], &[]),
+            at(0, &["a"], &[0.0], &[]),
+            at(10, &["a"], &[1.0], &[]),
+        ];
+        let e = read(two, &Selection::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("give joint 'a' two positions at one time (0.5 and 0 at stamp 1700000000 s): two publishers give the same joint"),
+            "{e}"
+        );
+        let repeated = vec![
+            at(0, &["a"], &[0.5], &[]),
+            at(0, &["a"], &[0.5], &[]),
+            at(10, &["a"], &[1.0], &[]),
+        ];
+        assert_eq!(
+            read(repeated, &Selection::default()).unwrap().trajectory.points.len(),
+            2
+        );
+        let e = read(vec![at(0, &["a", "b"], &[0.5], &[])], &Selection::default()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "b.mcap: topic /joint_states, message 1: 1 positions for 2 joint names"
+        );
+        let e = read(vec![at(0, &["a", "a"], &[0.5, 0.5], &[])], &Selection::default()).unwrap_err();
+        assert!(e.to_string().ends_with("message 1: names joint 'a' twice"), "{e}");
+    }
 }

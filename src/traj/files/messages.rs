@@ -200,3 +200,189 @@ fn what_else<D: Document>(document: &D, keys: &[String]) -> String {
         keys.iter().map(|k| quoted(k)).collect::<Vec<_>>().join(", ")
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::traj::TimedTrajectory;
+    use crate::traj::files::{json, yaml};
+
+    fn yaml_at(text: &str, message: Option<usize>) -> Result<TimedTrajectory> {
+        let selection = Selection {
+            message,
+            ..Default::default()
+        };
+        yaml::parse(text, &selection, Path::new("m.yaml")).map(|r| r.trajectory)
+    }
+
+    fn yaml(text: &str) -> Result<TimedTrajectory> {
+        yaml_at(text, None)
+    }
+
+    fn refusal(text: &str) -> String {
+        yaml(text).unwrap_err().to_string()
+    }
+
+    /// `ros2 action send_goal`'s argument as READMEs give it: one point, no header, a
+    /// `time_from_start` without `nanosec`, a trailing comma.
+    #[test]
+    fn a_follow_joint_trajectory_goal_with_one_point() {
+        let goal = "{
+  trajectory: {
+    joint_names: ['shoulder_pan_joint', 'elbow_joint'],
+    points: [
+      { positions: [0.0, 0.2], time_from_start: { sec: 2 } },
+    ]
+  }
+}";
+        let t = yaml(goal).unwrap();
+        assert_eq!(t.joint_names, ["shoulder_pan_joint", "elbow_joint"]);
+        assert_eq!(t.points.len(), 1);
+        assert_eq!(t.points[0].time_from_start, 2.0);
+        assert_eq!(t.points[0].positions, [0.0, 0.2]);
+        // a point without a time is at 0, as ros2 topic pub fills a missing field
+        let t = yaml("{joint_names: [a], points: [{positions: [1]}]}").unwrap();
+        assert_eq!(t.points[0].time_from_start, 0.0);
+    }
+
+    /// ROS 1's `rostopic echo`: `header.seq`, `secs`/`nsecs` padded with spaces.
+    #[test]
+    fn ros1_layouts() {
+        let echo = "header: 
+  seq: 3
+  stamp: 
+    secs: 0
+    nsecs:         0
+  frame_id: ''
+joint_names: [joint1, joint2]
+points: 
+  - 
+    positions: [0.0, 1.57]
+    velocities: [0.0, 0.0]
+    accelerations: []
+    effort: []
+    time_from_start: 
+      secs: 1
+      nsecs:   3327291
+---
+";
+        let t = yaml(echo).unwrap();
+        assert_eq!(t.points[0].time_from_start, 1.003327291);
+        assert_eq!(t.points[0].velocities, [0.0, 0.0]);
+        let e = refusal("{joint_names: [a], points: [{positions: [1], time_from_start: {sec: 1, nsecs: 5}}]}");
+        assert!(
+            e.contains("a time mixes ROS 2's and ROS 1's fields (sec, nsecs)"),
+            "{e}"
+        );
+        let e = refusal("{joint_names: [a], points: [{positions: [1], time_from_start: {secs: 1, msecs: 5}}]}");
+        assert!(e.contains("a time has no field 'msecs'"), "{e}");
+        let e = refusal("{joint_names: [a], points: [{positions: [1], time_from_start: soon}]}");
+        assert!(
+            e.contains("expected a time: {sec, nanosec} (ROS 2), {secs, nsecs} (ROS 1) or a number of seconds"),
+            "{e}"
+        );
+    }
+
+    /// MoveIt's messages: a RobotTrajectory, a DisplayTrajectory of two (`--message` picks), a
+    /// plan's result (`trajectory:` holding a RobotTrajectory), a MoveGroup result
+    /// (`planned_trajectory:`).
+    #[test]
+    fn moveit_messages() {
+        let jt = |q: f64| format!("{{joint_names: [a], points: [{{positions: [{q}], time_from_start: {{sec: 1}}}}]}}");
+        let robot = |q: f64| {
+            format!(
+                "{{joint_trajectory: {}, multi_dof_joint_trajectory: {{joint_names: [], points: []}}}}",
+                jt(q)
+            )
+        };
+        assert_eq!(yaml(&robot(0.5)).unwrap().points[0].positions, [0.5]);
+        let display = format!(
+            "{{model_id: panda, trajectory: [{}, {}], trajectory_start: {{joint_state: {{name: [a], position: [0]}}}}}}",
+            robot(0.5),
+            robot(0.7)
+        );
+        assert_eq!(yaml(&display).unwrap().points[0].positions, [0.5]);
+        assert_eq!(yaml_at(&display, Some(2)).unwrap().points[0].positions, [0.7]);
+        let e = yaml_at(&display, Some(3)).unwrap_err().to_string();
+        assert_eq!(e, "`message`: 3: m.yaml holds 2 JointTrajectory messages");
+        let response = format!("{{group_name: arm, trajectory: {}, planning_time: 0.1}}", robot(0.25));
+        assert_eq!(yaml(&response).unwrap().points[0].positions, [0.25]);
+        let result = format!("{{error_code: {{val: 1}}, planned_trajectory: {}}}", robot(0.125));
+        assert_eq!(yaml(&result).unwrap().points[0].positions, [0.125]);
+        let multi = "{joint_trajectory: {joint_names: [], points: []}, multi_dof_joint_trajectory: {joint_names: [base], points: [{transforms: [{}]}]}}";
+        assert!(
+            refusal(multi)
+                .contains("document 1 is a moveit_msgs/RobotTrajectory with only a multi_dof_joint_trajectory")
+        );
+    }
+
+    /// What is not a trajectory is named for what it is, and what faze4 reads is said.
+    #[test]
+    fn other_files_are_named_for_what_they_are() {
+        let params = "publisher_joint_trajectory_controller:
+  ros__parameters:
+    controller_name: joint_trajectory_controller
+    goal_names: [pos1]
+    pos1:
+      positions: [0.785, -1.57]
+";
+        assert_eq!(
+            refusal(params),
+            format!(
+                "m.yaml: document 1 is a ROS 2 parameter file (the parameters of 'publisher_joint_trajectory_controller'), not a message; {READS}"
+            )
+        );
+        assert!(refusal("/**:\n  ros__parameters: {a: 1}\n").contains("parameter file (the parameters of '/**')"));
+        assert!(refusal("{layout: {dim: []}, data: [1, 2]}").contains("document 1 is a std_msgs/Float64MultiArray"));
+        assert!(
+            refusal("{joint_names: [base], points: [{transforms: [], time_from_start: 1}]}")
+                .contains("a trajectory_msgs/MultiDOFJointTrajectory")
+        );
+        assert!(
+            refusal("{speed: 1, mode: fast}")
+                .contains("document 1 is a message faze4 does not know (its fields: 'speed', 'mode')")
+        );
+        assert!(refusal("- 1\n- 2\n").contains("document 1, item 1 is not a message (a single value)"));
+        assert!(refusal("{trajectory: 3}").contains("document 1 is a message whose `trajectory` is not a message"));
+        let e = json::parse(
+            "[{\"joint_names\": [\"a\"], \"points\": []}, {\"pose\": {}}]",
+            &Selection::default(),
+            Path::new("m.json"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.starts_with("m.json: message 2 is a geometry_msgs/PoseStamped"), "{e}");
+    }
+
+    /// JointState messages of an echo are one recorded motion: no `--message`, no trajectory
+    /// beside them.
+    #[test]
+    fn joint_state_echoes_are_a_recorded_motion() {
+        let state = |sec: u32, q: f64| {
+            format!(
+                "header: {{stamp: {{sec: {sec}, nanosec: 0}}, frame_id: ''}}\nname: [a]\nposition: [{q}]\nvelocity: []\neffort: [.nan]\n---\n"
+            )
+        };
+        let echo = format!("{}{}", state(100, 0.0), state(101, 0.5));
+        let t = yaml(&echo).unwrap();
+        assert_eq!(t.points[1].time_from_start, 1.0);
+        assert_eq!(t.points[1].positions, [0.5]);
+        assert!(
+            yaml_at(&echo, Some(1))
+                .unwrap_err()
+                .to_string()
+                .starts_with("`message`: m.yaml holds JointState messages")
+        );
+        let mixed = format!("{echo}joint_names: [a]\npoints: []\n");
+        assert!(refusal(&mixed).contains("holds JointState messages and a trajectory (document 3)"));
+        // ROS 1's layout and JSON
+        let ros1 = "header: {seq: 7, stamp: {secs: 16, nsecs: 168000000}, frame_id: ''}\nname: [a]\nposition: [1.0]\n---\nheader: {seq: 8, stamp: {secs: 16, nsecs: 268000000}, frame_id: ''}\nname: [a]\nposition: [2.0]\n";
+        let t = yaml(ros1).unwrap();
+        assert_eq!(t.points[1].time_from_start, 0.1);
+        let text = "[{\"header\": {\"stamp\": {\"sec\": 1}}, \"name\": [\"a\"], \"position\": [0]}, {\"header\": {\"stamp\": {\"sec\": 2}}, \"name\": [\"a\"], \"position\": [1]}]";
+        let t = json::parse(text, &Selection::default(), Path::new("m.json"))
+            .unwrap()
+            .trajectory;
+        assert_eq!(t.points[1].time_from_start, 1.0);
+    }
+}

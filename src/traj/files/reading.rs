@@ -76,12 +76,13 @@ pub enum Unused {
         /// A joint without velocities in some message.
         joint: String,
     },
-    /// They disagree with the positions (measured noise): integrated over each interval
-    /// (trapezoid rule), they miss the positions' motion by `share` of it.
+    /// They disagree with the positions (measured noise): they fall outside the positions'
+    /// slopes by `share` of the positions' motion.
     Disagree {
         /// The joint they miss most on.
         joint: String,
-        /// Σ|½(vᵢ + vᵢ₊₁)·Δt − Δq| / Σ|Δq| over every joint and interval.
+        /// Σᵢ dist(vᵢ, [sᵢ₋, sᵢ₊])·Δtᵢ / Σ|Δq| over every joint
+        /// ([`super::joint_states::VELOCITY_AGREEMENT`]).
         share: f64,
     },
 }
@@ -120,10 +121,15 @@ impl fmt::Display for Note {
                     Unused::Partial { joint } => {
                         write!(f, "some messages leave out ({} has none in some)", quoted(joint))?
                     }
-                    Unused::Disagree { joint, share } => write!(
+                    Unused::Disagree { joint, share } if share.is_finite() => write!(
                         f,
-                        "disagree with their positions (integrated, they miss {:.0} % of the motion, most on {}: measured noise)",
+                        "disagree with their positions (outside the positions' slopes by {:.0} % of the motion, most on {}: measured noise)",
                         share * 100.0,
+                        quoted(joint)
+                    )?,
+                    Unused::Disagree { joint, .. } => write!(
+                        f,
+                        "disagree with their positions (not 0 while the positions stand still, most on {}: measured noise)",
                         quoted(joint)
                     )?,
                 }
