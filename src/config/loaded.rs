@@ -193,6 +193,15 @@ impl Loaded {
                     };
                     let timed = TimedCommand::new(model, timed, &r.q_traj, &play)?;
                     command_warnings.extend(timed.warning(&r.q_traj));
+                    if duration.is_none() && timed.duration == 0.0 {
+                        return Err(Error::option(
+                            "duration",
+                            format!(
+                                "{} lasts 0 s (one point at t = 0): give how long to hold it",
+                                r.q_traj.display()
+                            ),
+                        ));
+                    }
                     duration = duration.or(Some(timed.duration));
                     (timed.trajectory, "replay".to_string(), None)
                 }

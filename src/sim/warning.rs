@@ -81,7 +81,10 @@ impl Warning {
     /// out, a transmission skipped, an inertia balanced): such a warning is printed even under
     /// `-q`.
     pub fn changes_result(&self) -> bool {
-        matches!(self, Warning::Clearance(_) | Warning::Model(_))
+        match self {
+            Warning::Read { note, .. } => note.changes_result(),
+            _ => matches!(self, Warning::Clearance(_) | Warning::Model(_)),
+        }
     }
 }
 

@@ -336,7 +336,7 @@ impl TimedTrajectory {
             };
             let Some(i) = joints.iter().position(|j| j == name).or_else(by_position) else {
                 return Err(bad(format!(
-                    "names joint {}, which the model does not have (its joints: {})",
+                    "names joint {}, which the model does not have (its joints: {}; `rename` FROM=TO maps a prefix of the file's names to the model's)",
                     quoted(name),
                     joints.iter().map(|j| quoted(j)).collect::<Vec<_>>().join(", ")
                 )));
@@ -514,7 +514,7 @@ mod tests {
             .to_string();
         assert_eq!(
             e,
-            "f: names joint 'x', which the model does not have (its joints: 'a', 'b')"
+            "f: names joint 'x', which the model does not have (its joints: 'a', 'b'; `rename` FROM=TO maps a prefix of the file's names to the model's)"
         );
         t.joint_names = vec!["q2".into(), "q1".into()];
         let (o, held) = t.in_joint_order(&joints, &[0.0; 2], Path::new("f")).unwrap();

@@ -211,8 +211,17 @@ fn times(
             None => Err(invalid(
                 path,
                 format!(
-                    "{stream} all have the header stamp {} s and the file keeps no other time: they make no motion",
-                    shortest(seconds_from_nanoseconds(stamps[0]))
+                    "{stream} all have the header stamp {} s{}",
+                    shortest(seconds_from_nanoseconds(stamps[0])),
+                    match differing(states) {
+                        Some((name, a, b)) => format!(
+                            " and give joint {} different positions ({} and {}): two publishers of the same joints, or a publisher that does not stamp its messages (the file keeps no other time)",
+                            quoted(name),
+                            shortest(a),
+                            shortest(b)
+                        ),
+                        None => " and the file keeps no other time: they make no motion".to_string(),
+                    }
                 ),
             )),
         };
@@ -287,6 +296,23 @@ fn joint_series(states: &[StampedState], times: &[i64], selection: &Selection) -
         ignored,
         groups: groups.into_values().collect(),
     }
+}
+
+/// A joint that two of `states` give different positions, with the two.
+fn differing(states: &[StampedState]) -> Option<(&str, f64, f64)> {
+    let mut first: BTreeMap<&str, f64> = BTreeMap::new();
+    for s in states {
+        for (name, &q) in s.message.name.iter().zip(&s.message.position) {
+            match first.get(name.as_str()) {
+                Some(&p) if p != q => return Some((name, p, q)),
+                Some(_) => {}
+                None => {
+                    first.insert(name, q);
+                }
+            }
+        }
+    }
+    None
 }
 
 /// A joint's samples in time order, one per time: a repeated state is kept once, two
@@ -604,7 +630,7 @@ mod tests {
         }
         let e = read(same, &Selection::default()).unwrap_err().to_string();
         assert!(
-            e.contains("all have the header stamp 1700000000 s and the file keeps no other time"),
+            e.contains("all have the header stamp 1700000000 s and give joint 'a' different positions (0 and 1): two publishers of the same joints, or a publisher that does not stamp its messages"),
             "{e}"
         );
         let mut zero = vec![at(0, &["a"], &[0.0], &[]), at(10, &["a"], &[1.0], &[])];

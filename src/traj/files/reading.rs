@@ -87,13 +87,21 @@ pub enum Unused {
     },
 }
 
+impl Note {
+    /// Whether what is played differs from what the file gives (joints or velocities left
+    /// out): such a note is said even under `quiet`.
+    pub fn changes_result(&self) -> bool {
+        matches!(self, Note::IgnoredJoints { .. } | Note::VelocitiesIgnored { .. })
+    }
+}
+
 impl fmt::Display for Note {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let names = |joints: &[String]| joints.iter().map(|j| quoted(j)).collect::<Vec<_>>().join(", ");
         match self {
             Note::IgnoredJoints { stream, joints } => write!(
                 f,
-                "{stream} also name {}, which the model does not have: left out",
+                "{stream} also name {}, not degrees of freedom of the model: left out",
                 names(joints)
             ),
             Note::Merged { stream, groups } => write!(
