@@ -18,6 +18,14 @@ Writes:
   accelerations; the SO-101 MCAP holds a JointTrajectory topic and a recorded JointState
   topic, stamps at an epoch time, joints in another order, the gripper too);
   bad_topics.mcap: two JointState topics and a std_msgs/msg/String one (the refusals);
+* tests/fixtures/messages/*: messages as people send and record them (issue 43; the files
+  others published, beside them, are read here, not written): UR's example goal, a one-point
+  goal, a MoveIt DisplayTrajectory, ROS 1's layout (YAML and JSON), SO-101 /joint_states from an
+  arm, a gripper and a camera published apart (zero, true and noisy velocities; YAML, MCAP,
+  JSON). Pinocchio plays each as joint_trajectory_controller plays a message it receives
+  (pin_closed_loop.played_command: from the start, the approach to the first point, the
+  positions_upsampling spline under --interpolation cubic); a stream as faze4 is documented to
+  read it, merged here from its messages (merged());
 * tests/fixtures/trajectory_<case>.json: per case, faze4's arguments, the interpolation and
   feed-forward it must report, and Pinocchio's trail (t, tool x y z, q1..qn);
 * tests/fixtures/trajectories/written/ur5_toppra.{yaml,json,mcap,csv}: the quintic UR5

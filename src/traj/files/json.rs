@@ -1,6 +1,6 @@
 //! `.json`: the messages of the YAML form as JSON (one message, or an array of them), read and
 //! written with serde_json (floats to the last bit); what a message holds is read by
-//! [`super::messages`].
+//! `messages.rs`.
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! `.yaml`/`.yml`: messages as `ros2 topic echo` (or ROS 1's `rostopic echo`) prints them
 //! (PyYAML's block style, each message followed by a line `---`), or as `ros2 topic pub` and
 //! `ros2 action send_goal` take them (flow style), read with serde_norway: a JointTrajectory,
-//! a message carrying one, or JointState messages ([`super::messages`]). Times are
+//! a message carrying one, or JointState messages (`messages.rs`). Times are
 //! `{sec, nanosec}`, `{secs, nsecs}` or seconds; `header` and `effort` are ignored.
 
 use std::fmt::Write;
