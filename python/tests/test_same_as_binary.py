@@ -215,3 +215,15 @@ def test_sweep_rows_are_the_single_runs(binary, tmp_path):
             assert [flat[f"{field}_{i + 1}"] for i in range(6)] == row[field]
         # the binary's sweep shares the path's clearance as Python's does
         assert flat["clearance_min_m"] == row["clearance"]["min_m"]
+
+
+def test_rename_takes_the_repeated_options_list():
+    """`rename` is `--rename` given once per rule: a list of rules, or one text of rules
+    separated by commas; each rule must rename some joint."""
+    robot = faze4.Robot.faze4(urdf=str(ERD / "panda.urdf"))
+    echo = str(MESSAGES / "fr3_joint_trajectory_echo.yaml")
+    listed = faze4.replay(robot, echo, rename=["fr3_joint=panda_joint"], no_collisions=True)
+    joined = faze4.replay(robot, echo, rename="fr3_joint=panda_joint", no_collisions=True)
+    assert without_wall_times(listed.summary) == without_wall_times(joined.summary)
+    with pytest.raises(faze4.Error, match="rename: franka_=panda_: no joint of .* starts with 'franka_'"):
+        faze4.replay(robot, echo, rename=["fr3_joint=panda_joint", "franka_=panda_"], no_collisions=True)

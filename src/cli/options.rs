@@ -145,9 +145,11 @@ mod tests {
                     FieldKind::Count => option.kind == Kind::Count,
                     FieldKind::Path | FieldKind::Paths => option.kind == Kind::Path,
                     FieldKind::PerJoint | FieldKind::Numbers => option.kind == Kind::PerJoint,
-                    FieldKind::Text | FieldKind::Choice(_) | FieldKind::Center | FieldKind::Motors => {
-                        option.kind == Kind::Text
-                    }
+                    FieldKind::Text
+                    | FieldKind::Texts
+                    | FieldKind::Choice(_)
+                    | FieldKind::Center
+                    | FieldKind::Motors => option.kind == Kind::Text,
                 };
                 assert!(
                     agrees,

@@ -27,6 +27,8 @@ pub enum Kind {
     Count,
     /// A word or text.
     Text,
+    /// Several texts (a repeated option: `rename`).
+    Texts,
     /// One of a few words.
     Choice(&'static [&'static str]),
     /// A file or directory.
@@ -56,6 +58,8 @@ pub enum Value {
     Count(u64),
     /// A word or text (also a [`Kind::Choice`]'s word, a path's text, `mid`).
     Text(String),
+    /// Several texts.
+    Texts(Vec<String>),
     /// A path.
     Path(PathBuf),
     /// Several paths.
@@ -212,6 +216,7 @@ fn wrong(name: &str, kind: Kind, value: &Value) -> Error {
         Value::Text(t) => format!("'{t}'"),
         Value::Path(p) => format!("'{}'", p.display()),
         Value::Paths(_) => "several paths".to_string(),
+        Value::Texts(_) => "several texts".to_string(),
         Value::PerJoint(v) => format!("{} values", v.len()),
         Value::Motors(_) => "motors".to_string(),
     };
@@ -228,6 +233,7 @@ pub fn kind_name(kind: Kind) -> String {
         Kind::Choice(words) => format!("one of {}", words.join(", ")),
         Kind::Path => "a path".into(),
         Kind::Paths => "paths".into(),
+        Kind::Texts => "texts".into(),
         Kind::PerJoint => "one value per joint".into(),
         Kind::Numbers => "one number per joint".into(),
         Kind::Center => "'mid' or one value per joint".into(),
@@ -522,13 +528,16 @@ pub const FIELDS: &[Field] = &[
     },
     Field {
         name: "rename",
-        kind: Kind::Text,
+        kind: Kind::Texts,
         commands: Commands::Trajectory,
         set: |c, v| {
             let rules = match v {
                 Value::Text(t) => crate::traj::files::Rename::parse_list(&t)?,
+                Value::Texts(rules) => (rules.iter().map(|r| crate::traj::files::Rename::parse_list(r)))
+                    .collect::<Result<Vec<_>>>()?
+                    .concat(),
                 Value::Default => Vec::new(),
-                other => return Err(wrong("rename", Kind::Text, &other)),
+                other => return Err(wrong("rename", Kind::Texts, &other)),
             };
             if let Some(r) = replay(c) {
                 r.rename = rules;
