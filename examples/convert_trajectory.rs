@@ -23,7 +23,7 @@ fn main() {
         eprintln!("usage: convert_trajectory IN OUT [--message K] [--topic NAME]");
         std::process::exit(2);
     };
-    let converted = files::read(input, &selection).and_then(|read| files::write(output, &read.trajectory));
+    let converted = files::read(input, &selection).and_then(|t| files::write(output, &t));
     if let Err(e) = converted {
         eprintln!("convert_trajectory: {e}");
         std::process::exit(2);

@@ -441,9 +441,7 @@ fn retime_then_replay_follows_on_the_binary() {
     assert_eq!(retimed["verdict"], replayed["verdict"]);
     assert_eq!(retimed["joints"], replayed["joints"], "the check is the replay's run");
     // the other formats hold the same timing
-    let timed = faze4::traj::files::read(&dir.join("circle.yaml"), &Default::default())
-        .unwrap()
-        .trajectory;
+    let timed = faze4::traj::files::read(&dir.join("circle.yaml"), &Default::default()).unwrap();
     for out in ["circle.json", "circle.csv", "circle.mcap"] {
         let run = common::faze4(
             &dir,
@@ -452,9 +450,7 @@ fn retime_then_replay_follows_on_the_binary() {
             ],
         );
         assert!(run.status.success(), "{out}: {}", run.stderr);
-        let again = faze4::traj::files::read(&dir.join(out), &Default::default())
-            .unwrap()
-            .trajectory;
+        let again = faze4::traj::files::read(&dir.join(out), &Default::default()).unwrap();
         assert_eq!(again.points.len(), timed.points.len(), "{out}");
         let (a, b) = (&again.points.last().unwrap(), &timed.points.last().unwrap());
         assert_eq!(a.time_from_start, b.time_from_start, "{out}");

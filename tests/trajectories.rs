@@ -159,6 +159,50 @@ fn joint_states_with_noisy_velocities() {
     equals_pinocchio("so101_ros1_noisy_upsampled_cubic_gravity");
 }
 
+// Bags as `rosbags` writes them (tests/fixtures/trajectories/bags/; tests/bags.rs has the rest)
+
+#[test]
+fn rosbag2_folder_sqlite_recorded_joint_states() {
+    equals_pinocchio("so101_db3_joint_states_cubic_full");
+}
+
+#[test]
+fn rosbag2_folder_mcap_zstd_per_message() {
+    equals_pinocchio("so101_mcap_zstd_per_message_quintic_gravity");
+}
+
+#[test]
+fn rosbag2_folder_sqlite_zstd_per_file() {
+    equals_pinocchio("ur5_db3_zstd_per_file_linear_gravity");
+}
+
+#[test]
+fn rosbag2_folder_mcap_zstd_per_file() {
+    equals_pinocchio("ur5_mcap_zstd_per_file_cubic_full");
+}
+
+#[test]
+fn ros1_bag_bz2_recorded_joint_states() {
+    equals_pinocchio("so101_ros1_bz2_joint_states_cubic_gravity");
+}
+
+#[test]
+fn ros1_bag_lz4_joint_trajectory() {
+    equals_pinocchio("ur5_ros1_lz4_quintic_full");
+}
+
+// LeRobot datasets (tests/fixtures/trajectories/lerobot/)
+
+#[test]
+fn lerobot_v3_normalised_with_calibration() {
+    equals_pinocchio("so101_lerobot_v3_calibrated_linear_gravity");
+}
+
+#[test]
+fn lerobot_v21_in_degrees() {
+    equals_pinocchio("so101_lerobot_v21_degrees_linear_full");
+}
+
 /// The model joint a trajectory does not name is said once, and the default duration is the
 /// last time.
 #[test]
@@ -175,7 +219,7 @@ fn held_joints_are_said_and_the_duration_is_the_last_time() {
         "{}",
         warnings[0]
     );
-    let read = files::read(&input, &Selection::default()).unwrap().trajectory;
+    let read = files::read(&input, &Selection::default()).unwrap();
     let s = summary(&dir, "s.json");
     let steps = (read.duration() / 2e-4).round() as u64;
     assert_eq!(s["steps"].as_u64(), Some(steps));
@@ -202,8 +246,7 @@ fn what_faze4_writes_is_what_ros_readers_read() {
         &repo_path("tests/fixtures/trajectories/ur5_toppra.mcap"),
         &Selection::default(),
     )
-    .unwrap()
-    .trajectory;
+    .unwrap();
     let dir = temp_dir("trajectory-written");
     for ext in ["yaml", "json", "csv", "mcap"] {
         let checked = repo_path(&format!("tests/fixtures/trajectories/written/ur5_toppra.{ext}"));
@@ -214,11 +257,7 @@ fn what_faze4_writes_is_what_ros_readers_read() {
             "mcap" => assert_eq!(mcap_records(&a), mcap_records(&b)),
             _ => assert!(a == b, "{ext}: faze4 no longer writes what ROS's readers checked"),
         }
-        assert_eq!(
-            files::read(&checked, &Selection::default()).unwrap().trajectory,
-            source,
-            "{ext}"
-        );
+        assert_eq!(files::read(&checked, &Selection::default()).unwrap(), source, "{ext}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -556,14 +595,18 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
         &["--message", "2"],
         &["--message: 2:", "holds 1 JointTrajectory messages"],
     );
-    refused(&good, &["--topic", "/x"], &["--topic: picks a topic of an .mcap file"]);
+    refused(
+        &good,
+        &["--topic", "/x"],
+        &["--topic: picks a topic of a bag (.mcap, .db3, .bag, a rosbag2 folder)"],
+    );
     // MCAP: several candidate topics, no such topic, a topic of another type
     let bad_topics = repo_path("tests/fixtures/trajectories/bad_topics.mcap");
     refused(
         &bad_topics,
         &[],
         &[
-            "has 2 candidate topics: /left_arm/joint_states (sensor_msgs/msg/JointState), /right_arm/joint_states (sensor_msgs/msg/JointState); pick one with --topic",
+            "has 2 candidate topics: /left_arm/joint_states (sensor_msgs/msg/JointState, 3 messages), /right_arm/joint_states (sensor_msgs/msg/JointState, 3 messages); pick one with --topic",
         ],
     );
     refused(
@@ -571,7 +614,7 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
         &["--topic", "/joint_trajectory"],
         &[
             "--topic: /joint_trajectory:",
-            "has no such topic (its topics: /chatter (std_msgs/msg/String)",
+            "has no such topic (its topics: /chatter (std_msgs/msg/String, 1 message)",
         ],
     );
     refused(
@@ -595,13 +638,15 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
     refused(
         &npy,
         &["--message", "1"],
-        &["--message: picks from a .yaml, .json or .mcap file, not a .npy"],
+        &["--message: picks from a .yaml, .json or bag file, not a .npy"],
     );
     // not an MCAP at all
     refused(
         &input(&inputs, "text.mcap", "hello"),
         &[],
-        &["text.mcap: not a readable MCAP file"],
+        &[
+            "text.mcap: not a bag (MCAP, rosbag2 SQLite, ROS 1 or one of them compressed with zstd): it starts with hello",
+        ],
     );
     std::fs::remove_dir_all(&inputs).unwrap();
 }

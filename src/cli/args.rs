@@ -102,6 +102,18 @@ pub struct TrajectoryFileArgs {
     /// A joint-name prefix of the file renamed, FROM=TO (fr3_joint=panda_joint); repeatable, the first that fits a name applies.
     #[arg(long, value_name = "FROM=TO", action = clap::ArgAction::Append)]
     pub rename: Vec<String>,
+    /// A LeRobot dataset's episode, counted from 0 (default: 0).
+    #[arg(long, value_name = "N")]
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (default: action; e.g. observation.state).
+    #[arg(long = "lerobot-key", value_name = "KEY")]
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's joint values are: deg (an arm recorded with use_degrees) or rad (default: normalised −100…100, turned into radians by --calibration).
+    #[arg(long, value_name = "deg|rad", value_parser = ["deg", "rad"])]
+    pub units: Option<String>,
+    /// LeRobot's calibration file of the arm that recorded a dataset (JSON, per motor drive_mode, range_min, range_max): turns its normalised values into radians.
+    #[arg(long, value_name = "FILE.json")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// `faze4 shape`.

@@ -60,6 +60,10 @@ fn file(a: &TrajectoryFileArgs) -> Result<ReplayConfig> {
         rename: (a.rename.iter().map(|r| Rename::parse_list(r)))
             .collect::<Result<Vec<_>>>()?
             .concat(),
+        episode: a.episode,
+        lerobot_key: a.lerobot_key.clone(),
+        units: a.units.clone(),
+        calibration: a.calibration.clone(),
         ..ReplayConfig::new(&a.q_traj)
     })
 }

@@ -527,6 +527,75 @@ pub const FIELDS: &[Field] = &[
         number: None,
     },
     Field {
+        name: "episode",
+        kind: Kind::Count,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let episode = match v {
+                Value::Count(k) => Some(usize::try_from(k).map_err(|_| Error::option("episode", "too large"))?),
+                Value::Default => None,
+                other => return Err(wrong("episode", Kind::Count, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.episode = episode;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "lerobot_key",
+        kind: Kind::Text,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let key = match v {
+                Value::Text(t) => Some(t),
+                Value::Default => None,
+                other => return Err(wrong("lerobot_key", Kind::Text, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.lerobot_key = key;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "units",
+        kind: Kind::Choice(&["deg", "rad"]),
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let units = match v {
+                Value::Text(t) => Some(crate::traj::files::lerobot::Units::parse(&t)?.name().to_string()),
+                Value::Default => None,
+                other => return Err(wrong("units", Kind::Choice(&["deg", "rad"]), &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.units = units;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
+        name: "calibration",
+        kind: Kind::Path,
+        commands: Commands::Trajectory,
+        set: |c, v| {
+            let path = match v {
+                Value::Path(p) => Some(p),
+                Value::Text(t) => Some(PathBuf::from(t)),
+                Value::Default => None,
+                other => return Err(wrong("calibration", Kind::Path, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.calibration = path;
+            }
+            Ok(())
+        },
+        number: None,
+    },
+    Field {
         name: "rename",
         kind: Kind::Texts,
         commands: Commands::Trajectory,

@@ -17,8 +17,9 @@ use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Play, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
-use crate::traj::files::{self, Format, Selection};
-use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
+use crate::traj::files::lerobot::Units;
+use crate::traj::files::{self, Content, Selection};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
 
 /// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
 #[derive(Clone, Debug)]
@@ -43,6 +44,8 @@ pub struct Loaded {
     collision_set: Option<Arc<CollisionSet>>,
     /// What a replay plays.
     replay: Option<Replayed>,
+    /// What reading the replayed file said ([`files::Opened`]).
+    read: ReadNotes,
     /// A shape's plan and the number of samples it was made with.
     plan: Option<(usize, (Trajectory, ShapeRun))>,
     /// What loading found that changes the result (collision meshes not found): said once,
@@ -66,25 +69,28 @@ impl Loaded {
         })?;
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
-        let mut warnings = Vec::new();
         let model = &arm.robot.model;
-        let replay = match (&config.motion, replayed) {
-            (Motion::Replay(r) | Motion::Retime(RetimeConfig { path: r, .. }), Some(given)) => Some(match given {
-                // arrays' names are renamed as a file's
-                Replayed::Timed(mut t) => {
-                    files::reading::rename(&mut t, &r.rename, &r.q_traj)?;
-                    Replayed::Timed(t)
-                }
-                samples => samples,
-            }),
-            (Motion::Replay(r), None) => Some(read_replay(r, model, &mut warnings)?),
-            (Motion::Retime(r), None) => Some(read_replay(&r.path, model, &mut warnings)?),
-            _ => None,
+        let (replay, read) = match (&config.motion, replayed) {
+            (Motion::Replay(r) | Motion::Retime(RetimeConfig { path: r, .. }), Some(given)) => {
+                let given = match given {
+                    // arrays' names are renamed as a file's
+                    Replayed::Timed(mut t) => {
+                        files::reading::rename(&mut t, &r.rename, &r.q_traj)?;
+                        Replayed::Timed(t)
+                    }
+                    samples => samples,
+                };
+                (Some(given), ReadNotes::default())
+            }
+            (Motion::Replay(r), None) => read_replay(r, model).map(|(r, read)| (Some(r), read))?,
+            (Motion::Retime(r), None) => read_replay(&r.path, model).map(|(r, read)| (Some(r), read))?,
+            _ => (None, ReadNotes::default()),
         };
         let plan = match &config.motion {
             Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
             _ => None,
         };
+        let mut warnings = Vec::new();
         let (_, collision_set) = load_collisions(
             &arm.robot.model,
             arm.robot.geometry.clone(),
@@ -98,10 +104,33 @@ impl Loaded {
             arm_config: config.arm.clone(),
             collision_set,
             replay,
+            read,
             plan,
             warnings,
             inputs,
         })
+    }
+
+    /// The banner's name of `command` (`replay`), with what its file is where its name does not
+    /// say (`replay of a ROS 1 bag, topic /joint_states`).
+    fn command(&self, command: &str) -> String {
+        match &self.read.what {
+            Some(what) => format!("{command} of {what}"),
+            None => command.to_string(),
+        }
+    }
+
+    /// `error` with the read's limit hint when it is a joint-limit refusal.
+    fn with_limit_hint(&self, error: Error) -> Error {
+        match (error, &self.read.limit_hint) {
+            (Error::InvalidData { path, message }, Some(hint)) if message.contains("beyond its limits") => {
+                Error::InvalidData {
+                    path,
+                    message: format!("{message}{hint}"),
+                }
+            }
+            (error, _) => error,
+        }
     }
 
     /// The arm, with the loaded configuration's motors.
@@ -191,7 +220,9 @@ impl Loaded {
                         start: r.start.clone(),
                         interpolation: r.interpolation,
                     };
-                    let timed = TimedCommand::new(model, timed, &r.q_traj, &play)?;
+                    let timed =
+                        TimedCommand::new(model, timed, &r.q_traj, &play).map_err(|e| self.with_limit_hint(e))?;
+                    command_warnings.extend(self.read.warnings.iter().cloned());
                     command_warnings.extend(timed.warning(&r.q_traj));
                     if duration.is_none() && timed.duration == 0.0 {
                         return Err(Error::option(
@@ -203,12 +234,12 @@ impl Loaded {
                         ));
                     }
                     duration = duration.or(Some(timed.duration));
-                    (timed.trajectory, "replay".to_string(), None)
+                    (timed.trajectory, self.command("replay"), None)
                 }
                 Some(Replayed::Samples(frames)) => {
                     check_samples(model, frames, &r.q_traj)?;
                     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
-                    (trajectory, "replay".to_string(), None)
+                    (trajectory, self.command("replay"), None)
                 }
                 None => unreachable!("a replay's trajectory is loaded"),
             },
@@ -269,42 +300,64 @@ impl Loaded {
     }
 }
 
-/// What a replay's file holds: a time-stamped trajectory by its extension (`.yaml`, `.json`,
-/// `.mcap`, `.csv`; `message` and `topic` pick from it, `rename` renames its joints, a
-/// recorded stream keeps `model`'s joints; what reading noticed goes to `warnings`), else a
-/// `.npy`'s frames.
-fn read_replay(r: &ReplayConfig, model: &Model, warnings: &mut Vec<Warning>) -> Result<Replayed> {
-    if Format::of(&r.q_traj).is_some() {
-        let selection = Selection {
-            message: r.message,
-            topic: r.topic.clone(),
-            rename: r.rename.clone(),
-            joints: Some(model.joints.iter().map(|j| j.name.clone()).collect()),
-            interpolation: r.interpolation,
-        };
-        let read = files::read(&r.q_traj, &selection)?;
-        let source = r.q_traj.display().to_string();
-        warnings.extend((read.notes.into_iter()).map(|note| Warning::Read {
-            source: source.clone(),
-            note,
-        }));
-        return Ok(Replayed::Timed(read.trajectory));
-    }
-    let picks = "picks from a .yaml, .json or .mcap file, not a .npy";
-    let timed = "is for a time-stamped trajectory (.yaml, .json, .mcap or .csv), not a .npy's frames";
-    if let Some((field, why)) = [
-        (r.message.is_some(), "message", picks),
-        (r.topic.is_some(), "topic", picks),
-        (!r.rename.is_empty(), "rename", timed),
-        (r.start.is_some(), "start", timed),
-        (r.interpolation.is_some(), "interpolation", timed),
-    ]
-    .iter()
-    .find_map(|(given, field, why)| given.then_some((*field, *why)))
-    {
-        return Err(Error::option(field, why));
-    }
-    Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
+/// What a replay's file holds ([`files::open`]: a time-stamped trajectory, a bag, a rosbag2
+/// folder, a LeRobot dataset, a `.npy`'s frames; `message`, `topic`, `episode` and the
+/// LeRobot options pick from it, `rename` renames its joints, a recorded stream keeps
+/// `model`'s joints), and what reading said.
+fn read_replay(r: &ReplayConfig, model: &Model) -> Result<(Replayed, ReadNotes)> {
+    let selection = Selection {
+        message: r.message,
+        topic: r.topic.clone(),
+        episode: r.episode,
+        lerobot_key: r.lerobot_key.clone(),
+        units: r.units.as_deref().map(Units::parse).transpose()?,
+        calibration: r.calibration.clone(),
+        rename: r.rename.clone(),
+        joints: Some(model.joints.iter().map(|j| j.name.clone()).collect()),
+        interpolation: r.interpolation,
+    };
+    let opened = files::open(&r.q_traj, &selection)?;
+    let replayed = match opened.content {
+        Content::Timed(timed) => Replayed::Timed(timed),
+        Content::Samples(frames) => {
+            let timed_only = [
+                (!r.rename.is_empty(), "rename"),
+                (r.start.is_some(), "start"),
+                (r.interpolation.is_some(), "interpolation"),
+            ];
+            if let Some((_, field)) = timed_only.iter().find(|(given, _)| *given) {
+                return Err(Error::option(
+                    field,
+                    "is for a time-stamped trajectory (.yaml, .json, .csv, a bag), not a .npy's frames",
+                ));
+            }
+            Replayed::Samples(frames)
+        }
+    };
+    let source = r.q_traj.display().to_string();
+    let notes = (opened.notes.into_iter()).map(|note| Warning::Read {
+        source: source.clone(),
+        note,
+    });
+    let read = ReadNotes {
+        what: opened.what,
+        warnings: (opened.warnings.into_iter().map(Warning::Trajectory))
+            .chain(notes)
+            .collect(),
+        limit_hint: opened.limit_hint,
+    };
+    Ok((replayed, read))
+}
+
+/// What reading a replay's file said besides its content ([`files::Opened`]).
+#[derive(Clone, Debug, Default)]
+struct ReadNotes {
+    /// What the file is, where its name does not say.
+    what: Option<String>,
+    /// What reading noticed, said with each run's command warnings.
+    warnings: Vec<Warning>,
+    /// Said after a joint-limit refusal.
+    limit_hint: Option<String>,
 }
 
 /// The files a run of `config` on `arm` reads: the URDF, the meshes its geometry found, a
@@ -319,7 +372,12 @@ fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
         inputs.add(path, "`motors`");
     }
     match (&config.motion, replay_read) {
-        (Motion::Replay(r), true) => inputs.add(&r.q_traj, "`q_traj`"),
+        (Motion::Replay(r), true) => {
+            inputs.add(&r.q_traj, "`q_traj`");
+            if let Some(calibration) = &r.calibration {
+                inputs.add(calibration, "`calibration`");
+            }
+        }
         (Motion::Retime(r), true) => inputs.add(&r.path.q_traj, "`q_traj`"),
         _ => {}
     }

@@ -234,6 +234,16 @@ pub struct ReplayConfig {
     pub start: Option<Vec<f64>>,
     /// How a time-stamped trajectory's points are joined; `None`: by what they give.
     pub interpolation: Option<crate::traj::Interpolation>,
+    /// A LeRobot dataset's episode, from 0 (`None`: 0).
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (`None`: `action`).
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's values are: `deg` or `rad` (`None`: normalised, turned into
+    /// radians by `calibration`, else taken as radians).
+    pub units: Option<String>,
+    /// LeRobot's calibration file of the arm (JSON: per motor `drive_mode`, `range_min`,
+    /// `range_max`), for a dataset's normalised values.
+    pub calibration: Option<PathBuf>,
 }
 
 impl ReplayConfig {
@@ -247,6 +257,10 @@ impl ReplayConfig {
             rename: Vec::new(),
             start: None,
             interpolation: None,
+            episode: None,
+            lerobot_key: None,
+            units: None,
+            calibration: None,
         }
     }
 }

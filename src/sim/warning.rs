@@ -47,6 +47,8 @@ pub enum Warning {
         /// What was decided.
         note: crate::traj::files::Note,
     },
+    /// What reading the trajectory noticed (a LeRobot dataset's gripper column left out).
+    Trajectory(String),
     /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
     /// its natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) times Δt is above
     /// [`STEPPER_STEPS_PER_RADIAN`]; a run near a slip can change with Δt.
@@ -117,6 +119,7 @@ impl fmt::Display for Warning {
                 std::f64::consts::TAU / (omega * fine_dt(*omega)),
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
+            Warning::Trajectory(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
             Warning::Read { source, note } => write!(f, "warning: {source}: {note}"),
             Warning::HeldJoints { source, joints } => write!(

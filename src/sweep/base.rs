@@ -27,8 +27,8 @@ pub enum Knob {
 
 /// Numeric fields a sweep does not vary: how a run is shown, not what it does (`port`,
 /// `print_period`), and retime's (`grid`, `margin`, `attempts`: a sweep runs wave, replay and
-/// shape).
-const NOT_VARIED: [&str; 5] = ["port", "print_period", "grid", "margin", "attempts"];
+/// shape), and a LeRobot dataset's `episode` (the dataset is read once, for every run).
+const NOT_VARIED: [&str; 6] = ["port", "print_period", "grid", "margin", "attempts", "episode"];
 
 /// The numeric fields whose values leave a run's commanded path q_cmd(t) and the times of its
 /// clearance's samples as they are: the arm's dynamics (`payload_kg`), the motors' supply, the
