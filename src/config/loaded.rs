@@ -17,7 +17,6 @@ use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Play, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
-use crate::traj::files::lerobot::Units;
 use crate::traj::files::{self, Content, Selection};
 use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
 
@@ -310,7 +309,7 @@ fn read_replay(r: &ReplayConfig, model: &Model) -> Result<(Replayed, ReadNotes)>
         topic: r.topic.clone(),
         episode: r.episode,
         lerobot_key: r.lerobot_key.clone(),
-        units: r.units.as_deref().map(Units::parse).transpose()?,
+        units: r.units,
         calibration: r.calibration.clone(),
         rename: r.rename.clone(),
         joints: Some(model.joints.iter().map(|j| j.name.clone()).collect()),
@@ -500,6 +499,15 @@ pub fn wave_center(model: &Model, center: &Center) -> Result<Vec<f64>> {
             })
             .collect(),
         Center::Given(values) => values.clone(),
+        Center::Home => model.home.clone().ok_or_else(|| {
+            Error::option(
+                "center",
+                format!(
+                    "'home': {} offers no start pose (an MJCF model's keyframe named home)",
+                    model.source
+                ),
+            )
+        })?,
     };
     if center.len() != n {
         return Err(Error::option(

@@ -6,8 +6,9 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
+use crate::choice::Choice;
 use crate::control::FeedForward;
-use crate::error::{escape_controls, quoted, shortest};
+use crate::error::{Words, escape_controls, in_words, quoted, shortest};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
@@ -24,6 +25,8 @@ const BAR_REDRAW: Duration = Duration::from_millis(100);
 /// a terminal.
 pub struct Terminal {
     debug: bool,
+    /// How the lines name options (`--tool-link` or `tool_link`).
+    words: Words,
     /// Simulated time between progress lines (s).
     print_period: f64,
     dof: usize,
@@ -53,14 +56,15 @@ impl Terminal {
     }
 
     /// A printer with a progress line every `print_period` s of simulated time; `debug` adds τ,
-    /// the tracking error, v and g(q) to every progress line.
-    pub fn new(debug: bool, print_period: f64) -> Self {
+    /// the tracking error, v and g(q) to every progress line; `words`: how its lines name options.
+    pub fn new(debug: bool, print_period: f64, words: Words) -> Self {
         let bar = std::io::stderr().is_terminal().then(|| Bar {
             started: Instant::now(),
             drawn: None,
         });
         Self {
             debug,
+            words,
             print_period,
             dof: 0,
             prismatic: Vec::new(),
@@ -104,6 +108,21 @@ impl Terminal {
     }
 }
 
+/// The banner's line for a model read from a format other than URDF: the format and what its
+/// reading mapped or left out, each with the number of elements concerned (`None` for a URDF).
+fn mapped_line(m: &crate::model::Model) -> Option<String> {
+    if m.format.is_empty() || m.format == "urdf" {
+        return None;
+    }
+    let mapped: Vec<String> = (m.mapped.iter())
+        .map(|x| format!("{} → {} ({})", x.from, x.to, x.items.len()))
+        .collect();
+    Some(match mapped.is_empty() {
+        true => format!("[faze4] read as {}", m.format),
+        false => format!("[faze4] read as {}: {}", m.format, mapped.join(" · ")),
+    })
+}
+
 /// A control rate for people: "5 kHz", "1 kHz", "250 Hz".
 fn rate(hz: f64) -> String {
     if hz >= 1e3 {
@@ -114,10 +133,10 @@ fn rate(hz: f64) -> String {
 }
 
 /// The banner's line on a time-stamped trajectory: its points, their interpolation and why,
-/// where the arm starts and how it reaches the first point.
-fn playback_line(p: &Playback) -> String {
+/// where the arm starts and how it reaches the first point (options named in `words`).
+fn playback_line(p: &Playback, words: Words) -> String {
     let why = match (p.interpolation_forced, p.interpolation) {
-        (true, _) => "--interpolation",
+        (true, _) => "`interpolation`",
         (false, Interpolation::Linear) => "its points give positions",
         (false, Interpolation::Cubic) => "its points give velocities",
         (false, Interpolation::Quintic) => "its points give accelerations",
@@ -126,15 +145,16 @@ fn playback_line(p: &Playback) -> String {
     let start = match (p.start_given, p.approach_s > 0.0) {
         (false, false) => "from the first point".to_string(),
         (false, true) => format!("from the first point's positions, held {approach} s until its time"),
-        (true, true) => format!("from --start, reaching the first point at {approach} s"),
-        (true, false) => "from --start, the first point commanded at once (t = 0)".to_string(),
+        (true, true) => format!("from `start`, reaching the first point at {approach} s"),
+        (true, false) => "from `start`, the first point commanded at once (t = 0)".to_string(),
     };
-    format!(
+    let line = format!(
         "[faze4] trajectory: {} point{}, {} ({why}) · {start}",
         p.points,
         if p.points == 1 { "" } else { "s" },
-        p.interpolation.name()
-    )
+        p.interpolation.word()
+    );
+    in_words(&line, words)
 }
 
 /// Prints `line` on stdout, its control and bidirectional characters escaped: a name read
@@ -176,12 +196,16 @@ impl Recorder for Terminal {
             run.steps as f64 * run.dt,
             run.steps
         ))?;
+        if let Some(line) = mapped_line(m) {
+            out(&line)?;
+        }
         // how a default tool was chosen, said only where it is not the chain's obvious one
         let how = match m.default_tool() {
-            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => {
-                " (deepest common ancestor of the deepest leaves; --tool-link to choose)"
-            }
-            _ => "",
+            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => in_words(
+                " (deepest common ancestor of the deepest leaves; `tool_link` to choose)",
+                self.words,
+            ),
+            _ => String::new(),
         };
         out(&format!(
             "[faze4] tool {}{how} · {}",
@@ -193,7 +217,7 @@ impl Recorder for Terminal {
             }
         ))?;
         if let Some(p) = run.playback {
-            out(&playback_line(p))?;
+            out(&playback_line(p, self.words))?;
         }
         let gains = run.gains;
         out(&joint_header(m.dof()))?;

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use ndarray::ArrayView2;
 
+use crate::choice::Choice;
 use crate::error::{Error, Result, quoted, shortest};
 use crate::input::MAX_MOVING_JOINTS;
 
@@ -49,23 +50,7 @@ pub enum Interpolation {
     Quintic,
 }
 
-impl Interpolation {
-    /// The interpolation named `linear`, `cubic` or `quintic`.
-    pub fn from_name(name: &str) -> Option<Interpolation> {
-        [Interpolation::Linear, Interpolation::Cubic, Interpolation::Quintic]
-            .into_iter()
-            .find(|i| i.name() == name)
-    }
-
-    /// `linear`, `cubic` or `quintic`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Interpolation::Linear => "linear",
-            Interpolation::Cubic => "cubic",
-            Interpolation::Quintic => "quintic",
-        }
-    }
-}
+crate::choice::choice_words!(Interpolation { Linear => "linear", Cubic => "cubic", Quintic => "quintic" });
 
 /// A model joint a trajectory does not name (see [`TimedTrajectory::in_joint_order`]): it holds
 /// `position` with zero velocity and acceleration.
@@ -281,7 +266,7 @@ impl TimedTrajectory {
                             Interpolation::Linear => "positions only",
                             _ => "positions and velocities",
                         },
-                        given.name()
+                        given.word()
                     ),
                 });
             }

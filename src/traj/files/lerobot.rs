@@ -56,27 +56,7 @@ pub enum Units {
     Deg,
 }
 
-impl Units {
-    /// The units named `text` (`rad`, `deg`).
-    pub fn parse(text: &str) -> Result<Units> {
-        match text {
-            "rad" => Ok(Units::Rad),
-            "deg" => Ok(Units::Deg),
-            other => Err(Error::option(
-                "units",
-                format!("{} is not one of deg, rad", quoted(other)),
-            )),
-        }
-    }
-
-    /// Its name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Units::Rad => "rad",
-            Units::Deg => "deg",
-        }
-    }
-}
+crate::choice::choice_words!(Units { Deg => "deg", Rad => "rad" });
 
 /// `meta/info.json`: the fields read.
 #[derive(Debug, Deserialize)]
@@ -142,13 +122,13 @@ pub fn read(dir: &Path, selection: &Selection) -> Result<Episode> {
         };
         return Err(Error::option(
             field,
-            "picks from a file or bag, not a LeRobot dataset (use --episode)",
+            "picks from a file or bag, not a LeRobot dataset (use `episode`)",
         ));
     }
     if selection.units.is_some() && selection.calibration.is_some() {
         return Err(Error::option(
             "units",
-            "and `calibration` both say what the values are: --calibration for LeRobot's normalised values, --units for angles",
+            "and `calibration` both say what the values are: `calibration` for LeRobot's normalised values, `units` for angles",
         ));
     }
     let info_path = dir.join(INFO);
@@ -483,12 +463,12 @@ fn episode_trajectory(
         })
         .collect();
     let how = match (units, calibration) {
-        (Some(u), _) => format!("in {}", u.name()),
+        (Some(u), _) => format!("in {}", crate::choice::Choice::word(u)),
         (_, Some(_)) => "normalised, turned into rad by the calibration".into(),
         _ => "taken as rad".into(),
     };
     let limit_hint = (units.is_none() && calibration.is_none()).then(|| {
-        "; the values were taken as radians, but LeRobot stores a joint as −100…100 normalised by the arm's calibration unless the arm was recorded in degrees: give --calibration FILE.json (the arm's calibration, in ~/.cache/huggingface/lerobot/calibration/robots/) or --units deg".to_string()
+        "; the values were taken as radians, but LeRobot stores a joint as −100…100 normalised by the arm's calibration unless the arm was recorded in degrees: give `calibration` FILE.json (the arm's calibration, in ~/.cache/huggingface/lerobot/calibration/robots/) or `units` deg".to_string()
     });
     Ok(Episode {
         trajectory: TimedTrajectory {

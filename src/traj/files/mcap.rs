@@ -132,7 +132,7 @@ mod tests {
         let e = read(&two, None).unwrap_err().to_string();
         assert_eq!(
             e,
-            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState, 1 message), /right (sensor_msgs/msg/JointState, 1 message); pick one with --topic"
+            "b.mcap: has 2 candidate topics: /left (sensor_msgs/msg/JointState, 1 message), /right (sensor_msgs/msg/JointState, 1 message); pick one with `topic`"
         );
         assert_eq!(read(&two, Some("/right")).unwrap().joint_names, ["a"]);
         let e = read(&two, Some("/chatter")).unwrap_err().to_string();

@@ -198,7 +198,7 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
     if magic == Some(Magic::Parquet) {
         return Err(invalid(
             path,
-            "a Parquet file: a LeRobot dataset is read from its folder, the one holding meta/info.json (--q-traj DIR --episode N)",
+            "a Parquet file: a LeRobot dataset is read from its folder, the one holding meta/info.json (`q_traj` DIR `episode` N)",
         ));
     }
     let samples = magic == Some(Magic::Npy) || (magic.is_none() && is_npy(path));

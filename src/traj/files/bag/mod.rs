@@ -186,7 +186,7 @@ impl Collected {
             several => Err(invalid(
                 path,
                 format!(
-                    "has {} candidate topics: {}; pick one with --topic",
+                    "has {} candidate topics: {}; pick one with `topic`",
                     several.len(),
                     self.listed(several.iter().copied())
                 ),
