@@ -25,14 +25,10 @@ use serde::de::DeserializeOwned;
 
 use super::joint_states::{StampedState, recorded_motion};
 use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JointStateMsg, JointTrajectoryMsg};
-use super::sniff::{Magic, peek, shown};
+use super::sniff::{Magic, ZSTD_MAGIC, peek, shown};
 use super::{Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
 use crate::input::{MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, read_stream_capped, size_text, too_large};
-
-/// The magic a zstd frame starts with (RFC 8878 §3.1.1): a `.mcap.zstd` or `.db3.zstd` file
-/// (rosbag2's `compression_mode: FILE`), or one message (`compression_mode: MESSAGE`).
-pub const ZSTD_MAGIC: &[u8] = &[0x28, 0xb5, 0x2f, 0xfd];
 
 /// The message encoding of ROS 1's serialization (a `.bag`'s connections).
 pub const ROS1: &str = "ros1";
