@@ -32,7 +32,6 @@ use crate::input::{
     MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, MAX_TRAJECTORY_POINTS, read_stream_capped, size_text,
     too_large,
 };
-use crate::traj::TimedTrajectory;
 
 /// The message encoding of ROS 1's serialization (a `.bag`'s connections).
 pub const ROS1: &str = "ros1";
@@ -229,7 +228,7 @@ impl Collected {
 
     /// The trajectory `selection` picks (unchecked), and its topic: one message of a
     /// JointTrajectory topic, or a JointState topic's messages as a recorded motion.
-    pub fn trajectory(mut self, selection: &Selection, path: &Path) -> Result<(TimedTrajectory, String)> {
+    pub fn trajectory(mut self, selection: &Selection, path: &Path) -> Result<(super::Read, String)> {
         let topic = self.topic(selection, path)?;
         let Some(kind) = joint(&topic.kind) else {
             return Err(Error::option(
@@ -262,7 +261,7 @@ impl Collected {
         if kind == Joint::Trajectory {
             let k = pick(messages.len(), selection.message, "messages on the topic", path)?;
             let msg: JointTrajectoryMsg = decode(&messages[k].1, path, &topic, k)?;
-            return Ok((msg.into_trajectory(), topic.name));
+            return Ok((msg.into_trajectory().into(), topic.name));
         }
         if selection.message.is_some() {
             return Err(Error::option(
@@ -306,7 +305,12 @@ impl Collected {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
-        Ok((recorded_motion(states, &topic.name, path)?.trajectory, topic.name))
+        let recording = recorded_motion(states, Some(&topic.name), selection, path)?;
+        let read = super::Read {
+            trajectory: recording.trajectory,
+            notes: recording.notes,
+        };
+        Ok((read, topic.name))
     }
 }
 
