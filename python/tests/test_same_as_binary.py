@@ -16,6 +16,7 @@ REPLAY = ROOT / "tests" / "fixtures" / "replay_q_traj.npy"
 ROTOR_ARM = ROOT / "tests" / "urdf" / "rotor_arm.urdf"
 ERD = ROOT / "tests" / "urdf" / "example_robot_data"
 MESSAGES = ROOT / "tests" / "fixtures" / "messages"
+LEROBOT = ROOT / "tests" / "fixtures" / "trajectories" / "lerobot"
 
 
 def words_of(options: dict) -> list[str]:
@@ -69,6 +70,27 @@ CASES = {
         "replay",
         {"urdf": str(ERD / "panda.urdf")},
         {"q_traj": str(MESSAGES / "fr3_joint_trajectory_echo.yaml"), "rename": "fr3_joint=panda_joint", "no_collisions": True},
+    ),
+    "replay, a LeRobot episode normalised by its calibration": (
+        "replay",
+        {"urdf": str(ERD / "so101.urdf")},
+        {
+            "q_traj": str(LEROBOT / "so101_v3"),
+            "episode": 1,
+            "calibration": str(LEROBOT / "so101_calibration.json"),
+            "no_collisions": True,
+        },
+    ),
+    "replay, a LeRobot v2.1 state in degrees": (
+        "replay",
+        {"urdf": str(ERD / "so101.urdf")},
+        {
+            "q_traj": str(LEROBOT / "so101_v21"),
+            "episode": 0,
+            "units": "deg",
+            "lerobot_key": "observation.state",
+            "no_collisions": True,
+        },
     ),
 }
 
