@@ -121,6 +121,14 @@ fn value(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Value> {
             _ => return Err(bad()),
         },
         Kind::Text | Kind::Choice(_) => Value::Text(text().ok_or_else(bad)?),
+        Kind::Texts => match text() {
+            Some(t) => Value::Text(t),
+            None => Value::Texts(
+                (obj.try_iter().map_err(|_| bad())?)
+                    .map(|item| item.and_then(|i| i.extract::<String>()).map_err(|_| bad()))
+                    .collect::<PyResult<_>>()?,
+            ),
+        },
         Kind::Path => match (text(), path()) {
             (Some(t), _) => Value::Text(t),
             (None, Some(p)) => Value::Path(p),
@@ -132,14 +140,6 @@ fn value(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Value> {
             _ => Value::Paths(
                 (obj.try_iter().map_err(|_| bad())?)
                     .map(|item| item.and_then(|i| i.extract::<std::path::PathBuf>()).map_err(|_| bad()))
-                    .collect::<PyResult<_>>()?,
-            ),
-        },
-        Kind::Texts => match text() {
-            Some(t) => Value::Text(t),
-            None => Value::Texts(
-                (obj.try_iter().map_err(|_| bad())?)
-                    .map(|item| item.and_then(|i| i.extract::<String>()).map_err(|_| bad()))
                     .collect::<PyResult<_>>()?,
             ),
         },
