@@ -182,6 +182,15 @@ pub struct RunArgs {
     /// Microsteps per full step of the steppers' drivers under --drive stepper: one value for every joint or one per joint ('auto' keeps the motor's: the Faze4 presets' firmware 8,8,4,2,2,2; else 16).
     #[arg(long, value_name = "N|N1,N2,…", allow_hyphen_values = true)]
     pub microsteps: Option<JointValues>,
+    /// Under --drive stepper, every stepper driver's current-loop bandwidth, Hz (default: the motor's; 5000 for the presets' TB6600-class choppers, a stated assumption; docs/motors.md, "The stepper's damping").
+    #[arg(long = "driver-bandwidth", value_name = "HZ")]
+    pub driver_bandwidth: Option<f64>,
+    /// Under --drive stepper, each rotor's viscous damping (iron losses, bearings), N·m·s/rad at the motor shaft: one value for every joint or one per joint ('auto' keeps the motor's; the presets' 0: not published).
+    #[arg(long = "rotor-damping", value_name = "B|B1,B2,…", allow_hyphen_values = true)]
+    pub rotor_damping: Option<JointValues>,
+    /// Under --drive stepper, each reducer's Coulomb friction, N·m at the motor shaft: one value for every joint or one per joint ('auto' keeps the motor's; the presets' 0: not published).
+    #[arg(long = "reducer-friction", value_name = "T|T1,T2,…", allow_hyphen_values = true)]
+    pub reducer_friction: Option<JointValues>,
     /// Print the motors' sizing report (with --motors): per joint at the motor peak and RMS torque, peak speed, inertia ratio, peak power, braking energy, supply current, heating.
     #[arg(long)]
     pub sizing: bool,
@@ -340,8 +349,8 @@ pub struct SweepArgs {
     /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
     /// the runs are the product). NAME is a numeric option of the command (payload-kg, dt,
     /// duration, freq, amp-deg, amp-m, traj-period, message, shape-points, record-period,
-    /// supply-voltage, friction, clearance-tolerance, max-error, max-saturation-pct,
-    /// max-deviation-mm) or a multiplier of the tuned or given values: kp-scale, kd-scale,
+    /// supply-voltage, driver-bandwidth, friction, clearance-tolerance, max-error,
+    /// max-saturation-pct, max-deviation-mm) or a multiplier of the tuned or given values: kp-scale, kd-scale,
     /// effort-scale, mass-scale, rotor-inertia-scale, efficiency-scale, stall-torque-scale.
     #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true)]
     pub vary: Vec<String>,

@@ -711,6 +711,11 @@ pub const FIELDS: &[Field] = &[
         number: None,
     },
     per_joint!("microsteps", control.microsteps),
+    optional_number!("driver_bandwidth", Commands::All, |c| Some(
+        &mut c.control.driver_bandwidth
+    )),
+    per_joint!("rotor_damping", control.rotor_damping),
+    per_joint!("reducer_friction", control.reducer_friction),
     flag!("sizing", outputs.sizing),
     flag!("no_gravity", arm.no_gravity),
     number!("payload_kg", Commands::All, |c| Some(&mut c.arm.payload_kg), || 0.0),

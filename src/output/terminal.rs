@@ -10,7 +10,7 @@ use crate::control::FeedForward;
 use crate::error::{escape_controls, quoted};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
-use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
+use crate::sim::{MotorSummary, Reason, Recorder, Ringing, RunInfo, Sample, Summary, Verdict, percent};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
 pub const PRINT_PERIOD: f64 = 0.5;
@@ -303,6 +303,18 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
         lines.push(text_row(
             "full steps lost",
             cell(&|m| m.steps_lost.map(|n| n.to_string())),
+        ));
+    }
+    if motors.iter().flatten().any(|m| m.ringing.is_some()) {
+        let ringing = |f: fn(&Ringing) -> String| cell(&move |m: &MotorSummary| m.ringing.as_ref().map(f));
+        lines.push(text_row("rings at (Hz)", ringing(|r| format!("{:.0}", r.natural_hz))));
+        lines.push(text_row(
+            "damping ratio",
+            ringing(|r| format!("{:.3}", r.damping_ratio)),
+        ));
+        lines.push(text_row(
+            "max lag (full steps)",
+            ringing(|r| format!("{:.2}", r.max_lag_steps)),
         ));
     }
     lines

@@ -39,6 +39,12 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
+    /// Under [`super::Drive::Stepper`], `effort` was given: it does not clip the open-loop
+    /// steppers' torque (their torque is the torque–angle curve's), only the PD's joints'.
+    IdleEffort {
+        /// The open-loop steppers' joints, for people (`J1, J2`).
+        joints: String,
+    },
     /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
     /// its natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) times Δt is above
     /// [`STEPPER_STEPS_PER_RADIAN`]; a run near a slip can change with Δt.
@@ -104,6 +110,10 @@ impl fmt::Display for Warning {
                 std::f64::consts::TAU / (omega * dt),
                 shortest(fine_dt(*omega)),
                 std::f64::consts::TAU / (omega * fine_dt(*omega)),
+            ),
+            Warning::IdleEffort { joints } => write!(
+                f,
+                "warning: `effort` does not act on the open-loop steppers ({joints}) under `drive` stepper: their torque is their torque–angle curve's, and no saturation is counted for them"
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
