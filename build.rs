@@ -8,6 +8,16 @@
 //! nothing reads them). Layout, little-endian: positions, 3 f32 per vertex (m); then indices, 3
 //! per triangle, u16 when the mesh has at most 65,536 vertices, else u32. `meshes.rs` (also in
 //! `OUT_DIR`) lists them: name, vertex count, triangle count, index width and the bytes.
+//!
+//! And `<name>.bvh`: the bounding-volume hierarchy of the mesh's triangles as the collision
+//! loader reads them (`geometry::mesh::Mesh::from_indexed`: positions welded again with `-0.0`
+//! as `0.0`, triangles whose corners weld together dropped), built by `src/geometry/bvh.rs`
+//! (included below), as its `Bvh::to_bytes` writes it. The loader checks it against the
+//! triangles before it uses it (`Bvh::from_bytes`).
+
+#[allow(dead_code)]
+#[path = "src/geometry/bvh.rs"]
+mod bvh;
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -17,6 +27,7 @@ const MESH_DIR: &str = "assets/faze4_description/meshes";
 
 fn main() {
     println!("cargo::rerun-if-changed={MESH_DIR}");
+    println!("cargo::rerun-if-changed=src/geometry/bvh.rs");
     let out_dir = std::env::var("OUT_DIR").expect("cargo sets OUT_DIR");
     let mut files: Vec<_> = std::fs::read_dir(MESH_DIR)
         .unwrap_or_else(|e| panic!("{MESH_DIR}: {e}"))
@@ -41,10 +52,15 @@ fn main() {
         }
         let blob_path = Path::new(&out_dir).join(format!("{name}.mesh"));
         std::fs::write(&blob_path, blob).unwrap_or_else(|e| panic!("{}: {e}", blob_path.display()));
+        let (points, triangles) = as_loaded(&positions, &indices);
+        let bvh_path = Path::new(&out_dir).join(format!("{name}.bvh"));
+        let bvh = bvh::Bvh::build(&points, &triangles).to_bytes();
+        std::fs::write(&bvh_path, bvh).unwrap_or_else(|e| panic!("{}: {e}", bvh_path.display()));
         writeln!(
             table,
             "    EmbeddedMesh {{ name: {name:?}, vertices: {}, triangles: {}, index_bytes: {}, \
-             bytes: include_bytes!(concat!(env!(\"OUT_DIR\"), \"/{name}.mesh\")) }},",
+             bytes: include_bytes!(concat!(env!(\"OUT_DIR\"), \"/{name}.mesh\")), \
+             bvh: include_bytes!(concat!(env!(\"OUT_DIR\"), \"/{name}.bvh\")) }},",
             positions.len(),
             indices.len() / 3,
             if wide { 4 } else { 2 },
@@ -89,4 +105,32 @@ fn weld(corners: &[[f32; 3]]) -> (Vec<[f32; 3]>, Vec<u32>) {
         })
         .collect();
     (positions, indices)
+}
+
+/// The points (f64) and triangles of the welded mesh `positions`, `indices` as the collision
+/// loader reads it (`geometry::mesh::Mesh::from_indexed`, at scale 1): each position welded
+/// with the bit-identical ones (`-0.0` as `0.0`) on first use, in order, and the triangles
+/// whose corners weld together dropped.
+fn as_loaded(positions: &[[f32; 3]], indices: &[u32]) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let key = |p: &[f32; 3]| p.map(|c| (c + 0.0).to_bits());
+    let mut welded: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut vertex_of = vec![u32::MAX; positions.len()];
+    let mut points = Vec::new();
+    let mut triangles = Vec::new();
+    for t in indices.chunks_exact(3) {
+        let t = [0, 1, 2].map(|k| {
+            let i = t[k] as usize;
+            if vertex_of[i] == u32::MAX {
+                vertex_of[i] = *welded.entry(key(&positions[i])).or_insert_with(|| {
+                    points.push(positions[i].map(f64::from));
+                    (points.len() - 1) as u32
+                });
+            }
+            vertex_of[i]
+        });
+        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+            triangles.push(t);
+        }
+    }
+    (points, triangles)
 }

@@ -211,7 +211,8 @@ fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
 pub const TRAJECTORY_LABELS: [&str; 4] = ["fuzz.yaml", "fuzz.json", "fuzz.mcap", "fuzz.csv"];
 
 /// `trajectory_file`: the first byte picks the format (its value mod 4: YAML, JSON, MCAP, CSV),
-/// the rest is the file → [`crate::traj::files::parse`] (the first message, the one topic).
+/// the rest is the file → [`crate::traj::files::parse`] (the first message, the one topic); the
+/// MCAP slot reads any bag its bytes say (a ROS 1 bag, a rosbag2 SQLite database, zstd).
 /// Checks: an error is one line naming the file first; an accepted trajectory passes
 /// [`crate::traj::TimedTrajectory::check`] (at most [`crate::input::MAX_MOVING_JOINTS`] joints,
 /// two points or more, times increasing, every point as long as the names). `None` for no

@@ -55,12 +55,18 @@ pub const MAX_TRAJECTORY_TEXT_BYTES: u64 = 64 << 20;
 /// serde_norway lists every event of the document before it builds anything, about 13 times the
 /// text (a 64 MiB YAML trajectory peaked at 876 MB; docs/development.md, "Caps").
 pub const MAX_YAML_TRAJECTORY_BYTES: u64 = 16 << 20;
-/// Largest `.mcap` file read (256 MiB, the `.npy` cap: rosbag2 compresses a recorded motion).
+/// Largest bag read into memory whole (256 MiB, the `.npy` cap): a rosbag2 `.db3` from a stream
+/// or a `.db3.zstd` (SQLite opens it there); other bags are streamed (see [`MAX_BAG_BYTES`]).
 pub const MAX_MCAP_BYTES: u64 = 256 << 20;
 /// Most bytes an `.mcap` file's trajectory messages may hold once decompressed (256 MiB), and
 /// the largest record it may have: a compressed chunk may claim any size, so what is kept and
 /// each record are bounded, not the file. About 18 minutes of `JointState` at 1 kHz.
 pub const MAX_MCAP_MESSAGE_BYTES: u64 = 256 << 20;
+/// Most bytes a bag file (MCAP, ROS 1 `.bag`, a stream, a zstd file decompressed) may stream
+/// (64 GiB): a bag is read record by record, its joint topics kept (under
+/// [`MAX_MCAP_MESSAGE_BYTES`]) and the rest only counted, so memory does not grow with it; a
+/// recording with cameras runs to gigabytes.
+pub const MAX_BAG_BYTES: u64 = 64 << 30;
 /// Largest motors file read (1 MiB): one `[[joint]]` takes a few hundred bytes.
 pub const MAX_MOTORS_BYTES: u64 = 1 << 20;
 /// Largest sweep part metadata read (16 MiB): it lists each varied option's values.
@@ -110,7 +116,7 @@ fn invalid(path: &Path, message: String) -> Error {
 }
 
 /// The error of a file (or stream) larger than `cap`, `what` naming what it should be.
-fn too_large(path: &Path, size: Option<u64>, cap: u64, what: &str) -> Error {
+pub(crate) fn too_large(path: &Path, size: Option<u64>, cap: u64, what: &str) -> Error {
     let size = match size {
         Some(s) => format!("{} ({s} bytes), ", size_text(s)),
         None => "a stream of ".into(),
@@ -157,6 +163,23 @@ fn read(path: &Path, cap: u64, what: &str, file_only: bool) -> Result<Vec<u8>> {
         return Err(too_large(path, None, cap, what));
     }
     Ok(bytes)
+}
+
+/// What `reader` (the file or stream `path`) holds, at most `cap` bytes: a stream of more is
+/// refused once byte `cap + 1` arrives, `what` naming the input (`a YAML trajectory`).
+pub fn read_stream_capped(reader: impl Read, path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    reader
+        .take(cap + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    match bytes.len() as u64 > cap {
+        true => Err(too_large(path, None, cap, what)),
+        false => Ok(bytes),
+    }
 }
 
 /// The metadata of `path`, which must be a regular file (links followed): a directory, FIFO or

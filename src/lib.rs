@@ -2,16 +2,20 @@
 //! built on them (a 5 kHz digital PD controller, torque limits, trajectories).
 //!
 //! Layers, bottom up (each uses only those below it; `ARCHITECTURE.md` has the table):
-//! [`spatial`] (6D algebra), [`error`], [`atomic`] (files written whole or not at all),
+//! [`spatial`] (6D algebra), [`error`], [`choice`] (the words of a configuration enum),
+//! [`atomic`] (files written whole or not at all),
 //! [`input`] (files read whole under a cap),
 //! [`model`] (URDF → immutable model), [`algo`] (kinematics and dynamics on a preallocated
 //! workspace), [`control`] (PD, tuning, motors), [`ik`] (inverse kinematics), [`traj`]
 //! (commands), [`faze4`] (the Faze4 arm's facts and its built-in meshes), [`geometry`] (visuals
 //! and collision shapes beside the model, self-clearance), [`sim`] (scenarios, the closed loop,
-//! the recorder interface, the summary and verdict), [`config`] (one run's configuration, read
+//! the recorder interface, the summary and verdict), [`retime`] (the fastest timing of a path
+//! that the motors follow), [`config`] (one run's configuration, read
 //! once into scenarios), [`output`] (terminal and trail recorders), [`sweep`] (many runs of one
 //! configuration), [`viz`] (the 3D view, live and exported, and the plots), [`session`] (a run
-//! with its output files, as every front end runs it), [`cli`] (the command line).
+//! with its output files, as every front end runs it). The command line is the `faze4` binary's
+//! (`src/main.rs`, `src/cli/`: clap only there), built from the options [`config::fields`]
+//! declares, as the Python binding's keywords are.
 //!
 //! A run from the library, without the command line:
 //!
@@ -31,7 +35,7 @@
 
 pub mod algo;
 pub mod atomic;
-pub mod cli;
+pub mod choice;
 pub mod config;
 pub mod control;
 pub mod error;

@@ -1,5 +1,10 @@
-//! The `faze4` binary: everything is in the library's `cli` module.
+//! The `faze4` binary: the command line of the library. Its arguments are built from the
+//! options the library declares (`faze4::config::fields`), clap lives only here
+//! ([`cli`]), and so do the command line's own conventions: flags, the default trail file,
+//! the exit statuses.
+
+mod cli;
 
 fn main() -> std::process::ExitCode {
-    faze4::cli::main()
+    cli::main()
 }

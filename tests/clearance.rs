@@ -303,7 +303,7 @@ fn a_missing_mesh_is_one_warning_and_unchecked() {
     assert!(matches!(&warnings[0], Warning::MeshNotFound { link, .. } if link == "a"));
     let line = warnings[0].to_string();
     assert!(
-        line.contains("missing.urdf") && line.contains("gone.STL") && line.contains("--package-path"),
+        line.contains("missing.urdf") && line.contains("gone.STL") && line.contains("`package_path`"),
         "{line}"
     );
     assert!(!line.contains('\n'));

@@ -213,6 +213,7 @@ fn files_read_whole_are_capped_and_streams_read_up_to_the_cap() {
     let far = [vec![1e308, 0.0, 0.0], vec![0.0; 3]];
     faze4::traj::npy::write_samples(&dir.join("far.npy"), &far).unwrap();
     symlink("/dev/zero", dir.join("zero.toml")).unwrap();
+    symlink("/dev/zero", dir.join("zero.npy")).unwrap();
     let replay = |q: &'static str| -> Vec<&'static str> {
         vec![
             "replay",
@@ -233,8 +234,13 @@ fn files_read_whole_are_capped_and_streams_read_up_to_the_cap() {
         .collect();
     let cases: Vec<(Vec<&str>, &[&str])> = vec![
         (
+            replay("zero.npy"),
+            &["zero.npy: a stream of more than the 256 MiB an .npy trajectory may hold"],
+        ),
+        // a stream of no format faze4 reads, and no extension: refused from its first bytes
+        (
             replay("/dev/zero"),
-            &["/dev/zero: a stream of more than the 256 MiB an .npy trajectory may hold"],
+            &["/dev/zero: not a trajectory faze4 reads", "it starts with \\x00\\x00"],
         ),
         (
             big_replay,
@@ -833,7 +839,9 @@ fn trajectory_files_are_capped_and_checked_before_they_are_built() {
         ),
         (
             replay("zero.mcap"),
-            &["zero.mcap: a stream of more than the 256 MiB an .mcap trajectory may hold"],
+            &[
+                "zero.mcap: not a bag (MCAP, rosbag2 SQLite, ROS 1 or one of them compressed with zstd): it starts with \\x00\\x00",
+            ],
         ),
         (
             replay(&big),

@@ -92,6 +92,50 @@ fn mcap_recorded_joint_states() {
     equals_pinocchio("so101_mcap_joint_states_cubic_full");
 }
 
+// Bags as `rosbags` writes them (tests/fixtures/trajectories/bags/; tests/bags.rs has the rest)
+
+#[test]
+fn rosbag2_folder_sqlite_recorded_joint_states() {
+    equals_pinocchio("so101_db3_joint_states_cubic_full");
+}
+
+#[test]
+fn rosbag2_folder_mcap_zstd_per_message() {
+    equals_pinocchio("so101_mcap_zstd_per_message_quintic_gravity");
+}
+
+#[test]
+fn rosbag2_folder_sqlite_zstd_per_file() {
+    equals_pinocchio("ur5_db3_zstd_per_file_linear_gravity");
+}
+
+#[test]
+fn rosbag2_folder_mcap_zstd_per_file() {
+    equals_pinocchio("ur5_mcap_zstd_per_file_cubic_full");
+}
+
+#[test]
+fn ros1_bag_bz2_recorded_joint_states() {
+    equals_pinocchio("so101_ros1_bz2_joint_states_cubic_gravity");
+}
+
+#[test]
+fn ros1_bag_lz4_joint_trajectory() {
+    equals_pinocchio("ur5_ros1_lz4_quintic_full");
+}
+
+// LeRobot datasets (tests/fixtures/trajectories/lerobot/)
+
+#[test]
+fn lerobot_v3_normalised_with_calibration() {
+    equals_pinocchio("so101_lerobot_v3_calibrated_linear_gravity");
+}
+
+#[test]
+fn lerobot_v21_in_degrees() {
+    equals_pinocchio("so101_lerobot_v21_degrees_linear_full");
+}
+
 /// The model joint a trajectory does not name is said once, and the default duration is the
 /// last time.
 #[test]
@@ -309,14 +353,18 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
         &["--message", "2"],
         &["--message: 2:", "holds 1 JointTrajectory messages"],
     );
-    refused(&good, &["--topic", "/x"], &["--topic: picks a topic of an .mcap file"]);
+    refused(
+        &good,
+        &["--topic", "/x"],
+        &["--topic: picks a topic of a bag (.mcap, .db3, .bag, a rosbag2 folder)"],
+    );
     // MCAP: several candidate topics, no such topic, a topic of another type
     let bad_topics = repo_path("tests/fixtures/trajectories/bad_topics.mcap");
     refused(
         &bad_topics,
         &[],
         &[
-            "has 2 candidate topics: /left_arm/joint_states (sensor_msgs/msg/JointState), /right_arm/joint_states (sensor_msgs/msg/JointState); pick one with --topic",
+            "has 2 candidate topics: /left_arm/joint_states (sensor_msgs/msg/JointState, 3 messages), /right_arm/joint_states (sensor_msgs/msg/JointState, 3 messages); pick one with --topic",
         ],
     );
     refused(
@@ -324,7 +372,7 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
         &["--topic", "/joint_trajectory"],
         &[
             "--topic: /joint_trajectory:",
-            "has no such topic (its topics: /chatter (std_msgs/msg/String)",
+            "has no such topic (its topics: /chatter (std_msgs/msg/String, 1 message)",
         ],
     );
     refused(
@@ -345,13 +393,15 @@ fn bad_inputs_are_one_line_exit_2_and_nothing_written() {
     refused(
         &npy,
         &["--message", "1"],
-        &["--message: picks from a .yaml, .json or .mcap file, not a .npy"],
+        &["--message: picks from a .yaml, .json or bag file, not a .npy"],
     );
     // not an MCAP at all
     refused(
         &input(&inputs, "text.mcap", "hello"),
         &[],
-        &["text.mcap: not a readable MCAP file"],
+        &[
+            "text.mcap: not a bag (MCAP, rosbag2 SQLite, ROS 1 or one of them compressed with zstd): it starts with hello",
+        ],
     );
     std::fs::remove_dir_all(&inputs).unwrap();
 }

@@ -9,12 +9,14 @@ digital PD controller, from Python::
     run.follows, run.summary["max_tracking_error_rad"], run.q.shape
 
 Every option of the command line is a keyword of ``wave``, ``replay``, ``shape``, ``retime``, ``sweep`` and
-``find``: the same name with underscores, the same default, the same checks. The keywords fill
-the library's own run configuration, field by field, and the run is the binary's: its summary
-equals the binary's ``--summary`` JSON. Messages name options as keywords (``dt``) where the
-binary names flags (``--dt``). Two defaults differ, because a Python call returns what the
-binary writes: ``trail="none"`` (the trail is in ``Run.t``, ``Run.q``, ...; give a path to write
-the CSV too) and ``quiet=True`` (nothing is printed; ``quiet=False`` prints the progress lines).
+``find``: the same name with underscores, the same default, the same checks, both declared once
+by the library. The keywords fill the library's own run configuration, field by field, and the
+run is the binary's: its summary equals the binary's ``--summary`` JSON. Messages name options as
+keywords (``dt``) where the binary names flags (``--dt``). The library writes no file it is not
+asked for: the trail is in ``Run.t``, ``Run.q``, ... (give ``trail`` a path to write the CSV too;
+the binary writes ``faze4_trail.csv`` by default). One default differs, because a Python call
+returns what the binary prints: ``quiet=True`` (nothing is printed; ``quiet=False`` prints the
+progress lines).
 Bad input raises :class:`Error`; a value of the wrong type raises ``TypeError``; with
 ``strict=True`` a run whose arm does not follow raises :class:`CannotFollow`, which carries the
 run. A :class:`Robot` pickles and copies (by its options), so it goes to ``multiprocessing``
@@ -70,31 +72,31 @@ class CannotFollow(Error):
     def __reduce__(self):
         return (CannotFollow, (str(self), self.run))
 
-#: An option of a command as the binary's clap definition declares it.
+#: An option of a command as the library declares it (``long``: the binary's flag, without ``--``).
 Option = namedtuple("Option", "name long kind repeated required default choices help")
 
-#: Python's defaults where they differ from the binary's (see the module's docstring).
-PYTHON_DEFAULTS = {"trail": "none", "quiet": True}
+#: Python's defaults where they differ from the library's (see the module's docstring).
+PYTHON_DEFAULTS = {"quiet": True}
 
 _RUN_COMMANDS = ("wave", "replay", "shape")
 
 
 def _table(command: str) -> dict[str, Option]:
     return {
-        long.replace("-", "_"): Option(long.replace("-", "_"), long, kind, repeated, required, default, choices, help_)
-        for (long, kind, repeated, required, default, choices, help_) in _faze4._options(command)
+        name: Option(name, name.replace("_", "-"), kind, repeated, required, default, choices, help_)
+        for (name, kind, repeated, required, default, choices, help_) in _faze4._options(command)
     }
 
 
-_TABLES = {c: _table(c) for c in (*_RUN_COMMANDS, "retime", "sweep", "run")}
+_TABLES = {c: _table(c) for c in (*_RUN_COMMANDS, "retime", "run")}
 
 
 def options(command: str) -> list[Option]:
-    """The keywords of ``command`` ('wave', 'replay', 'shape', 'retime', 'sweep'; 'run': those every run
-    command shares, which ``Robot.faze4`` and ``Robot.from_urdf`` take), as the binary declares
+    """The keywords of ``command`` ('wave', 'replay', 'shape', 'retime'; 'run': those every run
+    command shares, which ``Robot.faze4`` and ``Robot.from_urdf`` take), as the library declares
     them: name, long option, kind, default, choices, help."""
     if command not in _TABLES:
-        raise Error(f"no command '{command}' (wave, replay, shape, retime, sweep, run)")
+        raise Error(f"no command '{command}' (wave, replay, shape, retime, run)")
     return list(_TABLES[command].values())
 
 
@@ -136,7 +138,8 @@ class Robot(_faze4.Robot):
         tool_link: str | None = None,
         **options: Any,
     ) -> Robot:
-        """The arm of a URDF file; ``package_path``: where ``package://`` meshes are looked for
+        """The arm of a URDF file or of a MuJoCo MJCF model (a file whose root is ``<mujoco>``,
+        docs/robots.md); ``package_path``: where ``package://`` meshes are looked for
         (ROS_PACKAGE_PATH after); ``tool_link``: the link traced as the tool. Other keywords:
         as :meth:`Robot.faze4`."""
         if not isinstance(path, (str, os.PathLike)):
@@ -452,7 +455,7 @@ class Found:
         return isinstance(other, Found) and all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
 
 
-# --- docstrings and signatures from the binary's definitions, built at import -----------------
+# --- docstrings and signatures from the library's declarations, built at import ---------------
 
 _ABOUT = {
     "wave": "Every joint follows A·sin(ω t + i·π/3) (docs/model.md): ``faze4 wave``.",
@@ -532,19 +535,17 @@ _document(replay, "replay", ("q_traj",), _TIMED)
 _document(shape, "shape", ("shape",))
 _document(retime, "retime", ("q_path",), skip=("q_traj",))
 
+_VARIED, _SCALES = _faze4._varied()
 sweep.__doc__ = "\n".join(
     [
         "Many runs of ``command`` ('wave', 'replay', 'shape') on every core, the GIL released: "
         "``faze4 sweep --vary``.",
         "",
         "``vary``: {name: values} (an array-like, or 'LO:HI:STEP'); the runs are the product. "
-        "A name is a numeric option of the command (payload_kg, dt, duration, freq, amp_deg, "
-        "amp_m, traj_period, message, shape_points, record_period, supply_voltage, friction, "
-        "clearance_tolerance, max_error, max_saturation_pct, max_deviation_mm) or a multiplier: "
-        "kp_scale, kd_scale, effort_scale, mass_scale, rotor_inertia_scale, efficiency_scale, "
-        "stall_torque_scale. ``jobs``: threads (0: one per core). ``own_clearance``: each run "
-        "its own self-clearance, not the commanded path's shared (docs/sweep.md). Other keywords: "
-        "the options of the command (see ``help(faze4.%s)``)." % "wave",
+        "A name is a numeric option of the command (%s) or a multiplier: %s. ``jobs``: threads "
+        "(0: one per core). ``own_clearance``: each run its own self-clearance, not the commanded "
+        "path's shared (docs/sweep.md). Other keywords: the options of the command (see "
+        "``help(faze4.wave)``)." % (", ".join(_VARIED), ", ".join(_SCALES)),
         "",
         "Returns one dict per run, in grid order: the run's summary (as ``Run.summary``) with "
         "the varied values under their names; a run that could not be built: {'failed': reason}.",

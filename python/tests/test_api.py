@@ -99,6 +99,22 @@ def test_the_summary_says_what_was_simulated():
     assert [(m["link"], m["source"]) for m in summary["meshes"]] == [(j["name"], "built-in") for j in summary["joints"]]
 
 
+def test_an_mjcf_model_runs_from_its_home_keyframe():
+    # Menagerie's UR5e: MuJoCo's home keyframe is the wave's centre, its actuators' forcerange the
+    # torque limits, and the summary says the format and what the reading mapped
+    robot = faze4.Robot.from_urdf(ROOT / "tests" / "mjcf" / "menagerie" / "ur5e.xml")
+    run = faze4.wave(robot, duration=0.05, center="home", amp_deg=1, no_collisions=True)
+    summary = run.summary
+    assert summary["format"] == "mjcf" and summary["effort"] == [150.0, 150.0, 150.0, 28.0, 28.0, 28.0]
+    assert {m["from"] for m in summary["mapped"]} >= {"armature", "actuator forcerange", "keyframe home"}
+    # the command starts at the centre plus A sin(i pi/3) (A = 1 degree)
+    home = np.array(fixture("mjcf_ur5e.json")["home"])
+    start = home + np.radians(1.0) * np.sin(np.arange(6) * np.pi / 3)
+    assert np.allclose(run.q_cmd[0], start, rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="offers no start pose"):
+        faze4.wave(faze4.Robot.from_urdf(ROOT / "tests" / "mjcf" / "so101" / "scene.xml"), center="home")
+
+
 def test_model_options_change_the_model():
     q = np.zeros(6)
     plain, heavy = faze4.Robot.faze4(), faze4.Robot.faze4(payload_kg=1.0)
@@ -274,9 +290,10 @@ def test_stub_keywords_are_the_binarys_options():
 
 
 def test_python_defaults_are_the_only_ones_that_differ():
-    assert set(faze4.PYTHON_DEFAULTS) == {"trail", "quiet"}
-    binary = {o.name: o.default for o in faze4.options("wave")}
-    assert binary["trail"] == "faze4_trail.csv"
+    assert set(faze4.PYTHON_DEFAULTS) == {"quiet"}
+    # the library writes no trail file unless asked: faze4_trail.csv is the binary's own default
+    declared = {o.name: o.default for o in faze4.options("wave")}
+    assert declared["trail"] is None
 
 
 def test_motors_as_a_dict_equal_the_motors_file():

@@ -1,18 +1,18 @@
-//! The command line, as clap sees it: every option of a run is a field of
-//! [`crate::config::RunConfig`] of the same name (with dashes), its default read from there;
-//! [`super::config`] maps the parsed arguments onto a configuration, which checks them.
+//! The command line, as clap sees it. A run command's arguments are the options the library
+//! declares for it ([`faze4::config::fields::FIELDS`]: the flag is the field's name with
+//! dashes, its help, value name, default, choices and relations the declaration's), built by
+//! [`Declared`]; the binary adds only its own conventions ([`DEFAULT_TRAIL`], `retime`'s
+//! required `--out`). [`super::config`] fills a configuration from what clap parsed. `sweep`'s
+//! own arguments are the binary's alone.
 
 use std::path::PathBuf;
-use std::str::FromStr;
 
-use clap::{Args, Parser, Subcommand};
-
-use crate::config::{
-    DEFAULT_AMP_DEG, DEFAULT_ATTEMPTS, DEFAULT_CLEARANCE_TOLERANCE_MM, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_FREQ,
-    DEFAULT_FRICTION, DEFAULT_GRID, DEFAULT_MARGIN, DEFAULT_PORT, DEFAULT_RECORD_PERIOD, DEFAULT_SHAPE_DURATION,
-    DEFAULT_SHAPE_POINTS, DEFAULT_TRAIL, DEFAULT_TRAJ_PERIOD,
-};
-use crate::sim::Thresholds;
+use clap::builder::PossibleValuesParser;
+use clap::{Arg, ArgAction, ArgMatches, Args, FromArgMatches, Parser, Subcommand, value_parser};
+use faze4::choice::Choice;
+use faze4::config::Command as Run;
+use faze4::config::fields::{self, Field, Kind, parse_per_joint};
+use faze4::error::Words;
 
 /// faze4: can the motors of a real arm follow this trajectory? A fast, exact dynamics
 /// simulator of the Faze4 six-axis arm (or any URDF arm) under a 5 kHz digital PD controller.
@@ -28,315 +28,143 @@ pub struct Cli {
 #[derive(Clone, Debug, Subcommand)]
 pub enum Command {
     /// Every joint follows A·sin(ω t + i·π/3) (docs/model.md).
-    Wave(WaveArgs),
+    Wave(Declared<{ Run::Wave as usize }>),
     /// Replay a joint trajectory: time-stamped (.yaml, .json, .mcap, .csv; played once as ros2_control plays it), or an N×dof .npy repeating every --traj-period.
-    Replay(ReplayArgs),
+    Replay(Declared<{ Run::Replay as usize }>),
     /// Draw a sine, circle or triangle on the board: exact IK, then the samples as a loop (docs/model.md).
-    Shape(ShapeArgs),
+    Shape(Declared<{ Run::Shape as usize }>),
     /// The fastest timing of a path that the motors follow (TOPP-RA on the motors' torque–speed envelopes, checked in the closed loop; docs/retime.md): the path is --q-traj's points (times ignored), the timing goes to --out (replay plays it); --plot draws the phase plane.
-    Retime(RetimeArgs),
+    Retime(Declared<{ Run::Retime as usize }>),
     /// Many runs at once: vary options over a grid (--vary), or find the largest value that
     /// still follows (--find); after `--`, the command to run: sweep --vary payload-kg=0:2:0.5 -- shape --shape circle.
     Sweep(SweepArgs),
 }
 
-/// `faze4 wave`.
-#[derive(Clone, Debug, Args)]
-pub struct WaveArgs {
-    /// Simulated time (s).
-    #[arg(long, default_value_t = DEFAULT_DURATION, allow_hyphen_values = true)]
-    pub duration: f64,
-    /// Angular frequency ω of the wave (rad/s, as the original).
-    #[arg(long, default_value_t = DEFAULT_FREQ, allow_hyphen_values = true)]
-    pub freq: f64,
-    /// Amplitude A of the revolute and continuous joints (degrees).
-    #[arg(long = "amp-deg", default_value_t = DEFAULT_AMP_DEG, allow_hyphen_values = true)]
-    pub amp_deg: f64,
-    /// Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it
-    /// has limits, else 0.05 m.
-    #[arg(long = "amp-m", allow_hyphen_values = true)]
-    pub amp_m: Option<f64>,
-    /// The pose to wave about: one value per joint (rad or m), or 'mid' (the middle of each limited joint's range, 0 for an unlimited one). Default: zero.
-    #[arg(long, value_name = "Q1,Q2,…|mid", allow_hyphen_values = true)]
-    pub center: Option<String>,
-    /// Options every run command shares.
-    #[command(flatten)]
-    pub run: RunArgs,
+impl Command {
+    /// A run command and what clap parsed of it (`None` for `sweep`).
+    pub fn run(&self) -> Option<(Run, &ArgMatches)> {
+        match self {
+            Command::Wave(d) => Some(d.parts()),
+            Command::Replay(d) => Some(d.parts()),
+            Command::Shape(d) => Some(d.parts()),
+            Command::Retime(d) => Some(d.parts()),
+            Command::Sweep(_) => None,
+        }
+    }
 }
 
-/// `faze4 replay`.
-#[derive(Clone, Debug, Args)]
-pub struct ReplayArgs {
-    /// The trajectory file.
-    #[command(flatten)]
-    pub file: TrajectoryFileArgs,
-    /// Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy.
-    #[arg(long, allow_hyphen_values = true)]
-    pub duration: Option<f64>,
-    /// Options every run command shares.
-    #[command(flatten)]
-    pub run: RunArgs,
+/// The trail file a run writes when `--trail` is not given: the command line's own default
+/// (the library writes no file it is not asked for).
+pub const DEFAULT_TRAIL: &str = "faze4_trail.csv";
+
+/// The arguments of run command `C` (`Run::VALUES[C]`): every option the library declares for
+/// it, kept as clap parsed them.
+#[derive(Clone, Debug)]
+pub struct Declared<const C: usize>(ArgMatches);
+
+impl<const C: usize> Declared<C> {
+    /// The command.
+    const RUN: Run = Run::VALUES[C];
+
+    fn parts(&self) -> (Run, &ArgMatches) {
+        (Self::RUN, &self.0)
+    }
 }
 
-/// The trajectory file `replay` plays and `retime` reads the path of.
-#[derive(Clone, Debug, Args)]
-pub struct TrajectoryFileArgs {
-    /// The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md). retime takes its points as the path, times ignored.
-    #[arg(long = "q-traj", value_name = "F.yaml|F.json|F.mcap|F.csv|F.npy")]
-    pub q_traj: PathBuf,
-    /// .npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats (retime: the input's own timing it reports its speed-up against).
-    #[arg(long = "traj-period", default_value_t = DEFAULT_TRAJ_PERIOD, allow_hyphen_values = true)]
-    pub traj_period: f64,
-    /// Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the first).
-    #[arg(long, value_name = "K")]
-    pub message: Option<usize>,
-    /// The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic).
-    #[arg(long, value_name = "NAME")]
-    pub topic: Option<String>,
+impl<const C: usize> FromArgMatches for Declared<C> {
+    fn from_arg_matches(matches: &ArgMatches) -> Result<Self, clap::Error> {
+        Ok(Declared(matches.clone()))
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &ArgMatches) -> Result<(), clap::Error> {
+        self.0 = matches.clone();
+        Ok(())
+    }
 }
 
-/// `faze4 shape`.
-#[derive(Clone, Debug, Args)]
-pub struct ShapeArgs {
-    /// The path the tool draws on the board.
-    #[arg(long, value_parser = ["sine", "circle", "tri"])]
-    pub shape: String,
-    /// Samples along the path (IK targets), played one loop every 5 s.
-    #[arg(
-        long = "shape-points",
-        default_value_t = DEFAULT_SHAPE_POINTS,
-        value_name = "N",
-        allow_hyphen_values = true
-    )]
-    pub shape_points: usize,
-    /// Simulated time (s).
-    #[arg(long, default_value_t = DEFAULT_SHAPE_DURATION, allow_hyphen_values = true)]
-    pub duration: f64,
-    /// Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it).
-    #[arg(long = "save-q", value_name = "F.npy")]
-    pub save_q: Option<PathBuf>,
-    /// Options every run command shares.
-    #[command(flatten)]
-    pub run: RunArgs,
+impl<const C: usize> Args for Declared<C> {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        cmd.args(fields::of(Self::RUN).map(|f| own_conventions(Self::RUN, f, arg(f))))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
-/// `faze4 retime`.
-#[derive(Clone, Debug, Args)]
-pub struct RetimeArgs {
-    /// The path: the trajectory file's points in order, times ignored, joined by a C² cubic spline over their cumulative joint-space distance.
-    #[command(flatten)]
-    pub file: TrajectoryFileArgs,
-    /// Where the timing is written, by extension: a JointTrajectory as .yaml or .json, a rosbag2 .mcap, or a .csv (positions, velocities, accelerations, time from start); `faze4 replay --q-traj` plays it.
-    #[arg(long, value_name = "F.yaml|F.json|F.mcap|F.csv")]
-    pub out: PathBuf,
-    /// Grid intervals in s (at most 100,000): the limits are kept at the grid's points.
-    #[arg(long, default_value_t = DEFAULT_GRID, value_name = "N", allow_hyphen_values = true)]
-    pub grid: usize,
-    /// The share of every torque limit (each motor's envelope at its speed, or the constant limit) left for the feedback, in [0, 1).
-    #[arg(long, default_value_t = DEFAULT_MARGIN, value_name = "SHARE", allow_hyphen_values = true)]
-    pub margin: f64,
-    /// Most closed-loop checks: the first timing's, then one per slowed timing.
-    #[arg(long, default_value_t = DEFAULT_ATTEMPTS, value_name = "N", allow_hyphen_values = true)]
-    pub attempts: usize,
-    /// Options every run command shares.
-    #[command(flatten)]
-    pub run: RunArgs,
+/// `arg` with the command line's own conventions for `field` of `run`: a trail unless told
+/// otherwise, and retime's timing written somewhere (the library writes neither unless asked).
+fn own_conventions(run: Run, field: &Field, arg: Arg) -> Arg {
+    match (run, field.name) {
+        (_, "trail") => arg.default_value(DEFAULT_TRAIL),
+        (Run::Retime, "out") => arg.required(true),
+        _ => arg,
+    }
 }
 
-/// Options every run command shares: model, controller, outputs.
-#[derive(Clone, Debug, Args)]
-pub struct RunArgs {
-    /// The arm (default: the bundled Faze4, urdf/faze4_arm.urdf).
-    #[arg(long, value_name = "F.urdf")]
-    pub urdf: Option<PathBuf>,
-    /// Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after).
-    #[arg(long = "package-path", value_name = "DIR")]
-    pub package_path: Vec<PathBuf>,
-    /// A moving body whose inertia no rigid body has (not positive definite, or its principal
-    /// moments break the triangle inequality) gets its principal moments set to their mean, as
-    /// MuJoCo's balanceinertia does (a warning per body), instead of the model being refused.
-    #[arg(long = "balance-inertia")]
-    pub balance_inertia: bool,
-    /// The link traced as the tool (default: tool_link, else the last link of a chain; on a
-    /// branched tree the deepest common ancestor of the deepest leaves, e.g. a hand).
-    #[arg(long = "tool-link", value_name = "NAME")]
-    pub tool_link: Option<String>,
-    /// Torque limits per joint, N·m (default: the Faze4 motors' for the bundled arm, else the URDF's effort values).
-    #[arg(long, value_name = "E1,E2,…", allow_hyphen_values = true)]
-    pub effort: Option<JointValues>,
-    /// Proportional gains per joint ('auto' keeps the tuned value), e.g. auto,auto,auto,auto,auto,30.
-    #[arg(long, value_name = "KP1,KP2,…", allow_hyphen_values = true)]
-    pub kp: Option<JointValues>,
-    /// Derivative gains per joint ('auto' keeps the tuned value).
-    #[arg(long, value_name = "KD1,KD2,…", allow_hyphen_values = true)]
-    pub kd: Option<JointValues>,
-    /// Motors behind the joints, whose torque–speed envelope clips each joint's torque at its speed: a preset (faze4: 17HS16-2004S1 steppers and the Faze4's reducers; faze4-bom: the motors the Faze4 is built with; sts3215: Feetech STS3215 servos, the SO-100's; xm540-w270: Dynamixel XM540-W270) or a FILE.toml (docs/motors.md).
-    #[arg(long, value_name = "PRESET|FILE.toml")]
-    pub motors: Option<String>,
-    /// Supply voltage of the --motors presets' drives, V (default: the preset's, 24 V for the Faze4's steppers).
-    #[arg(long = "supply-voltage", value_name = "V")]
-    pub supply_voltage: Option<f64>,
-    /// How the joints with a stepper are driven: 'pd', the controller's torque clipped to the envelope (the original's; the default), or 'stepper', open loop: the driver's microstep through the torque–angle curve, slips and all (with --motors; docs/motors.md).
-    #[arg(long, value_name = "pd|stepper", value_parser = ["pd", "stepper"])]
-    pub drive: Option<String>,
-    /// Microsteps per full step of the steppers' drivers under --drive stepper: one value for every joint or one per joint ('auto' keeps the motor's: the Faze4 presets' firmware 8,8,4,2,2,2; else 16).
-    #[arg(long, value_name = "N|N1,N2,…", allow_hyphen_values = true)]
-    pub microsteps: Option<JointValues>,
-    /// Under --drive stepper, every stepper driver's current-loop bandwidth, Hz (default: the motor's; 5000 for the presets' TB6600-class choppers, a stated assumption; docs/motors.md, "The stepper's damping").
-    #[arg(long = "driver-bandwidth", value_name = "HZ")]
-    pub driver_bandwidth: Option<f64>,
-    /// Under --drive stepper, each rotor's viscous damping (iron losses, bearings), N·m·s/rad at the motor shaft: one value for every joint or one per joint ('auto' keeps the motor's; the presets' 0: not published).
-    #[arg(long = "rotor-damping", value_name = "B|B1,B2,…", allow_hyphen_values = true)]
-    pub rotor_damping: Option<JointValues>,
-    /// Under --drive stepper, each reducer's Coulomb friction, N·m at the motor shaft: one value for every joint or one per joint ('auto' keeps the motor's; the presets' 0: not published).
-    #[arg(long = "reducer-friction", value_name = "T|T1,T2,…", allow_hyphen_values = true)]
-    pub reducer_friction: Option<JointValues>,
-    /// Print the motors' sizing report (with --motors): per joint at the motor peak and RMS torque, peak speed, inertia ratio, peak power, braking energy, supply current, heating.
-    #[arg(long)]
-    pub sizing: bool,
-    /// Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or --motors'); overrides the URDF.
-    #[arg(long = "rotor-inertia", value_name = "I1,I2,…", allow_hyphen_values = true)]
-    pub rotor_inertia: Option<JointValues>,
-    /// Gear ratio per joint, motor turns per joint turn ('auto' keeps the URDF's or --motors'); overrides the URDF.
-    #[arg(long = "gear-ratio", value_name = "R1,R2,…", allow_hyphen_values = true)]
-    pub gear_ratio: Option<JointValues>,
-    /// Speed limits per joint, rad/s or m/s ('auto' keeps the URDF's velocity; none for the bundled Faze4): counted, not enforced.
-    #[arg(long = "max-speed", value_name = "W1,W2,…", allow_hyphen_values = true)]
-    pub max_speed: Option<JointValues>,
-    /// No gravity feed-forward (PD alone holds the arm up).
-    #[arg(long = "no-ff")]
-    pub no_ff: bool,
-    /// What the controller feeds forward: 'gravity', g(q) at the measured q (the default), or 'full', the inverse dynamics of the commanded q, v, a (computed torque; docs/trajectories.md).
-    #[arg(long, value_name = "gravity|full", value_parser = ["gravity", "full"], conflicts_with = "no_ff")]
-    pub ff: Option<String>,
-    /// No gravity field.
-    #[arg(long = "no-gravity")]
-    pub no_gravity: bool,
-    /// A point mass at the tool link (kg).
-    #[arg(
-        long = "payload-kg",
-        default_value_t = 0.0,
-        value_name = "M",
-        allow_hyphen_values = true
-    )]
-    pub payload_kg: f64,
-    /// Control and integration period (s); 2e-4 is 5 kHz.
-    #[arg(long, default_value_t = DEFAULT_DT, allow_hyphen_values = true)]
-    pub dt: f64,
-    /// Print τ, error, velocity and g(q) with every progress line and add them to the trail.
-    #[arg(long)]
-    pub debug: bool,
-    /// Print only the verdict, errors, and the warnings that change the result (a mesh not
-    /// found, a transmission skipped, an inertia balanced).
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// Simulated time between progress lines (s); default 0.5 s, or longer so that a long run
-    /// prints at most about 40 lines.
-    #[arg(long = "print-period", value_name = "S", allow_hyphen_values = true)]
-    pub print_period: Option<f64>,
-    /// The verdict "follows" allows each joint to saturate at most this share of the steps (%).
-    #[arg(
-        long = "max-saturation-pct",
-        default_value_t = Thresholds::DEFAULT.max_saturation_pct,
-        value_name = "PCT",
-        allow_hyphen_values = true
-    )]
-    pub max_saturation_pct: f64,
-    /// The verdict "follows" allows tracking errors up to this (rad, or m for a prismatic joint).
-    #[arg(
-        long = "max-error",
-        default_value_t = Thresholds::DEFAULT.max_error,
-        value_name = "RAD",
-        allow_hyphen_values = true
-    )]
-    pub max_error: f64,
-    /// The verdict "follows" allows a shape's path deviation up to this (mm).
-    #[arg(
-        long = "max-deviation-mm",
-        default_value_t = Thresholds::DEFAULT.max_deviation_mm,
-        value_name = "MM",
-        allow_hyphen_values = true
-    )]
-    pub max_deviation_mm: f64,
-    /// Exit with status 3 when the verdict is "cannot follow" or "collides" (for CI jobs that guard a motion).
-    #[arg(long)]
-    pub strict: bool,
-    /// Trail CSV (t, x, y, z, q1…); 'none' writes none.
-    #[arg(long, default_value = DEFAULT_TRAIL, value_name = "F.csv")]
-    pub trail: PathBuf,
-    /// Summary JSON (the machine-readable result).
-    #[arg(long, value_name = "F.json")]
-    pub summary: Option<PathBuf>,
-    /// Time between trail rows (s).
-    #[arg(
-        long = "record-period",
-        default_value_t = DEFAULT_RECORD_PERIOD,
-        value_name = "S",
-        allow_hyphen_values = true
-    )]
-    pub record_period: f64,
-    /// How self-clearance reads a collision mesh: 'mesh', its exact triangles, or 'hull', its
-    /// convex hull (as Drake and most simulators do; signed distances).
-    #[arg(long = "collision-geometry", default_value = "mesh", value_name = "KIND", value_parser = ["mesh", "hull"])]
-    pub collision_geometry: String,
-    /// Which pairs of links self-clearance checks: 'all' adds the pairs a joint connects to the
-    /// default (Drake's: links on different bodies not connected by a joint).
-    #[arg(long = "collision-pairs", value_name = "all", value_parser = ["all"])]
-    pub collision_pairs: Option<String>,
-    /// How far (mm) the reported self-clearance may be above the true minimum over the
-    /// samples: it is the distance of two actual parts, and the true minimum is at most this
-    /// much below it. 0 is exact. Intersections are decided exactly whatever it is.
-    #[arg(long = "clearance-tolerance", value_name = "MM", default_value_t = DEFAULT_CLEARANCE_TOLERANCE_MM, allow_hyphen_values = true)]
-    pub clearance_tolerance: f64,
-    /// No self-clearance: the collision geometry is skipped altogether (its meshes not read).
-    #[arg(long = "no-collisions", conflicts_with_all = ["collision_geometry", "collision_pairs", "clearance_tolerance"])]
-    pub no_collisions: bool,
-    /// Contact forces between the checked pairs of the collision geometry, solved inside the
-    /// step (Drake's compliant point contact; with --collision-geometry hull the convex hulls
-    /// touch, as in Drake; exact meshes that intersect stop the run).
-    #[arg(long = "self-collisions", conflicts_with = "no_collisions")]
-    pub self_collisions: bool,
-    /// Coulomb friction of --self-collisions contacts.
-    #[arg(
-        long,
-        default_value_t = DEFAULT_FRICTION,
-        value_name = "MU",
-        requires = "self_collisions",
-        allow_hyphen_values = true
-    )]
-    pub friction: f64,
-    /// Show the run live in the browser at http://127.0.0.1:PORT, in real time.
-    #[arg(long)]
-    pub view: bool,
-    /// Port of the live view (127.0.0.1 only; 0 picks a free one).
-    #[arg(long, default_value_t = DEFAULT_PORT, value_name = "P")]
-    pub port: u16,
-    /// Keep the live view serving after the run until Ctrl-C (implies --view).
-    #[arg(long)]
-    pub hold: bool,
-    /// One self-contained HTML file that plays the run back offline; 'none' writes none.
-    #[arg(long, value_name = "F.html")]
-    pub html: Option<PathBuf>,
-    /// One figure of joint angles vs command, torques vs limits, tracking error (and path
-    /// deviation for shapes), as .svg or .png.
-    #[arg(long, value_name = "F.svg|F.png")]
-    pub plot: Option<PathBuf>,
-    /// The motors' sizing plot (with --motors): per joint the operating points (|ω_m|, |τ_m|) over the torque–speed envelope, the continuous torque line and the RMS point, as .svg or .png.
-    #[arg(long = "plot-motors", value_name = "F.svg|F.png")]
-    pub plot_motors: Option<PathBuf>,
+/// The argument of a declared option: `--payload-kg <M>`, its help with the options it names as
+/// flags, its parser by kind.
+fn arg(field: &'static Field) -> Arg {
+    let help = field.help_in(Words::Flags);
+    let mut arg = Arg::new(field.name)
+        .long(field.name.replace('_', "-"))
+        // clap's derive drops a help's final full stop; so does the declaration's here
+        .help(help.strip_suffix('.').unwrap_or(&help).to_string())
+        .required(field.required)
+        .conflicts_with_all(field.conflicts.iter().copied());
+    for needed in field.requires {
+        arg = arg.requires(*needed);
+    }
+    if let Some(letter) = field.short {
+        arg = arg.short(letter);
+    }
+    if let Some(default) = field.default.shown() {
+        arg = arg.default_value(default);
+    }
+    if field.kind == Kind::Flag {
+        return arg.action(ArgAction::SetTrue);
+    }
+    arg = arg.value_name(field.value_name.map_or_else(|| field.name.to_uppercase(), String::from));
+    let numeric = matches!(
+        field.kind,
+        Kind::Number | Kind::Count | Kind::PerJoint | Kind::Numbers | Kind::Center
+    );
+    arg = arg.allow_hyphen_values(numeric);
+    match field.kind {
+        Kind::Number => arg.value_parser(value_parser!(f64)),
+        Kind::Count => match field.most {
+            Some(most) => arg.value_parser(value_parser!(u64).range(..=most)),
+            None => arg.value_parser(value_parser!(u64)),
+        },
+        Kind::Choice(words) => arg.value_parser(PossibleValuesParser::new(words)),
+        Kind::Path => arg.value_parser(value_parser!(PathBuf)),
+        Kind::Paths => arg.value_parser(value_parser!(PathBuf)).action(ArgAction::Append),
+        Kind::PerJoint | Kind::Numbers => arg.value_parser(parse_joint_values),
+        Kind::Flag | Kind::Text | Kind::Center | Kind::Motors => arg,
+    }
 }
 
 /// A comma-separated value per joint; `auto` leaves a joint's value alone
-/// ([`crate::config::fields::parse_per_joint`]).
+/// ([`faze4::config::fields::parse_per_joint`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointValues(pub Vec<Option<f64>>);
 
-impl FromStr for JointValues {
-    type Err = String;
+fn parse_joint_values(text: &str) -> Result<JointValues, String> {
+    parse_per_joint(text).map(JointValues)
+}
 
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::config::fields::parse_per_joint(s).map(JointValues)
-    }
+/// `--vary`'s help: the numeric options a sweep varies and the multipliers, from the library.
+fn vary_help() -> String {
+    let options: Vec<String> = (faze4::sweep::varied_fields().iter())
+        .map(|n| n.replace('_', "-"))
+        .collect();
+    let scales: Vec<&str> = faze4::sweep::Scale::ALL.iter().map(|(n, _)| *n).collect();
+    format!(
+        "An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable: the runs are the \
+         product). NAME is a numeric option of the command ({}) or a multiplier of the tuned or given values: {}",
+        options.join(", "),
+        scales.join(", ")
+    )
 }
 
 /// `faze4 sweep`.
@@ -346,13 +174,8 @@ pub struct SweepArgs {
     /// Join the tables of a sweep's parts (--shard K/N).
     #[command(subcommand)]
     pub merge: Option<SweepCommand>,
-    /// An option and its values: a range LO:HI:STEP (HI included) or a list v1,v2,… (repeatable:
-    /// the runs are the product). NAME is a numeric option of the command (payload-kg, dt,
-    /// duration, freq, amp-deg, amp-m, traj-period, message, shape-points, record-period,
-    /// supply-voltage, driver-bandwidth, friction, clearance-tolerance, max-error,
-    /// max-saturation-pct, max-deviation-mm) or a multiplier of the tuned or given values: kp-scale, kd-scale,
-    /// effort-scale, mass-scale, rotor-inertia-scale, efficiency-scale, stall-torque-scale.
-    #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true)]
+    // its help: vary_help, from the library's options
+    #[arg(long, value_name = "NAME=LO:HI:STEP", allow_hyphen_values = true, help = vary_help())]
     pub vary: Vec<String>,
     /// Find the largest value of NAME in [LO, HI] at which the arm still follows (bisection).
     #[arg(long, value_name = "NAME=LO:HI", allow_hyphen_values = true, conflicts_with_all = ["vary", "find_min"])]
@@ -434,4 +257,99 @@ pub struct MergeArgs {
     /// says which runs are absent).
     #[arg(long = "allow-partial")]
     pub allow_partial: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use clap::CommandFactory;
+    use faze4::config::fields::Value;
+    use faze4::config::{Motion, RunConfig};
+
+    use super::*;
+
+    fn config(words: &[&str], own_defaults: bool) -> faze4::Result<RunConfig> {
+        let cli = Cli::try_parse_from(std::iter::once("faze4").chain(words.iter().copied())).unwrap();
+        super::super::config::run_config(&cli.command, own_defaults)
+    }
+
+    #[test]
+    fn the_command_line_is_well_formed() {
+        Cli::command().debug_assert();
+        for (i, run) in Run::VALUES.iter().enumerate() {
+            assert_eq!(*run as usize, i, "Declared<C> indexes Run::VALUES by discriminant");
+        }
+    }
+
+    /// Each run command's flags are its declared options, dashed, and nothing else.
+    #[test]
+    fn every_declared_option_is_a_flag_of_its_commands() {
+        let cli = Cli::command();
+        for run in Run::VALUES {
+            let sub = cli.find_subcommand(run.name()).unwrap();
+            let flags: Vec<String> = (sub.get_arguments())
+                .filter_map(|a| a.get_long().map(String::from))
+                .filter(|l| l != "help")
+                .collect();
+            let declared: Vec<String> = fields::of(*run).map(|f| f.name.replace('_', "-")).collect();
+            assert_eq!(flags, declared, "{}", run.name());
+        }
+    }
+
+    /// The command line sets what the same names and values set through the library (as
+    /// Python's keywords do), and nothing it was not given, but its own trail file.
+    #[test]
+    fn the_command_line_sets_the_declared_options_by_name() {
+        let line = "wave --dt 0.001 --kp auto,2 --center mid --ff full --package-path a --package-path b -q \
+                    --port 8000 --shape-points 3";
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let all = Cli::try_parse_from(std::iter::once("faze4").chain(words.iter().copied()));
+        assert!(all.is_err(), "--shape-points is not a wave option");
+        let given = config(&words[..words.len() - 2], true).unwrap();
+        let mut expected = RunConfig::new(Run::Wave.motion());
+        expected.outputs.words = Words::Flags;
+        for (name, value) in [
+            ("dt", Value::Number(0.001)),
+            ("kp", Value::PerJoint(vec![None, Some(2.0)])),
+            ("center", Value::Text("mid".into())),
+            ("ff", Value::Text("full".into())),
+            ("package_path", Value::Paths(vec!["a".into(), "b".into()])),
+            ("quiet", Value::Flag(true)),
+            ("port", Value::Count(8000)),
+            ("trail", Value::Text(DEFAULT_TRAIL.into())),
+        ] {
+            expected.set(name, value).unwrap();
+        }
+        assert_eq!(given, expected);
+        // a sweep's base takes no trail unless given (then Family::load refuses it)
+        let base = config(&["shape", "--shape", "tri"], false).unwrap();
+        assert!(matches!(&base.motion, Motion::Shape(s) if s.shape.name() == "tri"));
+        assert_eq!(base.outputs.trail, None);
+        let none = config(&["wave", "--trail", "none", "--html", "none"], true).unwrap();
+        assert_eq!((none.outputs.trail, none.outputs.html), (None, None));
+        let retime = config(&["retime", "--q-traj", "p.csv", "--out", "t.yaml"], true).unwrap();
+        assert!(matches!(&retime.motion, Motion::Retime(r) if r.out == Some(PathBuf::from("t.yaml"))));
+        let no_out = Cli::try_parse_from(["faze4", "retime", "--q-traj", "p.csv"]);
+        assert!(no_out.is_err(), "the command line's retime needs --out");
+    }
+
+    /// `--vary`'s help names every option a sweep varies, and nothing else.
+    #[test]
+    fn varys_help_names_what_a_sweep_varies() {
+        let help = vary_help();
+        let listed: String = (help.split_once("NAME is").unwrap().1.chars())
+            .map(|c| if c.is_ascii_lowercase() || c == '-' { c } else { ' ' })
+            .collect();
+        let known = faze4::sweep::known_names();
+        let mut known: Vec<&str> = known.split(", ").collect();
+        let mut named: Vec<&str> = (listed.split_whitespace())
+            .filter(|w| w.contains('-') || fields::any_field(w).is_some())
+            .filter(|w| *w != "a" && !w.starts_with('-'))
+            .collect();
+        known.sort();
+        named.sort();
+        named.dedup();
+        assert_eq!(named, known);
+    }
 }

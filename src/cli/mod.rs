@@ -1,10 +1,10 @@
-//! The command line: clap arguments → the library's configuration → the run with its outputs
-//! ([`crate::session`]) → the lines and the exit status. The library names options as fields
-//! (`` `dt` ``); every line printed here shows them as flags (`--dt`, [`flags`]).
+//! The command line: clap arguments (built from the library's declared options) → the
+//! library's configuration → the run with its outputs ([`faze4::session`]) → the lines and the
+//! exit status. The library names options as fields (`` `dt` ``); every line printed here shows
+//! them as flags (`--dt`, [`flags`]).
 
 pub mod args;
 pub mod config;
-pub mod options;
 pub mod sweep;
 
 use std::io::Write;
@@ -13,10 +13,10 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use self::args::{Cli, Command};
-use crate::atomic::Outputs;
-use crate::error::{Error, Result, Words, escape_controls, escape_lines, in_words};
-use crate::session::{Prepared, divergence_line, report_text};
-use crate::sim::{self, StopFlag};
+use faze4::atomic::Outputs;
+use faze4::error::{Error, Result, Words, escape_controls, escape_lines, in_words};
+use faze4::session::{Prepared, divergence_line, report_text};
+use faze4::sim::{self, StopFlag};
 
 /// Exit status of a run that diverged.
 pub const EXIT_DIVERGED: u8 = 1;
@@ -96,8 +96,8 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     if let Command::Sweep(a) = &cli.command {
         return sweep::execute(a);
     }
-    let config = config::run_config(&cli.command)?;
-    if let Command::Retime(_) = &cli.command {
+    let config = config::run_config(&cli.command, true)?;
+    if let faze4::config::Motion::Retime(_) = &config.motion {
         return retime_and_report(&config);
     }
     let prepared = Prepared::new(config, None)?;
@@ -108,11 +108,11 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 /// run's (1 diverged, 128 + a signal's number, 3 under `--strict` when the checked timing
 /// does not follow); a path that no timing follows is the reason on stderr, with status 3
 /// under `--strict`, else 2 (nothing is written).
-fn retime_and_report(config: &crate::config::RunConfig) -> Result<ExitCode> {
+fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
     let quiet = config.outputs.quiet;
-    let finished = match crate::session::retime(config, None, &files, &mut [], &stop, |w| warn(w, quiet)) {
+    let finished = match faze4::session::retime(config, None, &files, &mut [], &stop, |w| warn(w, quiet)) {
         Err(e @ Error::NothingFollows { .. }) if config.verdict.strict => {
             eprintln!("faze4: {}", escape_controls(&flags(&e.to_string())));
             return Ok(ExitCode::from(EXIT_CANNOT_FOLLOW));
@@ -121,12 +121,12 @@ fn retime_and_report(config: &crate::config::RunConfig) -> Result<ExitCode> {
     };
     let summary = &finished.summary;
     let out = match &config.motion {
-        crate::config::Motion::Retime(r) => r.out.as_deref(),
+        faze4::config::Motion::Retime(r) => r.out.as_deref(),
         _ => None,
     };
     let mut stdout = String::new();
     if !quiet {
-        stdout = crate::session::retime_lines(&finished, out);
+        stdout = faze4::session::retime_lines(&finished, out);
     }
     stdout.push_str(&format!("{}\n", summary.verdict));
     print_stdout(&stdout)?;
@@ -149,8 +149,8 @@ fn retime_and_report(config: &crate::config::RunConfig) -> Result<ExitCode> {
 }
 
 /// Prints `warnings` on stderr, one line each, options as flags; under `quiet`, only those that
-/// change the result ([`crate::sim::Warning::changes_result`]).
-fn warn(warnings: &[crate::sim::Warning], quiet: bool) {
+/// change the result ([`faze4::sim::Warning::changes_result`]).
+fn warn(warnings: &[faze4::sim::Warning], quiet: bool) {
     for warning in warnings.iter().filter(|w| !quiet || w.changes_result()) {
         eprintln!("faze4: {}", escape_controls(&flags(&warning.to_string())));
     }
@@ -167,7 +167,7 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
     let config = &prepared.config;
-    let finished = crate::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
+    let finished = faze4::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
     let summary = &finished.summary;
     let mut stdout = report_text(&finished, config);
     // the answer, always the last line on stdout

@@ -1,4 +1,4 @@
-//! `faze4 sweep`: the command line of [`crate::sweep`]. The base command (after `--`) is parsed
+//! `faze4 sweep`: the command line of [`faze4::sweep`]. The base command (after `--`) is parsed
 //! into a configuration; a sweep point sets the varied fields of it (or scales the built
 //! scenario); the model (and a replay's frames, a shape's plan, the collision meshes) are read
 //! once and shared by every run ([`Family`]).
@@ -14,12 +14,12 @@ use clap::Parser;
 
 use super::args::{Cli, SweepArgs, SweepCommand};
 use super::{flags, interrupted_status, print_stdout, stopped_by, usage_line, warn};
-use crate::atomic::{Outputs, check_output_path};
-use crate::config::RunConfig;
-use crate::error::{Error, Result};
-use crate::output::format::exact;
-use crate::sim::StopFlag;
-use crate::sweep::{
+use faze4::atomic::{Outputs, check_output_path};
+use faze4::config::RunConfig;
+use faze4::error::{Error, Result};
+use faze4::output::format::exact;
+use faze4::sim::StopFlag;
+use faze4::sweep::{
     self, Family, Format, Grid, MAX_RUNS, Outcome, PartMeta, Row, Runner, Seek, Shard, Sharing, TableWriter, threads,
 };
 
@@ -55,7 +55,8 @@ fn base_config(words: &[String]) -> Result<RunConfig> {
         }
         _ => {}
     }
-    super::config::run_config(&command)
+    // the base takes none of the command line's own defaults: its runs' trails are --trails
+    super::config::run_config(&command, false)
 }
 
 /// A failed run's reason with the options it names as flags.
@@ -117,7 +118,7 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         None => None,
     };
     let plot = match &args.plot {
-        Some(path) => Some(crate::viz::SweepPlot::new(path, &grid)?.within(&files)),
+        Some(path) => Some(faze4::viz::SweepPlot::new(path, &grid)?.within(&files)),
         None => None,
     };
     check_trails(args.trails.as_deref())?;

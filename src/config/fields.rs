@@ -1,15 +1,23 @@
-//! The options of a [`RunConfig`] by name: what kind of value each takes, which commands have
-//! it, and how it is set. A front end that has names and values (Python's keywords) sets a
-//! configuration through [`RunConfig::set`]; a sweep varies its numeric fields through
-//! [`Field::set_number`]. The names are the fields' own (`payload_kg`): the command line's
-//! flags are the same words with dashes (`--payload-kg`).
+//! Every option of a [`RunConfig`], declared once ([`FIELDS`]): its name, the kind of value it
+//! takes, its default, its help, the commands that take it, and how it is set and checked.
+//! Every front end reads this table: the command line builds its arguments from it (the flag
+//! is the name with dashes, `--payload-kg`) and sets the configuration through
+//! [`RunConfig::set`]; the Python binding takes its keywords, their defaults and docstrings from
+//! it; a sweep varies its numeric fields ([`Field::set_number`]). The help names other options as
+//! the library's messages do (`` `motors` ``), which each front end writes in its own words
+//! ([`crate::error::in_words`]).
+//!
+//! Nothing here knows a front end: no flag, no parser, no default output file (the command
+//! line's `faze4_trail.csv` is the binary's own).
 
 use std::path::PathBuf;
 
-use super::{Center, DriveMode, Motion, Motors, RunConfig};
+use super::{Center, Command, DriveMode, Motion, Motors, RunConfig};
+use crate::choice::Choice;
 use crate::control::FeedForward;
-use crate::error::{Error, Result, shortest};
+use crate::error::{Error, Result, Words, in_words, shortest};
 use crate::geometry::{ClearanceGeometry, PairFilter};
+use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
 /// The kind of value a field takes.
@@ -23,7 +31,7 @@ pub enum Kind {
     Count,
     /// A word or text.
     Text,
-    /// One of a few words.
+    /// One of a few words (a [`Choice`]'s).
     Choice(&'static [&'static str]),
     /// A file or directory.
     Path,
@@ -42,7 +50,7 @@ pub enum Kind {
 /// A value for a field, of its [`Kind`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Value {
-    /// Not given: the field's default.
+    /// Not given: the field's default ([`Field::default`]).
     Default,
     /// A flag.
     Flag(bool),
@@ -62,51 +70,108 @@ pub enum Value {
     Motors(Motors),
 }
 
-/// Which commands have a field.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Commands {
-    /// Every command of the configuration (`wave`, `replay`, `shape`, `retime`).
-    All,
-    /// The commands that run a motion for a time (`wave`, `replay`, `shape`; `retime` finds
-    /// its own).
-    Runs,
-    /// `wave` only.
-    Wave,
-    /// The commands that read a trajectory file (`replay`, `retime`).
-    Trajectory,
-    /// `shape` only.
-    Shape,
-    /// `retime` only.
-    Retime,
+/// A field's default, as the front ends show it and as [`Value::Default`] sets it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DefaultValue {
+    /// None to show: off, empty, not written, or worked out by the run (the help says how).
+    None,
+    /// A number.
+    Number(f64),
+    /// A whole number.
+    Count(u64),
+    /// A word of the field's [`Kind::Choice`].
+    Word(&'static str),
+    /// A number shown as the default that the field leaves unset, the run working it out the
+    /// same (a command's `duration`: [`Motion::default_duration`]).
+    Computed(f64),
 }
 
+impl DefaultValue {
+    /// The default as text (`8`, `0.0002`, `mesh`), `None` where there is none to show.
+    pub fn shown(self) -> Option<String> {
+        match self {
+            DefaultValue::None => None,
+            DefaultValue::Number(x) | DefaultValue::Computed(x) => Some(x.to_string()),
+            DefaultValue::Count(n) => Some(n.to_string()),
+            DefaultValue::Word(w) => Some(w.to_string()),
+        }
+    }
+
+    /// The value [`Value::Default`] sets.
+    fn value(self) -> Value {
+        match self {
+            DefaultValue::None | DefaultValue::Computed(_) => Value::Default,
+            DefaultValue::Number(x) => Value::Number(x),
+            DefaultValue::Count(n) => Value::Count(n),
+            DefaultValue::Word(w) => Value::Text(w.to_string()),
+        }
+    }
+}
+
+/// Which commands have a field: a set of [`Command`]s.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Commands(u8);
+
 impl Commands {
-    /// Whether `motion`'s command has the field.
-    pub fn has(self, motion: &Motion) -> bool {
-        matches!(
-            (self, motion),
-            (Commands::All, _)
-                | (Commands::Runs, Motion::Wave(_) | Motion::Replay(_) | Motion::Shape(_))
-                | (Commands::Wave, Motion::Wave(_))
-                | (Commands::Trajectory, Motion::Replay(_) | Motion::Retime(_))
-                | (Commands::Shape, Motion::Shape(_))
-                | (Commands::Retime, Motion::Retime(_))
-        )
+    /// `wave`.
+    pub const WAVE: Commands = Commands::of(Command::Wave);
+    /// `replay`.
+    pub const REPLAY: Commands = Commands::of(Command::Replay);
+    /// `shape`.
+    pub const SHAPE: Commands = Commands::of(Command::Shape);
+    /// `retime`.
+    pub const RETIME: Commands = Commands::of(Command::Retime);
+    /// The commands that read a trajectory file (`replay`, `retime`).
+    pub const TRAJECTORY: Commands = Commands::REPLAY.and(Commands::RETIME);
+    /// Every command: the options every command shares.
+    pub const ALL: Commands = Commands::WAVE.and(Commands::SHAPE).and(Commands::TRAJECTORY);
+
+    /// `command` alone.
+    pub const fn of(command: Command) -> Commands {
+        Commands(1 << command as u8)
+    }
+
+    /// The commands of both.
+    pub const fn and(self, other: Commands) -> Commands {
+        Commands(self.0 | other.0)
+    }
+
+    /// Whether `command` is one of them.
+    pub fn has(self, command: Command) -> bool {
+        self.0 & Commands::of(command).0 != 0
     }
 }
 
 /// A reference to a numeric field, for a sweep (`None`: the command has no such field).
 type NumberSlot = fn(&mut RunConfig) -> Option<&mut f64>;
 
-/// One option of a run.
+/// One option of a run, declared once: what every front end knows of it.
 #[derive(Clone, Copy)]
 pub struct Field {
-    /// Its name (`payload_kg`).
+    /// Its name (`payload_kg`): the field, Python's keyword, and with dashes the command line's
+    /// flag.
     pub name: &'static str,
     /// What it takes.
     pub kind: Kind,
     /// Which commands have it.
     pub commands: Commands,
+    /// What it does, for people: one paragraph ending in a full stop, other options named as
+    /// `` `field` `` ([`Field::help_in`] writes them in a front end's words).
+    pub help: &'static str,
+    /// How its value is written in usage lines (`E1,E2,…`; `None`: its name in capitals).
+    pub value_name: Option<&'static str>,
+    /// Its default.
+    pub default: DefaultValue,
+    /// Whether its command cannot run without it.
+    pub required: bool,
+    /// A one-letter name (`q` for `quiet`).
+    pub short: Option<char>,
+    /// The largest whole number it takes (a port's 65535).
+    pub most: Option<u64>,
+    /// The options it cannot be given with.
+    pub conflicts: &'static [&'static str],
+    /// The options it needs.
+    pub requires: &'static [&'static str],
     set: fn(&mut RunConfig, Value) -> Result<()>,
     number: Option<NumberSlot>,
 }
@@ -121,6 +186,76 @@ impl std::fmt::Debug for Field {
 }
 
 impl Field {
+    /// A field with no help, no default and no relations yet (the builders below add them).
+    const fn new(
+        name: &'static str,
+        kind: Kind,
+        commands: Commands,
+        set: fn(&mut RunConfig, Value) -> Result<()>,
+        number: Option<NumberSlot>,
+    ) -> Field {
+        Field {
+            name,
+            kind,
+            commands,
+            help: "",
+            value_name: None,
+            default: DefaultValue::None,
+            required: false,
+            short: None,
+            most: None,
+            conflicts: &[],
+            requires: &[],
+            set,
+            number,
+        }
+    }
+
+    const fn help(mut self, help: &'static str) -> Field {
+        self.help = help;
+        self
+    }
+
+    const fn value_name(mut self, name: &'static str) -> Field {
+        self.value_name = Some(name);
+        self
+    }
+
+    const fn default(mut self, default: DefaultValue) -> Field {
+        self.default = default;
+        self
+    }
+
+    const fn required(mut self) -> Field {
+        self.required = true;
+        self
+    }
+
+    const fn short(mut self, letter: char) -> Field {
+        self.short = Some(letter);
+        self
+    }
+
+    const fn most(mut self, most: u64) -> Field {
+        self.most = Some(most);
+        self
+    }
+
+    const fn conflicts(mut self, names: &'static [&'static str]) -> Field {
+        self.conflicts = names;
+        self
+    }
+
+    const fn requires(mut self, names: &'static [&'static str]) -> Field {
+        self.requires = names;
+        self
+    }
+
+    /// Its help with the options it names in `words` (`--motors` or `motors`).
+    pub fn help_in(&self, words: Words) -> String {
+        in_words(self.help, words)
+    }
+
     /// Whether a sweep can vary it: a number, or a whole number (`shape_points`).
     pub fn is_numeric(&self) -> bool {
         self.number.is_some() || self.kind == Kind::Count
@@ -130,7 +265,7 @@ impl Field {
     /// numeric, that `config`'s command does not have, or a whole-number field given a
     /// fraction.
     pub fn set_number(&self, config: &mut RunConfig, x: f64) -> Result<()> {
-        if !self.commands.has(&config.motion) {
+        if !self.commands.has(config.motion.command()) {
             return Err(Error::option(
                 self.name,
                 format!("is not an option of {}", config.motion.name()),
@@ -156,43 +291,53 @@ impl Field {
     }
 }
 
-/// The field called `name`.
-pub fn field(name: &str) -> Option<&'static Field> {
+/// The fields `command` has, in the order of `faze4 COMMAND --help`.
+pub fn of(command: Command) -> impl Iterator<Item = &'static Field> {
+    FIELDS.iter().filter(move |f| f.commands.has(command))
+}
+
+/// The fields every command shares (the arm, the controller, the verdict, the outputs).
+pub fn shared() -> impl Iterator<Item = &'static Field> {
+    FIELDS.iter().filter(|f| f.commands == Commands::ALL)
+}
+
+/// The field `command` calls `name`.
+pub fn field(name: &str, command: Command) -> Option<&'static Field> {
+    of(command).find(|f| f.name == name)
+}
+
+/// A field called `name` of any command (the first declared).
+pub fn any_field(name: &str) -> Option<&'static Field> {
     FIELDS.iter().find(|f| f.name == name)
 }
 
 impl RunConfig {
-    /// Sets the field `name` to `value` (of the field's kind; [`Value::Default`] restores its
-    /// default). An error names the field: unknown, not an option of this command, or a value
-    /// of another kind.
+    /// Sets the field `name` to `value` (of the field's kind; [`Value::Default`] sets its
+    /// [`Field::default`]). An error names the field: unknown, not an option of this command,
+    /// or a value of another kind.
     pub fn set(&mut self, name: &str, value: Value) -> Result<()> {
-        let field = field(name).ok_or_else(|| {
-            Error::option(
-                name,
-                format!(
-                    "is not an option of {} (its options: {})",
-                    self.motion.name(),
-                    names(&self.motion).join(", ")
-                ),
-            )
-        })?;
-        if !field.commands.has(&self.motion) {
+        let command = self.motion.command();
+        let Some(field) = field(name, command) else {
+            let options = match any_field(name) {
+                Some(_) => String::new(),
+                None => format!(" (its options: {})", names(&self.motion).join(", ")),
+            };
             return Err(Error::option(
                 name,
-                format!("is not an option of {}", self.motion.name()),
+                format!("is not an option of {}{options}", command.name()),
             ));
-        }
+        };
+        let value = match value {
+            Value::Default => field.default.value(),
+            given => given,
+        };
         (field.set)(self, value)
     }
 }
 
 /// The names of the fields `motion`'s command has, in table order.
 pub fn names(motion: &Motion) -> Vec<&'static str> {
-    FIELDS
-        .iter()
-        .filter(|f| f.commands.has(motion))
-        .map(|f| f.name)
-        .collect()
+    of(motion.command()).map(|f| f.name).collect()
 }
 
 /// An error for a value of another kind.
@@ -253,16 +398,21 @@ pub fn all_given(name: &str, values: &[Option<f64>]) -> Result<Vec<f64>> {
         .collect()
 }
 
-/// A wave's centre as the command line writes it: `mid`, or one value per joint.
+/// A wave's centre as the command line writes it: `mid`, `home`, or one value per joint.
 pub fn parse_center(text: &str) -> Result<Center> {
     match text.trim() {
         "mid" => Ok(Center::Mid),
+        "home" => Ok(Center::Home),
         list => (list.split(',').enumerate())
             .map(|(i, x)| {
                 x.trim().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
                     Error::option(
                         "center",
-                        format!("J{} value '{}' is not a finite number (or use 'mid')", i + 1, x.trim()),
+                        format!(
+                            "J{} value '{}' is not a finite number (or use 'mid' or 'home')",
+                            i + 1,
+                            x.trim()
+                        ),
                     )
                 })
             })
@@ -271,110 +421,8 @@ pub fn parse_center(text: &str) -> Result<Center> {
     }
 }
 
-macro_rules! number {
-    ($name:literal, $commands:expr, $slot:expr, $default:expr) => {
-        Field {
-            name: $name,
-            kind: Kind::Number,
-            commands: $commands,
-            set: |c, v| {
-                let slot: fn(&mut RunConfig) -> Option<&mut f64> = $slot;
-                let default: fn() -> f64 = $default;
-                let x = match v {
-                    Value::Number(x) => x,
-                    Value::Count(x) => x as f64,
-                    Value::Default => default(),
-                    other => return Err(wrong($name, Kind::Number, &other)),
-                };
-                *slot(c).ok_or_else(|| Error::option($name, "is not an option of this command"))? = x;
-                Ok(())
-            },
-            number: Some($slot),
-        }
-    };
-}
-
-macro_rules! optional_number {
-    ($name:literal, $commands:expr, $slot:expr) => {
-        Field {
-            name: $name,
-            kind: Kind::Number,
-            commands: $commands,
-            set: |c, v| {
-                let slot: fn(&mut RunConfig) -> Option<&mut Option<f64>> = $slot;
-                let x = match v {
-                    Value::Number(x) => Some(x),
-                    Value::Count(x) => Some(x as f64),
-                    Value::Default => None,
-                    other => return Err(wrong($name, Kind::Number, &other)),
-                };
-                *slot(c).ok_or_else(|| Error::option($name, "is not an option of this command"))? = x;
-                Ok(())
-            },
-            number: Some(|c| {
-                let slot: fn(&mut RunConfig) -> Option<&mut Option<f64>> = $slot;
-                slot(c).map(|x| x.insert(0.0))
-            }),
-        }
-    };
-}
-
-macro_rules! flag {
-    ($name:literal, $($path:ident).+) => {
-        Field {
-            name: $name,
-            kind: Kind::Flag,
-            commands: Commands::All,
-            set: |c, v| {
-                c.$($path).+ = match v {
-                    Value::Flag(on) => on,
-                    Value::Default => false,
-                    other => return Err(wrong($name, Kind::Flag, &other)),
-                };
-                Ok(())
-            },
-            number: None,
-        }
-    };
-}
-
-macro_rules! optional_path {
-    ($name:literal, $($path:ident).+) => {
-        Field {
-            name: $name,
-            kind: Kind::Path,
-            commands: Commands::All,
-            set: |c, v| {
-                c.$($path).+ = match v {
-                    Value::Path(p) => none_is_none(p),
-                    Value::Text(t) => none_is_none(PathBuf::from(t)),
-                    Value::Default => None,
-                    other => return Err(wrong($name, Kind::Path, &other)),
-                };
-                Ok(())
-            },
-            number: None,
-        }
-    };
-}
-
-macro_rules! per_joint {
-    ($name:literal, $($path:ident).+) => {
-        Field {
-            name: $name,
-            kind: Kind::PerJoint,
-            commands: Commands::All,
-            set: |c, v| {
-                c.$($path).+ = per_joint($name, v)?;
-                Ok(())
-            },
-            number: None,
-        }
-    };
-}
-
-/// A path named `none` means no file, as on the command line.
-fn none_is_none(path: PathBuf) -> Option<PathBuf> {
+/// An output path: the word `none` means no file, whichever front end gives it.
+fn output_path(path: PathBuf) -> Option<PathBuf> {
     (path.as_os_str() != "none").then_some(path)
 }
 
@@ -386,6 +434,138 @@ fn per_joint(name: &str, value: Value) -> Result<Vec<Option<f64>>> {
         Value::Default => Ok(Vec::new()),
         other => Err(wrong(name, Kind::PerJoint, &other)),
     }
+}
+
+/// The value a word of `T` names (`None` for [`Value::Default`]).
+fn choose<T: Choice>(name: &str, value: &Value) -> Result<Option<T>> {
+    match value {
+        Value::Default => Ok(None),
+        Value::Text(word) => T::from_word(word)
+            .map(Some)
+            .ok_or_else(|| wrong(name, Kind::Choice(T::WORDS), value)),
+        other => Err(wrong(name, Kind::Choice(T::WORDS), other)),
+    }
+}
+
+/// A path from `value` (`None` for [`Value::Default`]).
+fn path(name: &str, value: Value) -> Result<Option<PathBuf>> {
+    match value {
+        Value::Path(p) => Ok(Some(p)),
+        Value::Text(t) => Ok(Some(PathBuf::from(t))),
+        Value::Default => Ok(None),
+        other => Err(wrong(name, Kind::Path, &other)),
+    }
+}
+
+/// A whole number from `value` (`None` for [`Value::Default`]).
+fn count(name: &str, value: Value) -> Result<Option<usize>> {
+    match value {
+        Value::Count(n) => usize::try_from(n)
+            .map(Some)
+            .map_err(|_| Error::option(name, "too large")),
+        Value::Default => Ok(None),
+        other => Err(wrong(name, Kind::Count, &other)),
+    }
+}
+
+/// A number of a field that always has one (its default is declared).
+macro_rules! number {
+    ($name:literal, $commands:expr, $slot:expr) => {
+        Field::new(
+            $name,
+            Kind::Number,
+            $commands,
+            |c, v| {
+                let slot: NumberSlot = $slot;
+                let x = match v {
+                    Value::Number(x) => x,
+                    Value::Count(x) => x as f64,
+                    other => return Err(wrong($name, Kind::Number, &other)),
+                };
+                *slot(c).ok_or_else(|| Error::option($name, "is not an option of this command"))? = x;
+                Ok(())
+            },
+            Some($slot),
+        )
+    };
+}
+
+/// A number that may be left unset.
+macro_rules! optional_number {
+    ($name:literal, $commands:expr, $slot:expr) => {
+        Field::new(
+            $name,
+            Kind::Number,
+            $commands,
+            |c, v| {
+                let slot: fn(&mut RunConfig) -> Option<&mut Option<f64>> = $slot;
+                let x = match v {
+                    Value::Number(x) => Some(x),
+                    Value::Count(x) => Some(x as f64),
+                    Value::Default => None,
+                    other => return Err(wrong($name, Kind::Number, &other)),
+                };
+                *slot(c).ok_or_else(|| Error::option($name, "is not an option of this command"))? = x;
+                Ok(())
+            },
+            Some(|c| {
+                let slot: fn(&mut RunConfig) -> Option<&mut Option<f64>> = $slot;
+                slot(c).map(|x| x.insert(0.0))
+            }),
+        )
+    };
+}
+
+/// A flag every command has.
+macro_rules! flag {
+    ($name:literal, $($path:ident).+) => {
+        Field::new(
+            $name,
+            Kind::Flag,
+            Commands::ALL,
+            |c, v| {
+                c.$($path).+ = match v {
+                    Value::Flag(on) => on,
+                    Value::Default => false,
+                    other => return Err(wrong($name, Kind::Flag, &other)),
+                };
+                Ok(())
+            },
+            None,
+        )
+    };
+}
+
+/// An output file every command has (`none`: none).
+macro_rules! output {
+    ($name:literal, $($path:ident).+) => {
+        Field::new(
+            $name,
+            Kind::Path,
+            Commands::ALL,
+            |c, v| {
+                c.$($path).+ = path($name, v)?.and_then(output_path);
+                Ok(())
+            },
+            None,
+        )
+    };
+}
+
+/// One value per joint, every command.
+macro_rules! per_joint {
+    ($name:literal, $($path:ident).+) => {
+        Field::new(
+            $name,
+            Kind::PerJoint,
+            Commands::ALL,
+            |c, v| {
+                c.$($path).+ = per_joint($name, v)?;
+                Ok(())
+            },
+            None,
+        )
+    };
 }
 
 fn wave(c: &mut RunConfig) -> Option<&mut super::WaveConfig> {
@@ -411,15 +591,6 @@ fn retime(c: &mut RunConfig) -> Option<&mut super::RetimeConfig> {
     }
 }
 
-/// A whole-number field of `retime` from `v` (`default` for [`Value::Default`]).
-fn retime_count(name: &str, v: Value, default: usize) -> Result<usize> {
-    match v {
-        Value::Count(n) => usize::try_from(n).map_err(|_| Error::option(name, "too large")),
-        Value::Default => Ok(default),
-        other => Err(wrong(name, Kind::Count, &other)),
-    }
-}
-
 fn shape(c: &mut RunConfig) -> Option<&mut super::ShapeConfig> {
     match &mut c.motion {
         Motion::Shape(s) => Some(s),
@@ -427,22 +598,34 @@ fn shape(c: &mut RunConfig) -> Option<&mut super::ShapeConfig> {
     }
 }
 
-/// Every option of a run, by name, in the order of `faze4 COMMAND --help`: the command's own,
-/// then those every run command shares.
+/// `duration` of the commands in `commands`.
+const fn duration(commands: Commands) -> Field {
+    optional_number!("duration", commands, |c| Some(&mut c.duration))
+}
+
+/// Every option of a run, by name, in the order of `faze4 COMMAND --help`: each command's own,
+/// then those every command shares. `duration` is declared once per command whose default or
+/// help differs.
 pub const FIELDS: &[Field] = &[
-    optional_number!("duration", Commands::Runs, |c| Some(&mut c.duration)),
-    number!("freq", Commands::Wave, |c| wave(c).map(|w| &mut w.freq), || {
-        super::DEFAULT_FREQ
-    }),
-    number!("amp_deg", Commands::Wave, |c| wave(c).map(|w| &mut w.amp_deg), || {
-        super::DEFAULT_AMP_DEG
-    }),
-    optional_number!("amp_m", Commands::Wave, |c| wave(c).map(|w| &mut w.amp_m)),
-    Field {
-        name: "center",
-        kind: Kind::Center,
-        commands: Commands::Wave,
-        set: |c, v| {
+    // wave
+    duration(Commands::WAVE)
+        .default(DefaultValue::Computed(super::DEFAULT_DURATION))
+        .help("Simulated time (s)."),
+    number!("freq", Commands::WAVE, |c| wave(c).map(|w| &mut w.freq))
+        .default(DefaultValue::Number(super::DEFAULT_FREQ))
+        .help("Angular frequency ω of the wave (rad/s, as the original)."),
+    number!("amp_deg", Commands::WAVE, |c| wave(c).map(|w| &mut w.amp_deg))
+        .default(DefaultValue::Number(super::DEFAULT_AMP_DEG))
+        .help("Amplitude A of the revolute and continuous joints (degrees)."),
+    optional_number!("amp_m", Commands::WAVE, |c| wave(c).map(|w| &mut w.amp_m)).help(
+        "Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it has limits, else \
+         0.05 m.",
+    ),
+    Field::new(
+        "center",
+        Kind::Center,
+        Commands::WAVE,
+        |c, v| {
             let center = match v {
                 Value::Default => Center::Zero,
                 Value::Text(text) => parse_center(&text)?,
@@ -454,53 +637,68 @@ pub const FIELDS: &[Field] = &[
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "q_traj",
-        kind: Kind::Path,
-        commands: Commands::Trajectory,
-        set: |c, v| {
-            let path = match v {
-                Value::Path(p) => p,
-                Value::Text(t) => PathBuf::from(t),
-                other => return Err(wrong("q_traj", Kind::Path, &other)),
+        None,
+    )
+    .value_name("Q1,Q2,…|mid|home")
+    .help(
+        "The pose to wave about: one value per joint (rad or m), 'mid' (the middle of each limited joint's \
+         range, 0 for an unlimited one) or 'home' (an MJCF model's home keyframe). Default: zero.",
+    ),
+    // replay and retime: the trajectory file
+    Field::new(
+        "q_traj",
+        Kind::Path,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let Some(path) = path("q_traj", v)? else {
+                return Err(wrong("q_traj", Kind::Path, &Value::Default));
             };
             if let Some(r) = replay(c) {
                 r.q_traj = path;
             }
             Ok(())
         },
-        number: None,
-    },
-    number!(
-        "traj_period",
-        Commands::Trajectory,
-        |c| replay(c).map(|r| &mut r.traj_period),
-        || super::DEFAULT_TRAJ_PERIOD
+        None,
+    )
+    .required()
+    .value_name("F.yaml|F.json|F.mcap|F.csv|F.npy")
+    .help(
+        "The trajectory: a time-stamped trajectory_msgs/JointTrajectory as .yaml (ros2 topic echo) or .json, a \
+         rosbag2 .mcap (a JointTrajectory or JointState topic), a .csv (a time column t, time or time_from_start \
+         and one column per joint by name), played once; or an N×dof float64/float32 .npy array of joint \
+         positions (rad), N ≥ 2, evenly spaced and repeating (docs/trajectories.md). retime takes its points as \
+         the path, times ignored.",
     ),
-    Field {
-        name: "message",
-        kind: Kind::Count,
-        commands: Commands::Trajectory,
-        set: |c, v| {
-            let message = match v {
-                Value::Count(k) => Some(usize::try_from(k).map_err(|_| Error::option("message", "too large"))?),
-                Value::Default => None,
-                other => return Err(wrong("message", Kind::Count, &other)),
-            };
+    number!("traj_period", Commands::TRAJECTORY, |c| replay(c)
+        .map(|r| &mut r.traj_period))
+    .default(DefaultValue::Number(super::DEFAULT_TRAJ_PERIOD))
+    .help(
+        ".npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats (retime: \
+             the input's own timing it reports its speed-up against).",
+    ),
+    Field::new(
+        "message",
+        Kind::Count,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let message = count("message", v)?;
             if let Some(r) = replay(c) {
                 r.message = message;
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "topic",
-        kind: Kind::Text,
-        commands: Commands::Trajectory,
-        set: |c, v| {
+        None,
+    )
+    .value_name("K")
+    .help(
+        "Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the \
+         first).",
+    ),
+    Field::new(
+        "topic",
+        Kind::Text,
+        Commands::TRAJECTORY,
+        |c, v| {
             let topic = match v {
                 Value::Text(t) => Some(t),
                 Value::Default => None,
@@ -511,113 +709,210 @@ pub const FIELDS: &[Field] = &[
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "out",
-        kind: Kind::Path,
-        commands: Commands::Retime,
-        set: |c, v| {
-            let path = match v {
-                Value::Path(p) => Some(p),
-                Value::Text(t) => Some(PathBuf::from(t)),
-                Value::Default => None,
-                other => return Err(wrong("out", Kind::Path, &other)),
-            };
-            if let Some(r) = retime(c) {
-                r.out = path;
+        None,
+    )
+    .value_name("NAME")
+    .help("The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic)."),
+    Field::new(
+        "episode",
+        Kind::Count,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let episode = count("episode", v)?;
+            if let Some(r) = replay(c) {
+                r.episode = episode;
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "grid",
-        kind: Kind::Count,
-        commands: Commands::Retime,
-        set: |c, v| {
-            let n = retime_count("grid", v, super::DEFAULT_GRID)?;
+        None,
+    )
+    .value_name("N")
+    .help("A LeRobot dataset's episode, counted from 0 (default: 0)."),
+    Field::new(
+        "lerobot_key",
+        Kind::Text,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let key = match v {
+                Value::Text(t) => Some(t),
+                Value::Default => None,
+                other => return Err(wrong("lerobot_key", Kind::Text, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.lerobot_key = key;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("KEY")
+    .help("A LeRobot dataset's column of joint values (default: action; e.g. observation.state)."),
+    Field::new(
+        "units",
+        Kind::Choice(Units::WORDS),
+        Commands::TRAJECTORY,
+        |c, v| {
+            let units = choose("units", &v)?;
+            if let Some(r) = replay(c) {
+                r.units = units;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("deg|rad")
+    .help(
+        "What a LeRobot dataset's joint values are: deg (an arm recorded with use_degrees) or rad (default: \
+         normalised −100…100, turned into radians by `calibration`).",
+    ),
+    Field::new(
+        "calibration",
+        Kind::Path,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let calibration = path("calibration", v)?;
+            if let Some(r) = replay(c) {
+                r.calibration = calibration;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("FILE.json")
+    .help(
+        "LeRobot's calibration file of the arm that recorded a dataset (JSON, per motor drive_mode, range_min, \
+         range_max): turns its normalised values into radians.",
+    ),
+    duration(Commands::REPLAY)
+        .help("Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy."),
+    // retime
+    Field::new(
+        "out",
+        Kind::Path,
+        Commands::RETIME,
+        |c, v| {
+            let out = path("out", v)?;
             if let Some(r) = retime(c) {
+                r.out = out;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("F.yaml|F.json|F.mcap|F.csv")
+    .help(
+        "Where the timing is written, by extension: a JointTrajectory as .yaml or .json, a rosbag2 .mcap, or a \
+         .csv (positions, velocities, accelerations, time from start), which `faze4 replay` plays as `q_traj`.",
+    ),
+    Field::new(
+        "grid",
+        Kind::Count,
+        Commands::RETIME,
+        |c, v| {
+            if let (Some(n), Some(r)) = (count("grid", v)?, retime(c)) {
                 r.grid = n;
             }
             Ok(())
         },
-        number: None,
-    },
-    number!("margin", Commands::Retime, |c| retime(c).map(|r| &mut r.margin), || {
-        super::DEFAULT_MARGIN
-    }),
-    Field {
-        name: "attempts",
-        kind: Kind::Count,
-        commands: Commands::Retime,
-        set: |c, v| {
-            let n = retime_count("attempts", v, super::DEFAULT_ATTEMPTS)?;
-            if let Some(r) = retime(c) {
+        None,
+    )
+    .default(DefaultValue::Count(super::DEFAULT_GRID as u64))
+    .value_name("N")
+    .help("Grid intervals in s (at most 100,000): the limits are kept at the grid's points."),
+    number!("margin", Commands::RETIME, |c| retime(c).map(|r| &mut r.margin))
+        .default(DefaultValue::Number(super::DEFAULT_MARGIN))
+        .value_name("SHARE")
+        .help(
+            "The share of every torque limit (each motor's envelope at its speed, or the constant limit) left for \
+             the feedback, in [0, 1).",
+        ),
+    Field::new(
+        "attempts",
+        Kind::Count,
+        Commands::RETIME,
+        |c, v| {
+            if let (Some(n), Some(r)) = (count("attempts", v)?, retime(c)) {
                 r.attempts = n;
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "shape",
-        kind: Kind::Choice(&["sine", "circle", "tri"]),
-        commands: Commands::Shape,
-        set: |c, v| {
-            let Value::Text(name) = &v else {
-                return Err(wrong("shape", Kind::Choice(&["sine", "circle", "tri"]), &v));
+        None,
+    )
+    .default(DefaultValue::Count(super::DEFAULT_ATTEMPTS as u64))
+    .value_name("N")
+    .help("Most closed-loop checks: the first timing's, then one per slowed timing."),
+    // shape
+    Field::new(
+        "shape",
+        Kind::Choice(Shape::WORDS),
+        Commands::SHAPE,
+        |c, v| {
+            let Some(drawn) = choose::<Shape>("shape", &v)? else {
+                return Err(wrong("shape", Kind::Choice(Shape::WORDS), &v));
             };
-            let shape_of = Shape::from_name(name)
-                .ok_or_else(|| Error::option("shape", format!("'{name}' is not one of sine, circle, tri")))?;
             if let Some(s) = shape(c) {
-                s.shape = shape_of;
+                s.shape = drawn;
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "shape_points",
-        kind: Kind::Count,
-        commands: Commands::Shape,
-        set: |c, v| {
-            let n = match v {
-                Value::Count(n) => n,
-                Value::Default => super::DEFAULT_SHAPE_POINTS as u64,
-                other => return Err(wrong("shape_points", Kind::Count, &other)),
-            };
-            if let Some(s) = shape(c) {
-                s.shape_points = usize::try_from(n).map_err(|_| Error::option("shape_points", "too large"))?;
+        None,
+    )
+    .required()
+    .help("The path the tool draws on the board."),
+    Field::new(
+        "shape_points",
+        Kind::Count,
+        Commands::SHAPE,
+        |c, v| {
+            if let (Some(n), Some(s)) = (count("shape_points", v)?, shape(c)) {
+                s.shape_points = n;
             }
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "save_q",
-        kind: Kind::Path,
-        commands: Commands::Shape,
-        set: |c, v| {
-            let path = match v {
-                Value::Path(p) => none_is_none(p),
-                Value::Text(t) => none_is_none(PathBuf::from(t)),
-                Value::Default => None,
-                other => return Err(wrong("save_q", Kind::Path, &other)),
-            };
+        None,
+    )
+    .default(DefaultValue::Count(super::DEFAULT_SHAPE_POINTS as u64))
+    .value_name("N")
+    .help("Samples along the path (IK targets), played one loop every 5 s."),
+    duration(Commands::SHAPE)
+        .default(DefaultValue::Computed(super::DEFAULT_SHAPE_DURATION))
+        .help("Simulated time (s)."),
+    Field::new(
+        "save_q",
+        Kind::Path,
+        Commands::SHAPE,
+        |c, v| {
+            let save_q = path("save_q", v)?.and_then(output_path);
             if let Some(s) = shape(c) {
-                s.save_q = path;
+                s.save_q = save_q;
             }
             Ok(())
         },
-        number: None,
-    },
-    optional_path!("urdf", arm.urdf),
-    Field {
-        name: "package_path",
-        kind: Kind::Paths,
-        commands: Commands::All,
-        set: |c, v| {
+        None,
+    )
+    .value_name("F.npy")
+    .help("Write the IK joint samples as an N×dof float64 .npy (numpy loads it; `faze4 replay` plays it)."),
+    // every command: the arm
+    Field::new(
+        "urdf",
+        Kind::Path,
+        Commands::ALL,
+        |c, v| {
+            c.arm.urdf = path("urdf", v)?;
+            Ok(())
+        },
+        None,
+    )
+    .value_name("F.urdf")
+    .help(
+        "The arm: a URDF, or a MuJoCo MJCF model (a file whose root element is mujoco) (default: the bundled \
+         Faze4, urdf/faze4_arm.urdf).",
+    ),
+    Field::new(
+        "package_path",
+        Kind::Paths,
+        Commands::ALL,
+        |c, v| {
             c.arm.package_path = match v {
                 Value::Paths(p) => p,
                 Value::Path(p) => vec![p],
@@ -627,14 +922,20 @@ pub const FIELDS: &[Field] = &[
             };
             Ok(())
         },
-        number: None,
-    },
-    flag!("balance_inertia", arm.balance_inertia),
-    Field {
-        name: "tool_link",
-        kind: Kind::Text,
-        commands: Commands::All,
-        set: |c, v| {
+        None,
+    )
+    .value_name("DIR")
+    .help("Where `package://` meshes are looked for (repeatable; ROS_PACKAGE_PATH is searched after)."),
+    flag!("balance_inertia", arm.balance_inertia).help(
+        "A moving body whose inertia no rigid body has (not positive definite, or its principal moments break the \
+         triangle inequality) gets its principal moments set to their mean, as MuJoCo's balanceinertia does (a \
+         warning per body), instead of the model being refused.",
+    ),
+    Field::new(
+        "tool_link",
+        Kind::Text,
+        Commands::ALL,
+        |c, v| {
             c.arm.tool_link = match v {
                 Value::Text(t) => Some(t),
                 Value::Default => None,
@@ -642,28 +943,43 @@ pub const FIELDS: &[Field] = &[
             };
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "effort",
-        kind: Kind::Numbers,
-        commands: Commands::All,
-        set: |c, v| {
+        None,
+    )
+    .value_name("NAME")
+    .help(
+        "The link traced as the tool (default: tool_link, else the last link of a chain; on a branched tree the \
+         deepest common ancestor of the deepest leaves, e.g. a hand).",
+    ),
+    Field::new(
+        "effort",
+        Kind::Numbers,
+        Commands::ALL,
+        |c, v| {
             c.control.effort = match v {
                 Value::Default => None,
                 other => Some(all_given("effort", &per_joint("effort", other)?)?),
             };
             Ok(())
         },
-        number: None,
-    },
-    per_joint!("kp", control.kp),
-    per_joint!("kd", control.kd),
-    Field {
-        name: "motors",
-        kind: Kind::Motors,
-        commands: Commands::All,
-        set: |c, v| {
+        None,
+    )
+    .value_name("E1,E2,…")
+    .help(
+        "Torque limits per joint, N·m (default: the Faze4 motors' for the bundled arm, else the URDF's effort \
+         values).",
+    ),
+    per_joint!("kp", control.kp)
+        .value_name("KP1,KP2,…")
+        .help("Proportional gains per joint ('auto' keeps the tuned value), e.g. auto,auto,auto,auto,auto,30."),
+    per_joint!("kd", control.kd)
+        .value_name("KD1,KD2,…")
+        .help("Derivative gains per joint ('auto' keeps the tuned value)."),
+    // the motors
+    Field::new(
+        "motors",
+        Kind::Motors,
+        Commands::ALL,
+        |c, v| {
             c.arm.motors = match v {
                 Value::Default => None,
                 Value::Motors(m) => Some(m),
@@ -673,185 +989,318 @@ pub const FIELDS: &[Field] = &[
             };
             Ok(())
         },
-        number: None,
-    },
-    optional_number!("supply_voltage", Commands::All, |c| Some(&mut c.arm.supply_voltage)),
-    per_joint!("rotor_inertia", arm.rotor_inertia),
-    per_joint!("gear_ratio", arm.gear_ratio),
-    per_joint!("max_speed", control.max_speed),
-    flag!("no_ff", control.no_ff),
-    Field {
-        name: "ff",
-        kind: Kind::Choice(&["gravity", "full"]),
-        commands: Commands::All,
-        set: |c, v| {
-            c.control.ff = match &v {
-                Value::Default => None,
-                Value::Text(t) if t == "gravity" => Some(FeedForward::Gravity),
-                Value::Text(t) if t == "full" => Some(FeedForward::Full),
-                _ => return Err(wrong("ff", Kind::Choice(&["gravity", "full"]), &v)),
-            };
+        None,
+    )
+    .value_name("PRESET|FILE.toml")
+    .help(
+        "Motors behind the joints, whose torque–speed envelope clips each joint's torque at its speed: a preset \
+         (faze4: 17HS16-2004S1 steppers and the Faze4's reducers; faze4-bom: the motors the Faze4 is built with; \
+         sts3215: Feetech STS3215 servos, the SO-100's; xm540-w270: Dynamixel XM540-W270) or a FILE.toml \
+         (docs/motors.md).",
+    ),
+    optional_number!("supply_voltage", Commands::ALL, |c| Some(&mut c.arm.supply_voltage))
+        .value_name("V")
+        .help(
+            "Supply voltage of the `motors` presets' drives, V (default: the preset's, 24 V for the Faze4's steppers).",
+        ),
+    Field::new(
+        "drive",
+        Kind::Choice(DriveMode::WORDS),
+        Commands::ALL,
+        |c, v| {
+            c.control.drive = choose("drive", &v)?.unwrap_or_default();
             Ok(())
         },
-        number: None,
-    },
-    Field {
-        name: "drive",
-        kind: Kind::Choice(&["pd", "stepper"]),
-        commands: Commands::All,
-        set: |c, v| {
-            c.control.drive = match &v {
-                Value::Default => DriveMode::Pd,
-                Value::Text(t) if t == "pd" => DriveMode::Pd,
-                Value::Text(t) if t == "stepper" => DriveMode::Stepper,
-                _ => return Err(wrong("drive", Kind::Choice(&["pd", "stepper"]), &v)),
-            };
-            Ok(())
-        },
-        number: None,
-    },
-    per_joint!("microsteps", control.microsteps),
-    optional_number!("driver_bandwidth", Commands::All, |c| Some(
+        None,
+    )
+    .value_name("pd|stepper")
+    .help(
+        "How the joints with a stepper are driven: 'pd', the controller's torque clipped to the envelope (the \
+         original's; the default), or 'stepper', open loop: the driver's microstep through the torque–angle curve, \
+         slips and all (with `motors`; docs/motors.md).",
+    ),
+    per_joint!("microsteps", control.microsteps)
+        .value_name("N|N1,N2,…")
+        .help(
+            "Microsteps per full step of the steppers' drivers under `drive` stepper: one value for every joint or one \
+         per joint ('auto' keeps the motor's: the Faze4 presets' firmware 8,8,4,2,2,2; else 16).",
+        ),
+    optional_number!("driver_bandwidth", Commands::ALL, |c| Some(
         &mut c.control.driver_bandwidth
-    )),
-    per_joint!("rotor_damping", control.rotor_damping),
-    per_joint!("reducer_friction", control.reducer_friction),
-    flag!("sizing", outputs.sizing),
-    flag!("no_gravity", arm.no_gravity),
-    number!("payload_kg", Commands::All, |c| Some(&mut c.arm.payload_kg), || 0.0),
-    number!("dt", Commands::All, |c| Some(&mut c.control.dt), || super::DEFAULT_DT),
-    flag!("debug", outputs.debug),
-    flag!("quiet", outputs.quiet),
-    optional_number!("print_period", Commands::All, |c| Some(&mut c.outputs.print_period)),
-    number!(
-        "max_saturation_pct",
-        Commands::All,
-        |c| Some(&mut c.verdict.thresholds.max_saturation_pct),
-        || crate::sim::Thresholds::default().max_saturation_pct
+    ))
+    .value_name("HZ")
+    .help(
+        "Under `drive` stepper, every stepper driver's current-loop bandwidth, Hz (default: the motor's; 5000 for \
+             the presets' TB6600-class choppers, a stated assumption; docs/motors.md, \"The stepper's damping\").",
     ),
-    number!(
-        "max_error",
-        Commands::All,
-        |c| Some(&mut c.verdict.thresholds.max_error),
-        || crate::sim::Thresholds::default().max_error
+    per_joint!("rotor_damping", control.rotor_damping)
+        .value_name("B|B1,B2,…")
+        .help(
+            "Under `drive` stepper, each rotor's viscous damping (iron losses, bearings), N·m·s/rad at the motor \
+             shaft: one value for every joint or one per joint ('auto' keeps the motor's; the presets' 0: not \
+             published).",
+        ),
+    per_joint!("reducer_friction", control.reducer_friction)
+        .value_name("T|T1,T2,…")
+        .help(
+            "Under `drive` stepper, each reducer's Coulomb friction, N·m at the motor shaft: one value for every joint \
+             or one per joint ('auto' keeps the motor's; the presets' 0: not published).",
+        ),
+    flag!("sizing", outputs.sizing).help(
+        "Print the motors' sizing report (with `motors`): per joint at the motor peak and RMS torque, peak speed, \
+         inertia ratio, peak power, braking energy, supply current, heating.",
     ),
-    number!(
-        "max_deviation_mm",
-        Commands::All,
-        |c| Some(&mut c.verdict.thresholds.max_deviation_mm),
-        || crate::sim::Thresholds::default().max_deviation_mm
+    per_joint!("rotor_inertia", arm.rotor_inertia)
+        .value_name("I1,I2,…")
+        .help(
+            "Rotor inertia per joint, kg·m² at the motor shaft ('auto' keeps the URDF's or `motors`'); overrides the \
+         URDF.",
+        ),
+    per_joint!("gear_ratio", arm.gear_ratio).value_name("R1,R2,…").help(
+        "Gear ratio per joint, motor turns per joint turn ('auto' keeps the URDF's or `motors`'); overrides the \
+         URDF.",
     ),
-    flag!("strict", verdict.strict),
-    Field {
-        name: "trail",
-        kind: Kind::Path,
-        commands: Commands::All,
-        set: |c, v| {
-            c.outputs.trail = match v {
-                Value::Path(p) => none_is_none(p),
-                Value::Text(t) => none_is_none(PathBuf::from(t)),
-                Value::Default => Some(PathBuf::from(super::DEFAULT_TRAIL)),
-                other => return Err(wrong("trail", Kind::Path, &other)),
-            };
+    per_joint!("max_speed", control.max_speed).value_name("W1,W2,…").help(
+        "Speed limits per joint, rad/s or m/s ('auto' keeps the URDF's velocity; none for the bundled Faze4): \
+         counted, not enforced.",
+    ),
+    // the controller and the step
+    flag!("no_ff", control.no_ff).help("No gravity feed-forward (PD alone holds the arm up)."),
+    Field::new(
+        "ff",
+        Kind::Choice(FeedForward::WORDS),
+        Commands::ALL,
+        |c, v| {
+            c.control.ff = choose("ff", &v)?;
             Ok(())
         },
-        number: None,
-    },
-    optional_path!("summary", outputs.summary),
-    number!("record_period", Commands::All, |c| Some(&mut c.record_period), || {
-        super::DEFAULT_RECORD_PERIOD
-    }),
-    Field {
-        name: "collision_geometry",
-        kind: Kind::Choice(&["mesh", "hull"]),
-        commands: Commands::All,
-        set: |c, v| {
-            c.clearance.collision_geometry = match &v {
-                Value::Default => ClearanceGeometry::default(),
-                Value::Text(t) if t == "mesh" => ClearanceGeometry::Mesh,
-                Value::Text(t) if t == "hull" => ClearanceGeometry::Hull,
-                _ => return Err(wrong("collision_geometry", Kind::Choice(&["mesh", "hull"]), &v)),
-            };
-            Ok(())
-        },
-        number: None,
-    },
-    Field {
-        name: "collision_pairs",
-        kind: Kind::Choice(&["all"]),
-        commands: Commands::All,
-        set: |c, v| {
-            c.clearance.collision_pairs = match &v {
-                Value::Default => PairFilter::default(),
-                Value::Text(t) if t == "all" => PairFilter::All,
-                _ => return Err(wrong("collision_pairs", Kind::Choice(&["all"]), &v)),
-            };
-            Ok(())
-        },
-        number: None,
-    },
-    number!(
-        "clearance_tolerance",
-        Commands::All,
-        |c| Some(&mut c.clearance.clearance_tolerance),
-        || super::DEFAULT_CLEARANCE_TOLERANCE_MM
+        None,
+    )
+    .value_name("gravity|full")
+    .conflicts(&["no_ff"])
+    .help(
+        "What the controller feeds forward: 'gravity', g(q) at the measured q (the default), or 'full', the inverse \
+         dynamics of the commanded q, v, a (computed torque; docs/trajectories.md).",
     ),
-    flag!("no_collisions", clearance.no_collisions),
-    flag!("self_collisions", clearance.self_collisions),
-    number!("friction", Commands::All, |c| Some(&mut c.clearance.friction), || {
-        super::DEFAULT_FRICTION
-    }),
-    flag!("view", outputs.view),
-    Field {
-        name: "port",
-        kind: Kind::Count,
-        commands: Commands::All,
-        set: |c, v| {
+    flag!("no_gravity", arm.no_gravity).help("No gravity field."),
+    number!("payload_kg", Commands::ALL, |c| Some(&mut c.arm.payload_kg))
+        .default(DefaultValue::Number(0.0))
+        .value_name("M")
+        .help("A point mass at the tool link (kg)."),
+    number!("dt", Commands::ALL, |c| Some(&mut c.control.dt))
+        .default(DefaultValue::Number(super::DEFAULT_DT))
+        .help("Control and integration period (s); 2e-4 is 5 kHz."),
+    // what a run prints
+    flag!("debug", outputs.debug)
+        .help("Print τ, error, velocity and g(q) with every progress line and add them to the trail."),
+    flag!("quiet", outputs.quiet).short('q').help(
+        "Print only the verdict, errors, and the warnings that change the result (a mesh not found, a \
+         transmission skipped, an inertia balanced).",
+    ),
+    optional_number!("print_period", Commands::ALL, |c| Some(&mut c.outputs.print_period))
+        .value_name("S")
+        .help(
+            "Simulated time between progress lines (s); default 0.5 s, or longer so that a long run prints at most \
+             about 40 lines.",
+        ),
+    // the verdict
+    number!("max_saturation_pct", Commands::ALL, |c| Some(
+        &mut c.verdict.thresholds.max_saturation_pct
+    ))
+    .default(DefaultValue::Number(crate::sim::Thresholds::DEFAULT.max_saturation_pct))
+    .value_name("PCT")
+    .help("The verdict \"follows\" allows each joint to saturate at most this share of the steps (%)."),
+    number!("max_error", Commands::ALL, |c| Some(
+        &mut c.verdict.thresholds.max_error
+    ))
+    .default(DefaultValue::Number(crate::sim::Thresholds::DEFAULT.max_error))
+    .value_name("RAD")
+    .help("The verdict \"follows\" allows tracking errors up to this (rad, or m for a prismatic joint)."),
+    number!("max_deviation_mm", Commands::ALL, |c| Some(
+        &mut c.verdict.thresholds.max_deviation_mm
+    ))
+    .default(DefaultValue::Number(crate::sim::Thresholds::DEFAULT.max_deviation_mm))
+    .value_name("MM")
+    .help("The verdict \"follows\" allows a shape's path deviation up to this (mm)."),
+    flag!("strict", verdict.strict).help(
+        "Exit with status 3 when the verdict is \"cannot follow\" or \"collides\" (for CI jobs that guard a motion).",
+    ),
+    // the files
+    output!("trail", outputs.trail)
+        .value_name("F.csv")
+        .help("Trail CSV (t, x, y, z, q1…); 'none' writes none."),
+    output!("summary", outputs.summary)
+        .value_name("F.json")
+        .help("Summary JSON (the machine-readable result)."),
+    number!("record_period", Commands::ALL, |c| Some(&mut c.record_period))
+        .default(DefaultValue::Number(super::DEFAULT_RECORD_PERIOD))
+        .value_name("S")
+        .help("Time between trail rows (s)."),
+    // self-clearance and self-contact
+    Field::new(
+        "collision_geometry",
+        Kind::Choice(ClearanceGeometry::WORDS),
+        Commands::ALL,
+        |c, v| {
+            c.clearance.collision_geometry = choose("collision_geometry", &v)?.unwrap_or_default();
+            Ok(())
+        },
+        None,
+    )
+    .default(DefaultValue::Word("mesh"))
+    .value_name("KIND")
+    .help(
+        "How self-clearance reads a collision mesh: 'mesh', its exact triangles, or 'hull', its convex hull (as \
+         Drake and most simulators do; signed distances).",
+    ),
+    Field::new(
+        "collision_pairs",
+        Kind::Choice(PairFilter::WORDS),
+        Commands::ALL,
+        |c, v| {
+            c.clearance.collision_pairs = choose("collision_pairs", &v)?.unwrap_or_default();
+            Ok(())
+        },
+        None,
+    )
+    .value_name("all")
+    .help(
+        "Which pairs of links self-clearance checks: 'all' adds the pairs a joint connects to the default (Drake's: \
+         links on different bodies not connected by a joint).",
+    ),
+    number!("clearance_tolerance", Commands::ALL, |c| Some(
+        &mut c.clearance.clearance_tolerance
+    ))
+    .default(DefaultValue::Number(super::DEFAULT_CLEARANCE_TOLERANCE_MM))
+    .value_name("MM")
+    .help(
+        "How far (mm) the reported self-clearance may be above the true minimum over the samples: it is the \
+             distance of two actual parts, and the true minimum is at most this much below it. 0 is exact. \
+             Intersections are decided exactly whatever it is.",
+    ),
+    flag!("no_collisions", clearance.no_collisions)
+        .conflicts(&["collision_geometry", "collision_pairs", "clearance_tolerance"])
+        .help("No self-clearance: the collision geometry is skipped altogether (its meshes not read)."),
+    flag!("self_collisions", clearance.self_collisions)
+        .conflicts(&["no_collisions"])
+        .help(
+            "Contact forces between the checked pairs of the collision geometry, solved inside the step (Drake's \
+             compliant point contact; with `collision_geometry` hull the convex hulls touch, as in Drake; exact \
+             meshes that intersect stop the run).",
+        ),
+    number!("friction", Commands::ALL, |c| Some(&mut c.clearance.friction))
+        .default(DefaultValue::Number(super::DEFAULT_FRICTION))
+        .value_name("MU")
+        .requires(&["self_collisions"])
+        .help("Coulomb friction of `self_collisions` contacts."),
+    // the views
+    flag!("view", outputs.view).help("Show the run live in the browser at http://127.0.0.1:PORT, in real time."),
+    Field::new(
+        "port",
+        Kind::Count,
+        Commands::ALL,
+        |c, v| {
             c.outputs.port = match v {
                 Value::Count(p) => {
                     u16::try_from(p).map_err(|_| Error::option("port", format!("{p} is not a port (0 to 65535)")))?
                 }
-                Value::Default => super::DEFAULT_PORT,
                 other => return Err(wrong("port", Kind::Count, &other)),
             };
             Ok(())
         },
-        number: None,
-    },
-    flag!("hold", outputs.hold),
-    optional_path!("html", outputs.html),
-    optional_path!("plot", outputs.plot),
-    optional_path!("plot_motors", outputs.plot_motors),
+        None,
+    )
+    .default(DefaultValue::Count(super::DEFAULT_PORT as u64))
+    .most(u16::MAX as u64)
+    .value_name("P")
+    .help("Port of the live view (127.0.0.1 only; 0 picks a free one)."),
+    flag!("hold", outputs.hold).help("Keep the live view serving after the run until Ctrl-C (implies `view`)."),
+    output!("html", outputs.html)
+        .value_name("F.html")
+        .help("One self-contained HTML file that plays the run back offline; 'none' writes none."),
+    output!("plot", outputs.plot).value_name("F.svg|F.png").help(
+        "One figure of joint angles vs command, torques vs limits, tracking error (and path deviation for shapes), \
+         as .svg or .png.",
+    ),
+    output!("plot_motors", outputs.plot_motors)
+        .value_name("F.svg|F.png")
+        .help(
+            "The motors' sizing plot (with `motors`): per joint the operating points (|ω_m|, |τ_m|) over the \
+         torque–speed envelope, the continuous torque line and the RMS point, as .svg or .png.",
+        ),
 ];
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{ReplayConfig, RetimeConfig, ShapeConfig, WaveConfig};
+
+    fn motions() -> Vec<Motion> {
+        Command::VALUES.iter().map(|c| c.motion()).collect()
+    }
 
     #[test]
     fn every_field_resets_to_its_default() {
-        for motion in [
-            Motion::Wave(WaveConfig::default()),
-            Motion::Replay(ReplayConfig::new("q.npy")),
-            Motion::Shape(ShapeConfig::new(Shape::Circle)),
-            Motion::Retime(RetimeConfig::new("q.npy")),
-        ] {
+        for motion in motions() {
             let fresh = RunConfig::new(motion.clone());
-            for name in names(&motion) {
-                if matches!(name, "q_traj" | "shape") {
-                    continue;
-                }
+            for f in of(motion.command()).filter(|f| !f.required) {
                 let mut c = fresh.clone();
-                c.set(name, Value::Default).unwrap();
-                assert_eq!(c, fresh, "{name}");
+                c.set(f.name, Value::Default).unwrap();
+                assert_eq!(c, fresh, "{}", f.name);
+                // a default shown is the one a run uses
+                if let Some(text) = f.default.shown() {
+                    let value = match f.kind {
+                        Kind::Count => Value::Count(text.parse().unwrap()),
+                        Kind::Number => Value::Number(text.parse().unwrap()),
+                        _ => Value::Text(text),
+                    };
+                    c.set(f.name, value).unwrap();
+                    assert_eq!(c.duration(), fresh.duration(), "{}", f.name);
+                    c.duration = fresh.duration;
+                    assert_eq!(c, fresh, "{}", f.name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_field_is_declared_whole_and_once_per_command() {
+        for command in Command::VALUES {
+            let names = names(&command.motion());
+            let mut unique = names.clone();
+            unique.sort();
+            unique.dedup();
+            assert_eq!(unique.len(), names.len(), "{}", command.name());
+        }
+        for f in FIELDS {
+            assert!(
+                f.help.ends_with('.') && !f.help.contains("--"),
+                "{}: {}",
+                f.name,
+                f.help
+            );
+            for name in f.conflicts.iter().chain(f.requires) {
+                assert!(any_field(name).is_some(), "{}: {name}", f.name);
+            }
+            if let Kind::Choice(words) = f.kind
+                && let Some(word) = f.default.shown()
+            {
+                assert!(words.contains(&word.as_str()), "{}", f.name);
+            }
+            // a field the help names is a field
+            let mut rest = f.help;
+            while let Some((_, after)) = rest.split_once('`') {
+                let (quoted, next) = after.split_once('`').unwrap();
+                if quoted.chars().all(|c| c.is_ascii_lowercase() || c == '_') {
+                    assert!(any_field(quoted).is_some(), "{}: `{quoted}`", f.name);
+                }
+                rest = next;
             }
         }
     }
 
     #[test]
     fn fields_are_set_by_name_and_refused_by_kind_and_command() {
-        let mut c = RunConfig::new(Motion::Wave(WaveConfig::default()));
+        let mut c = RunConfig::new(Motion::Wave(super::super::WaveConfig::default()));
         c.set("dt", Value::Number(1e-3)).unwrap();
         c.set("kp", Value::Text("auto,2".into())).unwrap();
         c.set("center", Value::Text("mid".into())).unwrap();
@@ -864,12 +1313,20 @@ mod tests {
         assert!(message(c.set("traj_period", Value::Number(1.0)).unwrap_err()).contains("not an option of wave"));
         assert!(message(c.set("dtt", Value::Number(1.0)).unwrap_err()).starts_with("`dtt`: is not an option"));
         assert!(message(c.set("kp", Value::Text("1,,3".into())).unwrap_err()).contains("J2 is empty"));
-        let points = field("shape_points").unwrap();
-        let mut s = RunConfig::new(Motion::Shape(ShapeConfig::new(Shape::Sine)));
+        assert_eq!(
+            message(c.set("ff", Value::Text("none".into())).unwrap_err()),
+            "`ff`: 'none' is not one of gravity, full"
+        );
+        c.set("trail", Value::Text("none".into())).unwrap();
+        assert_eq!(c.outputs.trail, None);
+        let points = field("shape_points", Command::Shape).unwrap();
+        let mut s = RunConfig::new(Command::Shape.motion());
         points.set_number(&mut s, 60.0).unwrap();
         assert!(points.set_number(&mut s, 60.5).is_err());
         assert!(points.set_number(&mut c, 60.0).is_err());
-        let mut r = RunConfig::new(Motion::Retime(RetimeConfig::new("q.npy")));
+        s.set("shape", Value::Text("tri".into())).unwrap();
+        assert!(matches!(&s.motion, Motion::Shape(s) if s.shape == Shape::Tri && s.shape_points == 60));
+        let mut r = RunConfig::new(Command::Retime.motion());
         r.set("grid", Value::Count(50)).unwrap();
         r.set("margin", Value::Number(0.2)).unwrap();
         r.set("traj_period", Value::Number(2.0)).unwrap();
@@ -877,5 +1334,9 @@ mod tests {
         assert_eq!((rc.grid, rc.margin, rc.path.traj_period), (50, 0.2, 2.0));
         assert!(message(r.set("duration", Value::Number(1.0)).unwrap_err()).contains("not an option of retime"));
         assert!(message(c.set("margin", Value::Number(0.2)).unwrap_err()).contains("not an option of wave"));
+        // each command's duration is its own declaration
+        let mut p = RunConfig::new(Command::Replay.motion());
+        p.set("duration", Value::Number(3.0)).unwrap();
+        assert_eq!(p.duration(), 3.0);
     }
 }

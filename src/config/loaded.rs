@@ -17,8 +17,8 @@ use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
-use crate::traj::files::{self, Format, Selection};
-use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, npy};
+use crate::traj::files::{self, Content, Selection};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
 
 /// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
 #[derive(Clone, Debug)]
@@ -43,6 +43,8 @@ pub struct Loaded {
     collision_set: Option<Arc<CollisionSet>>,
     /// What a replay plays.
     replay: Option<Replayed>,
+    /// What reading the replayed file said ([`files::Opened`]).
+    read: ReadNotes,
     /// A shape's plan and the number of samples it was made with.
     plan: Option<(usize, (Trajectory, ShapeRun))>,
     /// What loading found that changes the result (collision meshes not found): said once,
@@ -66,11 +68,11 @@ impl Loaded {
         })?;
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
-        let replay = match (&config.motion, replayed) {
-            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => Some(given),
-            (Motion::Replay(r), None) => Some(read_replay(r)?),
-            (Motion::Retime(r), None) => Some(read_replay(&r.path)?),
-            _ => None,
+        let (replay, read) = match (&config.motion, replayed) {
+            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => (Some(given), ReadNotes::default()),
+            (Motion::Replay(r), None) => read_replay(r).map(|(r, read)| (Some(r), read))?,
+            (Motion::Retime(r), None) => read_replay(&r.path).map(|(r, read)| (Some(r), read))?,
+            _ => (None, ReadNotes::default()),
         };
         let plan = match &config.motion {
             Motion::Shape(s) => Some((s.shape_points, plan(&arm, s.shape, s.shape_points)?)),
@@ -90,10 +92,33 @@ impl Loaded {
             arm_config: config.arm.clone(),
             collision_set,
             replay,
+            read,
             plan,
             warnings,
             inputs,
         })
+    }
+
+    /// The banner's name of `command` (`replay`), with what its file is where its name does not
+    /// say (`replay of a ROS 1 bag, topic /joint_states`).
+    fn command(&self, command: &str) -> String {
+        match &self.read.what {
+            Some(what) => format!("{command} of {what}"),
+            None => command.to_string(),
+        }
+    }
+
+    /// `error` with the read's limit hint when it is a joint-limit refusal.
+    fn with_limit_hint(&self, error: Error) -> Error {
+        match (error, &self.read.limit_hint) {
+            (Error::InvalidData { path, message }, Some(hint)) if message.contains("beyond its limits") => {
+                Error::InvalidData {
+                    path,
+                    message: format!("{message}{hint}"),
+                }
+            }
+            (error, _) => error,
+        }
     }
 
     /// The arm, with the loaded configuration's motors.
@@ -179,15 +204,16 @@ impl Loaded {
             ),
             Motion::Replay(r) => match &self.replay {
                 Some(Replayed::Timed(timed)) => {
-                    let timed = TimedCommand::new(model, timed, &r.q_traj)?;
+                    let timed = TimedCommand::new(model, timed, &r.q_traj).map_err(|e| self.with_limit_hint(e))?;
+                    command_warnings.extend(self.read.warnings.iter().cloned());
                     command_warnings.extend(timed.warning(&r.q_traj));
                     duration = duration.or(Some(timed.duration));
-                    (timed.trajectory, "replay".to_string(), None)
+                    (timed.trajectory, self.command("replay"), None)
                 }
                 Some(Replayed::Samples(frames)) => {
                     check_samples(model, frames, &r.q_traj)?;
                     let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
-                    (trajectory, "replay".to_string(), None)
+                    (trajectory, self.command("replay"), None)
                 }
                 None => unreachable!("a replay's trajectory is loaded"),
             },
@@ -248,26 +274,40 @@ impl Loaded {
     }
 }
 
-/// What a replay's file holds: a time-stamped trajectory by its extension (`.yaml`, `.json`,
-/// `.mcap`, `.csv`; `message` and `topic` pick from it), else a `.npy`'s frames.
-fn read_replay(r: &ReplayConfig) -> Result<Replayed> {
-    if Format::of(&r.q_traj).is_some() {
-        let selection = Selection {
-            message: r.message,
-            topic: r.topic.clone(),
-        };
-        return Ok(Replayed::Timed(files::read(&r.q_traj, &selection)?));
-    }
-    if let Some(field) = [(r.message.is_some(), "message"), (r.topic.is_some(), "topic")]
-        .iter()
-        .find_map(|(given, field)| given.then_some(*field))
-    {
-        return Err(Error::option(
-            field,
-            "picks from a .yaml, .json or .mcap file, not a .npy",
-        ));
-    }
-    Ok(Replayed::Samples(npy::read_samples(&r.q_traj)?))
+/// What a replay's file holds ([`files::open`]: a time-stamped trajectory, a bag, a rosbag2
+/// folder, a LeRobot dataset, a `.npy`'s frames; `message`, `topic`, `episode` and the
+/// LeRobot options pick from it), and what reading said.
+fn read_replay(r: &ReplayConfig) -> Result<(Replayed, ReadNotes)> {
+    let selection = Selection {
+        message: r.message,
+        topic: r.topic.clone(),
+        episode: r.episode,
+        lerobot_key: r.lerobot_key.clone(),
+        units: r.units,
+        calibration: r.calibration.clone(),
+    };
+    let opened = files::open(&r.q_traj, &selection)?;
+    let replayed = match opened.content {
+        Content::Timed(timed) => Replayed::Timed(timed),
+        Content::Samples(frames) => Replayed::Samples(frames),
+    };
+    let read = ReadNotes {
+        what: opened.what,
+        warnings: opened.warnings.into_iter().map(Warning::Trajectory).collect(),
+        limit_hint: opened.limit_hint,
+    };
+    Ok((replayed, read))
+}
+
+/// What reading a replay's file said besides its content ([`files::Opened`]).
+#[derive(Clone, Debug, Default)]
+struct ReadNotes {
+    /// What the file is, where its name does not say.
+    what: Option<String>,
+    /// What reading noticed, said with each run's command warnings.
+    warnings: Vec<Warning>,
+    /// Said after a joint-limit refusal.
+    limit_hint: Option<String>,
 }
 
 /// The files a run of `config` on `arm` reads: the URDF, the meshes its geometry found, a
@@ -282,7 +322,12 @@ fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
         inputs.add(path, "`motors`");
     }
     match (&config.motion, replay_read) {
-        (Motion::Replay(r), true) => inputs.add(&r.q_traj, "`q_traj`"),
+        (Motion::Replay(r), true) => {
+            inputs.add(&r.q_traj, "`q_traj`");
+            if let Some(calibration) = &r.calibration {
+                inputs.add(calibration, "`calibration`");
+            }
+        }
         (Motion::Retime(r), true) => inputs.add(&r.path.q_traj, "`q_traj`"),
         _ => {}
     }
@@ -405,6 +450,15 @@ pub fn wave_center(model: &Model, center: &Center) -> Result<Vec<f64>> {
             })
             .collect(),
         Center::Given(values) => values.clone(),
+        Center::Home => model.home.clone().ok_or_else(|| {
+            Error::option(
+                "center",
+                format!(
+                    "'home': {} offers no start pose (an MJCF model's keyframe named home)",
+                    model.source
+                ),
+            )
+        })?,
     };
     if center.len() != n {
         return Err(Error::option(

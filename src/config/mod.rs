@@ -1,8 +1,9 @@
 //! One run's configuration: every option a run takes, typed, with its default written once.
 //!
-//! The command line fills a [`RunConfig`] from its arguments (clap shows the same defaults,
-//! read from the constants here), the Python binding fills one from keywords through the field
-//! table ([`fields`]), and a sweep varies one field by field. From a configuration,
+//! Each option is declared once in [`fields::FIELDS`] (its name, kind, default, help, the
+//! commands that take it, how it is set and checked): the command line builds its arguments
+//! from that table and fills a [`RunConfig`] through it, the Python binding takes its keywords
+//! and docstrings from it, and a sweep varies its numeric fields. From a configuration,
 //! [`load_arm`] reads the arm once (its URDF, the motors resolved onto its joints, the
 //! payload and gravity applied) and [`Loaded`] builds the [`crate::sim::Scenario`] of each
 //! run on it.
@@ -20,12 +21,15 @@ mod motors_file;
 use std::path::PathBuf;
 
 use crate::control::FeedForward;
+use crate::error::Words;
 use crate::geometry::{ClearanceGeometry, PairFilter};
+pub use crate::sim::DriveMode;
 use crate::sim::{Drive, StepperOptions, Thresholds};
+use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
 pub use arm::{Arm, load_arm, tool_frame};
-pub use fields::{Field, Kind, Value};
+pub use fields::{Commands, DefaultValue, Field, Kind, Value};
 pub use loaded::{Loaded, Replayed, check_samples, wave_amplitudes, wave_center};
 pub use motors::{MotorEntry, Motors, PRESETS};
 
@@ -49,8 +53,6 @@ pub const DEFAULT_TRAJ_PERIOD: f64 = 5.0;
 pub const DEFAULT_SHAPE_POINTS: usize = 240;
 /// Default Coulomb friction of `self_collisions` contacts.
 pub const DEFAULT_FRICTION: f64 = 1.0;
-/// Default trail file of the command line.
-pub const DEFAULT_TRAIL: &str = "faze4_trail.csv";
 /// Default port of the live view (127.0.0.1 only).
 pub const DEFAULT_PORT: u16 = 7000;
 
@@ -170,14 +172,19 @@ pub enum Motion {
 }
 
 impl Motion {
-    /// The command's name: `wave`, `replay`, `shape`.
-    pub fn name(&self) -> &'static str {
+    /// The command: wave, replay, shape or retime.
+    pub fn command(&self) -> Command {
         match self {
-            Motion::Wave(_) => "wave",
-            Motion::Replay(_) => "replay",
-            Motion::Shape(_) => "shape",
-            Motion::Retime(_) => "retime",
+            Motion::Wave(_) => Command::Wave,
+            Motion::Replay(_) => Command::Replay,
+            Motion::Shape(_) => Command::Shape,
+            Motion::Retime(_) => Command::Retime,
         }
+    }
+
+    /// The command's name: `wave`, `replay`, `shape`, `retime`.
+    pub fn name(&self) -> &'static str {
+        self.command().name()
     }
 
     /// Simulated time when none is given (s).
@@ -185,6 +192,40 @@ impl Motion {
         match self {
             Motion::Shape(_) => DEFAULT_SHAPE_DURATION,
             _ => DEFAULT_DURATION,
+        }
+    }
+}
+
+/// A command of the configuration: what [`Motion`] a run is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    /// [`Motion::Wave`].
+    Wave,
+    /// [`Motion::Replay`].
+    Replay,
+    /// [`Motion::Shape`].
+    Shape,
+    /// [`Motion::Retime`].
+    Retime,
+}
+
+crate::choice::choice_words!(Command { Wave => "wave", Replay => "replay", Shape => "shape", Retime => "retime" });
+
+impl Command {
+    /// Its name: `wave`, `replay`, `shape`, `retime`.
+    pub fn name(self) -> &'static str {
+        crate::choice::Choice::word(self)
+    }
+
+    /// The command's motion with every option at its default. The options the command
+    /// requires ([`Field::required`]: `q_traj`, `shape`) hold a placeholder (the path
+    /// `q_traj`, the circle) until they are set.
+    pub fn motion(self) -> Motion {
+        match self {
+            Command::Wave => Motion::Wave(WaveConfig::default()),
+            Command::Replay => Motion::Replay(ReplayConfig::new("q_traj")),
+            Command::Shape => Motion::Shape(ShapeConfig::new(Shape::Circle)),
+            Command::Retime => Motion::Retime(RetimeConfig::new("q_traj")),
         }
     }
 }
@@ -225,6 +266,8 @@ pub enum Center {
     Zero,
     /// The middle of each limited joint's range (0 for an unlimited one).
     Mid,
+    /// The start pose the robot file offers (MJCF's `home` keyframe).
+    Home,
     /// One value per joint (rad or m).
     Given(Vec<f64>),
 }
@@ -243,6 +286,16 @@ pub struct ReplayConfig {
     /// The topic of an `.mcap` file (`None`: its one JointTrajectory topic, else its one
     /// JointState topic).
     pub topic: Option<String>,
+    /// A LeRobot dataset's episode, from 0 (`None`: 0).
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (`None`: `action`).
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's values are: `deg` or `rad` (`None`: normalised, turned into
+    /// radians by `calibration`, else taken as radians).
+    pub units: Option<Units>,
+    /// LeRobot's calibration file of the arm (JSON: per motor `drive_mode`, `range_min`,
+    /// `range_max`), for a dataset's normalised values.
+    pub calibration: Option<PathBuf>,
 }
 
 impl ReplayConfig {
@@ -253,6 +306,10 @@ impl ReplayConfig {
             traj_period: DEFAULT_TRAJ_PERIOD,
             message: None,
             topic: None,
+            episode: None,
+            lerobot_key: None,
+            units: None,
+            calibration: None,
         }
     }
 }
@@ -392,16 +449,6 @@ pub struct ControlConfig {
     pub reducer_friction: Vec<Option<f64>>,
 }
 
-/// How the joints with a stepper are driven (`drive`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DriveMode {
-    /// The controller's torque clipped to each motor's envelope (the original's).
-    #[default]
-    Pd,
-    /// Open loop: the driver's microstep through the stepper's torque–angle curve.
-    Stepper,
-}
-
 impl Default for ControlConfig {
     fn default() -> Self {
         ControlConfig {
@@ -460,7 +507,8 @@ impl Default for ClearanceConfig {
     }
 }
 
-/// The files and lines a run writes. A path `None` writes nothing.
+/// The files and lines a run writes. A path `None` writes nothing, the default of every one (a
+/// front end that writes a file unasked chooses it itself).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OutputConfig {
     /// Trail CSV.
@@ -487,12 +535,15 @@ pub struct OutputConfig {
     pub print_period: Option<f64>,
     /// Print the motors' sizing report (needs `motors`).
     pub sizing: bool,
+    /// How the lines a run prints name the options they refer to (`--tool-link` or
+    /// `tool_link`): the front end's words, not an option.
+    pub words: Words,
 }
 
 impl Default for OutputConfig {
     fn default() -> Self {
         OutputConfig {
-            trail: Some(PathBuf::from(DEFAULT_TRAIL)),
+            trail: None,
             summary: None,
             html: None,
             plot: None,
@@ -504,6 +555,7 @@ impl Default for OutputConfig {
             debug: false,
             print_period: None,
             sizing: false,
+            words: Words::Keywords,
         }
     }
 }

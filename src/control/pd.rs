@@ -19,13 +19,15 @@ pub enum FeedForward {
     Full,
 }
 
+crate::choice::choice_words!(FeedForward { Gravity => "gravity", Full => "full" });
+
 impl FeedForward {
-    /// `none`, `gravity` or `full`, as the option and the summary spell it.
+    /// `none`, `gravity` or `full`, as the summary spells it (the `ff` option's words, and
+    /// `none` for `no_ff`).
     pub fn name(self) -> &'static str {
         match self {
             FeedForward::None => "none",
-            FeedForward::Gravity => "gravity",
-            FeedForward::Full => "full",
+            other => crate::choice::Choice::word(other),
         }
     }
 }

@@ -24,6 +24,8 @@ struct EmbeddedMesh {
     index_bytes: usize,
     /// Positions (3 f32 per vertex), then indices (3 per triangle), little-endian.
     bytes: &'static [u8],
+    /// Its triangles' hierarchy (see [`hierarchy`]).
+    bvh: &'static [u8],
 }
 
 const MESHES: &[EmbeddedMesh] = include!(concat!(env!("OUT_DIR"), "/meshes.rs"));
@@ -97,14 +99,23 @@ pub fn for_uri(uri: &str) -> Option<IndexedMesh> {
 /// Whether `uri` names one of the built-in meshes ([`for_uri`] would give it), without
 /// decoding it.
 pub fn is_built_in(uri: &str) -> bool {
-    name_of(uri).is_some_and(|name| MESHES.iter().any(|m| m.name == name))
+    name_of(uri).is_some()
 }
 
-/// The link name in `package://P/meshes/<link>.STL`, P one of [`PACKAGES`].
-fn name_of(uri: &str) -> Option<&str> {
+/// The name of the built-in mesh `package://P/meshes/<link>.STL` names (P one of
+/// [`PACKAGES`]), if it is one.
+pub fn name_of(uri: &str) -> Option<&'static str> {
     let (package, file) = uri.strip_prefix("package://")?.split_once("/meshes/")?;
     PACKAGES.contains(&package).then_some(())?;
-    file.strip_suffix(".STL")
+    let name = file.strip_suffix(".STL")?;
+    MESHES.iter().find(|m| m.name == name).map(|m| m.name)
+}
+
+/// The bounding-volume hierarchy `build.rs` made of built-in mesh `name`'s triangles (as
+/// [`crate::geometry::mesh::Mesh::from_indexed`] gives them), in the form
+/// `geometry::bvh`'s `Bvh::to_bytes` writes.
+pub fn hierarchy(name: &str) -> Option<&'static [u8]> {
+    MESHES.iter().find(|m| m.name == name).map(|m| m.bvh)
 }
 
 #[cfg(test)]

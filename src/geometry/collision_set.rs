@@ -39,19 +39,21 @@
 
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
-use parry3d_f64::query::{self, ClosestPoints, PointQueryWithLocation, details};
-use parry3d_f64::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap, TriMesh, TriMeshBuilderError};
+use parry3d_f64::query::{self, ClosestPoints, details};
+use parry3d_f64::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap};
 use parry3d_f64::transformation::try_convex_hull;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use super::hull::{Adjacency, Climber};
 use super::mesh::load_shape;
+use super::mesh_cache;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
 use super::search::{Touch, mesh_distance, mesh_shape_distance, mesh_touches_shape, meshes_touch};
+use super::triangles::{Triangles, arrays};
 use super::{GeometryModel, GeometryObject};
 use crate::error::{Error, Result, shortest};
 use crate::model::{Geometry, Model};
@@ -106,7 +108,7 @@ struct Object {
     /// use the same mesh file at the same scale).
     convex: Arc<dyn Shape>,
     /// The exact triangles of a mesh (for [`ClearanceGeometry::Mesh`]; shared as `convex`),
-    /// their BVH built in the background ([`Triangles`]).
+    /// with their BVH.
     triangles: Option<Arc<Triangles>>,
     /// A hull's vertex adjacency, for its support map by hill climbing (`None`: a primitive).
     climb: Option<Arc<Adjacency>>,
@@ -117,10 +119,9 @@ struct Object {
 }
 
 impl Object {
-    /// The exact triangles of a mesh, once their BVH is built (waits for it); `None` for a
-    /// primitive or a mesh read as its hull.
-    fn mesh(&self) -> Option<&TriMesh> {
-        self.triangles.as_deref().map(Triangles::get)
+    /// The exact triangles of a mesh; `None` for a primitive or a mesh read as its hull.
+    fn mesh(&self) -> Option<&Triangles> {
+        self.triangles.as_deref()
     }
 
     /// Its convex shape's support map: a hull's climbing from vertex `start`, a primitive's
@@ -129,7 +130,7 @@ impl Object {
         match (self.convex.as_convex_polyhedron(), &self.climb) {
             (Some(hull), Some(adjacency)) => Support::Hull(Climber::new(hull, adjacency, start)),
             _ => Support::Primitive(
-                (self.convex.as_support_map()).expect("parry's boxes, balls and cylinders have support maps"),
+                (self.convex.as_support_map()).expect("parry's boxes, balls, cylinders and capsules have support maps"),
             ),
         }
     }
@@ -155,6 +156,9 @@ impl Object {
                 g.placement.compose(&axis_fix),
                 None,
             ),
+            Geometry::Capsule { radius, length } => {
+                (Arc::new(Capsule::new_z(length / 2.0, *radius)), None, g.placement, None)
+            }
             Geometry::Mesh { .. } => {
                 let mesh = meshes.get(&MeshKey::of(g)?)?.as_ref()?;
                 (
@@ -206,8 +210,7 @@ impl MeshKey {
 }
 
 /// Every distinct mesh (file and scale) of `collisions`, loaded once, in parallel (hulls of
-/// big meshes take a while); a mesh found nowhere maps to `None`. The meshes' BVHs are built
-/// on loader threads after this returns ([`Triangles`]).
+/// big meshes take a while); a mesh found nowhere maps to `None`.
 fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result<HashMap<MeshKey, Option<MeshShape>>> {
     // in document order, so that the error reported is the first mesh's that fails
     let mut keys: Vec<MeshKey> = Vec::new();
@@ -216,58 +219,9 @@ fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result
             keys.push(key);
         }
     }
-    let shapes: Vec<Result<Option<Loaded>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
-    let shapes: Vec<Option<Loaded>> = shapes.into_iter().collect::<Result<_>>()?;
-    let (shapes, builds): (Vec<Option<MeshShape>>, Vec<Option<Build>>) = shapes
-        .into_iter()
-        .map(|s| s.map_or((None, None), |(s, b)| (Some(s), b)))
-        .unzip();
-    Triangles::build_in_background(builds.into_iter().flatten().collect());
+    let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
+    let shapes: Vec<Option<MeshShape>> = shapes.into_iter().collect::<Result<_>>()?;
     Ok(keys.into_iter().zip(shapes).collect())
-}
-
-/// A mesh's exact triangles and their bounding-volume hierarchy (parry's `TriMesh`), built on a
-/// loader thread after [`CollisionSet::new`] returns: the BVH build is most of the loading, and
-/// a run's dynamics need none of it, so they run meanwhile. A query that needs the triangles
-/// waits for them ([`Triangles::get`]). Built from the same points and triangles as in one
-/// piece, so the mesh is the same whichever thread builds it.
-pub(super) struct Triangles {
-    mesh: OnceLock<TriMesh>,
-    /// How many triangles it has.
-    count: usize,
-}
-
-/// What a loader thread builds: the mesh's cell, its points (m, mesh frame) and triangles.
-type Build = (Arc<Triangles>, Vec<PVector>, Vec<[u32; 3]>);
-
-/// A mesh read, and what is left to build of it.
-type Loaded = (MeshShape, Option<Build>);
-
-impl Triangles {
-    /// The triangles with their BVH, once built (waits for the loader thread).
-    pub(super) fn get(&self) -> &TriMesh {
-        self.mesh.wait()
-    }
-
-    /// Builds each mesh of `builds` (non-empty triangle lists), the largest first, on as many
-    /// threads as there are cores (and meshes), none of them rayon's: a query waiting for a
-    /// mesh on rayon's pool must not hold up the thread that would build it.
-    fn build_in_background(mut builds: Vec<Build>) {
-        builds.sort_by_key(|(_, _, triangles)| triangles.len());
-        let threads = std::thread::available_parallelism()
-            .map_or(1, usize::from)
-            .min(builds.len());
-        let queue = Arc::new(std::sync::Mutex::new(builds));
-        for _ in 0..threads {
-            let queue = queue.clone();
-            std::thread::spawn(move || {
-                while let Some((cell, points, triangles)) = queue.lock().map_or(None, |mut q| q.pop()) {
-                    let mesh = TriMesh::new(points, triangles).expect("a mesh with triangles is a TriMesh");
-                    let _ = cell.mesh.set(mesh);
-                }
-            });
-        }
-    }
 }
 
 /// One mesh's shapes, shared by the objects that use it: its convex hull, the hull's vertex
@@ -280,16 +234,16 @@ struct MeshShape {
 
 impl MeshShape {
     /// The mesh `key` names, read by [`load_shape`] (the file, else the built-in Faze4 copy) and
-    /// scaled, with (for [`ClearanceGeometry::Mesh`]) what a loader thread builds of its
-    /// triangles; `None` when it is found nowhere.
+    /// scaled, with (for [`ClearanceGeometry::Mesh`]) its triangles' hierarchy as made before
+    /// (`mesh_cache.rs`), else built now; `None` when it is found nowhere.
     ///
     /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]);
     /// a mesh whose points span no volume (no convex hull).
-    fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<Loaded>> {
+    fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<MeshShape>> {
         let Some(mesh) = load_shape(&key.uri, key.path.as_deref()) else {
             return Ok(None);
         };
-        let mesh = mesh?;
+        let (mesh, contents) = mesh?;
         let path = key.path.clone().unwrap_or_else(|| key.uri.clone().into());
         let scale = key.scale.map(f64::from_bits);
         let points: Vec<PVector> = (mesh.vertices.iter())
@@ -322,29 +276,18 @@ impl MeshShape {
         let (corners, faces) = try_convex_hull(&points).map_err(|_| no_hull())?;
         let climb = Adjacency::of(corners.len(), &faces);
         let hull = ConvexPolyhedron::from_convex_mesh(corners, &faces).ok_or_else(no_hull)?;
-        let build = match kind {
+        let triangles = match kind {
             ClearanceGeometry::Hull => None,
-            ClearanceGeometry::Mesh if mesh.triangles.is_empty() => {
-                return Err(Error::InvalidData {
-                    path: path.clone(),
-                    message: format!("not a triangle mesh: {}", TriMeshBuilderError::EmptyIndices),
-                });
+            ClearanceGeometry::Mesh => {
+                let (bvh, _) = mesh_cache::hierarchy(contents, key.scale, &arrays(&points), &mesh.triangles);
+                Some(Arc::new(Triangles::new(points, mesh.triangles, Some(bvh))))
             }
-            ClearanceGeometry::Mesh => Some((
-                Arc::new(Triangles {
-                    mesh: OnceLock::new(),
-                    count: mesh.triangles.len(),
-                }),
-                points,
-                mesh.triangles,
-            )),
         };
-        let shape = MeshShape {
+        Ok(Some(MeshShape {
             hull: Arc::new(hull),
             climb: Arc::new(climb),
-            triangles: build.as_ref().map(|(cell, _, _)| cell.clone()),
-        };
-        Ok(Some((shape, build)))
+            triangles,
+        }))
     }
 }
 
@@ -613,13 +556,8 @@ impl CollisionSet {
             return Ok(seeded);
         }
         // the triangle of a mesh nearest a point on its hull (world frame)
-        let part = |o: &Object, pose: &PPose, p: PVector| {
-            (o.mesh()).map_or(0, |m| {
-                m.project_local_point_and_get_location(pose.inverse_transform_point(p), false)
-                    .1
-                    .0
-            })
-        };
+        let part =
+            |o: &Object, pose: &PPose, p: PVector| (o.mesh()).map_or(0, |m| m.nearest(pose.inverse_transform_point(p)));
         let parts = (part(oa, pa, ca), part(ob, pb, cb));
         let under = self.part_distance(a, b, (pa, pb), parts);
         if under < seeded {
@@ -871,7 +809,7 @@ impl CollisionSet {
     /// The product of the triangle counts of pair `k`'s objects (a primitive counts 1), for
     /// ordering work by cost.
     pub(super) fn pair_triangles(&self, k: usize) -> usize {
-        let count = |o: &Object| o.triangles.as_ref().map_or(1, |t| t.count);
+        let count = |o: &Object| o.triangles.as_ref().map_or(1, |t| t.len());
         let (a, b) = self.pairs[k];
         count(&self.objects[a]) * count(&self.objects[b])
     }

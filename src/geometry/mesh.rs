@@ -156,14 +156,45 @@ pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
     }
 }
 
-/// [`load`] for collision: the triangles only, so no side file is read ([`read_mesh`]). Every
-/// collision mesh is loaded here.
-pub fn load_shape(uri: &str, path: Option<&Path>) -> Option<Result<Mesh>> {
+/// [`load`] for collision: the triangles only, so no side file is read ([`read_mesh`]), with
+/// what identifies them for a cache of what is made of them ([`Contents`]). Every collision
+/// mesh is loaded here.
+pub fn load_shape(uri: &str, path: Option<&Path>) -> Option<Result<(Mesh, Contents)>> {
     match origin(uri, path) {
-        Origin::File(path) => Some(read_mesh(path)),
-        Origin::BuiltIn => built_in(uri).map(Ok),
+        Origin::File(path) => Some((|| {
+            let bytes = read_file_capped(path, MAX_MESH_BYTES, "a mesh file")?;
+            let mesh = parse_mesh(&bytes, path)?;
+            Ok((mesh, Contents::File(contents_hash(&bytes))))
+        })()),
+        Origin::BuiltIn => Some(Ok((
+            built_in(uri)?,
+            Contents::BuiltIn(crate::faze4::meshes::name_of(uri)?),
+        ))),
         Origin::NotFound => None,
     }
+}
+
+/// What a collision mesh's triangles were read from, as a cache of what is made of them
+/// (`mesh_cache.rs`) tells meshes apart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Contents {
+    /// A file, by a 128-bit hash of its bytes (two SipHash-1-3 of them, std's
+    /// `DefaultHasher`, under two prefixes) and its length.
+    File([u64; 3]),
+    /// The built-in Faze4 mesh of this link.
+    BuiltIn(&'static str),
+}
+
+/// The hash of a mesh file's bytes that [`Contents::File`] holds.
+pub fn contents_hash(bytes: &[u8]) -> [u64; 3] {
+    use std::hash::{Hash, Hasher};
+    let hash = |prefix: &str| {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        prefix.hash(&mut h);
+        bytes.hash(&mut h);
+        h.finish()
+    };
+    [hash("faze4 mesh a"), hash("faze4 mesh b"), bytes.len() as u64]
 }
 
 /// The built-in copy of the official Faze4 mesh `uri` names, if any.

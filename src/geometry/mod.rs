@@ -9,27 +9,34 @@
 //! | `claims.rs` | what a mesh file claims (counts, nesting, a binary STL's length) checked against what it holds, before mesh-loader allocates |
 //! | `pairs.rs` | which pairs of collision objects are checked ([`PairFilter`]) |
 //! | `collision_set.rs` | [`CollisionSet`] (the loaded parry shapes and pairs), [`GeometryData`] (workspace), queries at one pose |
+//! | `bvh.rs` | `Bvh`: a mesh's bounding-volume hierarchy, flat; nearest triangle to a point (std only: `build.rs` builds the Faze4's with it) |
+//! | `triangles.rs` | a mesh's exact triangles with their hierarchy, as the searches read them |
+//! | `mesh_cache.rs` | each mesh's hierarchy made once: carried in the binary for the Faze4, kept in the user's cache folder for other meshes ([`cache_folder`]) |
 //! | `search.rs` | the two-mesh BVH traversals (distance, crossing test) the set's queries use |
 //! | `clearance.rs` | [`Clearance`]: a run's accumulator, sample by sample, into a [`ClearanceReport`] |
 //! | `path.rs` | [`PathClearance`]: a path's bounds, computed once, shared by the runs that follow it |
 //! | `contact.rs` | [`ContactGeometry`]: penetrating convex pairs as contact points (point, normal, φ) |
 //! | `report.rs` | [`ClearanceReport`]: per pair minimum over a run, serialisable |
 
+mod bvh;
 mod claims;
 mod clearance;
 mod collision_set;
 mod contact;
 mod hull;
 pub mod mesh;
+mod mesh_cache;
 mod motion_bound;
 mod pairs;
 mod path;
 mod report;
 mod search;
+mod triangles;
 
 pub use clearance::Clearance;
 pub use collision_set::{CollisionSet, GeometryData, Warning};
 pub use contact::{Contact, ContactData, ContactGeometry, REFRESH_EVERY, REFRESH_MOTION};
+pub use mesh_cache::{FORMAT as CACHE_FORMAT, folder as cache_folder};
 pub use pairs::{PairFilter, checked_pairs};
 pub use path::{MAX_PATH_BYTES, PathBuilder, PathClearance};
 pub use report::{ClearanceGeometry, ClearanceReport, PairDistance, PairReport};
@@ -38,7 +45,7 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::faze4;
-use crate::model::{FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, RobotDescription, urdf};
+use crate::model::{FrameId, Geometry, LoadOptions, LoadWarning, Model, PackagePaths, RobotDescription, mjcf, urdf};
 use crate::spatial::Pose;
 
 /// A robot as read from a file: the dynamics [`Model`] and, beside it, the shapes attached to
@@ -60,10 +67,15 @@ impl Robot {
         Robot::from_urdf_file_with(path, packages, &LoadOptions::default())
     }
 
-    /// [`Robot::from_urdf_file`] read with `options`.
+    /// [`Robot::from_urdf_file`] read with `options`. A file whose root is `<mujoco>` is read
+    /// as MJCF ([`crate::model::mjcf`]).
     pub fn from_urdf_file_with(path: &Path, packages: &PackagePaths, options: &LoadOptions) -> Result<Robot> {
         let text = urdf::read_text(path)?;
-        Robot::from_urdf_str_with(&text, &path.display().to_string(), path.parent(), packages, options)
+        let file = path.display().to_string();
+        match mjcf::is_mjcf(&text) {
+            true => Robot::from_description_with(&mjcf::describe_str(&text, &file, path.parent())?, options),
+            false => Robot::from_urdf_str_with(&text, &file, path.parent(), packages, options),
+        }
     }
 
     /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
@@ -100,11 +112,15 @@ impl Robot {
         packages: &PackagePaths,
         options: &LoadOptions,
     ) -> Result<Robot> {
-        let desc = urdf::describe(text, file, base_dir, packages)?;
-        let (mut model, warnings) = Model::from_description_with(&desc, options)?;
+        Robot::from_description_with(&urdf::describe(text, file, base_dir, packages)?, options)
+    }
+
+    /// The robot `desc` describes, read with `options`.
+    pub fn from_description_with(desc: &RobotDescription, options: &LoadOptions) -> Result<Robot> {
+        let (mut model, warnings) = Model::from_description_with(desc, options)?;
         // what the arm's maker knows beyond the file, when this is an arm faze4 knows
         model.defaults = faze4::defaults_for(&model);
-        let geometry = GeometryModel::new(&model, &desc);
+        let geometry = GeometryModel::new(&model, desc);
         Ok(Robot {
             model,
             geometry,

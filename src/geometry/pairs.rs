@@ -17,6 +17,8 @@ pub enum PairFilter {
     All,
 }
 
+crate::choice::choice_words!(PairFilter { All => "all" });
+
 /// The pairs `(a, b)`, `a < b`, of `collisions` (indices) that `filter` checks on `model`;
 /// `joined` lists the `[parent, child]` link frames of the moving joints
 /// ([`super::GeometryModel::joined`]).

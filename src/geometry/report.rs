@@ -15,6 +15,8 @@ pub enum ClearanceGeometry {
     Mesh,
 }
 
+crate::choice::choice_words!(ClearanceGeometry { Mesh => "mesh", Hull => "hull" });
+
 /// The distance of one checked pair at one pose.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairDistance {

@@ -7,9 +7,11 @@
 use std::cell::Cell;
 
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Vector as PVector};
-use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
-use parry3d_f64::shape::{Shape, TriMesh, Triangle};
+use parry3d_f64::shape::{Shape, Triangle};
+
+use super::bvh::Node;
+use super::triangles::{Triangles, node_box};
 /// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
 /// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
 /// only when its lower bound exceeds the best distance by this much, so that among triangle
@@ -30,8 +32,8 @@ pub(super) const ROUND_OFF: f64 = 1e-9;
 /// everything it passes over has a positive lower bound): the caller searches exactly when it
 /// returns a distance that small, or knows the meshes are apart.
 pub(super) fn mesh_distance(
-    m1: &TriMesh,
-    m2: &TriMesh,
+    m1: &Triangles,
+    m2: &Triangles,
     pos12: &PPose,
     closest: &mut (u32, u32),
     bound: f64,
@@ -47,7 +49,7 @@ pub(super) fn mesh_distance(
     // tolerance: what could be closer by more than it)
     let slack = if tolerance > 0.0 { -tolerance } else { ROUND_OFF };
     let reach = || best.get() + slack;
-    let boxes_closer = |n1: &BvhNode, n2: &BvhNode| {
+    let boxes_closer = |n1: &Node, n2: &Node| {
         if best.get() <= 0.0 || reach() <= 0.0 {
             return false;
         }
@@ -57,19 +59,17 @@ pub(super) fn mesh_distance(
         }
         nodes_within(&two_in_one, &one_in_two, n1, n2, reach() * reach())
     };
-    for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_closer) {
-        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) >= reach() {
-            continue;
+    m1.bvh().leaf_pairs(m2.bvh(), boxes_closer, |i, j| {
+        if triangle_gap(&m1.triangle(i), &m2.triangle(j), &two_in_one) >= reach() {
+            return true;
         }
-        let d = triangles(pair);
+        let d = triangles((i, j));
         if d < best.get() {
             best.set(d);
-            found.set(Some(pair));
+            found.set(Some((i, j)));
         }
-        if d <= 0.0 {
-            break;
-        }
-    }
+        d > 0.0
+    });
     let pair = found.get()?;
     *closest = pair;
     Some(best.get())
@@ -77,7 +77,7 @@ pub(super) fn mesh_distance(
 
 /// The distance between triangle `i` of `m1` and triangle `j` of `m2` (`pos12`: `m2`'s frame
 /// in `m1`'s), parry's GJK; 0 when they touch or cross.
-fn triangle_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, (i, j): (u32, u32)) -> f64 {
+fn triangle_distance(m1: &Triangles, m2: &Triangles, pos12: &PPose, (i, j): (u32, u32)) -> f64 {
     DefaultQueryDispatcher
         .distance(pos12, &m1.triangle(i), &m2.triangle(j))
         .expect("parry supports triangle pairs")
@@ -88,8 +88,8 @@ fn triangle_distance(m1: &TriMesh, m2: &TriMesh, pos12: &PPose, (i, j): (u32, u3
 /// `√squared_reach`: each box re-boxed in the other's frame (`two_in_one`: m2's in m1's,
 /// `one_in_two` the inverse) bounds the distance of the triangles inside from below, and both
 /// bounds must be below.
-fn nodes_within(two_in_one: &Rebox, one_in_two: &Rebox, n1: &BvhNode, n2: &BvhNode, squared_reach: f64) -> bool {
-    let (box1, box2) = ((n1.mins(), n1.maxs()), (n2.mins(), n2.maxs()));
+fn nodes_within(two_in_one: &Rebox, one_in_two: &Rebox, n1: &Node, n2: &Node, squared_reach: f64) -> bool {
+    let (box1, box2) = (node_box(n1), node_box(n2));
     two_in_one.squared_gap(box1, box2) < squared_reach && one_in_two.squared_gap(box2, box1) < squared_reach
 }
 
@@ -155,8 +155,8 @@ pub(super) enum Touch {
 /// large surfaces (the parts of a joint) have boxes touching all the way down, though: after
 /// `budget` pairs of nodes the test gives up ([`Touch::Undecided`]).
 pub(super) fn meshes_touch(
-    m1: &TriMesh,
-    m2: &TriMesh,
+    m1: &Triangles,
+    m2: &Triangles,
     pos12: &PPose,
     closest: &mut (u32, u32),
     budget: usize,
@@ -169,17 +169,23 @@ pub(super) fn meshes_touch(
     let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
     let slack = ROUND_OFF * ROUND_OFF;
     let opened = Cell::new(0);
-    let boxes_touch = |n1: &BvhNode, n2: &BvhNode| {
+    let boxes_touch = |n1: &Node, n2: &Node| {
         opened.set(opened.get() + 1);
         opened.get() <= budget && nodes_within(&two_in_one, &one_in_two, n1, n2, slack)
     };
-    for pair in m1.bvh().leaf_pairs(m2.bvh(), boxes_touch) {
-        if triangle_gap(&m1.triangle(pair.0), &m2.triangle(pair.1), &two_in_one) < ROUND_OFF && triangles(pair) <= 0.0 {
-            *closest = pair;
-            return Touch::Crossing;
+    let mut crossing = None;
+    m1.bvh().leaf_pairs(m2.bvh(), boxes_touch, |i, j| {
+        let touches =
+            triangle_gap(&m1.triangle(i), &m2.triangle(j), &two_in_one) < ROUND_OFF && triangles((i, j)) <= 0.0;
+        if touches {
+            crossing = Some((i, j));
         }
-    }
-    if opened.get() > budget {
+        !touches
+    });
+    if let Some(pair) = crossing {
+        *closest = pair;
+        Touch::Crossing
+    } else if opened.get() > budget {
         Touch::Undecided
     } else {
         Touch::Apart(seeded)
@@ -263,7 +269,7 @@ impl<'a> PlacedShape<'a> {
     }
 
     /// The distance between triangle `i` of `m` and the shape (parry's GJK; 0 when they touch).
-    fn distance(&self, m: &TriMesh, i: u32) -> f64 {
+    fn distance(&self, m: &Triangles, i: u32) -> f64 {
         DefaultQueryDispatcher
             .distance(self.pose, &m.triangle(i), self.shape)
             .expect("parry supports triangles against convex shapes")
@@ -281,7 +287,7 @@ impl<'a> PlacedShape<'a> {
 /// distance found; `tolerance` as in [`mesh_distance`] (and, as there, it can pass over a
 /// touching triangle only once it has found one within `tolerance` of the shape).
 pub(super) fn mesh_shape_distance(
-    m: &TriMesh,
+    m: &Triangles,
     shape: &dyn Shape,
     pos12: &PPose,
     closest: &mut u32,
@@ -294,20 +300,18 @@ pub(super) fn mesh_shape_distance(
     let mut found = (seeded < bound).then_some(*closest);
     let slack = if tolerance > 0.0 { -tolerance } else { ROUND_OFF };
     let reach = || best.get() + slack;
-    let open = |n: &BvhNode| best.get() > 0.0 && reach() > 0.0 && placed.gap((n.mins(), n.maxs())) < reach();
-    for i in m.bvh().leaves(open) {
+    let open = |n: &Node| best.get() > 0.0 && reach() > 0.0 && placed.gap(node_box(n)) < reach();
+    m.bvh().leaves(open, |i| {
         if placed.triangle_gap(&m.triangle(i)) >= reach() {
-            continue;
+            return true;
         }
         let d = placed.distance(m, i);
         if d < best.get() {
             best.set(d);
             found = Some(i);
         }
-        if d <= 0.0 {
-            break;
-        }
-    }
+        d > 0.0
+    });
     *closest = found?;
     Some(best.get())
 }
@@ -317,7 +321,7 @@ pub(super) fn mesh_shape_distance(
 /// triangle when one does. Opens only the nodes whose [`PlacedShape::gap`] is below
 /// [`ROUND_OFF`], at most `budget` of them.
 pub(super) fn mesh_touches_shape(
-    m: &TriMesh,
+    m: &Triangles,
     shape: &dyn Shape,
     pos12: &PPose,
     closest: &mut u32,
@@ -329,17 +333,22 @@ pub(super) fn mesh_touches_shape(
         return Touch::Crossing;
     }
     let opened = Cell::new(0);
-    let open = |n: &BvhNode| {
+    let open = |n: &Node| {
         opened.set(opened.get() + 1);
-        opened.get() <= budget && placed.gap((n.mins(), n.maxs())) < ROUND_OFF
+        opened.get() <= budget && placed.gap(node_box(n)) < ROUND_OFF
     };
-    for i in m.bvh().leaves(open) {
-        if placed.triangle_gap(&m.triangle(i)) < ROUND_OFF && placed.distance(m, i) <= 0.0 {
-            *closest = i;
-            return Touch::Crossing;
+    let mut crossing = None;
+    m.bvh().leaves(open, |i| {
+        let touches = placed.triangle_gap(&m.triangle(i)) < ROUND_OFF && placed.distance(m, i) <= 0.0;
+        if touches {
+            crossing = Some(i);
         }
-    }
-    if opened.get() > budget {
+        !touches
+    });
+    if let Some(i) = crossing {
+        *closest = i;
+        Touch::Crossing
+    } else if opened.get() > budget {
         Touch::Undecided
     } else {
         Touch::Apart(seeded)
@@ -351,16 +360,18 @@ pub(super) mod tests {
     use super::*;
     use parry3d_f64::math::Rot3 as PRot3;
     use parry3d_f64::query;
-    use parry3d_f64::shape::{Ball, Cuboid, Cylinder};
+    use parry3d_f64::shape::{Ball, Cuboid, Cylinder, TriMesh};
 
-    /// The built-in gripper mesh of the Faze4 (2,672 triangles), in metres.
-    fn gripper() -> TriMesh {
+    /// The built-in gripper mesh of the Faze4 (2,672 triangles), in metres: ours, and parry's
+    /// `TriMesh` of the same triangles.
+    fn gripper() -> (Triangles, TriMesh) {
         let mesh = crate::faze4::meshes::mesh("hvataljka").expect("built in");
-        let points = (mesh.positions.iter())
+        let points: Vec<PVector> = (mesh.positions.iter())
             .map(|p| PVector::new(p[0] as f64, p[1] as f64, p[2] as f64))
             .collect();
-        let triangles = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-        TriMesh::new(points, triangles).unwrap()
+        let triangles: Vec<[u32; 3]> = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        let parry = TriMesh::new(points.clone(), triangles.clone()).unwrap();
+        (Triangles::new(points, triangles, None), parry)
     }
 
     /// `n` seeded pseudo-random poses: turns up to ±3 rad about a random axis or (every other
@@ -387,7 +398,7 @@ pub(super) mod tests {
 
     #[test]
     fn the_mesh_shape_search_is_parrys_distance_and_its_crossing_test_agrees() {
-        let m = gripper();
+        let (m, parry_mesh) = gripper();
         let shapes: [Box<dyn Shape>; 3] = [
             Box::new(Ball::new(0.01)),
             Box::new(Cuboid::new(PVector::new(0.01, 0.02, 0.005))),
@@ -396,8 +407,10 @@ pub(super) mod tests {
         let (mut touching, mut apart) = (0, 0);
         for shape in &shapes {
             let mut closest = 0;
-            for pose in poses(60, m.local_aabb().center(), 0.06) {
-                let parry = query::distance(&PPose::IDENTITY, &m, &pose, &**shape).unwrap().distance;
+            for pose in poses(60, parry_mesh.local_aabb().center(), 0.06) {
+                let parry = query::distance(&PPose::IDENTITY, &parry_mesh, &pose, &**shape)
+                    .unwrap()
+                    .distance;
                 // exact, seeded by the previous pose's closest triangle, bit for bit
                 let ours = mesh_shape_distance(&m, &**shape, &pose, &mut closest, f64::INFINITY, 0.0);
                 assert_eq!(ours, Some(parry), "{pose:?}");

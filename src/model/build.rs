@@ -47,6 +47,17 @@ pub enum LoadWarning {
         /// The moment all three were set to (their mean).
         balanced: f64,
     },
+    /// Something the file describes that faze4 does not simulate (MJCF's `frictionloss`).
+    NotSimulated {
+        /// The robot file.
+        file: String,
+        /// What the file says, in its own words.
+        what: String,
+        /// What faze4 made of it instead, and why.
+        why: String,
+        /// The elements that say it (joint names).
+        items: Vec<String>,
+    },
 }
 
 impl std::fmt::Display for LoadWarning {
@@ -67,8 +78,11 @@ impl std::fmt::Display for LoadWarning {
                 balanced,
             } => write!(
                 f,
-                "{file}: link '{link}' <inertial>: principal moments {a:e}, {b:e}, {c:e} kg·m² (about the centre of mass of the body it heads) set to their mean {balanced:e} kg·m² (--balance-inertia)"
+                "{file}: link '{link}' <inertial>: principal moments {a:e}, {b:e}, {c:e} kg·m² (about the centre of mass of the body it heads) set to their mean {balanced:e} kg·m² (`balance_inertia`)"
             ),
+            LoadWarning::NotSimulated { file, what, why, items } => {
+                write!(f, "{file}: {what} of {}: {why}", items.join(", "))
+            }
         }
     }
 }
@@ -95,6 +109,18 @@ pub(super) fn build(desc: &RobotDescription, options: &LoadOptions) -> Result<(M
     check_masses(desc, &model)?;
     check_inertias(desc, &mut model, options, &mut warnings)?;
     apply_mimics(desc, &mut model)?;
+    model.home = (desc.home.as_ref()).map(|home| {
+        let at = |name: &str| home.iter().find(|(j, _)| j == name).map_or(0.0, |&(_, q)| q);
+        model.joints.iter().map(|j| at(&j.name)).collect()
+    });
+    warnings.extend(
+        (desc.mapped.iter().filter(|m| m.changes_dynamics)).map(|m| LoadWarning::NotSimulated {
+            file: desc.file.clone(),
+            what: m.from.clone(),
+            why: m.to.clone(),
+            items: m.items.clone(),
+        }),
+    );
     Ok((model, warnings))
 }
 
@@ -229,6 +255,9 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
         gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
         frames: Vec::with_capacity(desc.links.len()),
         defaults: ArmDefaults::default(),
+        format: desc.format.clone(),
+        mapped: desc.mapped.clone(),
+        home: None,
     };
     let mut frame_of_link = vec![usize::MAX; desc.links.len()];
     let mut stack = vec![(root, None::<usize>)];
@@ -288,7 +317,7 @@ fn walk(desc: &RobotDescription, tree: &Tree) -> Result<Model> {
 /// body by a fixed joint, or, for a moving joint, the origin of a new body added to `model`.
 fn joint_frame(file: &str, joint: &JointDesc, parent: &Frame, model: &mut Model) -> Result<Frame> {
     let parent_body = parent.body;
-    let origin = parent.placement.compose(&Pose::from_xyz_rpy(joint.xyz, joint.rpy));
+    let origin = parent.placement.compose(&joint.origin);
     if !origin.is_finite() {
         return Err(Error::model(
             file,
@@ -437,7 +466,7 @@ fn check_inertias(
             format!("violate the triangle inequality ({a:e} + {b:e} < {c:e})")
         };
         let fix = if mean > 0.0 {
-            " (--balance-inertia sets them to their mean, as MuJoCo's balanceinertia does)"
+            " (`balance_inertia` sets them to their mean, as MuJoCo's balanceinertia does)"
         } else {
             ""
         };
@@ -684,7 +713,7 @@ fn link_inertia(file: &str, link: &str, inertial: &InertialDesc) -> Result<Inert
     }
     // a link's inertia may be anything a body's part can add (a zero-mass link with rotational
     // inertia, a point mass); its body is checked once its links are merged (check_inertias)
-    let frame = Pose::from_xyz_rpy(inertial.xyz, inertial.rpy);
+    let frame = inertial.origin;
     let i_com = frame.rot * i_frame * frame.rot.transpose();
     Ok(Inertia::from_com(m, frame.pos, i_com))
 }
@@ -705,8 +734,8 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
     for link in &desc.links {
         if let Some(i) = &link.inertial {
             let e = || format!("link '{}' <inertial>", link.name);
-            bad(e(), "origin xyz", &i.xyz)?;
-            bad(e(), "origin rpy", &i.rpy)?;
+            bad(e(), "origin xyz", i.origin.pos.as_slice())?;
+            bad(e(), "origin rotation", i.origin.rot.as_slice())?;
             bad(e(), "mass", &[i.mass])?;
             bad(e(), "inertia", &i.inertia)?;
         }
@@ -718,6 +747,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
             match &v.geometry {
                 Geometry::Box { size } => bad(e(), "box size", size.as_slice())?,
                 Geometry::Cylinder { radius, length } => bad(e(), "cylinder", &[*radius, *length])?,
+                Geometry::Capsule { radius, length } => bad(e(), "capsule", &[*radius, *length])?,
                 Geometry::Sphere { radius } => bad(e(), "sphere radius", &[*radius])?,
                 Geometry::Mesh { scale, .. } => bad(e(), "mesh scale", scale.as_slice())?,
             }
@@ -730,6 +760,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
             let (field, sizes): (&str, &[f64]) = match &c.geometry {
                 Geometry::Box { size } => ("box size", size.as_slice()),
                 Geometry::Cylinder { radius, length } => ("cylinder radius and length", &[*radius, *length]),
+                Geometry::Capsule { radius, length } => ("capsule radius and length", &[*radius, *length]),
                 Geometry::Sphere { radius } => ("sphere radius", &[*radius]),
                 Geometry::Mesh { scale, .. } => ("mesh scale", scale.as_slice()),
             };
@@ -750,8 +781,8 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
     }
     for j in &desc.joints {
         let e = || joint_element(j);
-        bad(e(), "origin xyz", &j.xyz)?;
-        bad(e(), "origin rpy", &j.rpy)?;
+        bad(e(), "origin xyz", j.origin.pos.as_slice())?;
+        bad(e(), "origin rotation", j.origin.rot.as_slice())?;
         bad(e(), "axis", &j.axis)?;
         bad(e(), "damping", &[j.damping])?;
         let (lo, hi) = j.limits.unwrap_or((0.0, 0.0));

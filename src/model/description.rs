@@ -1,23 +1,47 @@
 //! A robot as a file describes it, before validation: links, joints, inertials, visuals and
-//! collision elements in plain Rust types. [`crate::model::urdf`] fills it from a URDF; the model builder validates it.
+//! collision elements in plain Rust types. [`crate::model::urdf`] fills it from a URDF,
+//! [`crate::model::mjcf`] from an MJCF model; the model builder validates it.
 
 use std::path::PathBuf;
 
 use crate::spatial::{Pose, Vec3};
 
-/// A robot description: what a URDF says, format-free.
+/// A robot description: what a URDF or an MJCF model says, format-free.
 #[derive(Clone, Debug, Default)]
 pub struct RobotDescription {
     /// The robot's name.
     pub name: String,
     /// The file it came from (for error messages).
     pub file: String,
+    /// The format it was read from, as the banner and summary write it (`urdf`, `mjcf`).
+    pub format: String,
+    /// What the reader mapped from its format onto faze4's terms, or left out (empty for a
+    /// URDF, which says everything in faze4's terms).
+    pub mapped: Vec<Mapping>,
+    /// A start pose the file offers (MJCF's `home` keyframe): each moving joint's name and
+    /// position (rad or m), in document order.
+    pub home: Option<Vec<(String, f64)>>,
     /// Links in document order.
     pub links: Vec<LinkDesc>,
     /// Joints in document order.
     pub joints: Vec<JointDesc>,
     /// Motors behind joints, in document order.
     pub transmissions: Vec<TransmissionDesc>,
+}
+
+/// One thing a reader mapped from its format onto faze4's terms (MJCF's `armature` as rotor
+/// inertia) or left out (a world geom), and the elements it did it for.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Mapping {
+    /// What the file says, in its own words (`armature`, `forcerange`, `frictionloss`).
+    pub from: String,
+    /// What faze4 made of it (`rotor inertia`, `effort limit`), or why it was left out.
+    pub to: String,
+    /// The elements concerned (joint, actuator or geom names), in document order.
+    pub items: Vec<String>,
+    /// Whether it changes the dynamics faze4 simulates from those the file describes (a
+    /// property faze4 does not simulate): the reader's caller warns about it.
+    pub changes_dynamics: bool,
 }
 
 /// A motor driving one joint through a reducer (a URDF `<transmission>` with Drake's
@@ -50,10 +74,8 @@ pub struct LinkDesc {
 /// A link's `<inertial>`.
 #[derive(Clone, Debug)]
 pub struct InertialDesc {
-    /// Origin xyz of the inertial frame (the centre of mass) in the link frame (m).
-    pub xyz: [f64; 3],
-    /// Orientation rpy of the inertial frame in the link frame (rad).
-    pub rpy: [f64; 3],
+    /// Placement of the inertial frame in the link frame: its origin is the centre of mass (m).
+    pub origin: Pose,
     /// Mass (kg).
     pub mass: f64,
     /// Rotational inertia about the centre of mass in the inertial frame (kg·m²):
@@ -87,10 +109,8 @@ pub struct JointDesc {
     pub parent: String,
     /// Child link name.
     pub child: String,
-    /// Origin xyz of the joint frame in the parent link frame (m).
-    pub xyz: [f64; 3],
-    /// Origin rpy of the joint frame in the parent link frame (rad).
-    pub rpy: [f64; 3],
+    /// Placement of the joint frame in the parent link frame (m).
+    pub origin: Pose,
     /// Axis in the joint frame (any non-zero length).
     pub axis: [f64; 3],
     /// Lower and upper position limits, if given.
@@ -129,6 +149,14 @@ pub enum Geometry {
         /// Radius (m).
         radius: f64,
         /// Length (m).
+        length: f64,
+    },
+    /// Capsule along z, centred on the visual origin: a cylinder with a hemisphere on each end
+    /// (MJCF's capsule).
+    Capsule {
+        /// Radius of the cylinder and the hemispheres (m).
+        radius: f64,
+        /// Length of the cylinder between the hemispheres' centres (m).
         length: f64,
     },
     /// Sphere centred on the visual origin.

@@ -12,20 +12,22 @@
 //! coordinate: `q_body = multiplier·q[coordinate] + offset` ([`Body`]). Without mimic joints
 //! body i is moved by joint i (`nb = n`) and the two numberings are the same.
 //!
-//! Only [`urdf`] knows the URDF format (and the urdf-rs crate); it produces a
-//! [`RobotDescription`], and [`Model::from_description`] turns any description into a model.
+//! Only [`urdf`] knows the URDF format (and the urdf-rs crate), only [`mjcf`] MuJoCo's MJCF;
+//! each produces a [`RobotDescription`], and [`Model::from_description`] turns any description
+//! into a model.
 
 mod build;
 pub use build::{LoadOptions, LoadWarning};
 mod defaults;
 mod description;
+pub mod mjcf;
 mod package;
 pub mod urdf;
 
 pub use defaults::{ArmDefaults, ShapeIk};
 pub use description::{
-    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, MimicDesc, RobotDescription, TransmissionDesc,
-    Visual,
+    Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, Mapping, MimicDesc, RobotDescription,
+    TransmissionDesc, Visual,
 };
 pub use package::{PackagePaths, not_found_advice};
 
@@ -272,6 +274,15 @@ pub struct Model {
     /// What the arm's maker knows beyond the URDF (default limits, the shapes' IK pose): none
     /// for a model read from a file, unless its loader knows the arm.
     pub defaults: ArmDefaults,
+    /// The format of the file it was read from (`urdf`, `mjcf`; empty for a description built
+    /// in memory without one).
+    pub format: String,
+    /// What reading that format mapped onto faze4's terms or left out (MJCF's armature as
+    /// rotor inertia, its world geoms left out); empty for a URDF.
+    pub mapped: Vec<Mapping>,
+    /// The start pose the file offers (MJCF's `home` keyframe), one position per coordinate
+    /// (rad or m), if it offers one.
+    pub home: Option<Vec<f64>>,
 }
 
 impl Model {

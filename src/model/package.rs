@@ -96,14 +96,14 @@ impl PackagePaths {
 }
 
 /// What to do about a mesh reference that was not found, for its warning: for
-/// `package://NAME/…`, ROS's rule (give `--package-path` the folder that contains the package
+/// `package://NAME/…`, ROS's rule (give `` `package_path` `` the folder that contains the package
 /// folder NAME, or set `ROS_PACKAGE_PATH`); for a path, where it was looked for.
 pub fn not_found_advice(uri: &str) -> String {
     match uri.strip_prefix("package://").and_then(|rest| rest.split_once('/')) {
         Some((name, _)) => format!(
-            "package '{name}': give --package-path the folder that contains the package folder '{name}', as ROS_PACKAGE_PATH would"
+            "package '{name}': give `package_path` the folder that contains the package folder '{name}', as ROS_PACKAGE_PATH would"
         ),
-        None => "a relative path is taken from the URDF's folder".to_string(),
+        None => "a relative path is taken from the robot file's folder".to_string(),
     }
 }
 

@@ -97,8 +97,7 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
             Ok(LinkDesc {
                 name: link.name.clone(),
                 inertial: Some(InertialDesc {
-                    xyz: link.inertial.origin.xyz.0,
-                    rpy: link.inertial.origin.rpy.0,
+                    origin: Pose::from_xyz_rpy(link.inertial.origin.xyz.0, link.inertial.origin.rpy.0),
                     mass: link.inertial.mass.value,
                     inertia: {
                         let i = &link.inertial.inertia;
@@ -138,8 +137,7 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 kind,
                 parent: j.parent.link.clone(),
                 child: j.child.link.clone(),
-                xyz: j.origin.xyz.0,
-                rpy: j.origin.rpy.0,
+                origin: Pose::from_xyz_rpy(j.origin.xyz.0, j.origin.rpy.0),
                 axis: j.axis.xyz.0,
                 limits: (!no_limit_element).then_some((lim.lower, lim.upper)),
                 // 0 is urdf-rs's value for an absent attribute: no limit; a negative one is
@@ -162,6 +160,8 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
         links,
         joints,
         transmissions: transmissions(text).map_err(syntax)?,
+        format: "urdf".into(),
+        ..RobotDescription::default()
     })
 }
 

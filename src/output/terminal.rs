@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
 use crate::control::FeedForward;
-use crate::error::{escape_controls, quoted};
+use crate::error::{Words, escape_controls, in_words, quoted};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
 use crate::sim::{MotorSummary, Reason, Recorder, Ringing, RunInfo, Sample, Summary, Verdict, percent};
@@ -23,6 +23,8 @@ const BAR_REDRAW: Duration = Duration::from_millis(100);
 /// a terminal.
 pub struct Terminal {
     debug: bool,
+    /// How the lines name options (`--tool-link` or `tool_link`).
+    words: Words,
     /// Simulated time between progress lines (s).
     print_period: f64,
     dof: usize,
@@ -52,14 +54,15 @@ impl Terminal {
     }
 
     /// A printer with a progress line every `print_period` s of simulated time; `debug` adds τ,
-    /// the tracking error, v and g(q) to every progress line.
-    pub fn new(debug: bool, print_period: f64) -> Self {
+    /// the tracking error, v and g(q) to every progress line; `words`: how its lines name options.
+    pub fn new(debug: bool, print_period: f64, words: Words) -> Self {
         let bar = std::io::stderr().is_terminal().then(|| Bar {
             started: Instant::now(),
             drawn: None,
         });
         Self {
             debug,
+            words,
             print_period,
             dof: 0,
             prismatic: Vec::new(),
@@ -101,6 +104,21 @@ impl Terminal {
         );
         bar.drawn = Some(now);
     }
+}
+
+/// The banner's line for a model read from a format other than URDF: the format and what its
+/// reading mapped or left out, each with the number of elements concerned (`None` for a URDF).
+fn mapped_line(m: &crate::model::Model) -> Option<String> {
+    if m.format.is_empty() || m.format == "urdf" {
+        return None;
+    }
+    let mapped: Vec<String> = (m.mapped.iter())
+        .map(|x| format!("{} → {} ({})", x.from, x.to, x.items.len()))
+        .collect();
+    Some(match mapped.is_empty() {
+        true => format!("[faze4] read as {}", m.format),
+        false => format!("[faze4] read as {}: {}", m.format, mapped.join(" · ")),
+    })
 }
 
 /// A control rate for people: "5 kHz", "1 kHz", "250 Hz".
@@ -151,12 +169,16 @@ impl Recorder for Terminal {
             run.steps as f64 * run.dt,
             run.steps
         ))?;
+        if let Some(line) = mapped_line(m) {
+            out(&line)?;
+        }
         // how a default tool was chosen, said only where it is not the chain's obvious one
         let how = match m.default_tool() {
-            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => {
-                " (deepest common ancestor of the deepest leaves; --tool-link to choose)"
-            }
-            _ => "",
+            (f, ToolChoice::DeepestCommonAncestor) if f == run.tool_frame => in_words(
+                " (deepest common ancestor of the deepest leaves; `tool_link` to choose)",
+                self.words,
+            ),
+            _ => String::new(),
         };
         out(&format!(
             "[faze4] tool {}{how} · {}",

@@ -31,8 +31,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
 use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea_checked};
-use crate::config::fields::{Kind, Value, field};
-use crate::config::{self, Motion, Motors, Replayed, RunConfig, ShapeConfig, WaveConfig};
+use crate::choice::Choice;
+use crate::config::fields::{self, Field, Kind, Value, any_field};
+use crate::config::{self, Command, Motion, Motors, Replayed, RunConfig};
 use crate::error::{Words, in_words};
 use crate::model::Model;
 use crate::output::Capture;
@@ -229,17 +230,17 @@ fn to_json(obj: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
 /// The configuration of `command` (`wave`, `replay`, `shape`, `retime`) with the keywords of `options`,
 /// each set by name.
 fn run_config(command: &str, options: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
-    let motion = match command {
-        "wave" => Motion::Wave(WaveConfig::default()),
-        "replay" => Motion::Replay(config::ReplayConfig::new("q_traj")),
-        "shape" => Motion::Shape(ShapeConfig::new(crate::traj::shape::Shape::Circle)),
-        "retime" => Motion::Retime(config::RetimeConfig::new("q_traj")),
-        other => return Err(error(format!("command: '{other}' is not one of wave, replay, shape"))),
-    };
-    let mut config = RunConfig::new(motion);
+    let command = Command::from_word(command).ok_or_else(|| {
+        error(format!(
+            "command: '{command}' is not one of {}",
+            Command::WORDS.join(", ")
+        ))
+    })?;
+    let mut config = RunConfig::new(command.motion());
+    config.outputs.words = Words::Keywords;
     for (key, obj) in options.iter() {
         let name: String = key.extract()?;
-        let v = match field(&name) {
+        let v = match any_field(&name) {
             Some(f) => value(&name, f.kind, &obj)?,
             None => Value::Default,
         };
@@ -860,26 +861,67 @@ fn _find(
     Ok((kind, keywords(&searched.line), follows, fails, warnings))
 }
 
-/// The options of a command as clap declares them: (long name, kind, repeated, required,
-/// default, choices, help) each.
+/// A kind as Python's docstrings name it: `flag`, `float`, `int`, `str`, `path`, `joints`.
+fn kind_word(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Flag => "flag",
+        Kind::Number => "float",
+        Kind::Count => "int",
+        Kind::Text | Kind::Choice(_) | Kind::Center | Kind::Motors => "str",
+        Kind::Path | Kind::Paths => "path",
+        Kind::PerJoint | Kind::Numbers => "joints",
+    }
+}
+
+/// One option as the package's `faze4.Option` takes it.
+type OptionTuple = (
+    &'static str,
+    &'static str,
+    bool,
+    bool,
+    Option<String>,
+    Vec<&'static str>,
+    String,
+);
+
+/// The options of `command` (`wave`, `replay`, `shape`, `retime`; `run`: those every command
+/// shares) as the library declares them ([`config::fields::FIELDS`]): (name, kind, repeated,
+/// required, default, choices, help with the options it names as keywords) each.
 #[pyfunction]
-#[allow(clippy::type_complexity)]
-fn _options(command: &str) -> PyResult<Vec<(String, &'static str, bool, bool, Option<String>, Vec<String>, String)>> {
-    let options = crate::cli::options::options(command).ok_or_else(|| error(format!("no command '{command}'")))?;
-    Ok(options
+fn _options(command: &str) -> PyResult<Vec<OptionTuple>> {
+    let declared: Vec<&Field> = match command {
+        "run" => fields::shared().collect(),
+        name => match Command::from_word(name) {
+            Some(c) => fields::of(c).collect(),
+            None => return Err(error(format!("no command '{command}'"))),
+        },
+    };
+    Ok(declared
         .into_iter()
-        .map(|o| {
+        .map(|f| {
+            let choices = match f.kind {
+                Kind::Choice(words) => words.to_vec(),
+                _ => Vec::new(),
+            };
             (
-                o.long,
-                o.kind.name(),
-                o.repeated,
-                o.required,
-                o.default,
-                o.choices,
-                o.help,
+                f.name,
+                kind_word(f.kind),
+                f.kind == Kind::Paths,
+                f.required,
+                f.default.shown(),
+                choices,
+                f.help_in(crate::error::Words::Keywords),
             )
         })
         .collect())
+}
+
+/// The names a sweep varies, as keywords: the numeric options (`payload_kg`, …), then the
+/// multipliers (`kp_scale`, …).
+#[pyfunction]
+fn _varied() -> (Vec<&'static str>, Vec<String>) {
+    let scales = crate::sweep::Scale::ALL.iter().map(|(n, _)| n.replace('-', "_"));
+    (crate::sweep::varied_fields(), scales.collect())
 }
 
 /// A panic on purpose, for the test that a panic does not take the interpreter down.
@@ -901,6 +943,7 @@ fn _faze4(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(_find, m)?)?;
     m.add_function(wrap_pyfunction!(_options, m)?)?;
+    m.add_function(wrap_pyfunction!(_varied, m)?)?;
     m.add_function(wrap_pyfunction!(_panic, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

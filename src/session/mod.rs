@@ -172,7 +172,7 @@ impl Recorders {
             None => None,
         };
         Ok(Recorders {
-            terminal: (!out.quiet).then(|| Terminal::new(out.debug, print_period)),
+            terminal: (!out.quiet).then(|| Terminal::new(out.debug, print_period, out.words)),
             trail,
             html,
             plot,

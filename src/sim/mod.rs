@@ -21,8 +21,8 @@ pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
 pub use scenario::{
-    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, Scenario,
-    ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
+    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, DriveMode,
+    Scenario, ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
 };
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};

@@ -4,8 +4,9 @@ use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use super::step::{self, Step};
-use super::{ContactStep, ContactSummary};
+use super::{ContactStep, ContactSummary, DriveMode};
 use crate::algo::{Data, State, forward_kinematics};
+use crate::choice::Choice;
 use crate::control::{Envelope, Slips};
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet, PathClearance};
@@ -515,7 +516,10 @@ impl MotorMetrics {
                     MotorSummary {
                         label: m.label.clone(),
                         kind: m.envelope.kind(),
-                        drive: if drive.is_some() { "stepper" } else { "pd" },
+                        drive: match drive {
+                            Some(_) => DriveMode::Stepper.word(),
+                            None => DriveMode::Pd.word(),
+                        },
                         envelope_pct: 100.0
                             * match drive {
                                 Some(_) => slips.past_peak,
@@ -610,9 +614,11 @@ enum ClearanceStage<'a, 's> {
 
 /// The run's end of a [`ClearanceStage::Worker`]: each sample's time and q go over `samples`,
 /// their buffers come back over `spare` (nothing is allocated per sample once the worker keeps
-/// up).
+/// up). `samples` holds at most [`MAX_SENT`] of them: when the worker falls that far behind, the
+/// dynamics wait for it, so a run's memory does not grow with its length (an hour's wave sent
+/// 180,000 samples the worker had not reached, 9 MB more at its peak than a 6-minute one).
 struct Feed<'a, 's> {
-    samples: mpsc::Sender<(f64, Vec<f64>)>,
+    samples: mpsc::SyncSender<(f64, Vec<f64>)>,
     spare: mpsc::Receiver<Vec<f64>>,
     worker: std::thread::ScopedJoinHandle<'s, ClearanceMetrics<'a>>,
 }
@@ -621,11 +627,15 @@ struct Feed<'a, 's> {
 /// sample on the Faze4).
 const MAX_QUEUED: usize = 1024;
 
+/// Most samples sent to the worker and not yet taken by it (a sample's time and q: about 0.1 kB
+/// on the Faze4).
+const MAX_SENT: usize = 2 * MAX_QUEUED;
+
 impl<'a, 's> ClearanceStage<'a, 's> {
     /// `metrics` measured on a worker thread spawned in `scope`, with its own forward
     /// kinematics of `model`.
     fn worker(model: &'a Model, mut metrics: ClearanceMetrics<'a>, scope: &'s std::thread::Scope<'s, 'a>) -> Self {
-        let (samples, queue) = mpsc::channel::<(f64, Vec<f64>)>();
+        let (samples, queue) = mpsc::sync_channel::<(f64, Vec<f64>)>(MAX_SENT);
         let (give_back, spare) = mpsc::channel();
         let worker = scope.spawn(move || {
             let mut data = Data::new(model);

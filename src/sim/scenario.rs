@@ -112,6 +112,18 @@ pub enum Drive {
     Stepper(StepperOptions),
 }
 
+/// How the joints with a stepper are driven (`drive`; the summary's `drive` of each motor).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DriveMode {
+    /// The controller's torque clipped to each motor's envelope (the original's).
+    #[default]
+    Pd,
+    /// Open loop: the driver's microstep through the stepper's torque–angle curve.
+    Stepper,
+}
+
+crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper" });
+
 /// How a run measures the self-clearance of its collision geometry (see
 /// [`CollisionSet`]): the default is the exact meshes and Drake's non-adjacent pairs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -6,7 +6,7 @@ use super::{Scenario, Sizing, SlipMargin, Verdict};
 use crate::control::{FeedForward, Gains};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
-use crate::model::{Geometry, JointId, ToolChoice};
+use crate::model::{Geometry, JointId, Mapping, ToolChoice};
 use crate::traj::Interpolation;
 
 /// What a run simulated: the robot, its degrees of freedom and their units, the tool, and where
@@ -27,6 +27,12 @@ pub struct Simulated {
     /// found. Listed whether or not the run checks the self-clearance (`--no-collisions` too):
     /// whether it did, and the links it left out, is `clearance`.
     pub meshes: Vec<MeshSource>,
+    /// The robot file's format: `urdf`, `mjcf` (empty for a model built in memory).
+    pub format: String,
+    /// What reading the file mapped onto faze4's terms or left out (MJCF's `armature` as rotor
+    /// inertia, its world geoms left out, its `frictionloss` not simulated), each with the
+    /// elements concerned; empty for a URDF.
+    pub mapped: Vec<Mapping>,
 }
 
 impl Simulated {
@@ -50,6 +56,8 @@ impl Simulated {
                 ToolChoice::DeepestCommonAncestor => ToolRule::DeepestCommonAncestor,
             },
             meshes: sc.meshes.clone(),
+            format: model.format.clone(),
+            mapped: model.mapped.clone(),
         }
     }
 }

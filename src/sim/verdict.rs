@@ -18,7 +18,8 @@ use std::fmt;
 use serde::{Serialize, Serializer};
 
 use super::check::non_negative;
-use super::{ROBUST_DAMPING_RATIO, Ringing, SlipMargin, StepLoss, Summary};
+use super::{DriveMode, ROBUST_DAMPING_RATIO, Ringing, SlipMargin, StepLoss, Summary};
+use crate::choice::Choice;
 use crate::error::quoted;
 use crate::model::JointId;
 
@@ -420,7 +421,7 @@ impl Verdict {
             .filter_map(|(j, m)| m.as_ref().map(|m| (j, m)))
         {
             // an open-loop stepper asks for nothing: its slips are the reason, not a demand
-            if m.drive == "pd" && m.envelope_pct > thresholds.max_saturation_pct {
+            if m.drive == DriveMode::Pd.word() && m.envelope_pct > thresholds.max_saturation_pct {
                 reasons.push(Reason::EnvelopeSaturates {
                     joint,
                     pct: m.envelope_pct,

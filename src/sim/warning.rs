@@ -45,6 +45,8 @@ pub enum Warning {
         /// The open-loop steppers' joints, for people (`J1, J2`).
         joints: String,
     },
+    /// What reading the trajectory noticed (a LeRobot dataset's gripper column left out).
+    Trajectory(String),
     /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
     /// its natural frequency ω_n = √(r²·η·N_r·T_max / I) (rad/s) times Δt is above
     /// [`STEPPER_STEPS_PER_RADIAN`]; a run near a slip can change with Δt.
@@ -116,6 +118,7 @@ impl fmt::Display for Warning {
                 "warning: `effort` does not act on the open-loop steppers ({joints}) under `drive` stepper: their torque is their torque–angle curve's, and no saturation is counted for them"
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
+            Warning::Trajectory(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
             Warning::HeldJoints { source, joints } => write!(
                 f,

@@ -5,12 +5,11 @@
 //! clearance, computed once ([`PathClearance`]).
 
 use std::ops::Range;
-use std::path::Path;
 use std::sync::Arc;
 
 use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
-use crate::config::fields::{Field, field};
-use crate::config::{DEFAULT_TRAIL, Loaded, Motion, Replayed, RunConfig};
+use crate::config::fields::{self, Field, any_field, field};
+use crate::config::{Command, Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result, one_line};
 use crate::geometry::PathClearance;
 use crate::output::format::exact;
@@ -27,8 +26,8 @@ pub enum Knob {
 
 /// Numeric fields a sweep does not vary: how a run is shown, not what it does (`port`,
 /// `print_period`), and retime's (`grid`, `margin`, `attempts`: a sweep runs wave, replay and
-/// shape).
-const NOT_VARIED: [&str; 5] = ["port", "print_period", "grid", "margin", "attempts"];
+/// shape), and a LeRobot dataset's `episode` (the dataset is read once, for every run).
+const NOT_VARIED: [&str; 6] = ["port", "print_period", "grid", "margin", "attempts", "episode"];
 
 /// The numeric fields whose values leave a run's commanded path q_cmd(t) and the times of its
 /// clearance's samples as they are: the arm's dynamics (`payload_kg`), the motors' supply, the
@@ -52,11 +51,12 @@ fn varies(f: &Field) -> bool {
 }
 
 impl Knob {
-    /// The knob a sweep NAME names, written with dashes (the command line's `payload-kg`) or
-    /// underscores (the field's `payload_kg`).
-    pub fn named(name: &str) -> Option<Knob> {
+    /// The knob a sweep NAME names for `command`, written with dashes (the command line's
+    /// `payload-kg`) or underscores (the field's `payload_kg`). A field of another command is
+    /// its knob too, which [`Field::set_number`] then refuses naming the command.
+    pub fn named(name: &str, command: Command) -> Option<Knob> {
         let snake = name.trim().trim_start_matches("--").replace('-', "_");
-        match field(&snake) {
+        match field(&snake, command).or_else(|| any_field(&snake)) {
             Some(f) if varies(f) => Some(Knob::Field(f)),
             Some(_) => None,
             None => (Scale::ALL.iter())
@@ -86,11 +86,22 @@ pub enum Sharing {
     Own,
 }
 
-/// The names a sweep can vary, for messages: the numeric fields, then the multipliers.
+/// The fields a sweep can vary (`payload_kg`, …), each once, in the order of
+/// [`fields::FIELDS`]; the multipliers are [`Scale::ALL`].
+pub fn varied_fields() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = Vec::new();
+    for f in fields::FIELDS.iter().filter(|f| varies(f)) {
+        if !names.contains(&f.name) {
+            names.push(f.name);
+        }
+    }
+    names
+}
+
+/// The names a sweep can vary, for messages: the fields, then the multipliers, written with
+/// dashes as a sweep's NAME may be.
 pub fn known_names() -> String {
-    let fields = (crate::config::fields::FIELDS.iter())
-        .filter(|f| varies(f))
-        .map(|f| f.name.replace('_', "-"));
+    let fields = varied_fields().into_iter().map(|n| n.replace('_', "-"));
     let scales = Scale::ALL.iter().map(|(n, _)| n.to_string());
     fields.chain(scales).collect::<Vec<_>>().join(", ")
 }
@@ -128,9 +139,8 @@ impl Family {
                 ),
             ));
         }
-        // the command line's default trail is not asked for; another one is, and a sweep would
-        // write none of it: its runs' trails are `trails DIR`, before the `--`
-        if let Some(path) = out.trail.as_ref().filter(|p| **p != Path::new(DEFAULT_TRAIL)) {
+        // a sweep writes none of it: its runs' trails are `trails DIR`, before the `--`
+        if let Some(path) = &out.trail {
             return Err(Error::option(
                 "trail",
                 format!(
@@ -248,7 +258,7 @@ const PROBES: usize = 100;
 /// The knob `name`, checked against `base`'s command with `values` (the first must be
 /// settable, every one a value of the field's kind).
 fn knob(base: &RunConfig, name: &str, values: &[f64]) -> Result<Knob> {
-    let knob = Knob::named(name).ok_or_else(|| {
+    let knob = Knob::named(name, base.motion.command()).ok_or_else(|| {
         Error::option(
             "vary",
             format!("'{name}' is not a numeric option a sweep can vary ({})", known_names()),
@@ -405,6 +415,10 @@ mod tests {
     use super::*;
     use crate::config::fields::FIELDS;
     use crate::config::{Motion, WaveConfig};
+
+    fn field(name: &str) -> Option<&'static Field> {
+        any_field(name)
+    }
 
     /// The numeric fields that move the commanded path or its samples: a sweep varying any of them
     /// lets each run compute its own clearance.

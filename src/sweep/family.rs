@@ -87,7 +87,7 @@ impl Scale {
             }
             Scale::Efficiency | Scale::StallTorque => {
                 let Some(motors) = scenario.motors.as_mut() else {
-                    return Err(Error::argument(self.name(), "scales the motors: add --motors"));
+                    return Err(Error::argument(self.name(), "scales the motors: add `motors`"));
                 };
                 for (m, e) in motors.iter_mut().zip(gains.effort.iter_mut()) {
                     let Some(m) = m else { continue };

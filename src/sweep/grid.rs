@@ -195,7 +195,7 @@ impl Grid {
         if runs.len() > max_runs {
             let message = match shard {
                 None => format!(
-                    "{total} runs: more than {max_runs} in one process; split them with --shard K/N (see docs/sweep.md)"
+                    "{total} runs: more than {max_runs} in one process; split them with `shard` K/N (see docs/sweep.md)"
                 ),
                 Some(s) => format!(
                     "part {}/{} has {} of the {total} runs: more than {max_runs} in one process; split them into at least {} parts",

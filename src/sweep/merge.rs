@@ -38,7 +38,7 @@ impl<'a> Part<'a> {
             Ok(text) => text,
             Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
                 let why = match path.exists() {
-                    true => "an unfinished part (its task stopped before the end) or not a --shard table",
+                    true => "an unfinished part (its task stopped before the end) or not a `shard` table",
                     false => "no such table",
                 };
                 return Err(invalid(
@@ -69,7 +69,7 @@ impl<'a> Part<'a> {
         // its size and hash are checked: a stream has neither
         let size = regular_file(path, "a sweep part's table")?.len();
         let rerun = match meta.shard {
-            Some([k, n]) => format!("; rerun its task (--shard {k}/{n})"),
+            Some([k, n]) => format!("; rerun its task (`shard` {k}/{n})"),
             None => String::new(),
         };
         if size != meta.bytes {
@@ -303,7 +303,7 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
         return Err(Error::argument(
             MERGE,
             format!(
-                "{} is partial ({} stopped after {} runs; {} absent): rerun it, or merge with --allow-partial",
+                "{} is partial ({} stopped after {} runs; {} absent): rerun it, or merge with `allow_partial`",
                 p.path.display(),
                 p.meta.what(),
                 p.meta.rows,
@@ -319,7 +319,7 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
         };
         return Err(Error::argument(
             MERGE,
-            format!("{message} (--allow-partial merges without them)"),
+            format!("{message} (`allow_partial` merges without them)"),
         ));
     }
     let absent_text = (!absent.is_empty()).then(|| match &which {

@@ -2,6 +2,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use crate::choice::Choice;
 use crate::spatial::Vec3;
 
 /// A vertical drawing board in the world plane `y = center.y`, facing the arm.
@@ -33,22 +34,18 @@ pub enum Shape {
     Tri,
 }
 
+impl Choice for Shape {
+    const VALUES: &'static [Self] = &Shape::ALL;
+    const WORDS: &'static [&'static str] = &["sine", "circle", "tri"];
+}
+
 impl Shape {
     /// All shapes, in the order the command line lists them.
     pub const ALL: [Shape; 3] = [Shape::Sine, Shape::Circle, Shape::Tri];
 
-    /// The name used on the command line.
+    /// Its word (`sine`, `circle`, `tri`: the `shape` option's).
     pub fn name(self) -> &'static str {
-        match self {
-            Shape::Sine => "sine",
-            Shape::Circle => "circle",
-            Shape::Tri => "tri",
-        }
-    }
-
-    /// The shape with command-line name `name`.
-    pub fn from_name(name: &str) -> Option<Shape> {
-        Shape::ALL.into_iter().find(|s| s.name() == name)
+        self.word()
     }
 
     /// The point at path parameter `s` ∈ [0, 1) on `board` (world, m).

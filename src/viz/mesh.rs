@@ -203,6 +203,47 @@ impl TriMesh {
         mesh
     }
 
+    /// A capsule of `radius` along z, centred on the origin: a UV sphere (`rings` latitude bands,
+    /// made even, `sectors` ≥ 3 longitude bands) cut at its equator, its halves moved apart by
+    /// `length`, and the cylinder between them.
+    pub fn capsule(radius: f32, length: f32, rings: usize, sectors: usize) -> TriMesh {
+        let mut mesh = TriMesh::default();
+        let half = rings.max(2).div_ceil(2);
+        // the latitude rows, the equator twice (the top half's, then the bottom half's)
+        let rows = (0..=half)
+            .map(|r| (r, length / 2.0))
+            .chain((half..=2 * half).map(|r| (r, -length / 2.0)));
+        for (r, z) in rows {
+            let theta = std::f32::consts::PI * r as f32 / (2 * half) as f32;
+            let (st, ct) = match r {
+                0 => (0.0, 1.0),
+                r if r == 2 * half => (0.0, -1.0),
+                r if r == half => (1.0, 0.0),
+                _ => theta.sin_cos(),
+            };
+            for s in 0..=sectors {
+                let phi = std::f32::consts::TAU * (s % sectors) as f32 / sectors as f32;
+                let n = [st * phi.cos(), st * phi.sin(), ct];
+                mesh.positions.push([radius * n[0], radius * n[1], radius * n[2] + z]);
+                mesh.normals.push(n);
+            }
+        }
+        let w = sectors as u32 + 1;
+        let last = 2 * half as u32 + 1;
+        for r in 0..last {
+            for s in 0..sectors as u32 {
+                let (a, b) = (r * w + s, (r + 1) * w + s);
+                if r > 0 {
+                    mesh.indices.extend([a, b, a + 1]);
+                }
+                if r + 1 < last {
+                    mesh.indices.extend([a + 1, b, b + 1]);
+                }
+            }
+        }
+        mesh
+    }
+
     /// A UV sphere of `radius` centred on the origin (`rings` ≥ 2 latitude bands, `sectors` ≥ 3
     /// longitude bands).
     pub fn sphere(radius: f32, rings: usize, sectors: usize) -> TriMesh {
@@ -403,6 +444,33 @@ mod tests {
             assert!(tri.iter().all(|&i| mesh.normals[i as usize] == n), "flat face {t}");
             assert_eq!(n.iter().map(|c| c.abs()).sum::<f32>(), 1.0, "axis normal {n:?}");
         }
+    }
+
+    #[test]
+    fn a_capsule_is_its_segment_swept_by_its_radius() {
+        let (r, length) = (0.02f32, 0.1f32);
+        let c = TriMesh::capsule(r, length, 16, 24);
+        assert!(c.indices.iter().all(|&i| (i as usize) < c.positions.len()));
+        let (mut top, mut bottom) = (f32::MIN, f32::MAX);
+        for (p, n) in c.positions.iter().zip(&c.normals) {
+            // every vertex lies r from the segment z ∈ [−L/2, L/2], its normal pointing away
+            let z = p[2].clamp(-length / 2.0, length / 2.0);
+            let d = (p[0] * p[0] + p[1] * p[1] + (p[2] - z) * (p[2] - z)).sqrt();
+            assert!((d - r).abs() < 1e-6, "{p:?} is {d} from the segment");
+            assert!(V3::new(p[0], p[1], p[2] - z).dot(&V3::from(*n)) > 0.0, "{n:?} at {p:?}");
+            (top, bottom) = (top.max(p[2]), bottom.min(p[2]));
+        }
+        assert_eq!((top, bottom), (length / 2.0 + r, -length / 2.0 - r));
+        // closed: every edge is shared by two triangles once the seam and equator are welded
+        let soup: Vec<[f32; 3]> = c.indices.iter().map(|&i| c.positions[i as usize]).collect();
+        let welded = TriMesh::from_soup(&soup);
+        let mut edges = std::collections::HashMap::new();
+        for t in welded.indices.chunks(3) {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        assert!(edges.values().all(|&k| k == 2), "a closed surface");
     }
 
     #[test]

@@ -129,6 +129,12 @@ impl Scene {
                     visual.placement,
                     color,
                 ),
+                Geometry::Capsule { radius, length } => add(
+                    &mut scene,
+                    CompactMesh::new(&TriMesh::capsule(*radius as f32, *length as f32, 16, 24)),
+                    visual.placement,
+                    color,
+                ),
                 Geometry::Sphere { radius } => add(
                     &mut scene,
                     CompactMesh::new(&TriMesh::sphere(*radius as f32, 16, 24)),

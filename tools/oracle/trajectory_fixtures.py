@@ -18,6 +18,18 @@ Writes:
   accelerations; the SO-101 MCAP holds a JointTrajectory topic and a recorded JointState
   topic, stamps at an epoch time, joints in another order, the gripper too);
   bad_topics.mcap: two JointState topics and a std_msgs/msg/String one (the refusals);
+* tests/fixtures/trajectories/bags/: the same trajectories in bags as `rosbags` (PyPI, a writer
+  of ROS 1 and rosbag2 bags without ROS) writes them: rosbag2 folders with SQLite (.db3, as
+  ROS 2 Humble records) and MCAP storage, uncompressed, zstd per message and zstd per file;
+  ROS 1 bags with bz2 and lz4 chunks. Each is read back with rosbags' readers (the oracle) and
+  must hold the messages written;
+* tests/fixtures/trajectories/lerobot/: the SO-101 plan as LeRobot datasets, written with
+  pyarrow (what LeRobot writes its Parquet tables with) in LeRobot's layout and schema (those of
+  a dataset LeRobot recorded on an SO-101: fixed-size lists of float32, Snappy, one row group
+  per episode, the `huggingface` schema metadata): so101_v3 (v3.0, three episodes in one file,
+  the joints normalised −100…100 by so101_calibration.json, LeRobot's calibration file, with
+  a motor in drive mode 1) and so101_v21 (v2.1, one file per episode, `observation.state` in
+  degrees as an arm recorded with `use_degrees` stores it); frames at 30 fps;
 * tests/fixtures/trajectory_<case>.json: per case, faze4's arguments, the interpolation and
   feed-forward it must report, and Pinocchio's trail (t, tool x y z, q1..qn);
 * tests/fixtures/trajectories/written/ur5_toppra.{yaml,json,mcap,csv}: the quintic UR5
@@ -48,6 +60,15 @@ import yaml
 from mcap.reader import make_reader
 from mcap_ros2.reader import read_ros2_messages
 from mcap_ros2.writer import Writer
+import pyarrow as pa
+import pyarrow.compute  # noqa: F401  (pa.compute)
+import pyarrow.parquet as pq
+from rosbags.rosbag1 import Reader as Ros1Reader
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
+from rosbags.rosbag2 import Reader as Ros2Reader
+from rosbags.rosbag2 import Writer as Ros2Writer
+from rosbags.typesys import Stores, get_typestore
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools/oracle"))
@@ -55,6 +76,8 @@ import pin_closed_loop as pcl  # noqa: E402
 
 FIXTURES = os.path.join(ROOT, "tests/fixtures")
 FILES = os.path.join(FIXTURES, "trajectories")
+BAGS = os.path.join(FILES, "bags")
+LEROBOT = os.path.join(FILES, "lerobot")
 UR5 = "tests/urdf/example_robot_data/ur5_robot.urdf"
 SO101 = "tests/urdf/example_robot_data/so101.urdf"
 TOL = 1e-9
@@ -223,6 +246,263 @@ def joint_states(plan, hold, epoch_ns):
 
 
 # --------------------------------------------------------------------------------------------
+# Bags, as rosbags writes them.
+# --------------------------------------------------------------------------------------------
+
+ROS2_STORE = get_typestore(Stores.ROS2_HUMBLE)
+ROS1_STORE = get_typestore(Stores.ROS1_NOETIC)
+JS, JT, STR = "sensor_msgs/msg/JointState", "trajectory_msgs/msg/JointTrajectory", "std_msgs/msg/String"
+
+
+def ros_message(store, kind, m):
+    """The rosbags message object of the dict `m` (message() or joint_states())."""
+    t = store.types
+    arr = lambda xs: np.array(xs, dtype=np.float64)  # noqa: E731
+    if kind == STR:
+        return t[STR](data=m["data"])
+    h = m["header"]
+    header = {"stamp": t["builtin_interfaces/msg/Time"](sec=h["stamp"]["sec"], nanosec=h["stamp"]["nanosec"]),
+              "frame_id": h["frame_id"]}
+    if store is ROS1_STORE:
+        header["seq"] = 0
+    header = t["std_msgs/msg/Header"](**header)
+    if kind == JS:
+        return t[JS](header=header, name=m["name"], position=arr(m["position"]), velocity=arr(m["velocity"]),
+                     effort=arr(m["effort"]))
+    point = t["trajectory_msgs/msg/JointTrajectoryPoint"]
+    duration = t["builtin_interfaces/msg/Duration"]
+    return t[JT](header=header, joint_names=m["joint_names"], points=[
+        point(positions=arr(p["positions"]), velocities=arr(p["velocities"]), accelerations=arr(p["accelerations"]),
+              effort=arr(p["effort"]), time_from_start=duration(sec=p["time_from_start"]["sec"],
+                                                                nanosec=p["time_from_start"]["nanosec"]))
+        for p in m["points"]])
+
+
+def as_dict(msg):
+    """A read-back message as the dicts written (floats compared bit for bit)."""
+    if hasattr(msg, "data"):
+        return {"data": msg.data}
+    h = {"stamp": {"sec": msg.header.stamp.sec, "nanosec": msg.header.stamp.nanosec},
+         "frame_id": msg.header.frame_id}
+    if hasattr(msg, "position"):
+        return {"header": h, "name": list(msg.name), "position": msg.position.tolist(),
+                "velocity": msg.velocity.tolist(), "effort": msg.effort.tolist()}
+    return {"header": h, "joint_names": list(msg.joint_names), "points": [
+        {"positions": p.positions.tolist(), "velocities": p.velocities.tolist(),
+         "accelerations": p.accelerations.tolist(), "effort": p.effort.tolist(),
+         "time_from_start": {"sec": p.time_from_start.sec, "nanosec": p.time_from_start.nanosec}}
+        for p in msg.points]}
+
+
+def write_rosbag2(name, storage, compression, topics):
+    """A rosbag2 folder tests/fixtures/trajectories/bags/NAME; topics as write_mcap's (type,
+    messages); read back with rosbags' reader, every message as written."""
+    path = os.path.join(BAGS, name)
+    if os.path.exists(path):
+        import shutil
+        shutil.rmtree(path)
+    writer = Ros2Writer(path, version=8, storage_plugin=storage)
+    if compression is not None:
+        writer.set_compression(compression, CompressionFormat.ZSTD)
+    with writer:
+        for topic, kind, _, messages in topics:
+            conn = writer.add_connection(topic, kind, typestore=ROS2_STORE)
+            for log_time, m in messages:
+                writer.write(conn, log_time, ROS2_STORE.serialize_cdr(ros_message(ROS2_STORE, kind, m), kind))
+    with Ros2Reader(path) as reader:
+        check_read_back(topics, [(c.topic, ROS2_STORE.deserialize_cdr(raw, c.msgtype), t)
+                                 for c, t, raw in reader.messages()], name)
+
+
+def write_rosbag1(name, compression, topics):
+    """A ROS 1 bag tests/fixtures/trajectories/bags/NAME.bag, chunks compressed with
+    `compression` (bz2, lz4), read back with rosbags' ROS 1 reader."""
+    path = os.path.join(BAGS, f"{name}.bag")
+    if os.path.exists(path):
+        os.remove(path)
+    writer = Ros1Writer(path)
+    writer.set_compression(Ros1Writer.CompressionFormat[compression.upper()])
+    with writer:
+        for topic, kind, _, messages in topics:
+            conn = writer.add_connection(topic, kind, typestore=ROS1_STORE)
+            for log_time, m in messages:
+                writer.write(conn, log_time, ROS1_STORE.serialize_ros1(ros_message(ROS1_STORE, kind, m), kind))
+    with Ros1Reader(path) as reader:
+        check_read_back(topics, [(c.topic, ROS1_STORE.deserialize_ros1(raw, c.msgtype), t)
+                                 for c, t, raw in reader.messages()], name)
+
+
+def check_read_back(topics, read, name):
+    for topic, _, _, messages in topics:
+        got = [(t, as_dict(m)) for tp, m, t in read if tp == topic]
+        assert got == messages, f"{name}: {topic} does not read back as written"
+    print(f"{os.path.relpath(os.path.join(BAGS, name), ROOT)}: read back by rosbags exactly")
+
+
+def write_bags(ur5, so101, epoch):
+    """The bags of the cases below (names as the cases give them)."""
+    os.makedirs(BAGS, exist_ok=True)
+    states = joint_states(so101, {"gripper": 0.0}, epoch)
+    chatter = [(epoch + k * 10**8, {"data": f"hello {k}"}) for k in range(3)]
+    so101_topics = [("/arm_controller/joint_trajectory", JT, None, [(epoch, message(so101, 3))]),
+                    ("/joint_states", JS, None, states), ("/chatter", STR, None, chatter)]
+    write_rosbag2("so101_humble_db3", StoragePlugin.SQLITE3, None, so101_topics)
+    write_rosbag2("so101_mcap_zstd_per_message", StoragePlugin.MCAP, CompressionMode.MESSAGE, so101_topics)
+    write_rosbag2("ur5_db3_zstd_per_file", StoragePlugin.SQLITE3, CompressionMode.FILE,
+                  [("/scaled_joint_trajectory_controller/joint_trajectory", JT, None, [(0, message(ur5, 1))])])
+    write_rosbag2("ur5_mcap_zstd_per_file", StoragePlugin.MCAP, CompressionMode.FILE,
+                  [("/scaled_joint_trajectory_controller/joint_trajectory", JT, None, [(0, message(ur5, 2))])])
+    write_rosbag1("so101_noetic_bz2", "bz2", so101_topics)
+    write_rosbag1("ur5_noetic_lz4", "lz4",
+                  [("/arm_controller/command", JT, None, [(epoch, message(ur5, 3, [2, 0, 5, 1, 4, 3]))])])
+
+
+# --------------------------------------------------------------------------------------------
+# LeRobot datasets, as LeRobot lays them out.
+# --------------------------------------------------------------------------------------------
+
+SO101_MOTORS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+# A calibration of our own making in LeRobot's format (counts of a 4096-step turn), one motor
+# in drive mode 1.
+SO101_CALIBRATION = {
+    "shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": -1520, "range_min": 745, "range_max": 3385},
+    "shoulder_lift": {"id": 2, "drive_mode": 0, "homing_offset": 1213, "range_min": 820, "range_max": 3250},
+    "elbow_flex": {"id": 3, "drive_mode": 1, "homing_offset": -1005, "range_min": 880, "range_max": 3080},
+    "wrist_flex": {"id": 4, "drive_mode": 0, "homing_offset": 318, "range_min": 850, "range_max": 3210},
+    "wrist_roll": {"id": 5, "drive_mode": 0, "homing_offset": -1402, "range_min": 150, "range_max": 3950},
+    "gripper": {"id": 6, "drive_mode": 0, "homing_offset": 1407, "range_min": 2030, "range_max": 3470},
+}
+FPS = 30
+
+
+def normalised(rad, c):
+    """LeRobot's RANGE_M100_100 value of an angle (rad): the inverse of faze4's
+    MotorCalibration::radians (n·(max − min)/200·2π/4095, n negated in drive mode 1)."""
+    n = rad / (2.0 * math.pi / 4095.0) * 200.0 / (c["range_max"] - c["range_min"])
+    return -n if c["drive_mode"] else n
+
+
+def radians(n, c):
+    """faze4's MotorCalibration::radians, in its order of operations."""
+    n = -n if c["drive_mode"] else n
+    return n * (c["range_max"] - c["range_min"]) / 200.0 * 2.0 * math.pi / (4096.0 - 1.0)
+
+
+def frames_at(plan, seconds):
+    """The plan's positions (linear between its points) at `seconds`."""
+    return np.array([[np.interp(t, plan.t, plan.q[:, i]) for i in range(len(plan.names))] for t in seconds])
+
+
+def lerobot_table(episodes, key_values):
+    """A LeRobot data table: per episode (index, timestamps, {key: rows}), the columns in
+    LeRobot's order and types."""
+    rows = {k: [] for k in list(key_values) + ["timestamp", "frame_index", "episode_index", "index", "task_index"]}
+    index = 0
+    for e, times, columns in episodes:
+        for k, t in enumerate(times):
+            for key in key_values:
+                rows[key].append([float(x) for x in columns[key][k]])
+            rows["timestamp"].append(float(t))
+            rows["frame_index"].append(k)
+            rows["episode_index"].append(e)
+            rows["index"].append(index)
+            rows["task_index"].append(0)
+            index += 1
+    vec = pa.list_(pa.float32(), 6)
+    fields = [pa.field(k, vec) for k in key_values] + [
+        pa.field("timestamp", pa.float32()), pa.field("frame_index", pa.int64()), pa.field("episode_index", pa.int64()),
+        pa.field("index", pa.int64()), pa.field("task_index", pa.int64())]
+    hf = {"info": {"features": {**{k: {"feature": {"dtype": "float32", "_type": "Value"}, "length": 6, "_type": "List"}
+                                    for k in key_values},
+                                 "timestamp": {"dtype": "float32", "_type": "Value"},
+                                 **{k: {"dtype": "int64", "_type": "Value"}
+                                    for k in ("frame_index", "episode_index", "index", "task_index")}}}}
+    schema = pa.schema(fields, metadata={"huggingface": json.dumps(hf)})
+    return pa.table([rows[f.name] for f in fields], schema=schema)
+
+
+def lerobot_info(version, episodes, frames, key_values, data_path):
+    features = {k: {"dtype": "float32", "shape": [6], "names": [f"{m}.pos" for m in SO101_MOTORS]} for k in key_values}
+    features["timestamp"] = {"dtype": "float32", "shape": [1], "names": None}
+    for k in ("frame_index", "episode_index", "index", "task_index"):
+        features[k] = {"dtype": "int64", "shape": [1], "names": None}
+    info = {"codebase_version": version, "robot_type": "so101_follower", "total_episodes": episodes,
+            "total_frames": frames, "total_tasks": 1, "chunks_size": 1000, "fps": FPS,
+            "splits": {"train": f"0:{episodes}"}, "data_path": data_path, "features": features}
+    if version == "v2.1":
+        info["total_chunks"] = 1
+    return info
+
+
+def write_lerobot(so101):
+    """so101_v3 (episode 1 the plan, normalised by SO101_CALIBRATION) and so101_v21 (its
+    episode 0 the plan in degrees in observation.state); returns the plans as faze4 must read
+    them: (names, times, q) per dataset."""
+    import shutil
+    if os.path.exists(LEROBOT):
+        shutil.rmtree(LEROBOT)
+    os.makedirs(LEROBOT)
+    with open(os.path.join(LEROBOT, "so101_calibration.json"), "w") as f:
+        json.dump(SO101_CALIBRATION, f, indent=4)
+    n = int(math.floor(plan_end(so101) * FPS)) + 1
+    times = np.array([k / FPS for k in range(n)], dtype=np.float32)
+    q = frames_at(so101, times.astype(np.float64))
+    gripper = np.linspace(0.0, 100.0, n)  # the gripper closing, 0–100 %
+    cal = [SO101_CALIBRATION[m] for m in SO101_MOTORS[:5]]
+    norm = np.array([[normalised(q[k, i], cal[i]) for i in range(5)] + [gripper[k]] for k in range(n)], np.float32)
+    still = np.tile(norm[:1], (20, 1))
+    t20 = np.array([k / FPS for k in range(20)], dtype=np.float32)
+    episodes = [(0, t20, {"action": still, "observation.state": still}),
+                (1, times, {"action": norm, "observation.state": norm}),
+                (2, t20, {"action": still[::-1], "observation.state": still})]
+    v3 = os.path.join(LEROBOT, "so101_v3")
+    os.makedirs(os.path.join(v3, "data/chunk-000"))
+    os.makedirs(os.path.join(v3, "meta"))
+    table = lerobot_table(episodes, ["action", "observation.state"])
+    # one row group per episode, as LeRobot's to_parquet_one_row_group_per_episode writes
+    with pq.ParquetWriter(os.path.join(v3, "data/chunk-000/file-000.parquet"), table.schema,
+                          compression="snappy") as w:
+        for e, _, _ in episodes:
+            w.write_table(table.filter(pa.compute.equal(table["episode_index"], e)))
+    with open(os.path.join(v3, "meta/info.json"), "w") as f:
+        json.dump(lerobot_info("v3.0", 3, int(table.num_rows), ["action", "observation.state"],
+                               "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"), f, indent=4)
+    v21 = os.path.join(LEROBOT, "so101_v21")
+    os.makedirs(os.path.join(v21, "data/chunk-000"))
+    os.makedirs(os.path.join(v21, "meta"))
+    degrees = np.array([[math.degrees(q[k, i]) for i in range(5)] + [gripper[k]] for k in range(n)], np.float32)
+    table = lerobot_table([(0, times, {"action": degrees, "observation.state": degrees})],
+                          ["action", "observation.state"])
+    pq.write_table(table, os.path.join(v21, "data/chunk-000/episode_000000.parquet"), compression="snappy")
+    with open(os.path.join(v21, "meta/info.json"), "w") as f:
+        json.dump(lerobot_info("v2.1", 1, n, ["action", "observation.state"],
+                               "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"), f, indent=4)
+    # what faze4 must read: the float32 values back through the calibration, or in degrees
+    t = [float(x) for x in times]
+    q_cal = np.array([[radians(float(norm[k, i]), cal[i]) for i in range(5)] for k in range(n)])
+    q_deg = np.array([[math.radians(float(degrees[k, i])) for i in range(5)] for k in range(n)])
+    names = SO101_MOTORS[:5]
+    print(f"{os.path.relpath(LEROBOT, ROOT)}: so101_v3 (3 episodes), so101_v21 (1 episode), {n} frames")
+    return Frames(names, t, q_cal), Frames(names, t, q_deg)
+
+
+def plan_end(plan):
+    return plan.t[-1]
+
+
+class Frames(Plan):
+    """A dataset's frames: times in s (float32 values), positions only."""
+
+    def __init__(self, names, seconds, q):
+        super().__init__(names, [round(x * 1e9) for x in seconds], q, np.zeros_like(q), np.zeros_like(q))
+        self.seconds = list(seconds)
+
+    @property
+    def t(self):
+        return self.seconds
+
+
+# --------------------------------------------------------------------------------------------
 # The runs.
 # --------------------------------------------------------------------------------------------
 
@@ -338,6 +618,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--faze4", default=os.path.join(ROOT, "target/debug/faze4"))
     ap.add_argument("--convert", default=os.path.join(ROOT, "target/debug/examples/convert_trajectory"))
+    ap.add_argument("--only", nargs="*", help="the cases to run (default: all)")
     args = ap.parse_args()
     os.makedirs(FILES, exist_ok=True)
     ur5, so101 = toppra_ur5(), ruckig_so101()
@@ -366,8 +647,26 @@ def main():
         ("/right_arm/joint_states", "sensor_msgs/msg/JointState", JOINT_STATE, states[:3]),
     ])
 
+    write_bags(ur5, so101, epoch)
+    so101_calibrated, so101_degrees = write_lerobot(so101)
+    lerobot = lambda name: f"tests/fixtures/trajectories/lerobot/{name}"  # noqa: E731
+    bag = lambda name: f"tests/fixtures/trajectories/bags/{name}"  # noqa: E731
+
     # name, URDF, input, options, plan, level (1 linear, 2 cubic, 3 quintic), feed-forward
     cases = [
+        ("so101_db3_joint_states_cubic_full", SO101, bag("so101_humble_db3"), ["--topic", "/joint_states"], so101, 2,
+         "full"),
+        ("so101_mcap_zstd_per_message_quintic_gravity", SO101, bag("so101_mcap_zstd_per_message"), [], so101, 3,
+         "gravity"),
+        ("ur5_db3_zstd_per_file_linear_gravity", UR5, bag("ur5_db3_zstd_per_file"), [], ur5, 1, "gravity"),
+        ("ur5_mcap_zstd_per_file_cubic_full", UR5, bag("ur5_mcap_zstd_per_file"), [], ur5, 2, "full"),
+        ("so101_ros1_bz2_joint_states_cubic_gravity", SO101, bag("so101_noetic_bz2.bag"),
+         ["--topic", "/joint_states"], so101, 2, "gravity"),
+        ("ur5_ros1_lz4_quintic_full", UR5, bag("ur5_noetic_lz4.bag"), [], ur5, 3, "full"),
+        ("so101_lerobot_v3_calibrated_linear_gravity", SO101, lerobot("so101_v3"),
+         ["--episode", "1", "--calibration", lerobot("so101_calibration.json")], so101_calibrated, 1, "gravity"),
+        ("so101_lerobot_v21_degrees_linear_full", SO101, lerobot("so101_v21"),
+         ["--units", "deg", "--lerobot-key", "observation.state"], so101_degrees, 1, "full"),
         ("ur5_yaml_linear_full", UR5, rel("ur5_toppra.yaml"), [], ur5, 1, "full"),
         ("ur5_yaml_quintic_gravity", UR5, rel("ur5_toppra.yaml"), ["--message", "2"], ur5, 3, "gravity"),
         ("ur5_json_cubic_gravity", UR5, rel("ur5_toppra.json"), [], ur5, 2, "gravity"),
@@ -378,7 +677,10 @@ def main():
         ("so101_mcap_joint_states_cubic_full", SO101, rel("so101_ruckig.mcap"), ["--topic", "/joint_states"],
          so101, 2, "full"),
     ]
+    only = set(args.only or [])
     for case in cases:
+        if only and case[0] not in only:
+            continue
         fixture = run_case(args.faze4, case)
         out = os.path.join(FIXTURES, f"trajectory_{case[0]}.json")
         with open(out, "w") as f:

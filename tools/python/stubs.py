@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes python/faze4/__init__.pyi, the type stubs of the faze4 package, from the options the
-installed faze4 reads from the binary's clap definitions. Run it after a command-line option
-is added or changed (python/tests/test_api.py::test_stub_keywords_are_the_binarys_options fails
+installed faze4 reads from the library's declarations (src/config/fields.rs). Run it after an
+option is added or changed (python/tests/test_api.py::test_stub_keywords_are_the_binarys_options fails
 until it is):
 
     python tools/python/stubs.py
@@ -55,7 +55,7 @@ def function(name: str, head: list[str], command: str, skip: tuple[str, ...], re
     return "\n".join([f"def {name}(", *head, "    *,", *keywords(command, skip), f") -> {returns}: ..."])
 
 
-HEADER = '''"""Type stubs of faze4 (written by tools/python/stubs.py from the binary's options)."""
+HEADER = '''"""Type stubs of faze4 (written by tools/python/stubs.py from the options the library declares)."""
 
 import os
 from typing import Any, Literal, NamedTuple, Sequence

@@ -1,5 +1,8 @@
-//! Time-stamped trajectory files, read into and written from a [`TimedTrajectory`], the format
-//! chosen by the file's extension (docs/trajectories.md):
+//! Time-stamped trajectory files, read into and written from a [`TimedTrajectory`] (docs/
+//! trajectories.md). [`open`] reads what a `--q-traj` is, a file told by its first bytes where it
+//! has a magic number (a bag: [`bag`]; a `.npy`), else by its extension, a folder being a
+//! rosbag2 bag ([`bag::folder`]) or a LeRobot dataset ([`lerobot`]); [`write()`] writes the
+//! format its extension names:
 //!
 //! * `.yaml`/`.yml`: a `trajectory_msgs/msg/JointTrajectory` as `ros2 topic echo` prints it,
 //!   one or more messages separated by `---` ([`yaml`]);
@@ -8,22 +11,32 @@
 //!   `sensor_msgs/msg/JointState` topic ([`mcap`]);
 //! * `.csv`: a time column and one column per joint ([`csv`]).
 //!
+//! A recorded `JointState` stream, whatever holds it, becomes a trajectory through
+//! [`joint_states::recorded_motion`].
+//!
 //! [`read`] returns a checked trajectory ([`TimedTrajectory::check`]); [`write()`] writes one so
 //! that [`read`] gives it back bit for bit (the ROS formats hold whole nanoseconds: see
 //! [`TimedTrajectory::round_times_to_nanoseconds`]).
 
+pub mod bag;
 pub mod csv;
+pub mod joint_states;
 pub mod json;
+pub mod lerobot;
 pub mod mcap;
 pub mod ros;
+pub mod sniff;
 pub mod yaml;
 
 use std::path::Path;
 
 use crate::atomic::Outputs;
 use crate::error::{Error, Result};
-use crate::input::{MAX_MCAP_BYTES, MAX_TRAJECTORY_TEXT_BYTES, MAX_YAML_TRAJECTORY_BYTES, read_capped};
-use crate::traj::TimedTrajectory;
+use crate::input::{
+    MAX_NPY_BYTES, MAX_TRAJECTORY_TEXT_BYTES, MAX_YAML_TRAJECTORY_BYTES, read_stream_capped, too_large,
+};
+use crate::traj::{TimedTrajectory, npy};
+use sniff::{Magic, peek, shown};
 
 /// Which message or topic of a file to read (`--message K`, `--topic NAME`).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -34,6 +47,28 @@ pub struct Selection {
     /// The MCAP topic; `None`: the file's one `JointTrajectory` topic, else its one
     /// `JointState` topic.
     pub topic: Option<String>,
+    /// A LeRobot dataset's episode, from 0 (`None`: 0).
+    pub episode: Option<usize>,
+    /// A LeRobot dataset's column of joint values (`None`: `action`).
+    pub lerobot_key: Option<String>,
+    /// What a LeRobot dataset's values are (`None`: `calibration`'s, else taken as radians).
+    pub units: Option<lerobot::Units>,
+    /// LeRobot's calibration file of the arm, which turns normalised values into radians.
+    pub calibration: Option<std::path::PathBuf>,
+}
+
+impl Selection {
+    /// The LeRobot option given, if any (for a refusal on another input).
+    fn lerobot_option(&self) -> Option<&'static str> {
+        [
+            (self.episode.is_some(), "episode"),
+            (self.lerobot_key.is_some(), "lerobot_key"),
+            (self.units.is_some(), "units"),
+            (self.calibration.is_some(), "calibration"),
+        ]
+        .into_iter()
+        .find_map(|(given, field)| given.then_some(field))
+    }
 }
 
 /// A time-stamped trajectory file's format.
@@ -66,26 +101,164 @@ impl Format {
 /// The extensions [`read`] and [`write()`] know, for messages.
 pub const EXTENSIONS: &str = ".yaml, .yml, .json, .mcap or .csv";
 
-/// Reads the trajectory in `path`, its format by extension, the message or topic `selection`
-/// names; the trajectory is checked ([`TimedTrajectory::check`]). The file is read whole, at
-/// most [`MAX_YAML_TRAJECTORY_BYTES`] of YAML, [`MAX_TRAJECTORY_TEXT_BYTES`] of JSON or CSV,
-/// [`MAX_MCAP_BYTES`] of MCAP (a stream too). Every error is one line
-/// naming the file (or the option, for a `--message` or `--topic` that does not fit it).
-pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
-    let format = format_of(path)?;
-    if selection.topic.is_some() && format != Format::Mcap {
-        return Err(Error::option("topic", "picks a topic of an .mcap file"));
-    }
+/// What a `--q-traj` holds.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Content {
+    /// A time-stamped trajectory, checked ([`TimedTrajectory::check`]).
+    Timed(TimedTrajectory),
+    /// A `.npy`'s evenly spaced frames (N×dof).
+    Samples(Vec<Vec<f64>>),
+}
+
+/// A `--q-traj` read ([`open`]): what it holds and what it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Opened {
+    /// What it holds.
+    pub content: Content,
+    /// What the input is and what was taken from it, for people, where its name does not say
+    /// it (`a rosbag2 folder of 2 MCAP files, topic /joint_states`); `None` for a file of the
+    /// format its extension names.
+    pub what: Option<String>,
+    /// What reading noticed, for people (a LeRobot gripper column left out).
+    pub warnings: Vec<String>,
+    /// Said after a joint-limit refusal of the trajectory: the likely cause (a LeRobot
+    /// dataset's values taken as radians unasked).
+    pub limit_hint: Option<String>,
+}
+
+/// Reads the `--q-traj` in `path`, whatever it is: a file or stream told by its first bytes
+/// (a bag: MCAP, a rosbag2 SQLite `.db3`, a ROS 1 `.bag`, any of them compressed whole with
+/// zstd; a `.npy`), else by its extension (`.yaml`, `.yml`, `.json`, `.csv`); a rosbag2
+/// folder ([`bag::folder`]). `selection` picks the message or topic. Every file is read under
+/// its cap (docs/development.md, "Caps"), a bag streamed; every error is one line naming the
+/// file (or the option, for a `--message` or `--topic` that does not fit it).
+pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
     if selection.message == Some(0) {
         return Err(Error::option("message", "messages are counted from 1"));
     }
-    // read whole, under a cap checked before memory is taken (a stream up to it)
-    let bytes = match format {
-        Format::Mcap => read_capped(path, MAX_MCAP_BYTES, "an .mcap trajectory")?,
-        Format::Yaml => read_capped(path, MAX_YAML_TRAJECTORY_BYTES, "a YAML trajectory")?,
-        _ => read_capped(path, MAX_TRAJECTORY_TEXT_BYTES, "a trajectory text file")?,
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
     };
-    parse(&bytes, format, selection, path)
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if meta.is_dir() && path.join(lerobot::INFO).is_file() {
+        let episode = lerobot::read(path, selection)?;
+        episode.trajectory.check(path)?;
+        return Ok(Opened {
+            content: Content::Timed(episode.trajectory),
+            what: Some(episode.what),
+            warnings: episode.warnings,
+            limit_hint: episode.limit_hint,
+        });
+    }
+    if let Some(field) = selection.lerobot_option() {
+        return Err(Error::option(
+            field,
+            "applies to a LeRobot dataset (a folder holding meta/info.json)",
+        ));
+    }
+    if meta.is_dir() {
+        return folder(path, selection);
+    }
+    let file = std::fs::File::open(path).map_err(io)?;
+    let (head, source) = peek(bag::Capped::new(file)).map_err(io)?;
+    let magic = Magic::of(&head);
+    let whole = |source, cap: u64, what: &str| match meta.is_file() && meta.len() > cap {
+        true => Err(too_large(path, Some(meta.len()), cap, what)),
+        false => read_stream_capped(source, path, cap, what),
+    };
+    let format = Format::of(path);
+    if magic == Some(Magic::Parquet) {
+        return Err(invalid(
+            path,
+            "a Parquet file: a LeRobot dataset is read from its folder, the one holding meta/info.json (`q_traj` DIR `episode` N)",
+        ));
+    }
+    let samples = magic == Some(Magic::Npy) || (magic.is_none() && is_npy(path));
+    if magic.is_some() && !samples || format == Some(Format::Mcap) {
+        let mut found = bag::Collected::default();
+        let storage = bag::collect_stream(magic, &head, source, meta.is_file(), &mut found, path)?;
+        return timed_from_bag(found, storage.to_string(), selection, path);
+    }
+    if selection.topic.is_some() {
+        return Err(Error::option("topic", TOPIC_PICKS));
+    }
+    if samples {
+        if selection.message.is_some() {
+            return Err(Error::option(
+                "message",
+                "picks from a .yaml, .json or bag file, not a .npy",
+            ));
+        }
+        let bytes = whole(source, MAX_NPY_BYTES, "an .npy trajectory")?;
+        return Ok(Opened {
+            content: Content::Samples(npy::parse_samples(&bytes, path)?),
+            what: None,
+            warnings: Vec::new(),
+            limit_hint: None,
+        });
+    }
+    let Some(format) = format else {
+        return Err(invalid(
+            path,
+            format!(
+                "not a trajectory faze4 reads: its extension must be {EXTENSIONS}, or it must be a bag (MCAP, rosbag2 SQLite, ROS 1) or a NumPy .npy, whatever its name; it starts with {}",
+                shown(&head)
+            ),
+        ));
+    };
+    let bytes = match format {
+        Format::Yaml => whole(source, MAX_YAML_TRAJECTORY_BYTES, "a YAML trajectory")?,
+        _ => whole(source, MAX_TRAJECTORY_TEXT_BYTES, "a trajectory text file")?,
+    };
+    Ok(Opened {
+        content: Content::Timed(parse(&bytes, format, selection, path)?),
+        what: None,
+        warnings: Vec::new(),
+        limit_hint: None,
+    })
+}
+
+/// What `--topic` picks from, for its error.
+const TOPIC_PICKS: &str = "picks a topic of a bag (.mcap, .db3, .bag, a rosbag2 folder)";
+
+/// Whether `path`'s extension says `.npy`.
+fn is_npy(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"))
+}
+
+/// A folder: a rosbag2 bag, its files read in order into one bag.
+fn folder(dir: &Path, selection: &Selection) -> Result<Opened> {
+    let (files, what) = bag::folder::files(dir)?;
+    let mut found = bag::Collected::default();
+    for file in &files {
+        bag::collect_file(file, &mut found)?;
+    }
+    timed_from_bag(found, what, selection, dir)
+}
+
+/// The trajectory `selection` picks from the bag `found`, `what` saying what the bag is.
+fn timed_from_bag(found: bag::Collected, what: String, selection: &Selection, path: &Path) -> Result<Opened> {
+    let (trajectory, topic) = found.trajectory(selection, path)?;
+    trajectory.check(path)?;
+    Ok(Opened {
+        content: Content::Timed(trajectory),
+        what: Some(format!("{what}, topic {topic}")),
+        warnings: Vec::new(),
+        limit_hint: None,
+    })
+}
+
+/// Reads the time-stamped trajectory in `path` ([`open`]; a `.npy` is refused: its frames are
+/// not time-stamped); the trajectory is checked ([`TimedTrajectory::check`]).
+pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
+    match open(path, selection)?.content {
+        Content::Timed(trajectory) => Ok(trajectory),
+        Content::Samples(_) => Err(invalid(
+            path,
+            "a NumPy array of evenly spaced frames, not a time-stamped trajectory",
+        )),
+    }
 }
 
 /// [`read`] on a file's `bytes` in `format`; `path` names it in the errors.
@@ -93,7 +266,15 @@ pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -
     let trajectory = match format {
         Format::Yaml => yaml::parse(text(bytes, path)?, selection.message, path)?,
         Format::Json => json::parse(text(bytes, path)?, selection.message, path)?,
-        Format::Mcap => mcap::parse(bytes, selection, path)?,
+        Format::Mcap => match Magic::of(bytes) {
+            // another bag in memory (ROS 1, SQLite, zstd): told by its bytes, as `open` tells it
+            Some(magic @ (Magic::Ros1 | Magic::Sqlite | Magic::Zstd)) => {
+                let mut found = bag::Collected::default();
+                bag::collect_stream(Some(magic), bytes, Box::new(bytes), false, &mut found, path)?;
+                found.trajectory(selection, path)?.0
+            }
+            _ => mcap::parse(bytes, selection, path)?,
+        },
         Format::Csv => {
             if selection.message.is_some() {
                 return Err(Error::option(
@@ -242,15 +423,20 @@ mod tests {
         };
         assert_eq!(
             read(&path, &topic).unwrap_err().to_string(),
-            "`topic`: picks a topic of an .mcap file"
+            "`topic`: picks a topic of a bag (.mcap, .db3, .bag, a rosbag2 folder)"
         );
         let message = Selection {
             message: Some(1),
             ..Default::default()
         };
         assert!(read(&path, &message).unwrap_err().to_string().starts_with("`message`"));
+        std::fs::write(dir.join("t.txt"), "t,q1\n").unwrap();
         let e = read(&dir.join("t.txt"), &Selection::default()).unwrap_err().to_string();
-        assert!(e.contains("its extension must be .yaml"), "{e}");
+        assert!(
+            e.contains("not a trajectory faze4 reads: its extension must be .yaml")
+                && e.ends_with("it starts with t,q1\\x0a"),
+            "{e}"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,0 +1,64 @@
+//! A mesh's exact triangles as the clearance searches read them: its points (f64, metres, the
+//! mesh's frame), three indices per triangle, and their bounding-volume hierarchy ([`Bvh`],
+//! `bvh.rs`). The hierarchy is made once: at build time for the Faze4's built-in meshes
+//! (`build.rs`), in the user's cache for any other mesh (`mesh_cache.rs`), else here.
+
+use parry3d_f64::math::Vector as PVector;
+use parry3d_f64::shape::Triangle;
+
+use super::bvh::{Bvh, Node, point_triangle_squared};
+
+/// A triangle mesh with its hierarchy (see the module documentation).
+pub(super) struct Triangles {
+    points: Vec<PVector>,
+    indices: Vec<[u32; 3]>,
+    bvh: Bvh,
+}
+
+impl Triangles {
+    /// The mesh of `points` and `indices` (at least one triangle), with `bvh` its hierarchy
+    /// when it was made before (it must be [`Bvh::build`]'s of these triangles), else one
+    /// built now.
+    pub(super) fn new(points: Vec<PVector>, indices: Vec<[u32; 3]>, bvh: Option<Bvh>) -> Triangles {
+        let bvh = bvh.unwrap_or_else(|| Bvh::build(&arrays(&points), &indices));
+        Triangles { points, indices, bvh }
+    }
+
+    /// Triangle `i` (m, the mesh's frame); an index past the end reads as the last triangle
+    /// (a seed carried from another reading of the mesh is then only a poor seed).
+    pub(super) fn triangle(&self, i: u32) -> Triangle {
+        let t = self.indices[(i as usize).min(self.indices.len() - 1)];
+        Triangle::new(
+            self.points[t[0] as usize],
+            self.points[t[1] as usize],
+            self.points[t[2] as usize],
+        )
+    }
+
+    /// Its hierarchy.
+    pub(super) fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// How many triangles it has.
+    pub(super) fn len(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// The triangle nearest point `p` (the mesh's frame).
+    pub(super) fn nearest(&self, p: PVector) -> u32 {
+        let corners = |t: u32| self.indices[t as usize].map(|v| self.points[v as usize].to_array());
+        let p = p.to_array();
+        (self.bvh.nearest(p, 0, |t| point_triangle_squared(p, corners(t)))).map_or(0, |(t, _)| t)
+    }
+}
+
+/// A node's box: its smallest and largest corners.
+pub(super) fn node_box(n: &Node) -> (PVector, PVector) {
+    (PVector::from_array(n.lo), PVector::from_array(n.hi))
+}
+
+/// Points as the hierarchy reads them.
+pub(super) fn arrays(points: &[PVector]) -> Vec<[f64; 3]> {
+    points.iter().map(|p| p.to_array()).collect()
+}
