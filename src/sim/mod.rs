@@ -32,6 +32,6 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing, Simulated,
     StepLoss, Summary, ToolRange, ToolRule,
 };
-pub use timed::TimedCommand;
+pub use timed::{Play, TimedCommand};
 pub use verdict::{Intersection, NearSlip, Reason, Thresholds, Verdict, percent};
 pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};
