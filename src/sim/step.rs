@@ -131,7 +131,7 @@ pub fn controller(sc: &Scenario, s: &mut Step) {
 /// under `drive` stepper a stepper's joint gets what its torque–angle curve gives at the
 /// rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw
 /// (an open-loop stepper asks for nothing else), and its reducer's Coulomb friction
-/// ([`friction`]; the viscous losses are in the joint's damping).
+/// (`friction`; the viscous losses are in the joint's damping).
 #[inline]
 pub fn actuation(sc: &Scenario, s: &mut Step) {
     let Some(motors) = &sc.motors else {
