@@ -53,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collisions(None)
         .duration(0.5)
         .motors(motors.unwrap_or_default())
-        .drive(Drive::Stepper { microsteps: Vec::new() })
+        .drive(Drive::Stepper(Default::default()))
         .build()?;
     let mut capture = Capture {
         dt: scenario.dt,

@@ -1134,6 +1134,27 @@ pub const FIELDS: &[Field] = &[
             "Microsteps per full step of the steppers' drivers under `drive` stepper: one value for every joint or one \
          per joint ('auto' keeps the motor's: the Faze4 presets' firmware 8,8,4,2,2,2; else 16).",
         ),
+    optional_number!("driver_bandwidth", Commands::ALL, |c| Some(
+        &mut c.control.driver_bandwidth
+    ))
+    .value_name("HZ")
+    .help(
+        "Under `drive` stepper, every stepper driver's current-loop bandwidth, Hz (default: the motor's; 5000 for \
+             the presets' TB6600-class choppers, a stated assumption; docs/motors.md, \"The stepper's damping\").",
+    ),
+    per_joint!("rotor_damping", control.rotor_damping)
+        .value_name("B|B1,B2,…")
+        .help(
+            "Under `drive` stepper, each rotor's viscous damping (iron losses, bearings), N·m·s/rad at the motor \
+             shaft: one value for every joint or one per joint ('auto' keeps the motor's; the presets' 0: not \
+             published).",
+        ),
+    per_joint!("reducer_friction", control.reducer_friction)
+        .value_name("T|T1,T2,…")
+        .help(
+            "Under `drive` stepper, each reducer's Coulomb friction, N·m at the motor shaft: one value for every joint \
+             or one per joint ('auto' keeps the motor's; the presets' 0: not published).",
+        ),
     flag!("sizing", outputs.sizing).help(
         "Print the motors' sizing report (with `motors`): per joint at the motor peak and RMS torque, peak speed, \
          inertia ratio, peak power, braking energy, supply current, heating.",

@@ -24,7 +24,7 @@ use crate::control::FeedForward;
 use crate::error::Words;
 use crate::geometry::{ClearanceGeometry, PairFilter};
 pub use crate::sim::DriveMode;
-use crate::sim::{Drive, Thresholds};
+use crate::sim::{Drive, StepperOptions, Thresholds};
 use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
@@ -113,15 +113,28 @@ impl RunConfig {
     }
 
     /// How the `n` joints are driven: `drive` with its `microsteps` (whole numbers ≥ 1; one
-    /// value is every joint's). `microsteps` without `drive` stepper is an error.
+    /// value is every joint's), `driver_bandwidth`, `rotor_damping` and `reducer_friction`
+    /// (one value is every joint's). Those without `drive` stepper are an error.
     pub fn drive(&self, n: usize) -> crate::Result<Drive> {
-        let given = &self.control.microsteps;
-        if self.control.drive == DriveMode::Pd {
-            if !given.is_empty() {
-                return Err(crate::Error::option("microsteps", "is for `drive` stepper"));
+        let control = &self.control;
+        let given = &control.microsteps;
+        if control.drive == DriveMode::Pd {
+            for (field, set) in [
+                ("microsteps", !given.is_empty()),
+                ("driver_bandwidth", control.driver_bandwidth.is_some()),
+                ("rotor_damping", !control.rotor_damping.is_empty()),
+                ("reducer_friction", !control.reducer_friction.is_empty()),
+            ] {
+                if set {
+                    return Err(crate::Error::option(field, "is for `drive` stepper"));
+                }
             }
             return Ok(Drive::Pd);
         }
+        let every = |values: &[Option<f64>]| match values {
+            [one] => vec![*one; n],
+            _ => values.to_vec(),
+        };
         let microsteps = (given.iter().enumerate())
             .map(|(i, v)| match v {
                 None => Ok(None),
@@ -132,12 +145,15 @@ impl RunConfig {
                 )),
             })
             .collect::<crate::Result<Vec<_>>>()?;
-        Ok(Drive::Stepper {
+        Ok(Drive::Stepper(StepperOptions {
             microsteps: match microsteps.as_slice() {
                 [one] => vec![*one; n],
                 _ => microsteps,
             },
-        })
+            driver_bandwidth: control.driver_bandwidth,
+            rotor_damping: every(&control.rotor_damping),
+            reducer_friction: every(&control.reducer_friction),
+        }))
     }
 }
 
@@ -434,6 +450,15 @@ pub struct ControlConfig {
     /// value for every joint or one per joint (`None` keeps the motor's; empty: all the
     /// motors').
     pub microsteps: Vec<Option<f64>>,
+    /// Under [`DriveMode::Stepper`], every stepper driver's current-loop bandwidth (Hz; `None`:
+    /// the motor's, 5 kHz for the presets).
+    pub driver_bandwidth: Option<f64>,
+    /// Under [`DriveMode::Stepper`], each rotor's viscous damping (N·m·s/rad at the shaft;
+    /// `None` keeps the motor's; empty: all the motors').
+    pub rotor_damping: Vec<Option<f64>>,
+    /// Under [`DriveMode::Stepper`], each reducer's Coulomb friction (N·m at the motor shaft;
+    /// as `rotor_damping`).
+    pub reducer_friction: Vec<Option<f64>>,
 }
 
 impl Default for ControlConfig {
@@ -448,6 +473,9 @@ impl Default for ControlConfig {
             ff: None,
             drive: DriveMode::Pd,
             microsteps: Vec::new(),
+            driver_bandwidth: None,
+            rotor_damping: Vec::new(),
+            reducer_friction: Vec::new(),
         }
     }
 }

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::control::catalog::{sts3215, xm540_w270};
-use crate::control::{Envelope, JointMotor, Motor, Stepping};
+use crate::control::{Envelope, JointMotor, Motor, StepperLosses, Stepping};
 use crate::error::{Error, Result, escape_controls, quoted};
 use crate::faze4::motors::{faze4, faze4_bom};
 use crate::model::{Joint, Model};
@@ -181,9 +181,9 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
             if e.curve.is_some() {
                 return Err(what("a dc motor has no curve (that is a stepper's)"));
             }
-            if e.step_angle.is_some() || e.detent_torque.is_some() || e.microsteps.is_some() {
+            if e.step_angle.is_some() || e.detent_torque.is_some() || e.microsteps.is_some() || has_losses(&e) {
                 return Err(what(
-                    "a dc motor has no step_angle, detent_torque or microsteps (those are a stepper's)",
+                    "a dc motor has no step_angle, detent_torque, microsteps, driver_bandwidth, rotor_damping or reducer_damping/friction (those are a stepper's open-loop drive's)",
                 ));
             }
             let stall_torque = need(e.stall_torque, "stall_torque")?;
@@ -227,9 +227,17 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
             rotor_teeth: Stepping::rotor_teeth_of(a),
             detent_torque: e.detent_torque.unwrap_or(0.0),
             microsteps: e.microsteps,
+            losses: StepperLosses {
+                driver_bandwidth: e.driver_bandwidth,
+                rotor_damping: e.rotor_damping.unwrap_or(0.0),
+                reducer_damping: e.reducer_damping.unwrap_or(0.0),
+                reducer_friction: e.reducer_friction.unwrap_or(0.0),
+            },
         }),
-        None if e.detent_torque.is_some() || e.microsteps.is_some() => {
-            return Err(what("detent_torque and microsteps need the stepper's step_angle"));
+        None if e.detent_torque.is_some() || e.microsteps.is_some() || has_losses(&e) => {
+            return Err(what(
+                "detent_torque, microsteps, driver_bandwidth, rotor_damping and reducer_damping/friction need the stepper's step_angle",
+            ));
         }
         None => None,
     };
@@ -260,6 +268,18 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
         rotor_inertia: e.rotor_inertia,
         motor,
     })
+}
+
+/// Whether an entry gives any of a stepper's losses.
+fn has_losses(e: &MotorEntry) -> bool {
+    [
+        e.driver_bandwidth,
+        e.rotor_damping,
+        e.reducer_damping,
+        e.reducer_friction,
+    ]
+    .iter()
+    .any(Option::is_some)
 }
 
 /// Puts the motors on `model`, once: each joint's ratio and rotor from its motor where the

@@ -41,6 +41,18 @@ pub struct MotorEntry {
     pub detent_torque: Option<f64>,
     /// A stepper driver's microsteps per full step (≥ 1; default the drive's).
     pub microsteps: Option<u32>,
+    /// A stepper driver's current-loop bandwidth (Hz, > 0; default none: no electrical damping,
+    /// which needs the winding a file does not give).
+    pub driver_bandwidth: Option<f64>,
+    /// A stepper rotor's viscous damping, iron losses and bearings (N·m·s/rad at the shaft,
+    /// ≥ 0; default 0).
+    pub rotor_damping: Option<f64>,
+    /// The reducer's viscous friction (N·m·s/rad at the motor shaft, ≥ 0; default 0), for the
+    /// open-loop stepper drive.
+    pub reducer_damping: Option<f64>,
+    /// The reducer's Coulomb friction (N·m at the motor shaft, ≥ 0; default 0), for the
+    /// open-loop stepper drive.
+    pub reducer_friction: Option<f64>,
     /// The continuous torque rating (N·m), for the heating check.
     pub continuous_torque: Option<f64>,
 }

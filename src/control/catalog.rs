@@ -1,7 +1,7 @@
 //! Published figures of the motors the presets use, each with its source (docs/motors.md has
 //! the table and the addresses). A figure no source gives is left out, and the doc says so.
 
-use super::motor::{Electrics, Envelope, JointMotor, Motor, StepperWinding, Stepping};
+use super::motor::{Electrics, Envelope, JointMotor, Motor, StepperLosses, StepperWinding, Stepping};
 
 /// Points of a preset's pull-out curve (evenly spaced speeds).
 pub const CURVE_POINTS: usize = 256;
@@ -37,8 +37,7 @@ pub const NEMA23_23HM22_2804S_ROTOR: f64 = 300e-7;
 
 /// StepperOnline 23HS22-1504S (NEMA23, 1.8°): 1.16 N·m, 1.5 A, 5.4 V (StepperOnline's listing,
 /// linked from the Faze4 BOM; R = 5.4 V / 1.5 A = 3.6 Ω), 13 mH per phase (StepperOnline's
-/// datasheet as quoted by a public design note), 50 rotor teeth (a 1.8° hybrid). Rotor
-/// inertia: not found.
+/// datasheet as quoted by a public design note), 50 rotor teeth (a 1.8° hybrid).
 pub const NEMA23_23HS22_1504S: StepperWinding = StepperWinding {
     holding_torque: 1.16,
     rated_current: 1.5,
@@ -47,18 +46,26 @@ pub const NEMA23_23HS22_1504S: StepperWinding = StepperWinding {
     rotor_teeth: 50.0,
 };
 
+/// Its rotor inertia, 300 g·cm² (kg·m²): StepperOnline publishes none for this motor where it
+/// could be opened; the same maker's 56 mm NEMA23 of the stepper-simulator database,
+/// 3-23HE22-2804S, has 300 g·cm² (as have LDO's 56 mm 57STH56-2804A): a same-frame proxy.
+pub const NEMA23_23HS22_1504S_ROTOR: f64 = 300e-7;
+
 /// StepperOnline 23HS33-4008D (NEMA23, 1.8°, 8 wires, dual shaft): 2.83 N·m at 4.0 A and
 /// 2.26 V (its listing's title and the Faze4 BOM), so R = 2.26 V / 4.0 A = 0.565 Ω; 50 rotor
-/// teeth (a 1.8° hybrid). Its inductance was not found: 0 here, which makes the pull-out
-/// model an upper bound at speed (an inductance only lowers it), its torque still falling to
-/// zero where the back-EMF K·ω reaches the supply. Rotor inertia: not found.
+/// teeth (a 1.8° hybrid). Its inductance, 2.8 mH, is a proxy: none was found for this motor;
+/// the stepper-simulator database's one NEMA23 of its length and winding, Sanyo Denki's
+/// SM2564C40B41 (85.8 mm, 4 A, 0.59 Ω), has 2.8 mH.
 pub const NEMA23_23HS33_4008D: StepperWinding = StepperWinding {
     holding_torque: 2.83,
     rated_current: 4.0,
     resistance: 2.26 / 4.0,
-    inductance: 0.0,
+    inductance: 2.8e-3,
     rotor_teeth: 50.0,
 };
+/// Its rotor inertia, 600 g·cm² (kg·m²): the same proxy's (SM2564C40B41), none being found for
+/// the 23HS33-4008D itself.
+pub const NEMA23_23HS33_4008D_ROTOR: f64 = 600e-7;
 
 /// StepperOnline 14HS13-0804S (NEMA14, 1.8°, the motor of the 14HS13-0804S-PG19): 0.18 N·m,
 /// 0.8 A, 6.8 Ω, 10 mH, rotor 14 g·cm² (StepperOnline's figures as tabulated by the public
@@ -76,14 +83,37 @@ pub const NEMA14_14HS13_0804S_ROTOR: f64 = 14e-7;
 /// One kilogram-force centimetre in N·m.
 const KGF_CM: f64 = 9.80665e-2;
 
+/// The current-loop bandwidth taken for a TB6600-class chopper driver (Hz): a stated
+/// assumption (docs/motors.md, "The stepper's damping"). The TB6600HG is a PWM constant-current
+/// chopper (Toshiba's datasheet) whose loop settles within a few chopping periods; no bandwidth
+/// is published. [`CHOPPER_BANDWIDTH_RANGE_HZ`] is the range the verdict's robustness is
+/// stated over.
+pub const CHOPPER_BANDWIDTH_HZ: f64 = 5_000.0;
+/// The range of [`CHOPPER_BANDWIDTH_HZ`] (Hz): a slower loop damps more, a faster one less.
+pub const CHOPPER_BANDWIDTH_RANGE_HZ: (f64, f64) = (2_000.0, 20_000.0);
+
+/// The presets' steppers' losses: the driver's current loop at [`CHOPPER_BANDWIDTH_HZ`]; the
+/// rotor's iron and bearing losses and the reducers' friction are published for none of them:
+/// 0, the model's least damping (a motors file or `rotor_damping`, `reducer_friction` give
+/// them).
+pub const PRESET_LOSSES: StepperLosses = StepperLosses {
+    driver_bandwidth: Some(CHOPPER_BANDWIDTH_HZ),
+    rotor_damping: 0.0,
+    reducer_damping: 0.0,
+    reducer_friction: 0.0,
+};
+
 /// A stepper driven at a phase current amplitude of `current` (A) from `supply` (V): its
-/// pull-out curve from the model, its rotor (no detent torque: none of the presets' motors
-/// publishes one), its driver's `microsteps` where the build gives them, its winding.
+/// pull-out curve from the model at that current, or at the most its datasheet supports
+/// ([`StepperWinding::torque_current_limit`]) when the drive is set above it; its rotor (no
+/// detent torque: none of the presets' motors publishes one), its driver's `microsteps` where
+/// the build gives them, its winding at the drive's current, its losses [`PRESET_LOSSES`].
 pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f64, microsteps: Option<u32>) -> Motor {
+    let torque_current = current.min(winding.torque_current_limit());
     Motor {
         label,
         envelope: Envelope::Stepper {
-            curve: winding.pull_out_curve(current, supply, CURVE_POINTS, CURVE_TAIL),
+            curve: winding.pull_out_curve(torque_current, supply, CURVE_POINTS, CURVE_TAIL),
         },
         efficiency: 1.0,
         continuous_torque: None,
@@ -91,6 +121,7 @@ pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f6
             rotor_teeth: winding.rotor_teeth,
             detent_torque: 0.0,
             microsteps,
+            losses: PRESET_LOSSES,
         }),
         electrics: Some(Electrics::Stepper {
             winding: *winding,

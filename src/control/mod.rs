@@ -10,8 +10,8 @@ mod stability;
 mod stepper;
 mod tuning;
 
-pub use motor::{Electrics, Envelope, JointMotor, Motor, StepperWinding, Stepping};
+pub use motor::{Electrics, Envelope, JointMotor, Motor, StepperLosses, StepperWinding, Stepping};
 pub use pd::{FeedForward, Pd};
 pub use stability::{Stability, lambda_max, spectral_radius, stabilize};
-pub use stepper::{DEFAULT_MICROSTEPS, OpenLoopStepper, STEPS_PER_CYCLE, Slips, detent, torque_angle};
+pub use stepper::{DEFAULT_MICROSTEPS, OpenLoopStepper, STEPS_PER_CYCLE, Slips, StepperDamping, detent, torque_angle};
 pub use tuning::{Gains, arithmetic_holds, auto_tune, tune};

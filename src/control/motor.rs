@@ -157,6 +157,49 @@ pub struct Stepping {
     /// Microsteps per full step the driver is set to, where the build says (`None`: the
     /// default of [`crate::control::DEFAULT_MICROSTEPS`] unless `--microsteps` gives one).
     pub microsteps: Option<u32>,
+    /// What damps its rotor besides the joint's own damping (docs/motors.md, "The stepper's
+    /// damping").
+    pub losses: StepperLosses,
+}
+
+/// What damps an open-loop stepper's rotor, at the motor shaft (docs/motors.md, "The stepper's
+/// damping"): the driver's current loop (with the winding behind [`Electrics::Stepper`], the
+/// electrical damping), the rotor's own viscous losses and the reducer's friction.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepperLosses {
+    /// The driver's current-loop bandwidth f_c (Hz, > 0): the phase current follows its
+    /// reference as a first-order loop of this bandwidth, so the back-EMF leaves a current that
+    /// brakes the rotor. `None`: no electrical damping (an ideal current source, or a winding
+    /// not known).
+    pub driver_bandwidth: Option<f64>,
+    /// The rotor's viscous damping b_r (N·m·s/rad at the shaft, ≥ 0): iron losses and
+    /// bearings.
+    pub rotor_damping: f64,
+    /// The reducer's viscous friction b_g (N·m·s/rad at the shaft, ≥ 0).
+    pub reducer_damping: f64,
+    /// The reducer's Coulomb friction T_c (N·m at the shaft, ≥ 0).
+    pub reducer_friction: f64,
+}
+
+impl StepperLosses {
+    /// Whether each figure is finite and ≥ 0 (the bandwidth > 0); the error names the field.
+    pub fn check(&self) -> Result<(), String> {
+        if let Some(f) = self.driver_bandwidth
+            && !(f.is_finite() && f > 0.0)
+        {
+            return Err(format!("driver_bandwidth {f} must be > 0"));
+        }
+        for (name, x) in [
+            ("rotor_damping", self.rotor_damping),
+            ("reducer_damping", self.reducer_damping),
+            ("reducer_friction", self.reducer_friction),
+        ] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(format!("{name} {x} must be ≥ 0"));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Stepping {
@@ -262,6 +305,9 @@ impl Motor {
         if let Some(c) = self.continuous_torque {
             positive("continuous_torque", c)?;
         }
+        if let Some(s) = &self.stepping {
+            s.losses.check()?;
+        }
         match &self.envelope {
             Envelope::Dc {
                 stall_torque,
@@ -345,6 +391,32 @@ impl StepperWinding {
     /// torque (docs/motors.md, "Sizing").
     pub fn rated_loss(&self) -> f64 {
         2.0 * self.resistance * self.rated_current * self.rated_current
+    }
+
+    /// The largest phase current amplitude whose torque its datasheet supports (A): √2·I_r, the
+    /// current vector of both phases at the rated current, as the holding torque is measured
+    /// (K·√2·I_r = T_h). A drive set above it is taken at it for the torque (the iron saturates
+    /// beyond what any datasheet figure shows); its copper loss is still the drive's.
+    pub fn torque_current_limit(&self) -> f64 {
+        std::f64::consts::SQRT_2 * self.rated_current
+    }
+
+    /// The electrical damping (N·m·s/rad at the shaft) of this winding behind a driver whose
+    /// current loop has a bandwidth of `bandwidth` Hz, for a rotor oscillating at `omega` rad/s
+    /// about a microstep: the loop, `L di/dt = (R + L ω_c)(i_ref − i) − e`, leaves the back-EMF
+    /// e = K ω a current −e / Z(jω), Z = R + L ω_c + j ω L, whose torque brakes the rotor:
+    ///
+    /// ```text
+    ///   b_e = K² · Re(1 / Z(jω)) = K² (R + L ω_c) / ((R + L ω_c)² + (ω L)²),   ω_c = 2π f_c
+    /// ```
+    ///
+    /// (docs/motors.md, "The stepper's damping"; the two phases' braking currents add to a
+    /// torque independent of the rotor's angle).
+    pub fn electrical_damping(&self, bandwidth: f64, omega: f64) -> f64 {
+        let k = self.torque_constant();
+        let r = self.resistance + self.inductance * std::f64::consts::TAU * bandwidth;
+        let x = omega * self.inductance;
+        k * k * r / (r * r + x * x)
     }
 
     /// The pull-out torque (N·m) at shaft speed `omega` (rad/s, ≥ 0) driven with a phase current
@@ -566,6 +638,37 @@ mod tests {
         let want = k * (v - k * omega * 1.1 / z) / z;
         let got = w.pull_out_torque(omega, 2.0, v);
         assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+    }
+
+    /// The electrical damping is K²·Re(1/Z(jω)), Z = R + L·2π·f_c + jωL: the voltage drive's
+    /// K²/R with no loop and a still rotor, less the faster the loop, and less at a faster
+    /// ringing (the inductance holds the current back).
+    #[test]
+    fn electrical_damping_is_the_back_emf_current_the_loop_leaves() {
+        let w = nema17();
+        let k = w.torque_constant();
+        // a loop of bandwidth 0 is a voltage drive: K²/R at a still rotor
+        assert!((w.electrical_damping(0.0, 0.0) - k * k / 1.1).abs() < 1e-15);
+        // the complex admittance, written out
+        let (f_c, omega) = (5000.0, 1700.0);
+        let (re, im) = (1.1 + 2.6e-3 * std::f64::consts::TAU * f_c, omega * 2.6e-3);
+        let want = k * k * re / (re * re + im * im);
+        assert!((w.electrical_damping(f_c, omega) - want).abs() < 1e-15 * want);
+        // faster loops damp less; at 5 kHz and 1700 rad/s about 3e-4 N·m·s/rad
+        assert!(w.electrical_damping(20_000.0, omega) < w.electrical_damping(2_000.0, omega));
+        assert!(
+            (w.electrical_damping(f_c, omega) - 3.05e-4).abs() < 0.01e-4,
+            "{}",
+            w.electrical_damping(f_c, omega)
+        );
+    }
+
+    /// Above √2·I_r (both phases at the rated current) no datasheet figure says what the
+    /// torque is: the presets take the torque there.
+    #[test]
+    fn the_torque_current_is_capped_at_the_holding_condition() {
+        let w = nema17();
+        assert!((w.torque_constant() * w.torque_current_limit() - 0.45).abs() < 1e-15);
     }
 
     /// The sampled curve starts at the standstill torque and ends at the tail.

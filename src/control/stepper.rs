@@ -15,7 +15,7 @@
 //! (one full step of lag) and on past N_r δ = ±π falls to the next stable point, c one
 //! electrical cycle (4 full steps) further: it has slipped, and stays there.
 
-use super::motor::{Envelope, Stepping};
+use super::motor::{Electrics, Envelope, Motor, StepperLosses, Stepping};
 
 /// Microsteps per full step where neither the motor's build nor `--microsteps` says.
 pub const DEFAULT_MICROSTEPS: u32 = 16;
@@ -37,7 +37,7 @@ pub fn detent(t_d: f64, rotor_teeth: f64, theta: f64) -> f64 {
     -t_d * (4.0 * rotor_teeth * theta).sin()
 }
 
-/// One joint's stepper driven open loop: its rotor and its driver's microstep.
+/// One joint's stepper driven open loop: its rotor, its driver's microstep and what damps it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OpenLoopStepper {
     /// Rotor teeth N_r.
@@ -48,10 +48,75 @@ pub struct OpenLoopStepper {
     pub microsteps: u32,
     /// The microstep μ = 2π / (4·N_r·m) (rad at the shaft).
     pub microstep: f64,
+    /// What damps the rotor: its driver's current loop, its own losses, its reducer's friction.
+    pub losses: StepperLosses,
+    /// Its viscous damping and the figures of its ringing, at the run's start pose.
+    pub damping: StepperDamping,
+}
+
+/// An open-loop stepper's viscous damping at the motor shaft, each part, and what it makes of
+/// the rotor's ringing about its microstep at the run's start pose (docs/motors.md, "The
+/// stepper's damping").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepperDamping {
+    /// The driver's current loop on the winding, b_e (N·m·s/rad at the shaft;
+    /// [`super::StepperWinding::electrical_damping`] at the ringing frequency).
+    pub electrical: f64,
+    /// The rotor's own, b_r (N·m·s/rad).
+    pub rotor: f64,
+    /// The reducer's viscous friction, b_g (N·m·s/rad).
+    pub reducer: f64,
+    /// The joint's own damping (the model's, N·m·s/rad at the joint), before these were added.
+    pub joint: f64,
+    /// The ringing's natural frequency ω_n = √(k / I) (rad/s), k = r²·η·N_r·T_max(0) the
+    /// torque–angle curve's stiffness at the joint, I the joint's inertia at the start pose (the
+    /// joint and its rotor ring together, at one frequency).
+    pub natural_frequency: f64,
+    /// Critical damping at the joint, 2√(k I) (N·m·s/rad).
+    pub critical: f64,
+    /// The damping ratio ζ = (joint + r²(b_e + b_r + b_g)) / (2√(k I)).
+    pub ratio: f64,
+}
+
+impl StepperDamping {
+    /// The damping of `motor`'s stepper with `rotor_teeth` behind a reducer of `ratio`, on a
+    /// joint of inertia `inertia` (kg·m², the rotor's reflected share included) and damping
+    /// `joint` (N·m·s/rad), with its drive's `losses`: the electrical part at the ringing
+    /// frequency, where the motor's winding is known.
+    pub fn of(motor: &Motor, losses: &StepperLosses, rotor_teeth: f64, ratio: f64, inertia: f64, joint: f64) -> Self {
+        let stiffness = ratio * ratio * motor.efficiency * rotor_teeth * motor.envelope.max_torque();
+        let natural_frequency = (stiffness / inertia).sqrt();
+        let electrical = match (motor.electrics, losses.driver_bandwidth) {
+            (Some(Electrics::Stepper { winding, .. }), Some(f_c)) => winding.electrical_damping(f_c, natural_frequency),
+            _ => 0.0,
+        };
+        let critical = 2.0 * (stiffness * inertia).sqrt();
+        let shaft = electrical + losses.rotor_damping + losses.reducer_damping;
+        StepperDamping {
+            electrical,
+            rotor: losses.rotor_damping,
+            reducer: losses.reducer_damping,
+            joint,
+            natural_frequency,
+            critical,
+            ratio: (joint + ratio * ratio * shaft) / critical,
+        }
+    }
+
+    /// What the drive adds to the joint's damping (N·m·s/rad at the joint): r²(b_e + b_r + b_g).
+    pub fn added(&self, ratio: f64) -> f64 {
+        ratio * ratio * (self.electrical + self.rotor + self.reducer)
+    }
+
+    /// The natural frequency in Hz, ω_n / 2π.
+    pub fn ring_hz(&self) -> f64 {
+        self.natural_frequency / std::f64::consts::TAU
+    }
 }
 
 impl OpenLoopStepper {
-    /// The drive of a stepper `stepping` set to `microsteps` per full step (≥ 1).
+    /// The drive of a stepper `stepping` set to `microsteps` per full step (≥ 1), with
+    /// `stepping`'s losses, its damping figures not yet known ([`StepperDamping::default`]).
     pub fn new(stepping: &Stepping, microsteps: u32) -> OpenLoopStepper {
         let full_step = std::f64::consts::TAU / (f64::from(STEPS_PER_CYCLE) * stepping.rotor_teeth);
         OpenLoopStepper {
@@ -59,6 +124,8 @@ impl OpenLoopStepper {
             detent_torque: stepping.detent_torque,
             microsteps,
             microstep: full_step / f64::from(microsteps),
+            losses: stepping.losses,
+            damping: StepperDamping::default(),
         }
     }
 
@@ -110,6 +177,9 @@ pub struct Slips {
     pub first: Option<f64>,
     /// Steps with the lag past the curve's peak.
     pub past_peak: u64,
+    /// The largest lag of the rotor from its nearest stable point, |N_r·lag − 2πc| (electrical
+    /// rad; π/2 is one full step, the curve's peak; π its unstable top).
+    pub max_lag: f64,
 }
 
 impl Slips {
@@ -122,6 +192,15 @@ impl Slips {
             self.first.get_or_insert(t);
         }
         self.past_peak += u64::from(drive.past_peak(lag));
+        let e = drive.rotor_teeth * lag;
+        let from_stable = (e - std::f64::consts::TAU * (e / std::f64::consts::TAU).round()).abs();
+        self.max_lag = self.max_lag.max(from_stable);
+    }
+
+    /// The largest lag in full steps (one full step is the torque–angle curve's peak, two its
+    /// unstable top, where the rotor slips).
+    pub fn max_lag_steps(&self) -> f64 {
+        self.max_lag / std::f64::consts::FRAC_PI_2
     }
 
     /// Full steps the rotor is off its command (a multiple of 4).
@@ -147,6 +226,7 @@ mod tests {
             rotor_teeth: w.rotor_teeth,
             detent_torque: 0.0,
             microsteps: None,
+            losses: StepperLosses::default(),
         };
         let envelope = Envelope::Stepper {
             curve: w.pull_out_curve(2.0, 24.0, 256, 0.05),
@@ -282,6 +362,55 @@ mod tests {
                 "T_L {load:.3}: holds at 1.05 × {crossing:.1} rad/s"
             );
         }
+    }
+
+    /// A rotor at rest one microstep off its command rings down about it at ω_n = √(N_r T_max
+    /// / J) with the amplitude falling as e^(−ζ ω_n t), ζ = b / (2√(k J)): the damping figures
+    /// of [`StepperDamping::of`] are those of the rotor's own motion (integrated at 1 µs).
+    #[test]
+    fn a_damped_rotor_rings_down_at_its_damping_ratio() {
+        let (d, e) = nema17();
+        let w = NEMA17_17HS16_2004S1;
+        let motor = crate::control::catalog::stepper(String::new(), &w, 2.0, 24.0, Some(16));
+        let losses = StepperLosses {
+            driver_bandwidth: Some(5000.0),
+            rotor_damping: 2e-4,
+            reducer_damping: 1e-4,
+            reducer_friction: 0.0,
+        };
+        let inertia = NEMA17_17HS16_2004S1_ROTOR;
+        let damping = StepperDamping::of(&motor, &losses, d.rotor_teeth, 1.0, inertia, 0.0);
+        let b = damping.electrical + 3e-4;
+        assert!((damping.ratio * damping.critical - b).abs() < 1e-15);
+        // integrate, record the peaks of the lag
+        let dt = 1e-6;
+        let (mut theta, mut omega) = (-d.microstep, 0.0);
+        let mut peaks = Vec::new();
+        let mut last = theta;
+        let mut rising = true;
+        for k in 0..200_000 {
+            let torque = d.torque(&e, theta, omega, 0.0) - b * omega;
+            omega += dt * torque / inertia;
+            theta += dt * omega;
+            if rising && theta < last && k > 0 {
+                peaks.push((k as f64 * dt, last));
+            }
+            rising = theta >= last;
+            last = theta;
+        }
+        let (t0, a0) = peaks[1];
+        let (t1, a1) = peaks[6];
+        let zeta_omega = (a0 / a1).ln() / (t1 - t0);
+        let period = (t1 - t0) / 5.0;
+        let omega_d = std::f64::consts::TAU / period;
+        let omega_n = damping.natural_frequency;
+        assert!((omega_d - omega_n).abs() < 0.01 * omega_n, "{omega_d} vs {omega_n}");
+        let zeta = zeta_omega / omega_n;
+        assert!(
+            (zeta - damping.ratio).abs() < 0.03 * damping.ratio,
+            "{zeta} vs {}",
+            damping.ratio
+        );
     }
 
     /// Pull-in (start–stop): the highest speed the motor can be started at from rest without

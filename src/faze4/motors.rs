@@ -15,7 +15,8 @@
 
 use crate::control::catalog::{
     NEMA14_14HS13_0804S, NEMA14_14HS13_0804S_ROTOR, NEMA17_17HS16_2004S1, NEMA17_17HS16_2004S1_ROTOR,
-    NEMA23_23HM22_2804S, NEMA23_23HM22_2804S_ROTOR, NEMA23_23HS22_1504S, NEMA23_23HS33_4008D, stepper,
+    NEMA23_23HM22_2804S, NEMA23_23HM22_2804S_ROTOR, NEMA23_23HS22_1504S, NEMA23_23HS22_1504S_ROTOR,
+    NEMA23_23HS33_4008D, NEMA23_23HS33_4008D_ROTOR, stepper,
 };
 use crate::control::{JointMotor, StepperWinding};
 
@@ -76,14 +77,30 @@ fn built(joint: usize, name: &str, winding: &StepperWinding, amps: f64, volts: f
 
 /// `--motors faze4-bom`: the built arm's motors on the joints the firmware gives them, at the
 /// electronics guide's driver currents and supplies (`supply` volts for every joint instead
-/// when given). Rotors not published (J1's 23HS22-1504S, J2's 23HS33-4008D) are left at the
-/// model's.
+/// when given). J1's and J2's NEMA23 rotors are same-frame proxies
+/// ([`NEMA23_23HS22_1504S_ROTOR`], [`NEMA23_23HS33_4008D_ROTOR`]); J1's 2.7 A is above its
+/// 1.5 A winding's rating, and its torque is taken at the holding torque
+/// ([`crate::control::StepperWinding::torque_current_limit`]).
 pub fn faze4_bom(supply: Option<f64>) -> Vec<Option<JointMotor>> {
     let v = supply.unwrap_or(SUPPLY_VOLTS);
     let j2 = supply.unwrap_or(J2_SUPPLY_VOLTS);
     vec![
-        Some(built(0, "23HS22-1504S", &NEMA23_23HS22_1504S, 2.7, v, None)),
-        Some(built(1, "23HS33-4008D", &NEMA23_23HS33_4008D, 2.7, j2, None)),
+        Some(built(
+            0,
+            "23HS22-1504S",
+            &NEMA23_23HS22_1504S,
+            2.7,
+            v,
+            Some(NEMA23_23HS22_1504S_ROTOR),
+        )),
+        Some(built(
+            1,
+            "23HS33-4008D",
+            &NEMA23_23HS33_4008D,
+            2.7,
+            j2,
+            Some(NEMA23_23HS33_4008D_ROTOR),
+        )),
         Some(built(
             2,
             "23HM22-2804S",
@@ -155,7 +172,8 @@ mod tests {
     }
 
     /// The built arm's standstill limits at the joint are K·I·r of each motor at the guide's
-    /// current: J1 (23HS22-1504S at 2.7 A) 36.9 N·m, J2 (23HS33-4008D at 2.7 A) 36.5, J3
+    /// current, at most its holding torque × r: J1 (23HS22-1504S at 2.7 A, above its
+    /// √2 × 1.5 A: its holding torque 1.16 N·m) 29.0 N·m, J2 (23HS33-4008D at 2.7 A) 36.5, J3
     /// (23HM22-2804S at 2.2 A) 10.5, J4 2.26, J5 2.10, J6 (14HS13 through the PG19 at 0.7 A)
     /// 2.14: J1–J3 far above the original's uniform limits, J6 below.
     #[test]
@@ -165,7 +183,11 @@ mod tests {
             let m = bom[j].as_ref().unwrap();
             m.motor.joint_limit(m.gear_ratio.unwrap())
         };
-        let k_i_r = |w: &StepperWinding, amps: f64, j: usize| w.torque_constant() * amps * GEAR_RATIO[j];
+        let k_i_r = |w: &StepperWinding, amps: f64, j: usize| {
+            w.torque_constant() * amps.min(w.torque_current_limit()) * GEAR_RATIO[j]
+        };
+        assert!(2.7 > NEMA23_23HS22_1504S.torque_current_limit());
+        assert!((k_i_r(&NEMA23_23HS22_1504S, 2.7, 0) - 1.16 * 25.0).abs() < 1e-12);
         let want = [
             k_i_r(&NEMA23_23HS22_1504S, 2.7, 0),
             k_i_r(&NEMA23_23HS33_4008D, 2.7, 1),
@@ -174,7 +196,7 @@ mod tests {
             k_i_r(&NEMA17_17HS16_2004S1, 1.2, 4),
             k_i_r(&NEMA14_14HS13_0804S, 0.7, 5),
         ];
-        for (j, (w, printed)) in want.iter().zip([36.9, 36.5, 10.5, 2.26, 2.10, 2.14]).enumerate() {
+        for (j, (w, printed)) in want.iter().zip([29.0, 36.5, 10.5, 2.26, 2.10, 2.14]).enumerate() {
             assert!((limit(j) - w).abs() < 1e-12 * w, "J{}: {} vs {w}", j + 1, limit(j));
             assert!(
                 (w - printed).abs() < 0.006 * printed,
@@ -182,7 +204,7 @@ mod tests {
                 j + 1
             );
         }
-        assert!(limit(0) > 4.0 * FAZE4_EFFORT[0] && limit(1) > 4.0 * FAZE4_EFFORT[1]);
+        assert!(limit(0) > 3.5 * FAZE4_EFFORT[0] && limit(1) > 4.0 * FAZE4_EFFORT[1]);
         assert!(limit(2) > 2.0 * FAZE4_EFFORT[2]);
         assert!(limit(5) < FAZE4_EFFORT[5], "J6 {}", limit(5));
         // the firmware's 0.9° motor is on J3, the 36 V supply on J2

@@ -63,6 +63,19 @@ pub fn sizing_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
     lines.push(format!(
         "inertia ratio: reflected load over rotor at the run's heaviest pose (! above the {INERTIA_RATIO_RULE}:1 rule of thumb)"
     ));
+    for (i, w) in (motors.iter().enumerate())
+        .filter_map(|(i, m)| Some((i, m.as_ref()?.sizing.winding_loss_w?)))
+        .filter(|(_, w)| w.above_rating)
+    {
+        lines.push(format!(
+            "J{}: driven at {} A, above its rating (both phases at {} A, {:.2} A): its torque is taken at its holding torque, the most its datasheet supports; its winding loss at {} A",
+            i + 1,
+            w.current,
+            w.rated_current,
+            std::f64::consts::SQRT_2 * w.rated_current,
+            w.current
+        ));
+    }
     lines.push(
         "heating: a stepper's chopper holds its current at any torque, so its winding loss R·I² is the driver's, shown against 2·R·I_r² at its rating; a DC motor's RMS torque against its continuous rating".into(),
     );
@@ -85,6 +98,9 @@ mod tests {
                 winding_loss_w: Some(WindingLoss {
                     at_drive: 4.4,
                     at_rating: 8.8,
+                    current: 2.7,
+                    rated_current: 1.5,
+                    above_rating: true,
                 }),
                 ..Sizing::default()
             },
@@ -111,5 +127,12 @@ mod tests {
         assert_eq!(ratio, ["44.0", "!", "-", "3.0"]);
         assert!(line("heating").contains("50 % loss") && line("heating").contains("50 % RMS"));
         assert!(line("supply A peak").ends_with('-'));
+        // a drive above its motor's rating is named, and so is what the model does with it
+        let above = line("J1: driven at 2.7 A");
+        assert!(
+            above.contains("1.5 A, 2.12 A") && above.contains("holding torque"),
+            "{above}"
+        );
+        assert!(!lines.iter().any(|l| l.starts_with("J3:")));
     }
 }

@@ -11,7 +11,7 @@ use crate::control::FeedForward;
 use crate::error::{Words, escape_controls, in_words, quoted, shortest};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
-use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
+use crate::sim::{MotorSummary, Reason, Recorder, Ringing, RunInfo, Sample, Summary, Verdict, percent};
 use crate::traj::{Interpolation, Playback};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
@@ -366,6 +366,18 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
         lines.push(text_row(
             "full steps lost",
             cell(&|m| m.steps_lost.map(|n| n.to_string())),
+        ));
+    }
+    if motors.iter().flatten().any(|m| m.ringing.is_some()) {
+        let ringing = |f: fn(&Ringing) -> String| cell(&move |m: &MotorSummary| m.ringing.as_ref().map(f));
+        lines.push(text_row("rings at (Hz)", ringing(|r| format!("{:.0}", r.natural_hz))));
+        lines.push(text_row(
+            "damping ratio",
+            ringing(|r| format!("{:.3}", r.damping_ratio)),
+        ));
+        lines.push(text_row(
+            "max lag (full steps)",
+            ringing(|r| format!("{:.2}", r.max_lag_steps)),
         ));
     }
     lines

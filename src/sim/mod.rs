@@ -3,11 +3,13 @@
 
 pub mod check;
 mod contact;
+mod margin;
 mod record;
 mod run;
 mod scenario;
 mod sizing;
 pub mod step;
+mod stepper_drive;
 mod stop;
 mod summary;
 mod timed;
@@ -15,6 +17,7 @@ mod verdict;
 mod warning;
 
 pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_STIFFNESS, SelfContact};
+pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
 pub use scenario::{
@@ -23,11 +26,12 @@ pub use scenario::{
 };
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};
+pub use stepper_drive::StepperOptions;
 pub use stop::{SIGPIPE, StopFlag, exit_status, stdout_closed};
 pub use summary::{
-    ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss,
-    Summary, ToolRange, ToolRule,
+    ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing, Simulated,
+    StepLoss, Summary, ToolRange, ToolRule,
 };
 pub use timed::{Play, TimedCommand};
-pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};
+pub use verdict::{Intersection, NearSlip, Reason, Thresholds, Verdict, percent};
 pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};

@@ -17,7 +17,7 @@ use crate::traj::Trajectory;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, ENVELOPE_MARGIN, Intersection, MotorSummary, PathDeviation, Recorder, RunInfo, Sample, Scenario,
+    Diverged, ENVELOPE_MARGIN, Intersection, MotorSummary, PathDeviation, Recorder, Ringing, RunInfo, Sample, Scenario,
     Simulated, SizingSums, StepLoss, StopFlag, Summary, ToolRange, Verdict, steps_per_record,
 };
 
@@ -224,6 +224,14 @@ impl Summary {
             motors: motors.map(|m| m.summary(sc, done)),
             ..Summary::default()
         };
+        if sc.slip_margins {
+            let margins = super::margin::margins(sc, &summary);
+            for (m, margin) in summary.motors.iter_mut().flatten().zip(margins) {
+                if let Some(ringing) = m.as_mut().and_then(|m| m.ringing.as_mut()) {
+                    ringing.slips_below = margin;
+                }
+            }
+        }
         let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
         let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
         summary.clearance_wall_time_s = clearance.as_ref().map(|c| c.elapsed.as_secs_f64());
@@ -429,7 +437,9 @@ impl StepMetrics {
         let State { q, v, .. } = state;
         for i in 0..q.len() {
             self.max_error[i] = self.max_error[i].max((q_cmd[i] - q[i]).abs());
-            self.saturated[i] += u64::from(sc.controller.saturated(i, tau_raw[i]));
+            // an open-loop stepper's torque is its curve's: no limit acts on it
+            let open_loop = step::stepper(sc, i).is_some();
+            self.saturated[i] += u64::from(!open_loop && sc.controller.saturated(i, tau_raw[i]));
             self.max_speed[i] = self.max_speed[i].max(v[i].abs());
             self.over_speed[i] += u64::from(v[i].abs() > sc.speed_limit[i]);
         }
@@ -476,7 +486,11 @@ impl MotorMetrics {
             let omega = ratio * p.state.v[i];
             let speed = omega.abs();
             self.max_speed[i] = self.max_speed[i].max(speed);
-            let tau_m = p.state.tau[i] / k;
+            // an open-loop stepper's own torque: its joint's τ_raw (τ adds the reducer's friction)
+            let tau_m = match step::stepper(sc, i) {
+                Some(_) => p.tau_raw[i] / k,
+                None => p.state.tau[i] / k,
+            };
             self.sum_sq[i] += tau_m * tau_m;
             let inertia = p.data.m[(i, i)] / (ratio * ratio);
             self.sizing[i].add(m, tau_m, omega, inertia, sc.dt);
@@ -532,6 +546,16 @@ impl MotorMetrics {
                         step_loss: self.lost[i],
                         steps_lost: drive.map(|_| slips.steps_lost()),
                         position_lost: drive.map(|d| slips.offset(d) / joint.gear_ratio),
+                        ringing: drive.map(|d| Ringing {
+                            natural_hz: d.damping.ring_hz(),
+                            damping_ratio: d.damping.ratio,
+                            electrical_damping: d.damping.electrical,
+                            rotor_damping: d.damping.rotor,
+                            reducer_damping: d.damping.reducer,
+                            reducer_friction: d.losses.reducer_friction,
+                            max_lag_steps: slips.max_lag_steps(),
+                            slips_below: None,
+                        }),
                         sizing: self.sizing[i].sizing(m, joint.rotor_inertia, done as f64 * sc.dt),
                     }
                 })

@@ -16,12 +16,10 @@
 use std::sync::Arc;
 
 use super::check::{count, non_negative, override_per_joint, positive};
-use super::warning::STEPPER_STEPS_PER_RADIAN;
+use super::stepper_drive::{self, StepperOptions};
 use super::{MeshSource, SelfContact, Thresholds, Warning, steps_per_record};
 use crate::algo::{Data, crba};
-use crate::control::{
-    DEFAULT_MICROSTEPS, Envelope, FeedForward, Gains, Motor, OpenLoopStepper, Pd, Stability, arithmetic_holds, tune,
-};
+use crate::control::{FeedForward, Motor, OpenLoopStepper, Pd, Stability, arithmetic_holds, tune};
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter, PathClearance};
 use crate::model::{FrameId, LoadWarning, Model};
@@ -95,22 +93,23 @@ pub struct Scenario {
     /// [`Drive::Stepper`]: per joint the open-loop drive of its stepper (`None` for a joint the
     /// PD drives); `None`: the PD drives every joint ([`Drive::Pd`]).
     pub stepper_drive: Option<Vec<Option<OpenLoopStepper>>>,
+    /// Under [`Drive::Stepper`], whether a slip's robustness is found by running again with
+    /// the joint's damping changed (the summary's `ringing.slips_below`; on by default;
+    /// off in those runs themselves).
+    pub slip_margins: bool,
 }
 
 /// How the joints are driven (`drive`).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub enum Drive {
     /// The PD controller's torque, clipped to each motor's envelope (the original's).
     #[default]
     Pd,
     /// The joints with a stepper driven open loop: the command is the microstep the driver
-    /// holds, the torque the stepper's torque–angle curve (docs/motors.md); the other joints
-    /// stay on the PD.
-    Stepper {
-        /// Microsteps per full step per joint (`microsteps`; an empty list, or `None` for a
-        /// joint, keeps the motor's own setting, else [`DEFAULT_MICROSTEPS`]).
-        microsteps: Vec<Option<u32>>,
-    },
+    /// holds, the torque the stepper's torque–angle curve, its rotor damped by its driver's
+    /// current loop, its own losses and its reducer's friction (docs/motors.md); the other
+    /// joints stay on the PD.
+    Stepper(StepperOptions),
 }
 
 /// How the joints with a stepper are driven (`drive`; the summary's `drive` of each motor).
@@ -443,7 +442,10 @@ impl ScenarioBuilder {
                 }
             }
         }
-        let stepper_drive = stepper_drive(&self.drive, self.motors.as_deref(), n)?;
+        let mut stepper_drive = match &self.drive {
+            Drive::Pd => None,
+            Drive::Stepper(options) => Some(stepper_drive::drives(options, self.motors.as_deref(), n)?),
+        };
         let steps = steps(self.duration, self.dt)?;
         check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
         // the arm without its payload, kept only to say which input overflows
@@ -474,6 +476,14 @@ impl ScenarioBuilder {
         }
         let effort = effort_limits(&model, self.effort.as_deref(), self.motors.as_deref());
         let q_start = start_pose(&model, &self.trajectory);
+        if let (Some(drives), Some(motors)) = (stepper_drive.as_mut(), self.motors.as_deref()) {
+            stepper_drive::damp(&mut model, motors, drives, &q_start);
+            if self.effort.is_some() {
+                warnings.push(Warning::IdleEffort {
+                    joints: idle_effort(drives),
+                });
+            }
+        }
         let (mut gains, m) = tune(&model, &q_start, &effort, self.dt);
         override_gains("kp", &mut gains.kp, &self.kp)?;
         override_gains("kd", &mut gains.kd, &self.kd)?;
@@ -499,13 +509,7 @@ impl ScenarioBuilder {
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
         }
-        if let Some(w) = coarse_stepper_step(
-            &model,
-            self.motors.as_deref(),
-            stepper_drive.as_deref(),
-            &gains,
-            self.dt,
-        ) {
+        if let Some(w) = (stepper_drive.as_deref()).and_then(|d| stepper_drive::coarse_step(&model, d, self.dt)) {
             warnings.push(w);
         }
         let speed_limit = speed_limits(&model, &self.max_speed)?;
@@ -538,89 +542,18 @@ impl ScenarioBuilder {
             self_contact: self.self_contact,
             motors: self.motors,
             stepper_drive,
+            slip_margins: true,
         })
     }
 }
 
-/// [`Drive::Stepper`]'s open-loop drive of each joint with a stepper (`None`: the PD drives):
-/// its microsteps `microsteps`' where given (≥ 1), else the motor's own, else
-/// [`DEFAULT_MICROSTEPS`].
-fn stepper_drive(
-    drive: &Drive,
-    motors: Option<&[Option<Motor>]>,
-    n: usize,
-) -> Result<Option<Vec<Option<OpenLoopStepper>>>> {
-    let Drive::Stepper { microsteps } = drive else {
-        return Ok(None);
-    };
-    let Some(motors) = motors else {
-        return Err(Error::option(
-            "drive",
-            "stepper drives the steppers of `motors`: give `motors`",
-        ));
-    };
-    if !microsteps.is_empty() {
-        count("microsteps", microsteps.len(), n)?;
-    }
-    let mut drives = Vec::with_capacity(n);
-    for (i, motor) in motors.iter().enumerate() {
-        let Some(m) = motor
-            .as_ref()
-            .filter(|m| matches!(m.envelope, Envelope::Stepper { .. }))
-        else {
-            drives.push(None);
-            continue;
-        };
-        let Some(stepping) = &m.stepping else {
-            return Err(Error::option(
-                "drive",
-                format!(
-                    "stepper: J{}'s stepper ({}) has no step angle: give its step_angle in the motors file",
-                    i + 1,
-                    m.label
-                ),
-            ));
-        };
-        let given = microsteps.get(i).copied().flatten();
-        if given == Some(0) {
-            return Err(Error::option("microsteps", format!("J{} 0 must be ≥ 1", i + 1)));
-        }
-        let m = given.or(stepping.microsteps).unwrap_or(DEFAULT_MICROSTEPS);
-        drives.push(Some(OpenLoopStepper::new(stepping, m)));
-    }
-    if drives.iter().all(Option::is_none) {
-        return Err(Error::option(
-            "drive",
-            "stepper: none of the joints' motors is a stepper",
-        ));
-    }
-    Ok(Some(drives))
-}
-
-/// The fastest-ringing open-loop stepper's [`Warning::CoarseStepperStep`], if its natural
-/// frequency ω_n = √(r²·η·N_r·T_max(0) / I), I the joint's effective inertia at the start pose,
-/// times Δt is above [`STEPPER_STEPS_PER_RADIAN`].
-fn coarse_stepper_step(
-    model: &Model,
-    motors: Option<&[Option<Motor>]>,
-    drives: Option<&[Option<OpenLoopStepper>]>,
-    gains: &Gains,
-    dt: f64,
-) -> Option<Warning> {
-    let (motors, drives) = (motors?, drives?);
-    let (i, omega) = (drives.iter().zip(motors).enumerate())
-        .filter_map(|(i, (d, m))| {
-            let (d, m) = (d.as_ref()?, m.as_ref()?);
-            let r = model.joints[i].gear_ratio;
-            let stiffness = r * r * m.efficiency * d.rotor_teeth * m.envelope.max_torque();
-            Some((i, (stiffness / gains.effective_inertia[i]).sqrt()))
-        })
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    (omega * dt > STEPPER_STEPS_PER_RADIAN).then(|| Warning::CoarseStepperStep {
-        joint: format!("J{} ({})", i + 1, crate::error::quoted(&model.joints[i].name)),
-        omega,
-        dt,
-    })
+/// The open-loop steppers' joints, for people (`J4, J6`), whose torque `effort` does not clip.
+fn idle_effort(drives: &[Option<OpenLoopStepper>]) -> String {
+    let joints: Vec<String> = (drives.iter().enumerate())
+        .filter(|(_, d)| d.is_some())
+        .map(|(i, _)| format!("J{}", i + 1))
+        .collect();
+    joints.join(", ")
 }
 
 /// The error of a scenario whose arithmetic overflows: the payload's (`payload_kg`) when the

@@ -49,6 +49,15 @@ pub struct WindingLoss {
     pub at_drive: f64,
     /// 2·R·I_r² at the rating.
     pub at_rating: f64,
+    /// The drive's phase current amplitude I (A).
+    pub current: f64,
+    /// The motor's rated phase current I_r (A).
+    pub rated_current: f64,
+    /// Whether the drive is set above √2·I_r, both phases at the rating, the most current whose
+    /// torque the datasheet supports: the torque is then taken at the holding torque
+    /// ([`crate::control::StepperWinding::torque_current_limit`]), the loss at the drive's
+    /// current.
+    pub above_rating: bool,
 }
 
 /// The sums and extremes behind one joint's [`Sizing`].
@@ -95,6 +104,9 @@ impl SizingSums {
                 Some(Electrics::Stepper { winding, current, .. }) => Some(WindingLoss {
                     at_drive: winding.resistance * current * current,
                     at_rating: winding.rated_loss(),
+                    current,
+                    rated_current: winding.rated_current,
+                    above_rating: current > winding.torque_current_limit(),
                 }),
                 _ => None,
             },

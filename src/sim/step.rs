@@ -130,7 +130,8 @@ pub fn controller(sc: &Scenario, s: &mut Step) {
 /// limits, and under `motors` to each motor's envelope at the joint's speed, r·η·bounds(r·q̇);
 /// under `drive` stepper a stepper's joint gets what its torque–angle curve gives at the
 /// rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw
-/// (an open-loop stepper asks for nothing else).
+/// (an open-loop stepper asks for nothing else), and its reducer's Coulomb friction
+/// (`friction`; the viscous losses are in the joint's damping).
 #[inline]
 pub fn actuation(sc: &Scenario, s: &mut Step) {
     let Some(motors) = &sc.motors else {
@@ -147,8 +148,8 @@ pub fn actuation(sc: &Scenario, s: &mut Step) {
             let tau_m = drive.torque(&m.envelope, ratio * s.state.q[i], omega, theta_cmd);
             let (lo, hi) = m.envelope.bounds(omega);
             s.bounds[i] = (k * lo, k * hi);
-            s.state.tau[i] = k * tau_m;
-            s.tau_raw[i] = s.state.tau[i];
+            s.tau_raw[i] = k * tau_m;
+            s.state.tau[i] = s.tau_raw[i] + friction(s, i, ratio * drive.losses.reducer_friction);
             continue;
         }
         let e = effort[i];
@@ -208,6 +209,21 @@ pub fn step(sc: &Scenario, s: &mut Step, t: f64) -> Result<()> {
     controller(sc, s);
     actuation(sc, s);
     integrate(sc, s, t)
+}
+
+/// The Coulomb friction (N·m at joint i) of a reducer whose friction is `most` at the joint,
+/// with the joint's torque `s.tau_raw[i]` held over the step: the torque that would stop the
+/// joint within the step, −(M_ii·v/Δt + τ − (C v + g)_i), within ±`most`. So a joint at rest
+/// stays there while the rest of its torque is within the friction (it sticks), and a moving
+/// joint is braked by `most` without being turned back. The joint alone: the other joints'
+/// accelerations through M's off-diagonal are left out of the estimate (docs/motors.md).
+#[inline]
+fn friction(s: &Step, i: usize, most: f64) -> f64 {
+    if most == 0.0 {
+        return 0.0;
+    }
+    let stop = -(s.data.m[(i, i)] * s.state.v[i] / s.state.dt + s.tau_raw[i] - s.data.bias[i]);
+    stop.clamp(-most, most)
 }
 
 /// Joint i's open-loop stepper under `drive` stepper.

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::{Scenario, Sizing, Verdict};
+use super::{Scenario, Sizing, SlipMargin, Verdict};
 use crate::control::{FeedForward, Gains};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
@@ -278,8 +278,38 @@ pub struct MotorSummary {
     /// commanded (rad or m; negative: behind).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub position_lost: Option<f64>,
+    /// Steppers under `--drive stepper`: how the rotor rang about its microstep, and whether a
+    /// slip survives the damping's uncertainty.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ringing: Option<Ringing>,
     /// The sizing report (`--sizing` prints it).
     pub sizing: Sizing,
+}
+
+/// How an open-loop stepper's rotor rang about its microstep (docs/motors.md, "The stepper's
+/// damping"), at the motor shaft where not said.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Ringing {
+    /// Its natural frequency at the start pose (Hz).
+    pub natural_hz: f64,
+    /// Its damping ratio ζ at the start pose: the joint's own damping and the drive's.
+    pub damping_ratio: f64,
+    /// Of the drive's damping, the driver's current loop on the winding (N·m·s/rad).
+    pub electrical_damping: f64,
+    /// The rotor's own viscous damping (N·m·s/rad).
+    pub rotor_damping: f64,
+    /// The reducer's viscous damping (N·m·s/rad).
+    pub reducer_damping: f64,
+    /// The reducer's Coulomb friction (N·m).
+    pub reducer_friction: f64,
+    /// The largest lag of the rotor from its nearest stable point (full steps: 1 is the
+    /// torque–angle curve's peak, 2 its unstable top, where it slips).
+    pub max_lag_steps: f64,
+    /// For a rotor that slipped, or came within a full step of it: the damping ratio below
+    /// which it slips (found by running again with the joint's damping changed), `"robust"`
+    /// when it slips even at [`crate::sim::ROBUST_DAMPING_RATIO`]; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slips_below: Option<SlipMargin>,
 }
 
 /// How far (relative) a demand must exceed the envelope to count as beyond it under the PD

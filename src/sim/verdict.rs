@@ -18,7 +18,7 @@ use std::fmt;
 use serde::{Serialize, Serializer};
 
 use super::check::non_negative;
-use super::{DriveMode, StepLoss, Summary};
+use super::{DriveMode, ROBUST_DAMPING_RATIO, Ringing, SlipMargin, StepLoss, Summary};
 use crate::choice::Choice;
 use crate::error::quoted;
 use crate::model::JointId;
@@ -147,6 +147,8 @@ pub enum Reason {
         position_lost: f64,
         /// Whether the joint is prismatic (the offset is metres).
         prismatic: bool,
+        /// How its rotor rang, and whether the slip survives more damping.
+        ringing: Option<Ringing>,
     },
     /// A joint's motor ran at an RMS torque above its continuous rating.
     Overheats {
@@ -242,15 +244,31 @@ impl fmt::Display for Reason {
                 steps_lost,
                 position_lost,
                 prismatic,
+                ringing,
             } => {
                 let unit = if prismatic { "m" } else { "rad" };
                 write!(f, "{joint}'s stepper slips at t = {t:.3} s")?;
                 match steps_lost {
-                    0 => write!(f, " and slips back: it ends on its command"),
+                    0 => write!(f, " and slips back: it ends on its command")?,
                     n => write!(
                         f,
                         ": {n} full steps lost, the joint off by {position_lost:.5} {unit} from then on"
+                    )?,
+                }
+                match ringing.and_then(|r| r.slips_below.map(|m| (r, m))) {
+                    Some((r, SlipMargin::Robust)) => write!(
+                        f,
+                        " (robust: it slips with its damping ratio {} raised to {ROBUST_DAMPING_RATIO})",
+                        ratio(r.damping_ratio)
                     ),
+                    Some((r, SlipMargin::Below(below))) => write!(
+                        f,
+                        " (marginal: it rings near its {:.0} Hz resonance, and slips only if its damping ratio is below {}; the model's is {})",
+                        r.natural_hz,
+                        ratio(below),
+                        ratio(r.damping_ratio)
+                    ),
+                    None => Ok(()),
                 }
             }
             Reason::Overheats { joint, rms, continuous } => write!(
@@ -265,6 +283,51 @@ impl fmt::Display for Reason {
 }
 
 impl Serialize for Reason {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// A damping ratio for people: three decimals (`0.031`), two significant digits below 0.01
+/// (`0.0025`).
+fn ratio(zeta: f64) -> String {
+    match zeta >= 0.01 {
+        true => format!("{zeta:.3}"),
+        false => format!("{zeta:.2e}"),
+    }
+}
+
+/// An open-loop stepper that followed but came near a slip: it rang past its torque–angle
+/// curve's peak, and slips with less damping (the verdict's `marginal`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NearSlip {
+    /// The joint.
+    pub joint: JointId,
+    /// How its rotor rang; its `slips_below` is a ratio.
+    pub ringing: Ringing,
+}
+
+impl fmt::Display for NearSlip {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let r = &self.ringing;
+        write!(
+            f,
+            "{}'s stepper rings near its {:.0} Hz resonance, up to {:.2} full steps off its microstep (it slips at 2)",
+            self.joint, r.natural_hz, r.max_lag_steps
+        )?;
+        if let Some(SlipMargin::Below(below)) = r.slips_below {
+            write!(
+                f,
+                ", and slips if its damping ratio is below {}; the model's is {}",
+                ratio(below),
+                ratio(r.damping_ratio)
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl Serialize for NearSlip {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
     }
@@ -314,6 +377,9 @@ pub struct Verdict {
     pub collides: bool,
     /// Every figure beyond its threshold (empty when the arm follows).
     pub reasons: Vec<Reason>,
+    /// The open-loop steppers that did not slip but came near, and would with less damping.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub marginal: Vec<NearSlip>,
 }
 
 impl Verdict {
@@ -374,6 +440,7 @@ impl Verdict {
                     steps_lost,
                     position_lost,
                     prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
+                    ringing: m.ringing,
                 });
             }
             if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {
@@ -392,10 +459,23 @@ impl Verdict {
                 limit: thresholds.max_deviation_mm,
             });
         }
+        let marginal = (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
+            .filter_map(|(joint, m)| {
+                let m = m.as_ref()?;
+                let ringing = m
+                    .ringing
+                    .filter(|r| matches!(r.slips_below, Some(SlipMargin::Below(_))))?;
+                m.loses_steps_at
+                    .flatten()
+                    .is_none()
+                    .then_some(NearSlip { joint, ringing })
+            })
+            .collect();
         Verdict {
             follows: reasons.is_empty(),
             collides: false,
             reasons,
+            marginal,
         }
     }
 
@@ -417,16 +497,22 @@ impl fmt::Display for Verdict {
     /// reasons.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.follows {
-            return write!(f, "verdict: follows");
+            write!(f, "verdict: follows")?;
+        } else {
+            let (collides, others): (Vec<&Reason>, Vec<&Reason>) =
+                (self.reasons.iter()).partition(|r| matches!(r, Reason::Collides { .. }));
+            let others: Vec<String> = others.iter().map(|r| r.to_string()).collect();
+            match collides.first() {
+                Some(c) if others.is_empty() => write!(f, "verdict: collides — {c}")?,
+                Some(c) => write!(f, "verdict: collides — {c}; cannot follow — {}", others.join("; "))?,
+                None => write!(f, "verdict: cannot follow — {}", others.join("; "))?,
+            }
         }
-        let (collides, others): (Vec<&Reason>, Vec<&Reason>) =
-            (self.reasons.iter()).partition(|r| matches!(r, Reason::Collides { .. }));
-        let others: Vec<String> = others.iter().map(|r| r.to_string()).collect();
-        match collides.first() {
-            Some(c) if others.is_empty() => write!(f, "verdict: collides — {c}"),
-            Some(c) => write!(f, "verdict: collides — {c}; cannot follow — {}", others.join("; ")),
-            None => write!(f, "verdict: cannot follow — {}", others.join("; ")),
+        if !self.marginal.is_empty() {
+            let near: Vec<String> = self.marginal.iter().map(|m| m.to_string()).collect();
+            write!(f, "; marginal — {}", near.join("; "))?;
         }
+        Ok(())
     }
 }
 

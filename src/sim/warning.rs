@@ -39,6 +39,12 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
+    /// Under [`super::Drive::Stepper`], `effort` was given: it does not clip the open-loop
+    /// steppers' torque (their torque is the torque–angle curve's), only the PD's joints'.
+    IdleEffort {
+        /// The open-loop steppers' joints, for people (`J1, J2`).
+        joints: String,
+    },
     /// Reading a trajectory file decided something the user should know (joints left out,
     /// recorded velocities used or not).
     Read {
@@ -117,6 +123,10 @@ impl fmt::Display for Warning {
                 std::f64::consts::TAU / (omega * dt),
                 shortest(fine_dt(*omega)),
                 std::f64::consts::TAU / (omega * fine_dt(*omega)),
+            ),
+            Warning::IdleEffort { joints } => write!(
+                f,
+                "warning: `effort` does not act on the open-loop steppers ({joints}) under `drive` stepper: their torque is their torque–angle curve's, and no saturation is counted for them"
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Trajectory(w) => write!(f, "warning: {w}"),
