@@ -476,7 +476,9 @@ fn masks_and_elision() {
 /// line prints: every `` `apt-get install …` `` of tests/browser.rs and tests/slurm.rs.
 #[test]
 fn the_readme_names_the_installs_the_optional_tests_ask_for() {
-    let readme = std::fs::read_to_string(repo_path("README.md")).unwrap().replace('\n', " ");
+    let readme = std::fs::read_to_string(repo_path("README.md"))
+        .unwrap()
+        .replace('\n', " ");
     for harness in ["tests/browser.rs", "tests/slurm.rs"] {
         let source = std::fs::read_to_string(repo_path(harness)).unwrap();
         let installs: Vec<&str> = (source.match_indices("`apt-get install "))
@@ -484,7 +486,10 @@ fn the_readme_names_the_installs_the_optional_tests_ask_for() {
             .collect();
         assert!(!installs.is_empty(), "{harness} names no `apt-get install`");
         for install in installs {
-            assert!(readme.contains(install), "the README does not say {install} ({harness}'s notice)");
+            assert!(
+                readme.contains(install),
+                "the README does not say {install} ({harness}'s notice)"
+            );
         }
         assert!(readme.contains(harness), "the README does not name {harness}");
     }
