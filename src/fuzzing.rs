@@ -215,22 +215,22 @@ pub const TRAJECTORY_LABELS: [&str; 4] = ["fuzz.yaml", "fuzz.json", "fuzz.mcap",
 /// MCAP slot reads any bag its bytes say (a ROS 1 bag, a rosbag2 SQLite database, zstd).
 /// Checks: an error is one line naming the file first; an accepted trajectory passes
 /// [`crate::traj::TimedTrajectory::check`] (at most [`crate::input::MAX_MOVING_JOINTS`] joints,
-/// two points or more, times increasing, every point as long as the names). `None` for no
-/// bytes.
+/// one point or more, times increasing from 0 or later, every point as long as the names).
+/// `None` for no bytes.
 pub fn trajectory_file(data: &[u8]) -> Option<Result<crate::traj::TimedTrajectory>> {
     use crate::traj::files::{Format, Selection, parse};
     let (&first, bytes) = data.split_first()?;
     let label = TRAJECTORY_LABELS[first as usize % 4];
     let path = Path::new(label);
     let format = Format::of(path).expect("a trajectory extension");
-    let result = parse(bytes, format, &Selection::default(), path);
+    let result = parse(bytes, format, &Selection::default(), path).map(|read| read.trajectory);
     match &result {
         Ok(t) => {
             if let Err(e) = t.check(path) {
                 panic!("an accepted trajectory fails its check: {e}");
             }
             assert!(t.joint_names.len() <= crate::input::MAX_MOVING_JOINTS);
-            assert!(t.points.len() >= 2);
+            assert!(!t.points.is_empty() && t.points[0].time_from_start >= 0.0);
             let n = t.joint_names.len();
             for (p, q) in t.points.iter().zip(&t.points[1..]) {
                 assert!(p.time_from_start < q.time_from_start, "{p:?} {q:?}");

@@ -14,6 +14,9 @@ from conftest import ROOT, run_binary, without_wall_times
 
 REPLAY = ROOT / "tests" / "fixtures" / "replay_q_traj.npy"
 ROTOR_ARM = ROOT / "tests" / "urdf" / "rotor_arm.urdf"
+ERD = ROOT / "tests" / "urdf" / "example_robot_data"
+MESSAGES = ROOT / "tests" / "fixtures" / "messages"
+LEROBOT = ROOT / "tests" / "fixtures" / "trajectories" / "lerobot"
 
 
 def words_of(options: dict) -> list[str]:
@@ -53,6 +56,42 @@ CASES = {
         {"shape": "tri", "duration": 3.0, "collision_geometry": "hull", "shape_points": 120},
     ),
     "urdf arm with rotors": ("wave", {"urdf": str(ROTOR_ARM)}, {"duration": 1.0, "amp_deg": 10.0}),
+    "replay, a goal from a start, cubic by the spline": (
+        "replay",
+        {"urdf": str(ERD / "ur5_robot.urdf")},
+        {
+            "q_traj": str(MESSAGES / "ur5_one_point_goal.yaml"),
+            "start": [0.0, -1.57, 0.0, 0.0, 0.0, 0.0],
+            "interpolation": "cubic",
+            "no_collisions": True,
+        },
+    ),
+    "replay, an FR3 echo renamed onto the Panda": (
+        "replay",
+        {"urdf": str(ERD / "panda.urdf")},
+        {"q_traj": str(MESSAGES / "fr3_joint_trajectory_echo.yaml"), "rename": "fr3_joint=panda_joint", "no_collisions": True},
+    ),
+    "replay, a LeRobot episode normalised by its calibration": (
+        "replay",
+        {"urdf": str(ERD / "so101.urdf")},
+        {
+            "q_traj": str(LEROBOT / "so101_v3"),
+            "episode": 1,
+            "calibration": str(LEROBOT / "so101_calibration.json"),
+            "no_collisions": True,
+        },
+    ),
+    "replay, a LeRobot v2.1 state in degrees": (
+        "replay",
+        {"urdf": str(ERD / "so101.urdf")},
+        {
+            "q_traj": str(LEROBOT / "so101_v21"),
+            "episode": 0,
+            "units": "deg",
+            "lerobot_key": "observation.state",
+            "no_collisions": True,
+        },
+    ),
 }
 
 
@@ -201,3 +240,15 @@ def test_sweep_rows_are_the_single_runs(binary, tmp_path):
             assert [flat[f"{field}_{i + 1}"] for i in range(6)] == row[field]
         # the binary's sweep shares the path's clearance as Python's does
         assert flat["clearance_min_m"] == row["clearance"]["min_m"]
+
+
+def test_rename_takes_the_repeated_options_list():
+    """`rename` is `--rename` given once per rule: a list of rules, or one text of rules
+    separated by commas; each rule must rename some joint."""
+    robot = faze4.Robot.faze4(urdf=str(ERD / "panda.urdf"))
+    echo = str(MESSAGES / "fr3_joint_trajectory_echo.yaml")
+    listed = faze4.replay(robot, echo, rename=["fr3_joint=panda_joint"], no_collisions=True)
+    joined = faze4.replay(robot, echo, rename="fr3_joint=panda_joint", no_collisions=True)
+    assert without_wall_times(listed.summary) == without_wall_times(joined.summary)
+    with pytest.raises(faze4.Error, match="rename: franka_=panda_: no joint of .* starts with 'franka_'"):
+        faze4.replay(robot, echo, rename=["fr3_joint=panda_joint", "franka_=panda_"], no_collisions=True)

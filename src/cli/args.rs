@@ -147,6 +147,7 @@ fn arg(field: &'static Field) -> Arg {
         Kind::Choice(words) => arg.value_parser(PossibleValuesParser::new(words)),
         Kind::Path => arg.value_parser(value_parser!(PathBuf)),
         Kind::Paths => arg.value_parser(value_parser!(PathBuf)).action(ArgAction::Append),
+        Kind::Texts => arg.action(ArgAction::Append),
         Kind::PerJoint | Kind::Numbers => arg.value_parser(parse_joint_values),
         Kind::Flag | Kind::Text | Kind::Center | Kind::Motors => arg,
     }

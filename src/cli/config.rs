@@ -56,6 +56,14 @@ fn value(field: &Field, matches: &ArgMatches) -> Value {
                 .cloned()
                 .collect(),
         ),
+        Kind::Texts => Value::Texts(
+            matches
+                .get_many::<String>(name)
+                .into_iter()
+                .flatten()
+                .cloned()
+                .collect(),
+        ),
         Kind::PerJoint | Kind::Numbers => Value::PerJoint(get::<JointValues>(matches, name).0),
         Kind::Text | Kind::Choice(_) | Kind::Center | Kind::Motors => Value::Text(get(matches, name)),
     }

@@ -17,6 +17,8 @@ use crate::choice::Choice;
 use crate::control::FeedForward;
 use crate::error::{Error, Result, Words, in_words, shortest};
 use crate::geometry::{ClearanceGeometry, PairFilter};
+use crate::traj::Interpolation;
+use crate::traj::files::Rename;
 use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
@@ -31,6 +33,8 @@ pub enum Kind {
     Count,
     /// A word or text.
     Text,
+    /// Several texts (a repeated option, `rename`).
+    Texts,
     /// One of a few words (a [`Choice`]'s).
     Choice(&'static [&'static str]),
     /// A file or directory.
@@ -50,7 +54,7 @@ pub enum Kind {
 /// A value for a field, of its [`Kind`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Value {
-    /// Not given: the field's default ([`Field::default`]).
+    /// Not given: the field's default (`Field::default`).
     Default,
     /// A flag.
     Flag(bool),
@@ -60,6 +64,8 @@ pub enum Value {
     Count(u64),
     /// A word or text (also a [`Kind::Choice`]'s word, a path's text, `mid`).
     Text(String),
+    /// Several texts.
+    Texts(Vec<String>),
     /// A path.
     Path(PathBuf),
     /// Several paths.
@@ -313,7 +319,7 @@ pub fn any_field(name: &str) -> Option<&'static Field> {
 
 impl RunConfig {
     /// Sets the field `name` to `value` (of the field's kind; [`Value::Default`] sets its
-    /// [`Field::default`]). An error names the field: unknown, not an option of this command,
+    /// `Field::default`). An error names the field: unknown, not an option of this command,
     /// or a value of another kind.
     pub fn set(&mut self, name: &str, value: Value) -> Result<()> {
         let command = self.motion.command();
@@ -350,6 +356,7 @@ fn wrong(name: &str, kind: Kind, value: &Value) -> Error {
         Value::Text(t) => format!("'{t}'"),
         Value::Path(p) => format!("'{}'", p.display()),
         Value::Paths(_) => "several paths".to_string(),
+        Value::Texts(_) => "several texts".to_string(),
         Value::PerJoint(v) => format!("{} values", v.len()),
         Value::Motors(_) => "motors".to_string(),
     };
@@ -366,6 +373,7 @@ pub fn kind_name(kind: Kind) -> String {
         Kind::Choice(words) => format!("one of {}", words.join(", ")),
         Kind::Path => "a path".into(),
         Kind::Paths => "paths".into(),
+        Kind::Texts => "texts".into(),
         Kind::PerJoint => "one value per joint".into(),
         Kind::Numbers => "one number per joint".into(),
         Kind::Center => "'mid' or one value per joint".into(),
@@ -714,6 +722,31 @@ pub const FIELDS: &[Field] = &[
     .value_name("NAME")
     .help("The topic of an .mcap file (default: its one JointTrajectory topic, else its one JointState topic)."),
     Field::new(
+        "rename",
+        Kind::Texts,
+        Commands::TRAJECTORY,
+        |c, v| {
+            let rules = match v {
+                Value::Text(t) => Rename::parse_list(&t)?,
+                Value::Texts(rules) => (rules.iter().map(|r| Rename::parse_list(r)))
+                    .collect::<Result<Vec<_>>>()?
+                    .concat(),
+                Value::Default => Vec::new(),
+                other => return Err(wrong("rename", Kind::Texts, &other)),
+            };
+            if let Some(r) = replay(c) {
+                r.rename = rules;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("FROM=TO")
+    .help(
+        "A joint-name prefix of the file renamed, FROM=TO (fr3_joint=panda_joint); repeatable, the first that fits \
+         a name applies.",
+    ),
+    Field::new(
         "episode",
         Kind::Count,
         Commands::TRAJECTORY,
@@ -785,6 +818,47 @@ pub const FIELDS: &[Field] = &[
     ),
     duration(Commands::REPLAY)
         .help("Simulated time (s); default: a time-stamped trajectory's last time, 8 s for a .npy."),
+    Field::new(
+        "start",
+        Kind::Numbers,
+        Commands::REPLAY,
+        |c, v| {
+            let start = match v {
+                Value::Default => None,
+                other => Some(all_given("start", &per_joint("start", other)?)?),
+            };
+            if let Motion::Replay(r) = &mut c.motion {
+                r.start = start;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("Q1,Q2,…")
+    .help(
+        "A time-stamped trajectory: where the arm starts, at rest, one value per joint (rad or m; default: the \
+         first point's positions). A first point at t > 0 is reached from it over that time, as \
+         joint_trajectory_controller plays a message from the arm's state.",
+    ),
+    Field::new(
+        "interpolation",
+        Kind::Choice(Interpolation::WORDS),
+        Commands::REPLAY,
+        |c, v| {
+            let rule = choose("interpolation", &v)?;
+            if let Motion::Replay(r) = &mut c.motion {
+                r.interpolation = rule;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .value_name("linear|cubic|quintic")
+    .help(
+        "A time-stamped trajectory: how its points are joined (default: as joint_trajectory_controller decides, by \
+         what the points give: linear with positions, cubic with velocities, quintic with accelerations). cubic on \
+         positions alone takes the velocities of the controller's positions_upsampling spline.",
+    ),
     // retime
     Field::new(
         "out",

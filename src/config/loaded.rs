@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use super::arm::{Arm, load_arm};
 use super::motors::{Motors, fit, resolve};
-use super::{ArmConfig, Center, Motion, ReplayConfig, RunConfig};
+use super::{ArmConfig, Center, Motion, ReplayConfig, RetimeConfig, RunConfig};
 use crate::atomic::Inputs;
 use crate::error::{Error, Result, quoted, shortest};
 use crate::faze4::{BOARD, SHAPE_PERIOD};
@@ -16,7 +16,7 @@ use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
-use crate::sim::{Collisions, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
+use crate::sim::{Collisions, Play, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
 use crate::traj::files::{self, Content, Selection};
 use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
 
@@ -68,10 +68,21 @@ impl Loaded {
         })?;
         let arm = fitted(&bare, &config.arm)?;
         let replay_read = replayed.is_none();
+        let model = &arm.robot.model;
         let (replay, read) = match (&config.motion, replayed) {
-            (Motion::Replay(_) | Motion::Retime(_), Some(given)) => (Some(given), ReadNotes::default()),
-            (Motion::Replay(r), None) => read_replay(r).map(|(r, read)| (Some(r), read))?,
-            (Motion::Retime(r), None) => read_replay(&r.path).map(|(r, read)| (Some(r), read))?,
+            (Motion::Replay(r) | Motion::Retime(RetimeConfig { path: r, .. }), Some(given)) => {
+                let given = match given {
+                    // arrays' names are renamed as a file's
+                    Replayed::Timed(mut t) => {
+                        files::reading::rename(&mut t, &r.rename, &r.q_traj)?;
+                        Replayed::Timed(t)
+                    }
+                    samples => samples,
+                };
+                (Some(given), ReadNotes::default())
+            }
+            (Motion::Replay(r), None) => read_replay(r, model).map(|(r, read)| (Some(r), read))?,
+            (Motion::Retime(r), None) => read_replay(&r.path, model).map(|(r, read)| (Some(r), read))?,
             _ => (None, ReadNotes::default()),
         };
         let plan = match &config.motion {
@@ -204,9 +215,23 @@ impl Loaded {
             ),
             Motion::Replay(r) => match &self.replay {
                 Some(Replayed::Timed(timed)) => {
-                    let timed = TimedCommand::new(model, timed, &r.q_traj).map_err(|e| self.with_limit_hint(e))?;
+                    let play = Play {
+                        start: r.start.clone(),
+                        interpolation: r.interpolation,
+                    };
+                    let timed =
+                        TimedCommand::new(model, timed, &r.q_traj, &play).map_err(|e| self.with_limit_hint(e))?;
                     command_warnings.extend(self.read.warnings.iter().cloned());
                     command_warnings.extend(timed.warning(&r.q_traj));
+                    if duration.is_none() && timed.duration == 0.0 {
+                        return Err(Error::option(
+                            "duration",
+                            format!(
+                                "{} lasts 0 s (one point at t = 0): give how long to hold it",
+                                r.q_traj.display()
+                            ),
+                        ));
+                    }
                     duration = duration.or(Some(timed.duration));
                     (timed.trajectory, self.command("replay"), None)
                 }
@@ -276,8 +301,9 @@ impl Loaded {
 
 /// What a replay's file holds ([`files::open`]: a time-stamped trajectory, a bag, a rosbag2
 /// folder, a LeRobot dataset, a `.npy`'s frames; `message`, `topic`, `episode` and the
-/// LeRobot options pick from it), and what reading said.
-fn read_replay(r: &ReplayConfig) -> Result<(Replayed, ReadNotes)> {
+/// LeRobot options pick from it, `rename` renames its joints, a recorded stream keeps
+/// `model`'s joints), and what reading said.
+fn read_replay(r: &ReplayConfig, model: &Model) -> Result<(Replayed, ReadNotes)> {
     let selection = Selection {
         message: r.message,
         topic: r.topic.clone(),
@@ -285,15 +311,38 @@ fn read_replay(r: &ReplayConfig) -> Result<(Replayed, ReadNotes)> {
         lerobot_key: r.lerobot_key.clone(),
         units: r.units,
         calibration: r.calibration.clone(),
+        rename: r.rename.clone(),
+        joints: Some(model.joints.iter().map(|j| j.name.clone()).collect()),
+        interpolation: r.interpolation,
     };
     let opened = files::open(&r.q_traj, &selection)?;
     let replayed = match opened.content {
         Content::Timed(timed) => Replayed::Timed(timed),
-        Content::Samples(frames) => Replayed::Samples(frames),
+        Content::Samples(frames) => {
+            let timed_only = [
+                (!r.rename.is_empty(), "rename"),
+                (r.start.is_some(), "start"),
+                (r.interpolation.is_some(), "interpolation"),
+            ];
+            if let Some((_, field)) = timed_only.iter().find(|(given, _)| *given) {
+                return Err(Error::option(
+                    field,
+                    "is for a time-stamped trajectory (.yaml, .json, .csv, a bag), not a .npy's frames",
+                ));
+            }
+            Replayed::Samples(frames)
+        }
     };
+    let source = r.q_traj.display().to_string();
+    let notes = (opened.notes.into_iter()).map(|note| Warning::Read {
+        source: source.clone(),
+        note,
+    });
     let read = ReadNotes {
         what: opened.what,
-        warnings: opened.warnings.into_iter().map(Warning::Trajectory).collect(),
+        warnings: (opened.warnings.into_iter().map(Warning::Trajectory))
+            .chain(notes)
+            .collect(),
         limit_hint: opened.limit_hint,
     };
     Ok((replayed, read))

@@ -202,7 +202,7 @@ impl Command {
     }
 
     /// The command's motion with every option at its default. The options the command
-    /// requires ([`Field::required`]: `q_traj`, `shape`) hold a placeholder (the path
+    /// requires (`Field::required`: `q_traj`, `shape`) hold a placeholder (the path
     /// `q_traj`, the circle) until they are set.
     pub fn motion(self) -> Motion {
         match self {
@@ -270,6 +270,13 @@ pub struct ReplayConfig {
     /// The topic of an `.mcap` file (`None`: its one JointTrajectory topic, else its one
     /// JointState topic).
     pub topic: Option<String>,
+    /// The file's joint-name prefixes renamed (`FROM=TO`, the first that fits a name).
+    pub rename: Vec<crate::traj::files::Rename>,
+    /// Where the arm starts a time-stamped trajectory, at rest (rad or m per degree of
+    /// freedom); `None`: the first point's positions.
+    pub start: Option<Vec<f64>>,
+    /// How a time-stamped trajectory's points are joined; `None`: by what they give.
+    pub interpolation: Option<crate::traj::Interpolation>,
     /// A LeRobot dataset's episode, from 0 (`None`: 0).
     pub episode: Option<usize>,
     /// A LeRobot dataset's column of joint values (`None`: `action`).
@@ -290,6 +297,9 @@ impl ReplayConfig {
             traj_period: DEFAULT_TRAJ_PERIOD,
             message: None,
             topic: None,
+            rename: Vec::new(),
+            start: None,
+            interpolation: None,
             episode: None,
             lerobot_key: None,
             units: None,

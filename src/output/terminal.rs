@@ -6,11 +6,13 @@ use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
 
 use super::format::{joint_header, row, text_row};
+use crate::choice::Choice;
 use crate::control::FeedForward;
-use crate::error::{Words, escape_controls, in_words, quoted};
+use crate::error::{Words, escape_controls, in_words, quoted, shortest};
 use crate::geometry::{ClearanceGeometry, ClearanceReport};
 use crate::model::{JointKind, ToolChoice};
 use crate::sim::{MotorSummary, Reason, Recorder, RunInfo, Sample, Summary, Verdict, percent};
+use crate::traj::{Interpolation, Playback};
 
 /// Simulated time between progress lines (s), unless a run asks for another.
 pub const PRINT_PERIOD: f64 = 0.5;
@@ -138,6 +140,31 @@ fn rate(hz: f64) -> String {
     }
 }
 
+/// The banner's line on a time-stamped trajectory: its points, their interpolation and why,
+/// where the arm starts and how it reaches the first point (options named in `words`).
+fn playback_line(p: &Playback, words: Words) -> String {
+    let why = match (p.interpolation_forced, p.interpolation) {
+        (true, _) => "`interpolation`",
+        (false, Interpolation::Linear) => "its points give positions",
+        (false, Interpolation::Cubic) => "its points give velocities",
+        (false, Interpolation::Quintic) => "its points give accelerations",
+    };
+    let approach = shortest(p.approach_s);
+    let start = match (p.start_given, p.approach_s > 0.0) {
+        (false, false) => "from the first point".to_string(),
+        (false, true) => format!("from the first point's positions, held {approach} s until its time"),
+        (true, true) => format!("from `start`, reaching the first point at {approach} s"),
+        (true, false) => "from `start`, the first point commanded at once (t = 0)".to_string(),
+    };
+    let line = format!(
+        "[faze4] trajectory: {} point{}, {} ({why}) · {start}",
+        p.points,
+        if p.points == 1 { "" } else { "s" },
+        p.interpolation.word()
+    );
+    in_words(&line, words)
+}
+
 /// Prints `line` on stdout, its control and bidirectional characters escaped: a name read
 /// from a file (robot, link, joint, path) can neither start a new line nor reorder this one.
 fn out(line: &str) -> crate::Result<()> {
@@ -197,6 +224,9 @@ impl Recorder for Terminal {
                 FeedForward::Full => "full feed-forward (the command's inverse dynamics)",
             }
         ))?;
+        if let Some(p) = run.playback {
+            out(&playback_line(p, self.words))?;
+        }
         let gains = run.gains;
         out(&joint_header(m.dof()))?;
         out(&row("torque limit (N·m)", gains.effort.iter().copied()))?;

@@ -121,6 +121,14 @@ fn value(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Value> {
             _ => return Err(bad()),
         },
         Kind::Text | Kind::Choice(_) => Value::Text(text().ok_or_else(bad)?),
+        Kind::Texts => match text() {
+            Some(t) => Value::Text(t),
+            None => Value::Texts(
+                (obj.try_iter().map_err(|_| bad())?)
+                    .map(|item| item.and_then(|i| i.extract::<String>()).map_err(|_| bad()))
+                    .collect::<PyResult<_>>()?,
+            ),
+        },
         Kind::Path => match (text(), path()) {
             (Some(t), _) => Value::Text(t),
             (None, Some(p)) => Value::Path(p),
@@ -867,7 +875,7 @@ fn kind_word(kind: Kind) -> &'static str {
         Kind::Flag => "flag",
         Kind::Number => "float",
         Kind::Count => "int",
-        Kind::Text | Kind::Choice(_) | Kind::Center | Kind::Motors => "str",
+        Kind::Text | Kind::Texts | Kind::Choice(_) | Kind::Center | Kind::Motors => "str",
         Kind::Path | Kind::Paths => "path",
         Kind::PerJoint | Kind::Numbers => "joints",
     }
@@ -906,7 +914,7 @@ fn _options(command: &str) -> PyResult<Vec<OptionTuple>> {
             (
                 f.name,
                 kind_word(f.kind),
-                f.kind == Kind::Paths,
+                matches!(f.kind, Kind::Paths | Kind::Texts),
                 f.required,
                 f.default.shown(),
                 choices,

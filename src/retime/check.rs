@@ -14,7 +14,7 @@ use crate::control::Motor;
 use crate::error::Result;
 use crate::geometry::CollisionSet;
 use crate::model::Model;
-use crate::sim::{Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, TimedCommand, run};
+use crate::sim::{Play, Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, TimedCommand, run};
 use crate::traj::{TimedTrajectory, Trajectory};
 
 /// The command `faze4 replay` makes of `trajectory` (the file retime writes) on `model`: the
@@ -22,7 +22,7 @@ use crate::traj::{TimedTrajectory, Trajectory};
 /// duration, the last point's time (replay's default). The check plays exactly this, so the
 /// file plays back to the check's verdict.
 pub fn command(model: &Model, trajectory: &TimedTrajectory) -> Result<(Trajectory, f64)> {
-    let timed = TimedCommand::new(model, trajectory, Path::new("retime"))?;
+    let timed = TimedCommand::new(model, trajectory, Path::new("retime"), &Play::default())?;
     Ok((timed.trajectory, timed.duration))
 }
 

@@ -28,6 +28,6 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss,
     Summary, ToolRange, ToolRule,
 };
-pub use timed::TimedCommand;
+pub use timed::{Play, TimedCommand};
 pub use verdict::{Intersection, Reason, Thresholds, Verdict, percent};
 pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};

@@ -29,7 +29,7 @@ pub struct RunInfo<'a> {
     pub gains: &'a Gains,
     /// What the controller feeds forward.
     pub feedforward: crate::control::FeedForward,
-    /// The start state q (= q_cmd(0)).
+    /// The start state q (q_cmd(0), or a time-stamped trajectory's start).
     pub start_q: &'a [f64],
     /// For shapes: the drawing board.
     pub board: Option<&'a Board>,
@@ -40,6 +40,8 @@ pub struct RunInfo<'a> {
     pub collision_pairs: &'a [[FrameId; 2]],
     /// `--motors`: per joint its motor (`None` without one); `None`: no motors.
     pub motors: Option<&'a [Option<crate::control::Motor>]>,
+    /// A time-stamped trajectory's playback: its start and approach.
+    pub playback: Option<&'a crate::traj::Playback>,
 }
 
 /// The state of the run after `step` steps (t = step·Δt), with the torque computed from it.

@@ -67,6 +67,10 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
         reference_path: sc.shape.as_ref().map(|s| s.reference.as_slice()),
         collision_pairs: &collision_pairs,
         motors: sc.motors.as_deref(),
+        playback: match &sc.trajectory {
+            Trajectory::Spline(s) => s.playback(),
+            _ => None,
+        },
     };
     for r in recorders.iter_mut() {
         r.begin(&info)?;
@@ -183,6 +187,10 @@ impl Summary {
             feed_forward: sc.controller.feedforward,
             interpolation: match &sc.trajectory {
                 Trajectory::Spline(s) => Some(s.interpolation()),
+                _ => None,
+            },
+            playback: match &sc.trajectory {
+                Trajectory::Spline(s) => s.playback().cloned(),
                 _ => None,
             },
             max_tracking_error_rad: steps.max_error,

@@ -715,11 +715,12 @@ pub fn effort_limits(model: &Model, given: Option<&[f64]>, motors: Option<&[Opti
     }
 }
 
-/// The command's start pose q_cmd(0), where the run starts and the gains are tuned.
+/// The command's start pose (q_cmd(0), or a message's start), where the run starts and the
+/// gains are tuned.
 fn start_pose(model: &Model, trajectory: &Trajectory) -> Vec<f64> {
     let n = model.dof();
     let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-    trajectory.eval(0.0, &mut q, &mut v);
+    trajectory.start_state(&mut q, &mut v);
     q
 }
 

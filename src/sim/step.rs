@@ -68,13 +68,13 @@ pub struct Step {
 }
 
 impl Step {
-    /// At the command's start (q, v) at t = 0, at rest in every other respect; under `drive`
+    /// In the command's start state ([`crate::traj::Trajectory::start_state`]), at rest in every other respect; under `drive`
     /// stepper, each stepper's joint at its static lag behind the first microstep.
     pub fn new(sc: &Scenario) -> Self {
         let model = &sc.model;
         let n = model.dof();
         let mut state = State::new(model, sc.dt);
-        sc.trajectory.eval(0.0, &mut state.q, &mut state.v);
+        sc.trajectory.start_state(&mut state.q, &mut state.v);
         let mut data = Data::new(model);
         settle_steppers(sc, &mut data, &mut state);
         let contact = (sc.self_contact.zip(sc.collision_set.clone()))

@@ -183,6 +183,12 @@ pub struct Summary {
     /// `"quintic"`); absent for the other commands.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interpolation: Option<Interpolation>,
+    /// A time-stamped trajectory's playback (`"playback": {"start": [rad or m…], "start_given",
+    /// "approach_s", "interpolation_forced", "points"}`): where the arm started, and the time
+    /// it had to reach the first point; absent for the other commands and for a trajectory
+    /// built without one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub playback: Option<crate::traj::Playback>,
     /// max over steps of |q_cmd − q| per joint (rad or m).
     pub max_tracking_error_rad: Vec<f64>,
     /// Share of steps with |τ_raw| ≥ E per joint (%).

@@ -39,6 +39,14 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
+    /// Reading a trajectory file decided something the user should know (joints left out,
+    /// recorded velocities used or not).
+    Read {
+        /// The trajectory's file.
+        source: String,
+        /// What was decided.
+        note: crate::traj::files::Note,
+    },
     /// What reading the trajectory noticed (a LeRobot dataset's gripper column left out).
     Trajectory(String),
     /// Under [`super::Drive::Stepper`], a stepper's rotor rings faster than Δt resolves well:
@@ -75,7 +83,10 @@ impl Warning {
     /// out, a transmission skipped, an inertia balanced): such a warning is printed even under
     /// `-q`.
     pub fn changes_result(&self) -> bool {
-        matches!(self, Warning::Clearance(_) | Warning::Model(_))
+        match self {
+            Warning::Read { note, .. } => note.changes_result(),
+            _ => matches!(self, Warning::Clearance(_) | Warning::Model(_)),
+        }
     }
 }
 
@@ -110,6 +121,7 @@ impl fmt::Display for Warning {
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Trajectory(w) => write!(f, "warning: {w}"),
             Warning::Model(w) => write!(f, "warning: {w}"),
+            Warning::Read { source, note } => write!(f, "warning: {source}: {note}"),
             Warning::HeldJoints { source, joints } => write!(
                 f,
                 "warning: {source} gives no values for {}: {} its start position with zero velocity",

@@ -124,7 +124,7 @@ impl Scale {
         let model = &scenario.model;
         let n = model.dof();
         let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-        scenario.trajectory.eval(0.0, &mut q, &mut v);
+        scenario.trajectory.start_state(&mut q, &mut v);
         let m = crate::algo::crba(model, &mut crate::algo::Data::new(model), &q).clone();
         let gains = &scenario.controller.gains;
         let damping: Vec<f64> = model.damping().collect();

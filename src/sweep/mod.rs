@@ -1,7 +1,7 @@
 //! Sweeps: many runs of one experiment with some options varied over a grid, run on every
 //! core, each run a row of a table; the search for the largest (or smallest) value of an option
 //! at which the arm still follows; and the deterministic parts (shards) a sweep splits into
-//! for a cluster's job array. No command line here: [`crate::cli`] and the Python binding map
+//! for a cluster's job array. No command line here: the binary's `cli` and the Python binding map
 //! their arguments onto this.
 
 mod base;

@@ -14,7 +14,7 @@ mod wave;
 
 pub use linear::{Interpolated, Wrap};
 pub use shape_plan::ShapeRun;
-pub use spline::Spline;
+pub use spline::{Playback, Spline};
 pub use timed::{HeldJoint, Interpolation, TimedTrajectory, TrajectoryPoint};
 pub use wave::Wave;
 
@@ -55,6 +55,15 @@ impl Trajectory {
                 a.fill(0.0);
             }
             Trajectory::Spline(s) => s.eval_with_acceleration(t, q, v, a),
+        }
+    }
+
+    /// The state a run of it starts in: the command's at t = 0, or for a message played from
+    /// a start, at rest there ([`Spline::start_state`]).
+    pub fn start_state(&self, q: &mut [f64], v: &mut [f64]) {
+        match self {
+            Trajectory::Spline(s) => s.start_state(q, v),
+            _ => self.eval(0.0, q, v),
         }
     }
 

@@ -2,7 +2,40 @@
 //! (`joint_trajectory_controller/src/trajectory.cpp`, `Trajectory::sample` and
 //! `Trajectory::interpolate_between_points`; docs/trajectories.md).
 
+use serde::Serialize;
+
 use super::{Interpolation, TimedTrajectory};
+
+/// How a time-stamped trajectory is played, as joint_trajectory_controller plays a message it
+/// receives (docs/trajectories.md): from the state the arm is in, to the first point at its
+/// time, then through the points.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Playback {
+    /// How the points are joined (the summary's `interpolation`, beside it).
+    #[serde(skip)]
+    pub interpolation: Interpolation,
+    /// Whether `interpolation` was given (`--interpolation`) rather than chosen by what the
+    /// points give.
+    pub interpolation_forced: bool,
+    /// Where the arm starts, at rest (rad or m per degree of freedom): the start given
+    /// (`--start`), else the first point's positions.
+    pub start: Vec<f64>,
+    /// Whether `start` was given.
+    pub start_given: bool,
+    /// The first point's time (s): the arm goes from the start to the first point over it
+    /// (held there when the start is the first point); 0: no approach.
+    pub approach_s: f64,
+    /// The trajectory's own points (the approach's start not counted).
+    pub points: usize,
+}
+
+impl Playback {
+    /// Whether the arm starts at rest at [`Playback::start`] rather than in the command's state
+    /// at t = 0: with an approach, or a start given (then a first point at t = 0 is a step).
+    pub fn starts_at_rest(&self) -> bool {
+        self.approach_s > 0.0 || self.start_given
+    }
+}
 
 /// The points of a [`TimedTrajectory`] joined by polynomials, times shifted so that the first
 /// point is at t = 0. Between points i and i + 1, with τ = t − tᵢ and T = tᵢ₊₁ − tᵢ, each joint
@@ -32,14 +65,16 @@ pub struct Spline {
     /// The last point's positions (rad or m), held after the last time.
     last: Vec<f64>,
     interpolation: Interpolation,
+    /// How it is played, when it is a message's playback ([`Spline::played`]).
+    playback: Option<Playback>,
 }
 
 impl Spline {
     /// The spline through `trajectory`'s points, in its joint order; the trajectory must pass
-    /// [`TimedTrajectory::check`] (this panics on fewer than 2 points).
+    /// [`TimedTrajectory::check`] (this panics on no points; one point is held from t = 0).
     pub fn new(trajectory: &TimedTrajectory) -> Spline {
         let points = &trajectory.points;
-        assert!(points.len() >= 2);
+        assert!(!points.is_empty());
         let n = trajectory.joint_names.len();
         let interpolation = trajectory.interpolation();
         let t0 = points[0].time_from_start;
@@ -69,6 +104,33 @@ impl Spline {
             times,
             coefficients,
             interpolation,
+            playback: None,
+        }
+    }
+
+    /// The spline through `trajectory` (its first point at t = 0, the approach's start when
+    /// there is one), played as `playback` says: the run starts in the state
+    /// [`Spline::start_state`] gives. A trajectory of one point holds it.
+    pub fn played(trajectory: &TimedTrajectory, playback: Playback) -> Spline {
+        let mut spline = Spline::new(trajectory);
+        spline.playback = Some(playback);
+        spline
+    }
+
+    /// How it is played, when it is a message's playback.
+    pub fn playback(&self) -> Option<&Playback> {
+        self.playback.as_ref()
+    }
+
+    /// The state the run starts in: at rest at the start when the playback says so
+    /// ([`Playback::starts_at_rest`]), else the command's own at t = 0.
+    pub fn start_state(&self, q: &mut [f64], v: &mut [f64]) {
+        match &self.playback {
+            Some(p) if p.starts_at_rest() => {
+                q.copy_from_slice(&p.start);
+                v.fill(0.0);
+            }
+            _ => self.eval(0.0, q, v),
         }
     }
 

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use ndarray::ArrayView2;
 
+use crate::choice::Choice;
 use crate::error::{Error, Result, quoted, shortest};
 use crate::input::MAX_MOVING_JOINTS;
 
@@ -49,16 +50,7 @@ pub enum Interpolation {
     Quintic,
 }
 
-impl Interpolation {
-    /// `linear`, `cubic` or `quintic`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Interpolation::Linear => "linear",
-            Interpolation::Cubic => "cubic",
-            Interpolation::Quintic => "quintic",
-        }
-    }
-}
+crate::choice::choice_words!(Interpolation { Linear => "linear", Cubic => "cubic", Quintic => "quintic" });
 
 /// A model joint a trajectory does not name (see [`TimedTrajectory::in_joint_order`]): it holds
 /// `position` with zero velocity and acceleration.
@@ -149,7 +141,9 @@ impl TimedTrajectory {
     }
 
     /// Checks that the trajectory can be played: at least one joint, each named once; at least
-    /// 2 points; finite times, strictly increasing; every point with one position per joint,
+    /// one point (one point is a goal: the arm is brought to it, as joint_trajectory_controller
+    /// does); finite times, the first not before the start (0), strictly increasing; every
+    /// point with one position per joint,
     /// and velocities and accelerations given at every point or at none (one per joint where
     /// given; accelerations only with velocities); every value finite. The first fault is the
     /// error, `source` naming the file.
@@ -172,10 +166,15 @@ impl TimedTrajectory {
                 return Err(bad(format!("names joint {} twice", quoted(name))));
             }
         }
-        if self.points.len() < 2 {
-            return Err(bad(format!("needs at least 2 points, found {}", self.points.len())));
+        let Some(first) = self.points.first() else {
+            return Err(bad("has no points".into()));
+        };
+        if first.time_from_start < 0.0 {
+            return Err(bad(format!(
+                "point 0: time_from_start {} s is before the trajectory's start (0): joint_trajectory_controller would begin in its middle",
+                shortest(first.time_from_start)
+            )));
         }
-        let first = &self.points[0];
         let given = |v: &Vec<f64>| !v.is_empty();
         if given(&first.accelerations) && !given(&first.velocities) {
             return Err(bad(
@@ -233,6 +232,49 @@ impl TimedTrajectory {
         }
     }
 
+    /// The same points joined by `rule` instead of by what they give (`--interpolation`):
+    /// linear leaves out velocities and accelerations; cubic leaves out accelerations and,
+    /// where the points give no velocities, takes those of joint_trajectory_controller's
+    /// `positions_upsampling` ([`fill_cubic_spline_velocities`]: the global cubic spline
+    /// through the positions, at rest at both ends; one point gets velocity 0); quintic needs
+    /// the accelerations the points give (an error names what they give instead). `self` must
+    /// be checked; `source` names it in the error.
+    pub fn with_interpolation(&self, rule: Interpolation, source: &Path) -> Result<TimedTrajectory> {
+        let given = self.interpolation();
+        let mut out = self.clone();
+        match rule {
+            Interpolation::Linear => {
+                for p in &mut out.points {
+                    p.velocities.clear();
+                    p.accelerations.clear();
+                }
+            }
+            Interpolation::Cubic => {
+                for p in &mut out.points {
+                    p.accelerations.clear();
+                }
+                if given == Interpolation::Linear {
+                    fill_cubic_spline_velocities(&mut out);
+                }
+            }
+            Interpolation::Quintic if given != Interpolation::Quintic => {
+                return Err(Error::InvalidData {
+                    path: source.to_path_buf(),
+                    message: format!(
+                        "`interpolation` quintic needs accelerations at every point; its points give {} (joint_trajectory_controller plays them {})",
+                        match given {
+                            Interpolation::Linear => "positions only",
+                            _ => "positions and velocities",
+                        },
+                        given.word()
+                    ),
+                });
+            }
+            Interpolation::Quintic => {}
+        }
+        Ok(out)
+    }
+
     /// The time the points span, last time minus first (s): the run's default duration.
     pub fn duration(&self) -> f64 {
         match (self.points.first(), self.points.last()) {
@@ -279,7 +321,7 @@ impl TimedTrajectory {
             };
             let Some(i) = joints.iter().position(|j| j == name).or_else(by_position) else {
                 return Err(bad(format!(
-                    "names joint {}, which the model does not have (its joints: {})",
+                    "names joint {}, which the model does not have (its joints: {}; `rename` FROM=TO maps a prefix of the file's names to the model's)",
                     quoted(name),
                     joints.iter().map(|j| quoted(j)).collect::<Vec<_>>().join(", ")
                 )));
@@ -325,6 +367,53 @@ impl TimedTrajectory {
     }
 }
 
+/// Velocities for positions-only points, as joint_trajectory_controller's `positions_upsampling`
+/// makes them (`fill_cubic_spline_velocities` in
+/// `joint_trajectory_controller/src/trajectory.cpp`, ros2_controllers): per joint, the knot
+/// velocities of the global cubic spline through the positions (continuous acceleration at
+/// every inner point) at rest at both ends, solved by the Thomas algorithm in the controller's
+/// order of operations. One point gets velocity 0.
+pub fn fill_cubic_spline_velocities(trajectory: &mut TimedTrajectory) {
+    let n = trajectory.points.len();
+    let joints = trajectory.joint_names.len();
+    for p in &mut trajectory.points {
+        p.velocities = vec![0.0; joints];
+    }
+    if n < 2 {
+        return;
+    }
+    let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();
+    let (mut lower, mut diagonal, mut upper, mut rhs) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut sweep, mut velocities) = (vec![0.0; n], vec![0.0; n]);
+    for joint in 0..joints {
+        let q = |i: usize| trajectory.points[i].positions[joint];
+        // rest at both ends
+        (diagonal[0], upper[0], rhs[0]) = (1.0, 0.0, 0.0);
+        (lower[n - 1], diagonal[n - 1], rhs[n - 1]) = (0.0, 1.0, 0.0);
+        // inner knots: continuous acceleration
+        for i in 1..n - 1 {
+            let (before, after) = (times[i] - times[i - 1], times[i + 1] - times[i]);
+            lower[i] = 1.0 / before;
+            diagonal[i] = 2.0 * (1.0 / before + 1.0 / after);
+            upper[i] = 1.0 / after;
+            rhs[i] = 3.0 * ((q(i + 1) - q(i)) / (after * after) + (q(i) - q(i - 1)) / (before * before));
+        }
+        sweep[0] = upper[0] / diagonal[0];
+        velocities[0] = rhs[0] / diagonal[0];
+        for i in 1..n {
+            let pivot = diagonal[i] - lower[i] * sweep[i - 1];
+            sweep[i] = if i + 1 < n { upper[i] / pivot } else { 0.0 };
+            velocities[i] = (rhs[i] - lower[i] * velocities[i - 1]) / pivot;
+        }
+        for i in (0..n - 1).rev() {
+            velocities[i] -= sweep[i] * velocities[i + 1];
+        }
+        for (p, &v) in trajectory.points.iter_mut().zip(&velocities) {
+            p.velocities[joint] = v;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -366,8 +455,13 @@ mod tests {
         t.joint_names[1] = "b".into();
         assert!(message(&t).contains("names joint 'b' twice"));
         let mut t = two_joints();
+        t.points.clear();
+        assert!(message(&t).contains("has no points"));
+        let mut t = two_joints();
         t.points.pop();
-        assert!(message(&t).contains("at least 2 points, found 1"));
+        assert!(t.check(Path::new("f")).is_ok(), "one point is a goal");
+        t.points[0].time_from_start = -0.25;
+        assert!(message(&t).contains("point 0: time_from_start -0.25 s is before the trajectory's start (0)"));
         assert!(two_joints().check(Path::new("f")).is_ok());
     }
 
@@ -405,7 +499,7 @@ mod tests {
             .to_string();
         assert_eq!(
             e,
-            "f: names joint 'x', which the model does not have (its joints: 'a', 'b')"
+            "f: names joint 'x', which the model does not have (its joints: 'a', 'b'; `rename` FROM=TO maps a prefix of the file's names to the model's)"
         );
         t.joint_names = vec!["q2".into(), "q1".into()];
         let (o, held) = t.in_joint_order(&joints, &[0.0; 2], Path::new("f")).unwrap();
@@ -446,6 +540,84 @@ mod tests {
         let joints: Vec<String> = ["a", "b"].map(String::from).to_vec();
         let (ordered, _) = t.in_joint_order(&joints, &[0.0; 2], source).unwrap();
         assert_eq!(ordered.points[2].positions, [2.0, 1.0]);
+    }
+
+    /// `positions_upsampling`'s velocities make the cubic spline C²: at every inner point the
+    /// acceleration from the left segment equals the one from the right; at rest at both ends.
+    #[test]
+    fn spline_velocities_are_continuous_in_acceleration() {
+        let times = [0.0, 0.3, 0.5, 1.1, 1.4];
+        let q = [0.0, 0.4, 0.1, -0.7, 0.2];
+        let mut t = TimedTrajectory {
+            joint_names: vec!["a".into()],
+            points: (times.iter().zip(q)).map(|(&t, q)| point(t, &[q])).collect(),
+        };
+        fill_cubic_spline_velocities(&mut t);
+        let v: Vec<f64> = t.points.iter().map(|p| p.velocities[0]).collect();
+        assert_eq!((v[0], v[4]), (0.0, 0.0));
+        // a cubic Hermite segment's acceleration at its start and end
+        let accelerations = |i: usize| {
+            let h = times[i + 1] - times[i];
+            let d = (q[i + 1] - q[i]) / h;
+            (
+                (6.0 * d - 4.0 * v[i] - 2.0 * v[i + 1]) / h,
+                (-6.0 * d + 2.0 * v[i] + 4.0 * v[i + 1]) / h,
+            )
+        };
+        for i in 1..4 {
+            let (end_before, start_after) = (accelerations(i - 1).1, accelerations(i).0);
+            assert!(
+                (end_before - start_after).abs() < 1e-12,
+                "point {i}: {end_before} {start_after}"
+            );
+        }
+        let mut one = two_joints();
+        one.points.pop();
+        fill_cubic_spline_velocities(&mut one);
+        assert_eq!(one.points[0].velocities, [0.0, 0.0]);
+    }
+
+    #[test]
+    fn a_given_interpolation_keeps_or_fills_what_it_needs() {
+        let source = Path::new("f.yaml");
+        let mut quintic = two_joints();
+        for p in &mut quintic.points {
+            p.velocities = vec![1.0, 2.0];
+            p.accelerations = vec![3.0, 4.0];
+        }
+        let linear = quintic.with_interpolation(Interpolation::Linear, source).unwrap();
+        assert_eq!(linear.interpolation(), Interpolation::Linear);
+        let cubic = quintic.with_interpolation(Interpolation::Cubic, source).unwrap();
+        assert_eq!(
+            (cubic.interpolation(), cubic.points[1].velocities.clone()),
+            (Interpolation::Cubic, vec![1.0, 2.0])
+        );
+        let filled = two_joints().with_interpolation(Interpolation::Cubic, source).unwrap();
+        assert_eq!(
+            filled.points[0].velocities,
+            [0.0, 0.0],
+            "two points: at rest at both ends"
+        );
+        assert_eq!(
+            quintic.with_interpolation(Interpolation::Quintic, source).unwrap(),
+            quintic
+        );
+        let e = cubic
+            .with_interpolation(Interpolation::Quintic, source)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "f.yaml: `interpolation` quintic needs accelerations at every point; its points give positions and velocities (joint_trajectory_controller plays them cubic)"
+        );
+        let e = two_joints()
+            .with_interpolation(Interpolation::Quintic, source)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("its points give positions only (joint_trajectory_controller plays them linear)"),
+            "{e}"
+        );
     }
 
     #[test]

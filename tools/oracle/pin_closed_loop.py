@@ -361,6 +361,74 @@ def spline_command(times, q, v=None, a=None):
     return command
 
 
+def fill_cubic_spline_velocities(times, q):
+    """ros2_controllers' fill_cubic_spline_velocities (joint_trajectory_controller/src/
+    trajectory.cpp, what `positions_upsampling` gives positions-only points): per joint the knot
+    velocities of the global cubic spline through q at `times`, at rest at both ends, by the
+    Thomas algorithm in the controller's order of operations. q: N x n; returns N x n."""
+    q = np.asarray(q, dtype=float)
+    n, joints = q.shape
+    out = np.zeros((n, joints))
+    if n < 2:
+        return out
+    for j in range(joints):
+        lower, diagonal, upper, rhs = [0.0] * n, [0.0] * n, [0.0] * n, [0.0] * n
+        diagonal[0], upper[0], rhs[0] = 1.0, 0.0, 0.0
+        lower[n - 1], diagonal[n - 1], rhs[n - 1] = 0.0, 1.0, 0.0
+        for i in range(1, n - 1):
+            before, after = times[i] - times[i - 1], times[i + 1] - times[i]
+            lower[i] = 1.0 / before
+            diagonal[i] = 2.0 * (1.0 / before + 1.0 / after)
+            upper[i] = 1.0 / after
+            rhs[i] = 3.0 * ((q[i + 1, j] - q[i, j]) / (after * after) + (q[i, j] - q[i - 1, j]) / (before * before))
+        sweep, v = [0.0] * n, [0.0] * n
+        sweep[0] = upper[0] / diagonal[0]
+        v[0] = rhs[0] / diagonal[0]
+        for i in range(1, n):
+            pivot = diagonal[i] - lower[i] * sweep[i - 1]
+            sweep[i] = upper[i] / pivot if i + 1 < n else 0.0
+            v[i] = (rhs[i] - lower[i] * v[i - 1]) / pivot
+        for i in range(n - 2, -1, -1):
+            v[i] -= sweep[i] * v[i + 1]
+        out[:, j] = v
+    return out
+
+
+def played_command(times, q, v=None, a=None, start=None, interpolation=None):
+    """A message as joint_trajectory_controller plays it when it receives it at t = 0 with the
+    arm at rest at `start` (trajectory.cpp: `set_point_before_trajectory_msg` with the arm's
+    state, zero velocities and accelerations where the first point gives them; `sample` before
+    the first point's time interpolates from that state to it): `interpolation` forces the rule
+    ("linear" leaves out v and a, "cubic" leaves out a and fills v by
+    fill_cubic_spline_velocities where the points give none), `start` defaults to the first
+    point's positions, a first time > 0 is reached from the start over that time. Returns
+    (command, start state): the state the arm starts in, at rest at the start when there is an
+    approach or a start given, else None (the command's own at t = 0)."""
+    times = [float(t) for t in times]
+    q = np.asarray(q, dtype=float)
+    if interpolation == "linear":
+        v = a = None
+    elif interpolation == "cubic":
+        a = None
+        if v is None:
+            v = fill_cubic_spline_velocities(times, q)
+    elif interpolation == "quintic":
+        assert v is not None and a is not None, "quintic needs the points' accelerations"
+    given = start is not None
+    start = q[0].copy() if start is None else np.asarray(start, dtype=float)
+    if times[0] > 0.0:
+        times = [0.0] + times
+        q = np.vstack([start, q])
+        v = None if v is None else np.vstack([np.zeros(q.shape[1]), v])
+        a = None if a is None else np.vstack([np.zeros(q.shape[1]), a])
+        at_rest = True
+    else:
+        at_rest = given
+    command = spline_command(times, q, v, a)  # one point: held from t = 0
+    state = (start.copy(), np.zeros(q.shape[1])) if at_rest else None
+    return command, state
+
+
 def auto_tune(arm, q_start, dt, effort):
     M, _, _ = arm.terms(q_start, np.zeros(len(q_start)))
     inertia = np.diag(M).copy()
@@ -463,8 +531,9 @@ def envelope_of(motors, ratios, effort):
 
 def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_forward=True,
                     record_period=0.02, tool="tool_link", verbose=True, step_hook=None,
-                    envelope=None):
-    """Run the closed loop on a PinArm; returns (summary dict, trail ndarray).
+                    envelope=None, start_state=None):
+    """Run the closed loop on a PinArm; returns (summary dict, trail ndarray). The arm starts in
+    `start_state` (q, v) when given, else in the command's state at t = 0.
 
     feed_forward: True or "gravity" adds g(q) at the measured q; "full" adds the inverse
     dynamics of the command, rnea(q_cmd, v_cmd, a_cmd) with the motors' reflected inertia (faze4's
@@ -474,7 +543,7 @@ def run_closed_loop(arm, command, kp, kd, effort, duration=8.0, dt=2e-4, feed_fo
     dof = len(kp)
     full = feed_forward == "full"
     gravity_ff = feed_forward is True or feed_forward == "gravity"
-    q, v = command(0.0)[:2]
+    q, v = command(0.0)[:2] if start_state is None else (np.array(start_state[0]), np.array(start_state[1]))
     M0, _, _ = arm.terms(q, np.zeros(dof))
     inertia = np.diag(M0).copy()
     steps = int(round(duration / dt))

@@ -18,6 +18,14 @@ Writes:
   accelerations; the SO-101 MCAP holds a JointTrajectory topic and a recorded JointState
   topic, stamps at an epoch time, joints in another order, the gripper too);
   bad_topics.mcap: two JointState topics and a std_msgs/msg/String one (the refusals);
+* tests/fixtures/messages/*: messages as people send and record them (issue 43; the files
+  others published, beside them, are read here, not written): UR's example goal, a one-point
+  goal, a MoveIt DisplayTrajectory, ROS 1's layout (YAML and JSON), SO-101 /joint_states from an
+  arm, a gripper and a camera published apart (zero, true and noisy velocities; YAML, MCAP,
+  JSON). Pinocchio plays each as joint_trajectory_controller plays a message it receives
+  (pin_closed_loop.played_command: from the start, the approach to the first point, the
+  positions_upsampling spline under --interpolation cubic); a stream as faze4 is documented to
+  read it, merged here from its messages (merged());
 * tests/fixtures/trajectories/bags/: the same trajectories in bags as `rosbags` (PyPI, a writer
   of ROS 1 and rosbag2 bags without ROS) writes them: rosbag2 folders with SQLite (.db3, as
   ROS 2 Humble records) and MCAP storage, uncompressed, zstd per message and zstd per file;
@@ -172,7 +180,9 @@ def ruckig_so101():
         return pieces[-1].at_time(pieces[-1].duration)
 
     samples = [at(n / 1e9) for n in ns]
-    return Plan(names, ns, [s[0] for s in samples], [s[1] for s in samples], [s[2] for s in samples])
+    plan = Plan(names, ns, [s[0] for s in samples], [s[1] for s in samples], [s[2] for s in samples])
+    plan.at, plan.duration = at, total  # the motion itself, for the recorded streams
+    return plan
 
 
 # --------------------------------------------------------------------------------------------
@@ -506,9 +516,9 @@ class Frames(Plan):
 # The runs.
 # --------------------------------------------------------------------------------------------
 
-def model_order(urdf_path, plan, level):
-    """(names of faze4's coordinates, times, q, v, a) in faze4's order, the joints the plan does
-    not name held at 0 clamped into their limits, as faze4's TimedCommand does."""
+def model_order(urdf_path, plan, level, hold=None):
+    """(times, q, v, a) in faze4's order, the joints the plan does not name holding `hold`
+    (the start given), else 0 clamped into their limits, as faze4's TimedCommand does."""
     arm = pcl.UrdfArm(os.path.join(ROOT, urdf_path), mimic=True)
     n, rows = len(arm.coords), len(plan.ns)
     q, v, a = np.zeros((rows, n)), np.zeros((rows, n)), np.zeros((rows, n))
@@ -517,14 +527,23 @@ def model_order(urdf_path, plan, level):
             c = plan.names.index(j.name)
             q[:, i], v[:, i], a[:, i] = plan.q[:, c], plan.v[:, c], plan.a[:, c]
         else:
-            q[:, i] = min(max(0.0, j.lower), j.upper)
+            q[:, i] = min(max(0.0, j.lower), j.upper) if hold is None else hold[i]
     return plan.t, q, (v if level >= 2 else None), (a if level >= 3 else None)
 
 
 def run_case(faze4, case):
-    """faze4 (for its gains), then Pinocchio's loop with them; the fixture."""
-    name, urdf, input_file, extra, plan, level, ff = case
+    """faze4 (for its gains), then Pinocchio's loop with them, the message played as
+    joint_trajectory_controller plays it from the start (pin_closed_loop.played_command); the
+    fixture. A case: (name, URDF, input, options, plan, level, feed-forward[, start,
+    interpolation]), the level what the plan's points give (1 positions, 2 + velocities, 3 +
+    accelerations)."""
+    name, urdf, input_file, extra, plan, level, ff = case[:7]
+    start, interpolation = (case[7:] + (None, None))[:2]
     args = ["replay", "--urdf", urdf, "--q-traj", input_file, "--no-collisions"] + extra
+    if start is not None:
+        args += ["--start", ",".join(repr(float(x)) for x in start)]
+    if interpolation is not None:
+        args += ["--interpolation", interpolation]
     if ff == "full":
         args += ["--ff", "full"]
     with tempfile.TemporaryDirectory() as tmp:
@@ -533,13 +552,13 @@ def run_case(faze4, case):
                        cwd=ROOT, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         summary = json.load(open(summary_path))
     arm = pcl.PinArm(os.path.join(ROOT, urdf), mimic=True)
-    t, q, v, a = model_order(urdf, plan, level)
-    command = pcl.spline_command(t, q, v, a)
+    t, q, v, a = model_order(urdf, plan, level, hold=start)
+    command, start_state = pcl.played_command(t, q, v, a, start=start, interpolation=interpolation)
     effort = [math.inf if e is None else e for e in summary["effort"]]
     duration = command.duration
     pin_summary, trail = pcl.run_closed_loop(
         arm, command, summary["kp"], summary["kd"], effort, duration=duration, dt=summary["dt"],
-        feed_forward=ff, tool=summary["tool_link"], verbose=False)
+        feed_forward=ff, tool=summary["tool_link"], verbose=False, start_state=start_state)
     assert summary["steps"] == pin_summary["steps"], (summary["steps"], pin_summary["steps"])
     return {
         "generator": "tools/oracle/trajectory_fixtures.py",
@@ -613,6 +632,218 @@ def check_written(convert, plan):
             same(got, "mcap_ros2")
         print(f"{os.path.relpath(path, ROOT)}: read back exactly ({ext})")
 
+# --------------------------------------------------------------------------------------------
+# Messages as people send them (issue 43): goals, MoveIt's messages, ROS 1's layout, recorded
+# JointState streams from several publishers.
+# --------------------------------------------------------------------------------------------
+
+MESSAGES = os.path.join(FIXTURES, "messages")
+PANDA = "tests/urdf/example_robot_data/panda.urdf"
+
+# UR's own example (Universal_Robots_ROS2_Driver, ur_robot_driver/scripts/example_move.py,
+# BSD-3-Clause, at 696e1a7): its first trajectory, two points at rest, the first at 4 s.
+UR_EXAMPLE = [([0.043128, -1.28824, 1.37179, -1.82208, -1.63632, -0.18], 4),
+              ([-0.195016, -1.70093, 0.902027, -0.944217, -1.52982, -0.195171], 8)]
+# The UR driver's goal publisher (ur_robot_driver/config/test_goal_publishers_config.yaml, the
+# parameters of ros2_controllers' publisher_joint_trajectory_controller): one point a goal,
+# reached in 4 s (its log in UniversalRobots/Universal_Robots_ROS2_Driver issue 625).
+UR_POS1, UR_POS2 = [0.785, -1.57, 0.785, 0.785, 0.785, 0.785], [0.0, -1.57, 0.0, 0.0, 0.0, 0.0]
+UR_NAMES = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+            "wrist_3_joint"]
+
+
+def flow_yaml(msg):
+    """A message as `ros2 topic pub` / `ros2 action send_goal` take it: one flow mapping."""
+    return yaml.dump(msg, default_flow_style=True, sort_keys=False, width=sys.maxsize)
+
+
+def ros1(msg):
+    """A ROS 2 message dict in ROS 1's layout: {secs, nsecs} times, a header with `seq`."""
+    if isinstance(msg, list):
+        return [ros1(m) for m in msg]
+    if not isinstance(msg, dict):
+        return msg
+    if set(msg) == {"sec", "nanosec"}:
+        return {"secs": msg["sec"], "nsecs": msg["nanosec"]}
+    out = {k: ros1(v) for k, v in msg.items()}
+    if "stamp" in out and "frame_id" in out:
+        out = {"seq": 0, **out}
+    return out
+
+
+def ros1_echo_yaml(messages):
+    """Messages in `rostopic echo`'s layout (ROS 1): block mappings, flow lists, `---` after each."""
+    return "".join(yaml.dump(m, default_flow_style=None, sort_keys=False, width=sys.maxsize) + "---\n"
+                   for m in messages)
+
+
+def plan_of(names, points):
+    """A Plan of message points [(positions, whole seconds)] at rest."""
+    ns = [s * 10**9 for _, s in points]
+    q = [p for p, _ in points]
+    return Plan(names, ns, q, np.zeros_like(q), np.zeros_like(q))
+
+
+def split(plan, k):
+    """The plan's points from k on, its times from the k-th (a second MoveIt segment)."""
+    ns = [n - plan.ns[k] for n in plan.ns[k:]]
+    return Plan(plan.names, ns, plan.q[k:], plan.v[k:], plan.a[k:])
+
+
+def head(plan, k):
+    """The plan's points up to k (included)."""
+    return Plan(plan.names, plan.ns[:k + 1], plan.q[:k + 1], plan.v[:k + 1], plan.a[:k + 1])
+
+
+def robot_trajectory(msg):
+    """A moveit_msgs/RobotTrajectory holding the JointTrajectory `msg`."""
+    empty = {"header": msg["header"], "joint_names": [], "points": []}
+    return {"joint_trajectory": msg, "multi_dof_joint_trajectory": empty}
+
+
+def stamped(ns):
+    return {"sec": ns // 10**9, "nanosec": ns % 10**9}
+
+
+def state(ns, names, q, v):
+    """A sensor_msgs/JointState dict at stamp `ns`; efforts NaN, as drivers that do not measure
+    them publish."""
+    return {"header": {"stamp": stamped(ns), "frame_id": ""}, "name": list(names),
+            "position": [float(x) for x in q], "velocity": [float(x) for x in v],
+            "effort": [float("nan")] * len(names)}
+
+
+def so101_streams(plan, epoch, arm_hz, velocities, seed):
+    """A recorded SO-101 motion as its JointState publishers give it, in log order: the arm
+    (the plan's five joints) at `arm_hz` with seeded jitter, the gripper apart at 10 Hz (opening
+    from 0.2 to 1.2 rad at a constant rate), and a camera's pan/tilt the arm's model lacks at
+    15 Hz. `velocities` gives the arm's recorded velocities from (t, true v) and the gripper's
+    from its true rate: zeros, the truth, or noise. Returns [(log_ns, JointState dict)]."""
+    rng = np.random.default_rng(seed)
+    end = int(round(plan.duration * 1e9))
+    out = []
+    k, t = 0, 0
+    while t <= end:
+        q, v, _ = plan.at(t / 1e9)
+        out.append((epoch + t, state(epoch + t, plan.names, q, velocities(t, np.asarray(v)))))
+        k += 1
+        t = int(round(k * 1e9 / arm_hz + rng.uniform(-2e6, 2e6)))
+    rate = 1.0 / (end / 1e9)
+    for k in range(int(end / 1e8) + 1):
+        t = 13_000_000 + k * 100_000_000
+        g = 0.2 + rate * t / 1e9
+        out.append((epoch + t, state(epoch + t, ["gripper"], [g], velocities(t, np.array([rate])))))
+    for k in range(int(end * 15 / 1e9) + 1):
+        t = 31_000_000 + k * 66_666_667
+        out.append((epoch + t, state(epoch + t, ["camera_pan", "camera_tilt"], [0.1 * k, -0.05 * k], [0.0, 0.0])))
+    out.sort(key=lambda m: m[0])
+    return out
+
+
+def merged(stream, keep, use_velocities):
+    """faze4's recorded motion of a JointState stream, built here from the messages: the joints
+    `keep` names, each sampled at every stamp of the stream (its own where it has one, between
+    its samples by its own spline through them — linear, or cubic Hermite with its recorded
+    velocities —, held at rest outside them); times in whole ns from the first stamp."""
+    series, order = {}, []
+    for _, msg in stream:
+        ns = msg["header"]["stamp"]["sec"] * 10**9 + msg["header"]["stamp"]["nanosec"]
+        for i, name in enumerate(msg["name"]):
+            if name in keep:
+                if name not in series:
+                    series[name], order = [], order + [name]
+                series[name].append((ns, msg["position"][i], msg["velocity"][i]))
+    grid = sorted({s[0] for name in order for s in series[name]})
+    q, v = np.zeros((len(grid), len(order))), np.zeros((len(grid), len(order)))
+    for j, name in enumerate(order):
+        own = sorted(series[name])
+        t0 = own[0][0]
+        times = [(s[0] - t0) / 1e9 for s in own]
+        spline = pcl.spline_command(times, [[s[1]] for s in own], [[s[2]] for s in own] if use_velocities else None)
+        at = {s[0]: s for s in own}
+        for k, t in enumerate(grid):
+            if t in at:
+                q[k, j], v[k, j] = at[t][1], at[t][2] if use_velocities else 0.0
+            elif t < own[0][0]:
+                q[k, j] = own[0][1]
+            elif t > own[-1][0]:
+                q[k, j] = own[-1][1]
+            else:
+                qq, vv, _ = spline((t - t0) / 1e9)
+                q[k, j], v[k, j] = qq[0], vv[0]
+    return Plan(order, [t - grid[0] for t in grid], q, v, np.zeros_like(q))
+
+
+def write_messages(ur5, so101):
+    """The message files; returns the cases that play them."""
+    os.makedirs(MESSAGES, exist_ok=True)
+    rel = lambda name: f"tests/fixtures/messages/{name}"  # noqa: E731
+    out = lambda name, text: open(os.path.join(MESSAGES, name), "w").write(text)  # noqa: E731
+    cases = []
+    # a FollowJointTrajectory goal as `ros2 action send_goal` takes it: UR's example, the first
+    # point at 4 s: held there, then from a start
+    example = plan_of(UR_NAMES, UR_EXAMPLE)
+    goal = message(example, 2)
+    del goal["header"]
+    out("ur5_example_goal.yaml", flow_yaml({"trajectory": goal}))
+    cases += [("ur5_goal_held_cubic_gravity", UR5, rel("ur5_example_goal.yaml"), [], example, 2, "gravity"),
+              ("ur5_goal_from_start_cubic_full", UR5, rel("ur5_example_goal.yaml"), [], example, 2, "full",
+               [0.0, -1.57, 1.57, -1.57, -1.57, 0.0])]
+    # one point, positions only, reached in 4 s from the start (the goal publisher's pos1 from pos2)
+    one = plan_of(UR_NAMES, [(UR_POS1, 4)])
+    point = message(one, 1)
+    out("ur5_one_point_goal.yaml", flow_yaml({"trajectory": {"joint_names": point["joint_names"],
+                                                              "points": [{"positions": UR_POS1,
+                                                                          "time_from_start": {"sec": 4}}]}}))
+    cases.append(("ur5_one_point_linear_gravity", UR5, rel("ur5_one_point_goal.yaml"), [], one, 1, "gravity", UR_POS2))
+    # MoveIt: a DisplayTrajectory of two RobotTrajectories (the TOPP-RA plan cut at point 9), as
+    # `ros2 topic echo /display_planned_path` prints it; the second picked
+    first, second = head(ur5, 9), split(ur5, 9)
+    display = {"model_id": "ur5", "trajectory": [robot_trajectory(message(first, 3)), robot_trajectory(message(second, 3))],
+               "trajectory_start": {"joint_state": state(0, ur5.names, ur5.q[0], ur5.v[0])}}
+    del display["trajectory_start"]["joint_state"]["effort"]
+    out("ur5_display_trajectory.yaml", echo_yaml([display]))
+    cases.append(("ur5_display_trajectory_quintic_full", UR5, rel("ur5_display_trajectory.yaml"), ["--message", "2"],
+                  second, 3, "full"))
+    # ROS 1: a RobotTrajectory as `rostopic echo` prints it; a FollowJointTrajectoryGoal as JSON
+    # (secs/nsecs), positions only, played cubic by positions_upsampling's spline
+    out("ur5_ros1_robot_trajectory.yaml", ros1_echo_yaml([ros1(robot_trajectory(message(ur5, 2)))]))
+    cases.append(("ur5_ros1_robot_trajectory_cubic_gravity", UR5, rel("ur5_ros1_robot_trajectory.yaml"), [], ur5, 2,
+                  "gravity"))
+    with open(os.path.join(MESSAGES, "ur5_ros1_goal.json"), "w") as f:
+        json.dump(ros1({"trajectory": message(ur5, 1), "goal_time_tolerance": {"sec": 0, "nanosec": 0}}), f, indent=1)
+    cases.append(("ur5_ros1_goal_upsampled_cubic_full", UR5, rel("ur5_ros1_goal.json"), [], ur5, 1, "full", None,
+                  "cubic"))
+    # an FR3's JointTrajectory as ros2 topic echo printed it (frankarobotics/franka_ros2 issue
+    # 172; tests/fixtures/messages/README.md), on the Panda, its prefix renamed
+    fr3 = yaml.safe_load(open(os.path.join(MESSAGES, "fr3_joint_trajectory_echo.yaml")))
+    names = [n.replace("fr3_joint", "panda_joint") for n in fr3["joint_names"]]
+    pts = [(p["positions"], p["time_from_start"]["sec"]) for p in fr3["points"]]
+    cases.append(("panda_fr3_echo_renamed_linear_gravity", PANDA, rel("fr3_joint_trajectory_echo.yaml"),
+                  ["--rename", "fr3_joint=panda_joint"], plan_of(names, pts), 1, "gravity"))
+    # recorded JointState streams of the SO-101 (arm, gripper apart, a camera it lacks)
+    epoch = 1_767_225_600_123_456_789
+    keep = set(so101.names) | {"gripper"}
+    zeros = so101_streams(so101, epoch, 30, lambda t, v: np.zeros_like(v), 7)
+    out("so101_joint_states_echo.yaml", echo_yaml([m for _, m in zeros]))
+    cases.append(("so101_echo_zero_velocities_linear_gravity", SO101, rel("so101_joint_states_echo.yaml"), [],
+                  merged(zeros, keep, False), 1, "gravity"))
+    true = so101_streams(so101, epoch, 50, lambda t, v: v, 11)
+    write_mcap(os.path.join(MESSAGES, "so101_publishers.mcap"), [
+        ("/joint_states", "sensor_msgs/msg/JointState", JOINT_STATE, true)])
+    cases.append(("so101_mcap_publishers_cubic_full", SO101, rel("so101_publishers.mcap"), [],
+                  merged(true, keep, True), 2, "full"))
+    rng = np.random.default_rng(5)
+    noisy = so101_streams(so101, epoch, 30, lambda t, v: v + rng.normal(0.0, 0.5, len(v)), 13)
+    with open(os.path.join(MESSAGES, "so101_ros1_joint_states.json"), "w") as f:
+        json.dump([{**ros1(m), "effort": []} for _, m in noisy], f)  # JSON has no NaN
+    cases += [("so101_ros1_noisy_velocities_linear_gravity", SO101, rel("so101_ros1_joint_states.json"), [],
+               merged(noisy, keep, False), 1, "gravity"),
+              ("so101_ros1_noisy_upsampled_cubic_gravity", SO101, rel("so101_ros1_joint_states.json"), [],
+               merged(noisy, keep, False), 1, "gravity", None, "cubic")]
+    return cases
+
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -677,6 +908,7 @@ def main():
         ("so101_mcap_joint_states_cubic_full", SO101, rel("so101_ruckig.mcap"), ["--topic", "/joint_states"],
          so101, 2, "full"),
     ]
+    cases += write_messages(ur5, so101)
     only = set(args.only or [])
     for case in cases:
         if only and case[0] not in only:

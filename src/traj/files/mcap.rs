@@ -12,15 +12,16 @@ use byteorder::LittleEndian;
 
 use super::bag::Collected;
 use super::ros::{JOINT_TRAJECTORY, JOINT_TRAJECTORY_DEFINITION, JointTrajectoryMsg};
-use super::{Selection, invalid};
+use super::{Read, Selection, invalid};
 use crate::error::Result;
 use crate::traj::TimedTrajectory;
 
 /// The topic [`to_bytes`] writes the trajectory on.
 pub const TOPIC: &str = "/joint_trajectory";
 
-/// The trajectory `selection` picks in an MCAP file's bytes, unchecked (see [`super::bag`]).
-pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
+/// The trajectory `selection` picks in an MCAP file's bytes, unchecked, with what reading it
+/// noticed (see [`super::bag`]).
+pub fn parse(bytes: &[u8], selection: &Selection, path: &Path) -> Result<Read> {
     let mut bag = Collected::default();
     super::bag::mcap::collect(&mut &bytes[..], &mut bag, path)?;
     Ok(bag.trajectory(selection, path)?.0)
@@ -104,20 +105,20 @@ mod tests {
             topic: topic.map(String::from),
             ..Default::default()
         };
-        parse(bytes, &selection, Path::new("b.mcap"))
+        parse(bytes, &selection, Path::new("b.mcap")).map(|read| read.trajectory)
     }
 
     #[test]
     fn joint_states_are_a_recorded_motion() {
         let states = vec![
-            state(1_700_000_000, 999_000_000, &["a", "b"], &[1.0, 2.0], &[0.5, 0.25]),
-            state(1_700_000_001, 1_000_000, &["b", "a"], &[4.0, 3.0], &[0.0, 0.125]),
+            state(1_700_000_000, 999_000_000, &["a", "b"], &[1.0, 2.0], &[0.5, 0.0]),
+            state(1_700_000_001, 1_000_000, &["b", "a"], &[2.0, 1.001], &[0.0, 0.5]),
         ];
         let t = read(&bag(&[("/joint_states", JOINT_STATE, states)]), None).unwrap();
         assert_eq!(t.joint_names, ["a", "b"]);
         assert_eq!(t.points[1].time_from_start, 0.002);
-        assert_eq!(t.points[1].positions, [3.0, 4.0]);
-        assert_eq!(t.points[1].velocities, [0.125, 0.0]);
+        assert_eq!(t.points[1].positions, [1.001, 2.0]);
+        assert_eq!(t.points[1].velocities, [0.5, 0.0]);
     }
 
     #[test]
@@ -177,7 +178,11 @@ mod tests {
         );
         // under the cap the messages are kept and decoded (zeros decode as empty JointStates)
         let under = bag(&[("/joint_states", JOINT_STATE, messages(250))]);
-        assert_eq!(read(&under, None).unwrap().points.len(), 250);
+        let e = read(&under, None).unwrap_err().to_string();
+        assert!(
+            e.ends_with("topic /joint_states's JointState messages name no joint"),
+            "{e}"
+        );
     }
 
     /// A schema or channel whose string claims more than its record holds is refused as

@@ -11,8 +11,10 @@
 //!   `sensor_msgs/msg/JointState` topic ([`mcap`]);
 //! * `.csv`: a time column and one column per joint ([`csv`]).
 //!
-//! A recorded `JointState` stream, whatever holds it, becomes a trajectory through
-//! [`joint_states::recorded_motion`].
+//! A YAML or JSON document is read for the message it is (a goal, MoveIt's messages, ROS 1's
+//! layout, JointState echoes: `messages.rs`). A recorded `JointState` stream, whatever holds
+//! it, becomes a trajectory through [`joint_states::recorded_motion`]. Every format's joint
+//! names are renamed by [`Selection::rename`].
 //!
 //! [`read`] returns a checked trajectory ([`TimedTrajectory::check`]); [`write()`] writes one so
 //! that [`read`] gives it back bit for bit (the ROS formats hold whole nanoseconds: see
@@ -24,9 +26,13 @@ pub mod joint_states;
 pub mod json;
 pub mod lerobot;
 pub mod mcap;
+mod messages;
+pub mod reading;
 pub mod ros;
 pub mod sniff;
 pub mod yaml;
+
+pub use reading::{Note, Read, Rename};
 
 use std::path::Path;
 
@@ -38,11 +44,12 @@ use crate::input::{
 use crate::traj::{TimedTrajectory, npy};
 use sniff::{Magic, peek, shown};
 
-/// Which message or topic of a file to read (`--message K`, `--topic NAME`).
+/// Which message or topic of a file to read, and how (`--message K`, `--topic NAME`,
+/// `--rename FROM=TO`, the LeRobot options).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Selection {
-    /// The K-th `JointTrajectory` message of a YAML or JSON file or of an MCAP topic, counted
-    /// from 1; `None`: the first.
+    /// The K-th trajectory of a YAML or JSON file (a DisplayTrajectory's counted one by one)
+    /// or of a bag's topic, counted from 1; `None`: the first.
     pub message: Option<usize>,
     /// The MCAP topic; `None`: the file's one `JointTrajectory` topic, else its one
     /// `JointState` topic.
@@ -55,9 +62,25 @@ pub struct Selection {
     pub units: Option<lerobot::Units>,
     /// LeRobot's calibration file of the arm, which turns normalised values into radians.
     pub calibration: Option<std::path::PathBuf>,
+    /// The joint names' prefixes renamed, in every format ([`Rename`]).
+    pub rename: Vec<Rename>,
+    /// The model's joints: a recorded `JointState` stream's other joints are left out (with a
+    /// [`Note`]); `None`: every joint kept.
+    pub joints: Option<Vec<String>>,
+    /// The interpolation the trajectory will be played with, when given: a recorded stream's
+    /// velocities then choose nothing ([`Note::VelocitiesChoseCubic`] is not said).
+    pub interpolation: Option<crate::traj::Interpolation>,
 }
 
 impl Selection {
+    /// Whether a recorded stream's joint `name` (as the file names it) is kept: renamed, it is
+    /// one of [`Selection::joints`] (or no joints are given).
+    pub fn keeps(&self, name: &str) -> bool {
+        self.joints
+            .as_ref()
+            .is_none_or(|joints| joints.iter().any(|j| *j == Rename::apply(&self.rename, name)))
+    }
+
     /// The LeRobot option given, if any (for a refusal on another input).
     fn lerobot_option(&self) -> Option<&'static str> {
         [
@@ -121,6 +144,8 @@ pub struct Opened {
     pub what: Option<String>,
     /// What reading noticed, for people (a LeRobot gripper column left out).
     pub warnings: Vec<String>,
+    /// What reading a message or a recorded stream decided ([`Note`]).
+    pub notes: Vec<Note>,
     /// Said after a joint-limit refusal of the trajectory: the likely cause (a LeRobot
     /// dataset's values taken as radians unasked).
     pub limit_hint: Option<String>,
@@ -143,13 +168,15 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
     let meta = std::fs::metadata(path).map_err(io)?;
     if meta.is_dir() && path.join(lerobot::INFO).is_file() {
         let episode = lerobot::read(path, selection)?;
-        episode.trajectory.check(path)?;
-        return Ok(Opened {
-            content: Content::Timed(episode.trajectory),
-            what: Some(episode.what),
-            warnings: episode.warnings,
-            limit_hint: episode.limit_hint,
-        });
+        let (what, warnings) = (Some(episode.what), episode.warnings);
+        return timed(
+            episode.trajectory.into(),
+            what,
+            warnings,
+            episode.limit_hint,
+            selection,
+            path,
+        );
     }
     if let Some(field) = selection.lerobot_option() {
         return Err(Error::option(
@@ -195,6 +222,7 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
             content: Content::Samples(npy::parse_samples(&bytes, path)?),
             what: None,
             warnings: Vec::new(),
+            notes: Vec::new(),
             limit_hint: None,
         });
     }
@@ -211,11 +239,33 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
         Format::Yaml => whole(source, MAX_YAML_TRAJECTORY_BYTES, "a YAML trajectory")?,
         _ => whole(source, MAX_TRAJECTORY_TEXT_BYTES, "a trajectory text file")?,
     };
+    timed(
+        parse(&bytes, format, selection, path)?,
+        None,
+        Vec::new(),
+        None,
+        selection,
+        path,
+    )
+}
+
+/// `read` as a `--q-traj`'s content, its joints renamed ([`Selection::rename`]) and checked.
+fn timed(
+    mut read: Read,
+    what: Option<String>,
+    warnings: Vec<String>,
+    limit_hint: Option<String>,
+    selection: &Selection,
+    path: &Path,
+) -> Result<Opened> {
+    reading::rename(&mut read.trajectory, &selection.rename, path)?;
+    read.trajectory.check(path)?;
     Ok(Opened {
-        content: Content::Timed(parse(&bytes, format, selection, path)?),
-        what: None,
-        warnings: Vec::new(),
-        limit_hint: None,
+        content: Content::Timed(read.trajectory),
+        what,
+        warnings,
+        notes: read.notes,
+        limit_hint,
     })
 }
 
@@ -239,18 +289,20 @@ fn folder(dir: &Path, selection: &Selection) -> Result<Opened> {
 
 /// The trajectory `selection` picks from the bag `found`, `what` saying what the bag is.
 fn timed_from_bag(found: bag::Collected, what: String, selection: &Selection, path: &Path) -> Result<Opened> {
-    let (trajectory, topic) = found.trajectory(selection, path)?;
-    trajectory.check(path)?;
-    Ok(Opened {
-        content: Content::Timed(trajectory),
-        what: Some(format!("{what}, topic {topic}")),
-        warnings: Vec::new(),
-        limit_hint: None,
-    })
+    let (read, topic) = found.trajectory(selection, path)?;
+    timed(
+        read,
+        Some(format!("{what}, topic {topic}")),
+        Vec::new(),
+        None,
+        selection,
+        path,
+    )
 }
 
 /// Reads the time-stamped trajectory in `path` ([`open`]; a `.npy` is refused: its frames are
-/// not time-stamped); the trajectory is checked ([`TimedTrajectory::check`]).
+/// not time-stamped); the trajectory is renamed and checked ([`TimedTrajectory::check`]); what
+/// reading noticed is left out (see [`Opened::notes`]).
 pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
     match open(path, selection)?.content {
         Content::Timed(trajectory) => Ok(trajectory),
@@ -261,11 +313,12 @@ pub fn read(path: &Path, selection: &Selection) -> Result<TimedTrajectory> {
     }
 }
 
-/// [`read`] on a file's `bytes` in `format`; `path` names it in the errors.
-pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -> Result<TimedTrajectory> {
-    let trajectory = match format {
-        Format::Yaml => yaml::parse(text(bytes, path)?, selection.message, path)?,
-        Format::Json => json::parse(text(bytes, path)?, selection.message, path)?,
+/// [`read`] on a file's `bytes` in `format` (its names not renamed), with what reading it
+/// noticed; `path` names it in the errors.
+pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -> Result<Read> {
+    let read = match format {
+        Format::Yaml => yaml::parse(text(bytes, path)?, selection, path)?,
+        Format::Json => json::parse(text(bytes, path)?, selection, path)?,
         Format::Mcap => match Magic::of(bytes) {
             // another bag in memory (ROS 1, SQLite, zstd): told by its bytes, as `open` tells it
             Some(magic @ (Magic::Ros1 | Magic::Sqlite | Magic::Zstd)) => {
@@ -282,11 +335,11 @@ pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -
                     "picks a message of a .yaml, .json or .mcap file",
                 ));
             }
-            csv::parse(bytes, path)?
+            csv::parse(bytes, path)?.into()
         }
     };
-    trajectory.check(path)?;
-    Ok(trajectory)
+    read.trajectory.check(path)?;
+    Ok(read)
 }
 
 /// Writes `trajectory` to `path` in the format of its extension, whole or not at all. The

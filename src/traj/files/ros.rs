@@ -149,8 +149,10 @@ impl JointTrajectoryMsg {
     }
 }
 
-/// A `JointTrajectory` as YAML or JSON may write it: `header` and `effort` optional and
-/// ignored, `time_from_start` either `{sec, nanosec}` or a number of seconds.
+/// A `JointTrajectory` as YAML or JSON may write it: as `ros2 topic echo` or `rostopic echo`
+/// (ROS 1) prints it, or as `ros2 topic pub` and `ros2 action send_goal` take it: every field
+/// optional with ROS's default (a missing `time_from_start` is 0), `header` and `effort`
+/// ignored, `time_from_start` a [`LooseTime`].
 #[derive(Debug, Deserialize)]
 pub struct LooseJointTrajectory {
     /// The joints.
@@ -173,24 +175,131 @@ pub struct LoosePoint {
     /// Accelerations, or empty.
     #[serde(default)]
     pub accelerations: Vec<f64>,
-    /// Time since the start.
+    /// Time since the start (0 when not given, as the ROS tools fill a missing field).
+    #[serde(default)]
     pub time_from_start: LooseTime,
 }
 
-/// `{sec, nanosec}` (ROS) or seconds.
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(untagged)]
+/// A `sensor_msgs/JointState` as YAML or JSON may write it (ROS 2 or ROS 1): `header.stamp` a
+/// [`LooseTime`] (`seq` and `frame_id` ignored), `effort` ignored.
+#[derive(Debug, Deserialize)]
+pub struct LooseJointState {
+    /// The header (its stamp the state's time; 0 when missing).
+    #[serde(default)]
+    pub header: LooseHeader,
+    /// The joints.
+    #[serde(default)]
+    pub name: Vec<String>,
+    /// Positions.
+    #[serde(default)]
+    pub position: Vec<f64>,
+    /// Velocities, or empty.
+    #[serde(default)]
+    pub velocity: Vec<f64>,
+}
+
+/// A header's stamp, ROS 2 (`sec`, `nanosec`) or ROS 1 (`seq`, `secs`, `nsecs`).
+#[derive(Debug, Default, Deserialize)]
+pub struct LooseHeader {
+    /// The stamp.
+    #[serde(default)]
+    pub stamp: LooseTime,
+}
+
+/// A time or duration as people write it: `{sec, nanosec}` (ROS 2's `builtin_interfaces`),
+/// `{secs, nsecs}` (ROS 1's `rostopic echo`), either part optional (0), or a number of
+/// seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LooseTime {
-    /// ROS's `builtin_interfaces/Duration`.
-    Ros {
-        /// Whole seconds.
-        sec: i64,
-        /// Nanoseconds.
-        #[serde(default)]
-        nanosec: i64,
-    },
+    /// Whole nanoseconds (from `{sec, nanosec}` or `{secs, nsecs}`).
+    Nanoseconds(i64),
     /// Seconds.
     Seconds(f64),
+}
+
+impl Default for LooseTime {
+    fn default() -> Self {
+        LooseTime::Nanoseconds(0)
+    }
+}
+
+impl LooseTime {
+    /// In seconds (whole nanoseconds as rclcpp's `Duration::seconds()` gives them).
+    pub fn seconds(self) -> f64 {
+        match self {
+            LooseTime::Nanoseconds(ns) => seconds_from_nanoseconds(ns),
+            LooseTime::Seconds(t) => t,
+        }
+    }
+
+    /// In whole nanoseconds (seconds rounded to the nearest).
+    pub fn nanoseconds(self) -> i64 {
+        match self {
+            LooseTime::Nanoseconds(ns) => ns,
+            LooseTime::Seconds(t) => nanoseconds(t),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for LooseTime {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(TimeVisitor)
+    }
+}
+
+/// Reads a [`LooseTime`] from a number or a map, naming the layouts it takes when it is neither.
+struct TimeVisitor;
+
+impl<'de> serde::de::Visitor<'de> for TimeVisitor {
+    type Value = LooseTime;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a time: {sec, nanosec} (ROS 2), {secs, nsecs} (ROS 1) or a number of seconds")
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, t: f64) -> Result<LooseTime, E> {
+        Ok(LooseTime::Seconds(t))
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, t: i64) -> Result<LooseTime, E> {
+        Ok(LooseTime::Seconds(t as f64))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, t: u64) -> Result<LooseTime, E> {
+        Ok(LooseTime::Seconds(t as f64))
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<LooseTime, A::Error> {
+        use serde::de::Error;
+        // each part with the name it was given by
+        let mut seconds: Option<(String, i64)> = None;
+        let mut nanos: Option<(String, i64)> = None;
+        while let Some(key) = map.next_key::<String>()? {
+            let slot = match key.as_str() {
+                "sec" | "secs" => &mut seconds,
+                "nanosec" | "nsecs" => &mut nanos,
+                _ => {
+                    return Err(A::Error::custom(format!(
+                        "a time has no field {}: it is {{sec, nanosec}} (ROS 2) or {{secs, nsecs}} (ROS 1)",
+                        crate::error::quoted(&key)
+                    )));
+                }
+            };
+            if let Some((first, _)) = slot {
+                return Err(A::Error::custom(format!("a time gives both {first} and {key}")));
+            }
+            *slot = Some((key, map.next_value::<i64>()?));
+        }
+        if let (Some((s, _)), Some((n, _))) = (&seconds, &nanos)
+            && (s == "sec") != (n == "nanosec")
+        {
+            return Err(A::Error::custom(format!(
+                "a time mixes ROS 2's and ROS 1's fields ({s}, {n})"
+            )));
+        }
+        let (sec, nanosec) = (seconds.map_or(0, |s| s.1), nanos.map_or(0, |n| n.1));
+        Ok(LooseTime::Nanoseconds(ros_nanoseconds(sec, nanosec)))
+    }
 }
 
 impl LooseJointTrajectory {
@@ -200,15 +309,33 @@ impl LooseJointTrajectory {
             joint_names: self.joint_names,
             points: (self.points.into_iter())
                 .map(|p| TrajectoryPoint {
-                    time_from_start: match p.time_from_start {
-                        LooseTime::Ros { sec, nanosec } => seconds_from_nanoseconds(ros_nanoseconds(sec, nanosec)),
-                        LooseTime::Seconds(t) => t,
-                    },
+                    time_from_start: p.time_from_start.seconds(),
                     positions: p.positions,
                     velocities: p.velocities,
                     accelerations: p.accelerations,
                 })
                 .collect(),
         }
+    }
+}
+
+impl LooseJointState {
+    /// The message it holds, its stamp in ROS 2's `{sec, nanosec}`; `None` when the stamp is
+    /// beyond the ±68 years a ROS 2 time holds.
+    pub fn into_message(self) -> Option<JointStateMsg> {
+        let (sec, nanosec) = ros_sec_nanosec(self.header.stamp.nanoseconds());
+        Some(JointStateMsg {
+            header: Header {
+                stamp: RosTime {
+                    sec: i32::try_from(sec).ok()?,
+                    nanosec,
+                },
+                frame_id: String::new(),
+            },
+            name: self.name,
+            position: self.position,
+            velocity: self.velocity,
+            effort: Vec::new(),
+        })
     }
 }

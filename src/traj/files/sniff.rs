@@ -3,7 +3,15 @@
 
 use std::io::{Cursor, Read};
 
-use super::bag::{ZSTD_MAGIC, db3, mcap, ros1};
+/// The magic an MCAP file starts with.
+pub const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
+/// The 16 bytes an SQLite database starts with: rosbag2's `.db3`.
+pub const SQLITE_MAGIC: &[u8] = b"SQLite format 3\0";
+/// The line a ROS 1 bag (format 2.0) starts with.
+pub const ROS1_MAGIC: &[u8] = b"#ROSBAG V2.0\n";
+/// The magic a zstd frame starts with (RFC 8878 §3.1.1): a `.mcap.zstd` or `.db3.zstd` file
+/// (rosbag2's `compression_mode: FILE`), or one message (`compression_mode: MESSAGE`).
+pub const ZSTD_MAGIC: &[u8] = &[0x28, 0xb5, 0x2f, 0xfd];
 
 /// A format told by its first bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,9 +35,9 @@ impl Magic {
     /// shorter) starts with.
     pub fn of(head: &[u8]) -> Option<Magic> {
         [
-            (mcap::MAGIC, Magic::Mcap),
-            (db3::MAGIC, Magic::Sqlite),
-            (ros1::MAGIC, Magic::Ros1),
+            (MCAP_MAGIC, Magic::Mcap),
+            (SQLITE_MAGIC, Magic::Sqlite),
+            (ROS1_MAGIC, Magic::Ros1),
             (ZSTD_MAGIC, Magic::Zstd),
             (b"\x93NUMPY".as_slice(), Magic::Npy),
             (b"PAR1".as_slice(), Magic::Parquet),

@@ -1,33 +1,57 @@
-//! `.yaml`/`.yml`: `trajectory_msgs/msg/JointTrajectory` messages as `ros2 topic echo` prints
-//! them (PyYAML's block style, each message followed by a line `---`), read with serde_norway.
-//! `time_from_start` is `{sec, nanosec}` or a number of seconds; `header` and `effort` are
-//! ignored.
+//! `.yaml`/`.yml`: messages as `ros2 topic echo` (or ROS 1's `rostopic echo`) prints them
+//! (PyYAML's block style, each message followed by a line `---`), or as `ros2 topic pub` and
+//! `ros2 action send_goal` take them (flow style), read with serde_norway: a JointTrajectory,
+//! a message carrying one, or JointState messages (`messages.rs`). Times are
+//! `{sec, nanosec}`, `{secs, nsecs}` or seconds; `header` and `effort` are ignored.
 
 use std::fmt::Write;
 use std::path::Path;
 
 use serde::Deserialize;
+use serde::de::DeserializeOwned;
+use serde_norway::Value;
 
-use super::ros::{JointTrajectoryMsg, LooseJointTrajectory};
-use super::{invalid, pick};
+use super::messages::{self, Document};
+use super::ros::JointTrajectoryMsg;
+use super::{Read, Selection, invalid};
 use crate::error::Result;
 use crate::traj::TimedTrajectory;
 
-/// The `message`-th (from 1; `None`: the first) JointTrajectory of a YAML text (documents
-/// separated by `---`; empty documents are skipped), unchecked.
-pub fn parse(text: &str, message: Option<usize>, path: &Path) -> Result<TimedTrajectory> {
-    let mut messages = Vec::new();
+/// The trajectory `selection` picks from a YAML text (documents separated by `---`; empty
+/// documents are skipped; a document that is a list holds one message per item), unchecked.
+pub fn parse(text: &str, selection: &Selection, path: &Path) -> Result<Read> {
+    let mut documents = Vec::new();
     for (d, document) in serde_norway::Deserializer::from_str(text).enumerate() {
-        let parsed = Option::<LooseJointTrajectory>::deserialize(document).map_err(|e| {
-            invalid(
-                path,
-                format!("document {} is not a trajectory_msgs/msg/JointTrajectory: {e}", d + 1),
-            )
-        })?;
-        messages.extend(parsed);
+        let value = Option::<Value>::deserialize(document)
+            .map_err(|e| invalid(path, format!("document {} is not YAML: {e}", d + 1)))?;
+        match value {
+            Some(Value::Sequence(items)) => documents.extend(
+                (items.into_iter().enumerate()).map(|(i, item)| (format!("document {}, item {}", d + 1, i + 1), item)),
+            ),
+            Some(value) => documents.push((format!("document {}", d + 1), value)),
+            None => {}
+        }
     }
-    let k = pick(messages.len(), message, "JointTrajectory messages", path)?;
-    Ok(messages.swap_remove(k).into_trajectory())
+    messages::read(&documents, selection, path)
+}
+
+impl Document for Value {
+    fn keys(&self) -> Option<Vec<String>> {
+        let mapping = self.as_mapping()?;
+        Some(mapping.keys().filter_map(|k| k.as_str().map(String::from)).collect())
+    }
+
+    fn field(&self, key: &str) -> Option<&Value> {
+        self.as_mapping()?.get(key)
+    }
+
+    fn items(&self) -> Option<&[Value]> {
+        self.as_sequence().map(Vec::as_slice)
+    }
+
+    fn decode<T: DeserializeOwned>(&self) -> std::result::Result<T, String> {
+        serde_norway::from_value(self.clone()).map_err(|e| e.to_string())
+    }
 }
 
 /// `trajectory` as one JointTrajectory message the way `ros2 topic echo` prints it (header
@@ -193,17 +217,21 @@ points:
     #[test]
     fn reads_what_ros2_topic_echo_prints() {
         let path = Path::new("echo.yaml");
-        let t = parse(ECHOED, None, path).unwrap();
+        let at = |message: Option<usize>| Selection {
+            message,
+            ..Default::default()
+        };
+        let t = parse(ECHOED, &at(None), path).unwrap().trajectory;
         assert_eq!(t.joint_names, ["shoulder_pan_joint", "elbow_joint"]);
         assert_eq!(t.points[1].time_from_start, 1.5);
         assert_eq!(t.points[1].positions, [0.5, -1.2]);
         assert_eq!(t.points[1].velocities, [0.1, 0.2]);
-        let second = parse(ECHOED, Some(2), path).unwrap();
+        let second = parse(ECHOED, &at(Some(2)), path).unwrap().trajectory;
         assert_eq!(second.points[1].positions, [3.0, 4.0]);
         assert_eq!(second.points[1].time_from_start, 0.75);
-        let e = parse(ECHOED, Some(3), path).unwrap_err().to_string();
+        let e = parse(ECHOED, &at(Some(3)), path).unwrap_err().to_string();
         assert_eq!(e, "`message`: 3: echo.yaml holds 2 JointTrajectory messages");
-        let e = parse("joint_names: [a]\npoints: 3\n", None, path)
+        let e = parse("joint_names: [a]\npoints: 3\n", &at(None), path)
             .unwrap_err()
             .to_string();
         assert!(

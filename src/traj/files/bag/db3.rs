@@ -21,9 +21,6 @@ use crate::input::MAX_MCAP_BYTES;
 use crate::input::MAX_MCAP_MESSAGE_BYTES;
 use crate::traj::files::invalid;
 
-/// The 16 bytes an SQLite database starts with.
-pub const MAGIC: &[u8] = b"SQLite format 3\0";
-
 /// Reads the rosbag2 SQLite file `path` (a regular file) into `bag`.
 pub fn collect_file(path: &Path, bag: &mut Collected) -> Result<()> {
     let bad = |e: rusqlite::Error| invalid(path, format!("not a readable rosbag2 SQLite bag: {e}"));

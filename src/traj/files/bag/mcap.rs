@@ -13,9 +13,6 @@ use crate::error::{Error, Result};
 use crate::input::MAX_MCAP_MESSAGE_BYTES;
 use crate::traj::files::invalid;
 
-/// The magic an MCAP file starts with.
-pub const MAGIC: &[u8] = b"\x89MCAP0\r\n";
-
 /// Reads every record of the MCAP stream `source` into `bag`: its topics (the channel's name,
 /// its schema's name as the type, the channel's message encoding) and messages in file order
 /// with their log times.

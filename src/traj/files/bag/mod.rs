@@ -25,15 +25,10 @@ use serde::de::DeserializeOwned;
 
 use super::joint_states::{StampedState, recorded_motion};
 use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JointStateMsg, JointTrajectoryMsg};
-use super::sniff::{Magic, peek, shown};
+use super::sniff::{Magic, ZSTD_MAGIC, peek, shown};
 use super::{Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
 use crate::input::{MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, read_stream_capped, size_text, too_large};
-use crate::traj::TimedTrajectory;
-
-/// The magic a zstd frame starts with (RFC 8878 §3.1.1): a `.mcap.zstd` or `.db3.zstd` file
-/// (rosbag2's `compression_mode: FILE`), or one message (`compression_mode: MESSAGE`).
-pub const ZSTD_MAGIC: &[u8] = &[0x28, 0xb5, 0x2f, 0xfd];
 
 /// The message encoding of ROS 1's serialization (a `.bag`'s connections).
 pub const ROS1: &str = "ros1";
@@ -197,7 +192,7 @@ impl Collected {
 
     /// The trajectory `selection` picks (unchecked), and its topic: one message of a
     /// JointTrajectory topic, or a JointState topic's messages as a recorded motion.
-    pub fn trajectory(mut self, selection: &Selection, path: &Path) -> Result<(TimedTrajectory, String)> {
+    pub fn trajectory(mut self, selection: &Selection, path: &Path) -> Result<(super::Read, String)> {
         let topic = self.topic(selection, path)?;
         let Some(kind) = joint(&topic.kind) else {
             return Err(Error::option(
@@ -230,7 +225,7 @@ impl Collected {
         if kind == Joint::Trajectory {
             let k = pick(messages.len(), selection.message, "messages on the topic", path)?;
             let msg: JointTrajectoryMsg = decode(&messages[k].1, path, &topic, k)?;
-            return Ok((msg.into_trajectory(), topic.name));
+            return Ok((msg.into_trajectory().into(), topic.name));
         }
         if selection.message.is_some() {
             return Err(Error::option(
@@ -250,7 +245,12 @@ impl Collected {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
-        Ok((recorded_motion(states, &topic.name, path)?.trajectory, topic.name))
+        let recording = recorded_motion(states, Some(&topic.name), selection, path)?;
+        let read = super::Read {
+            trajectory: recording.trajectory,
+            notes: recording.notes,
+        };
+        Ok((read, topic.name))
     }
 }
 

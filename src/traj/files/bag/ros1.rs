@@ -24,10 +24,8 @@ use crate::error::Result;
 use crate::input::{MAX_MCAP_MESSAGE_BYTES, size_text};
 use crate::traj::files::invalid;
 use crate::traj::files::ros::{Header, JointStateMsg, JointTrajectoryMsg, JointTrajectoryPointMsg, RosTime};
+use crate::traj::files::sniff::ROS1_MAGIC;
 use crate::traj::timed::ros_sec_nanosec;
-
-/// The line a ROS 1 bag (format 2.0) starts with.
-pub const MAGIC: &[u8] = b"#ROSBAG V2.0\n";
 
 /// The record kinds (`op`) read.
 const MESSAGE: u8 = 0x02;
@@ -38,9 +36,9 @@ const CONNECTION: u8 = 0x07;
 /// `bag`, messages in file order, their `time` as the log time.
 pub fn collect(source: &mut dyn Read, bag: &mut Collected, path: &Path) -> Result<()> {
     let bad = |what: String| invalid(path, format!("not a readable ROS 1 bag: {what}"));
-    let mut magic = [0u8; MAGIC.len()];
+    let mut magic = [0u8; ROS1_MAGIC.len()];
     source.read_exact(&mut magic).map_err(|e| bad(e.to_string()))?;
-    if magic != MAGIC {
+    if magic != ROS1_MAGIC {
         return Err(bad("it does not start with #ROSBAG V2.0".into()));
     }
     let mut connections: BTreeMap<u32, Topic> = BTreeMap::new();
