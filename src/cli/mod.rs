@@ -132,7 +132,10 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     match &cli.command {
         Command::Sweep(a) => return sweep::execute(a),
         Command::Completions { shell } => {
-            return shell_file(|out| Ok(clap_complete::generate(*shell, &mut Cli::command(), "faze4", out)));
+            return shell_file(|out| {
+                clap_complete::generate(*shell, &mut Cli::command(), "faze4", out);
+                Ok(())
+            });
         }
         Command::Man => return shell_file(|out| clap_mangen::Man::new(Cli::command()).render(out)),
         _ => {}
