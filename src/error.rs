@@ -322,6 +322,23 @@ pub fn escape_lines(text: &str) -> String {
         .collect()
 }
 
+/// `path` as a line shows it: its unsafe characters escaped ([`escape_controls`], a line break
+/// as `\n`), so that a path the user gave (`--trail $'e\nverdict: follows\ny.csv'`) never
+/// starts a line of its own.
+pub fn shown_path(path: &std::path::Path) -> String {
+    escape_controls(&path.display().to_string())
+}
+
+/// Writes `line` and a line break on stderr, its unsafe characters escaped ([`escape_controls`],
+/// a line break inside it too): a message is one line. A failed write (stderr closed, or full:
+/// `2>/dev/full`) is ignored, where `eprintln!` would panic: the exit status still says what
+/// happened.
+pub fn to_stderr(line: &str) {
+    use std::io::Write;
+    let text = escape_controls(line) + "\n";
+    let _ = std::io::stderr().lock().write_all(text.as_bytes());
+}
+
 /// `text` on one line (errors are one line on stderr): every run of whitespace, line breaks
 /// included, becomes one space. For messages quoting the input (names, parser reports).
 pub(crate) fn one_line(text: &str) -> String {

@@ -25,6 +25,13 @@ pub const MAX_LINKS: usize = 4096;
 /// 10,000 joints asked for 800 MB matrices and aborted). A humanoid with its fingers has about
 /// 60; the 200-link chain of tests/coupled_stability.rs is the longest the tests run.
 pub const MAX_MOVING_JOINTS: usize = 256;
+/// Most points a ROS trajectory may have (1 million: 16 minutes at 1 kHz), a `JointTrajectory`'s
+/// `points` in any file or bag, or the messages of a `JointState` topic, counted as they are
+/// read: each point costs about 100 bytes beside its values once read, so a bag of empty points
+/// (24 bytes each in CDR, compressed to almost nothing) would otherwise take gigabytes (10
+/// million took 1.37 GB, issue 49). A LeRobot episode has its own cap of as many frames;
+/// `retime` writes at most 100,001 points.
+pub const MAX_TRAJECTORY_POINTS: usize = 1_000_000;
 /// Most samples a shape may have (`shape_points`, 100,000): each is an IK solve and about 200
 /// bytes of plan (100 million asked for 19.5 GB). The default loop of 12 s at the default
 /// step of 0.2 ms has 60,000 steps, so more samples than this are finer than the steps.
@@ -73,6 +80,10 @@ pub const MAX_MOTORS_BYTES: u64 = 1 << 20;
 pub const MAX_META_BYTES: u64 = 16 << 20;
 /// Largest side file read (an OBJ's `.mtl`, a package's `package.xml`): 1 MiB.
 pub const MAX_SIDE_FILE_BYTES: u64 = 1 << 20;
+
+/// Longest wait for a process to open a FIFO input for writing (10 s): opening a FIFO for
+/// reading waits for a writer, and a FIFO nobody writes to would wait for ever.
+pub const FIFO_WRITER_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// `bytes` for people: `32 MiB`, `1.5 GiB`, `812 bytes`.
 pub fn size_text(bytes: u64) -> String {
@@ -155,7 +166,7 @@ fn read(path: &Path, cap: u64, what: &str, file_only: bool) -> Result<Vec<u8>> {
     if meta.is_file() && meta.len() > cap {
         return Err(too_large(path, Some(meta.len()), cap, what));
     }
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = open(path, &meta)?;
     let mut bytes = Vec::with_capacity(if meta.is_file() { meta.len() as usize } else { 0 });
     file.take(cap + 1).read_to_end(&mut bytes).map_err(io)?;
     if bytes.len() as u64 > cap {
@@ -163,6 +174,43 @@ fn read(path: &Path, cap: u64, what: &str, file_only: bool) -> Result<Vec<u8>> {
         return Err(too_large(path, None, cap, what));
     }
     Ok(bytes)
+}
+
+/// Opens the input `path` (`meta` its metadata) for reading. A FIFO is opened once a process
+/// opens it for writing, within [`FIFO_WRITER_WAIT`]; past that it is refused by name (a pipe,
+/// `/dev/stdin` or `<(command)`, has its writer and opens at once).
+pub fn open(path: &Path, meta: &std::fs::Metadata) -> Result<std::fs::File> {
+    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    if !meta.file_type().is_fifo() {
+        return std::fs::File::open(path).map_err(io);
+    }
+    // open() blocks until a writer comes: on a thread, waited for up to the limit
+    let (opened, wait) = std::sync::mpsc::channel();
+    let fifo = path.to_path_buf();
+    std::thread::spawn(move || {
+        let _ = opened.send(std::fs::File::open(fifo));
+    });
+    match wait.recv_timeout(FIFO_WRITER_WAIT) {
+        Ok(file) => file.map_err(io),
+        Err(_) => {
+            // the thread still waits in open(): be its writer for a moment, so that it ends
+            let _ = std::fs::OpenOptions::new()
+                .write(true)
+                .custom_flags(libc::O_NONBLOCK)
+                .open(path);
+            Err(invalid(
+                path,
+                format!(
+                    "a FIFO that no process opened for writing within {} s (docs/development.md, Caps)",
+                    FIFO_WRITER_WAIT.as_secs()
+                ),
+            ))
+        }
+    }
 }
 
 /// What `reader` (the file or stream `path`) holds, at most `cap` bytes: a stream of more is

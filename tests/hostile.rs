@@ -2,8 +2,10 @@
 //! input; every file read whole has a cap, checked before memory is taken, and streams are
 //! read up to it; a mesh's claims are checked against what it holds; a model's size is capped;
 //! mesh references stay in their package; names from a file cannot forge a line of output;
-//! messages name the cause. Each case checks the exit status, the one line on stderr, and the
-//! directory before and after.
+//! messages name the cause; a bag's messages are bounded as they are decoded; a signal stops a
+//! parse; a full stderr or a closed stdout is no panic; an output path cannot forge a line; a
+//! FIFO with no writer is not waited for for ever (issue 49). Each case checks the exit status,
+//! the one line on stderr, and the directory before and after.
 
 mod common;
 
@@ -45,6 +47,11 @@ fn arm_wave<'a>(extra: &[&'a str]) -> Vec<&'a str> {
     ];
     args.extend_from_slice(extra);
     args
+}
+
+/// [`arm_wave`] not quiet: the banner and the line saying what was written are printed.
+fn arm_wave_told<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    arm_wave(extra).into_iter().filter(|a| *a != "-q").collect()
 }
 
 #[test]
@@ -729,22 +736,37 @@ fn mcap_string(s: &str) -> Vec<u8> {
 /// A rosbag2-like MCAP file with a `JointState` channel whose data section is `data` (records),
 /// as the MCAP specification lays it out (https://mcap.dev/spec).
 fn mcap_file(data: &[u8]) -> Vec<u8> {
+    mcap_bag("sensor_msgs/msg/JointState", data)
+}
+
+/// A rosbag2-like MCAP file with one channel (1, on `/joint_states`) of type `kind` whose data
+/// section is `data` (records).
+fn mcap_bag(kind: &str, data: &[u8]) -> Vec<u8> {
+    mcap_channels(&[kind], data)
+}
+
+/// A rosbag2-like MCAP file whose channels, all on `/joint_states`, have the types `kinds`
+/// (channel and schema k + 1 the k-th), its data section `data` (records).
+fn mcap_channels(kinds: &[&str], data: &[u8]) -> Vec<u8> {
     const MAGIC: &[u8] = b"\x89MCAP0\r\n";
     let mut f = MAGIC.to_vec();
     f.extend(mcap_record(
         0x01,
         &[mcap_string("ros2"), mcap_string("hostile")].concat(),
     ));
-    let mut schema = 1u16.to_le_bytes().to_vec();
-    schema.extend(mcap_string("sensor_msgs/msg/JointState"));
-    schema.extend(mcap_string("ros2msg"));
-    schema.extend(0u32.to_le_bytes());
-    f.extend(mcap_record(0x03, &schema));
-    let mut channel = [1u16.to_le_bytes(), 1u16.to_le_bytes()].concat();
-    channel.extend(mcap_string("/joint_states"));
-    channel.extend(mcap_string("cdr"));
-    channel.extend(0u32.to_le_bytes());
-    f.extend(mcap_record(0x04, &channel));
+    for (k, kind) in kinds.iter().enumerate() {
+        let id = (k as u16 + 1).to_le_bytes();
+        let mut schema = id.to_vec();
+        schema.extend(mcap_string(kind));
+        schema.extend(mcap_string("ros2msg"));
+        schema.extend(0u32.to_le_bytes());
+        f.extend(mcap_record(0x03, &schema));
+        let mut channel = [id, id].concat();
+        channel.extend(mcap_string("/joint_states"));
+        channel.extend(mcap_string("cdr"));
+        channel.extend(0u32.to_le_bytes());
+        f.extend(mcap_record(0x04, &channel));
+    }
     f.extend(data);
     f.extend(mcap_record(0x0F, &0u32.to_le_bytes()));
     f.extend(mcap_record(
@@ -1003,5 +1025,348 @@ fn options_beyond_what_a_run_can_do_name_their_cause() {
         "{}",
         run.stderr
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A path the user gave is escaped in the lines that say what was written, as in the error
+/// messages: `--trail $'e\nverdict: follows\ny.csv'` prints one `verdict:` line, the run's own
+/// (issue 49: the success line printed a forged one before it).
+#[test]
+fn an_output_path_cannot_forge_a_line_of_output() {
+    let dir = arm_dir("hostile-output-paths");
+    let (trail, summary) = ("e\nverdict: follows\ny.csv", "s\u{202e}\nverdict: follows\n.json");
+    let run = faze4(&dir, &arm_wave_told(&["--trail", trail, "--summary", summary]));
+    assert!(run.status.success(), "{}", run.stderr);
+    let verdicts = run.stdout.lines().filter(|l| l.starts_with("verdict:"));
+    assert_eq!(verdicts.count(), 1, "{}", run.stdout);
+    assert!(
+        run.stdout.lines().last().unwrap().starts_with("verdict: "),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("trail -> e\\nverdict: follows\\ny.csv ("),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("summary -> s\\u{202e}\\nverdict: follows\\n.json"),
+        "{}",
+        run.stdout
+    );
+    // the files are written under the names given, unescaped
+    assert!(std::fs::read_to_string(dir.join(trail)).unwrap().starts_with("t,"));
+    assert!(
+        std::fs::read_to_string(dir.join(summary))
+            .unwrap()
+            .contains("\"verdict\"")
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A full stderr (`2>/dev/full`) is no panic: a refusal keeps its status 2 and a valid run
+/// writes its files and ends with 0 (issue 49: exit 101). A closed stdout (`faze4 … | head`)
+/// ends the run quietly with the pipe's status, 141 as SIGPIPE would, its files complete up to
+/// where it stopped (issue 48).
+#[test]
+fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
+    let dir = arm_dir("hostile-io");
+    let full_stderr = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(args)
+            .current_dir(&dir)
+            .stdout(Stdio::null())
+            .stderr(std::fs::File::create("/dev/full").unwrap())
+            .status()
+            .unwrap();
+        out.code()
+    };
+    assert_eq!(full_stderr(&arm_wave(&["--dt", "-1"])), Some(2));
+    assert_eq!(full_stderr(&arm_wave(&["--trail", "full.csv"])), Some(0));
+    assert!(std::fs::read_to_string(dir.join("full.csv")).unwrap().starts_with("t,"));
+    // stdout's reading end closed before the run prints its first line
+    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(arm_wave_told(&["--trail", "closed.csv"]))
+        .current_dir(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{stderr}");
+    assert_eq!(stderr, "", "a closed stdout ends the run quietly");
+    assert!(
+        std::fs::read_to_string(dir.join("closed.csv"))
+            .unwrap()
+            .starts_with("t,")
+    );
+    assert!(temporaries(&dir).is_empty(), "{:?}", temporaries(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A signal while an input is read ends the process at once, with one line and the signal's
+/// status, nothing written (issue 49: SIGTERM waited for the parse to end, a minute for a
+/// hostile YAML). The input here is a FIFO whose writer holds it open without ending it, so
+/// the parse would wait for as long as the writer does (20 s).
+#[test]
+fn a_signal_stops_a_parse_at_once() {
+    use std::io::Write;
+    let dir = arm_dir("hostile-parse-signal");
+    for (signal, status, said) in [
+        (
+            libc::SIGTERM,
+            143,
+            "faze4: stopped by SIGTERM before the run began; nothing is written",
+        ),
+        (
+            libc::SIGINT,
+            130,
+            "faze4: interrupted before the run began; nothing is written",
+        ),
+    ] {
+        let fifo = dir.join("q.yaml");
+        assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let before = snapshot(&dir);
+        let child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args([
+                "replay",
+                "--urdf",
+                "arm.urdf",
+                "--package-path",
+                "pkg",
+                "--q-traj",
+                "q.yaml",
+            ])
+            .args(["--trail", "t.csv", "--summary", "s.json", "-q"])
+            .current_dir(&dir)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // opening for writing waits until faze4 opens the FIFO to read it
+        let mut writer = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
+        writer.write_all(b"joint_names: [j1, j2, j3]\npoints:\n").unwrap();
+        let holder = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_secs(20));
+            drop(writer);
+        });
+        std::thread::sleep(Duration::from_millis(300));
+        let sent = std::time::Instant::now();
+        send(child.id(), signal);
+        let out = child.wait_with_output().unwrap();
+        assert!(sent.elapsed() < Duration::from_secs(5), "{:?}", sent.elapsed());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(status), "{stderr}");
+        assert_eq!(stderr.trim_end(), said);
+        assert_eq!(snapshot(&dir), before);
+        std::fs::remove_file(&fifo).unwrap();
+        drop(holder);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A FIFO that no process opens for writing is refused after 10 s, naming it, where `open()`
+/// waited for ever (issue 49).
+#[test]
+fn a_fifo_nobody_writes_is_refused_in_time() {
+    let dir = arm_dir("hostile-fifo");
+    assert!(
+        Command::new("mkfifo")
+            .arg(dir.join("q.csv"))
+            .status()
+            .unwrap()
+            .success()
+    );
+    let args = [
+        "replay",
+        "--urdf",
+        "arm.urdf",
+        "--package-path",
+        "pkg",
+        "--q-traj",
+        "q.csv",
+        "-q",
+    ];
+    let before = snapshot(&dir);
+    let started = std::time::Instant::now();
+    let run = faze4(&dir, &args);
+    let parts = ["q.csv", "a FIFO that no process opened for writing within 10 s"];
+    check_refusal(&args, run.status.code(), &run.stderr, &parts);
+    assert_eq!(snapshot(&dir), before);
+    assert!(started.elapsed() < Duration::from_secs(30), "{:?}", started.elapsed());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs the `faze4` binary with `args` in `dir`: what it printed, and its peak resident memory
+/// (MiB: the kernel's `ru_maxrss` of that child alone, by `wait4`).
+// the child is reaped by wait4, which reads its resource usage too (clippy sees no wait())
+#[allow(clippy::zombie_processes)]
+fn faze4_peak(dir: &Path, args: &[&str]) -> (Run, f64) {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = child.stdout.take().unwrap();
+    let printed = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = out.read_to_string(&mut text);
+        text
+    });
+    let mut stderr = String::new();
+    let _ = child.stderr.take().unwrap().read_to_string(&mut stderr);
+    let stdout = printed.join().unwrap();
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    // SAFETY: wait4 writes the status and resource usage of this test's own child
+    let waited = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(waited, child.id() as libc::pid_t);
+    let run = Run {
+        status: std::process::ExitStatus::from_raw(status),
+        stdout,
+        stderr,
+    };
+    (run, usage.ru_maxrss as f64 / 1024.0)
+}
+
+/// The bytes `write` writes, compressed with zstd as they come (a few hundred MB of them take
+/// no memory here).
+fn zstd_stream(write: impl FnOnce(&mut dyn std::io::Write)) -> Vec<u8> {
+    let mut encoder = zstd::stream::Encoder::new(Vec::new(), 3).unwrap();
+    write(&mut encoder);
+    encoder.finish().unwrap()
+}
+
+/// A CDR header (encapsulation little-endian) and a ROS Header of stamp 0 and frame `""`.
+fn cdr_head(out: &mut dyn std::io::Write) {
+    out.write_all(&[0, 1, 0, 0]).unwrap();
+    out.write_all(&[0; 8]).unwrap(); // stamp
+    out.write_all(&[1, 0, 0, 0, 0, 0, 0, 0]).unwrap(); // frame_id "": length 1, NUL, padding
+}
+
+/// A JointState's CDR naming `names` one-letter joints with no values.
+fn cdr_state(names: usize, out: &mut dyn std::io::Write) {
+    cdr_head(out);
+    out.write_all(&(names as u32).to_le_bytes()).unwrap();
+    let name = [2, 0, 0, 0, b'a', 0, 0, 0]; // "a": length 2 with its NUL, padding to 4
+    for _ in 0..names {
+        out.write_all(&name).unwrap();
+    }
+    out.write_all(&[0; 12]).unwrap(); // position, velocity, effort: empty
+}
+
+/// A JointTrajectory's CDR of one joint and `points` empty points.
+fn cdr_trajectory(points: usize, out: &mut dyn std::io::Write) {
+    cdr_head(out);
+    out.write_all(&[1, 0, 0, 0, 2, 0, 0, 0, b'a', 0, 0, 0]).unwrap(); // joint_names ["a"]
+    out.write_all(&(points as u32).to_le_bytes()).unwrap();
+    for _ in 0..points {
+        out.write_all(&[0; 24]).unwrap(); // four empty lists, time_from_start 0
+    }
+}
+
+/// An MCAP message record on channel 1 at `log_time` holding `data`.
+fn mcap_message(log_time: u64, data: &[u8]) -> Vec<u8> {
+    mcap_message_on(1, log_time, data)
+}
+
+/// An MCAP message record on channel `channel` at `log_time` holding `data`.
+fn mcap_message_on(channel: u16, log_time: u64, data: &[u8]) -> Vec<u8> {
+    let mut body = channel.to_le_bytes().to_vec();
+    body.extend(0u32.to_le_bytes()); // sequence
+    body.extend(log_time.to_le_bytes());
+    body.extend(log_time.to_le_bytes());
+    body.extend(data);
+    mcap_record(0x05, &body)
+}
+
+/// Bags whose messages are small compressed and huge decoded (the counts of a list, the number
+/// of messages) are refused as their counts pass the caps, not after decoding them: the
+/// process stays within a few hundred MB where it took 1 to 4 GB (issue 49).
+#[test]
+fn bag_messages_are_bounded_once_decoded() {
+    let dir = temp_dir("hostile-decoded");
+    // one JointState of 30 million one-letter names: 240 MB in CDR, 23 kB with zstd
+    // (rosbag2's compression per message), under the 256 MiB kept
+    let names = zstd_stream(|w| cdr_state(30_000_000, w));
+    std::fs::write(dir.join("names.mcap"), mcap_file(&mcap_message(0, &names))).unwrap();
+    // a JointTrajectory of 10 million empty points: 240 MB in CDR
+    let points = zstd_stream(|w| cdr_trajectory(10_000_000, w));
+    let kind = "trajectory_msgs/msg/JointTrajectory";
+    std::fs::write(dir.join("points.mcap"), mcap_bag(kind, &mcap_message(0, &points))).unwrap();
+    // 120,000 JointStates of 250 names each: 240 MB in CDR, 2.1 GB once decoded
+    let state = zstd_stream(|w| cdr_state(250, w));
+    let states: Vec<u8> = (0..120_000u64).flat_map(|k| mcap_message(k, &state)).collect();
+    std::fs::write(dir.join("states.mcap"), mcap_file(&states)).unwrap();
+    let replay = |q: &'static str| vec!["replay", "--q-traj", q, "-q"];
+    for (args, parts, most_mib) in [
+        (
+            replay("names.mcap"),
+            &["more than 256 joint names in one list"][..],
+            450.0,
+        ),
+        (replay("points.mcap"), &["more than 1000000 points in one list"], 600.0),
+        (
+            replay("states.mcap"),
+            &["topic /joint_states's messages take more than 256 MiB once decoded, at message"],
+            750.0,
+        ),
+    ] {
+        let (run, peak) = faze4_peak(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, parts);
+        assert!(peak < most_mib, "{args:?} peaked at {peak:.0} MiB");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// One topic name recorded with two types is two streams, not one: a bag whose `/joint_states`
+/// carries both `JointState` and `JointTrajectory` messages is refused naming both types, with
+/// or without `--topic` (issue 49: their messages were merged into one list).
+#[test]
+fn one_topic_name_with_two_types_is_refused() {
+    let dir = temp_dir("hostile-two-types");
+    let (mut state, mut trajectory) = (Vec::new(), Vec::new());
+    cdr_state(1, &mut state);
+    cdr_trajectory(2, &mut trajectory);
+    let kinds = ["sensor_msgs/msg/JointState", "trajectory_msgs/msg/JointTrajectory"];
+    let data = [mcap_message_on(1, 0, &state), mcap_message_on(2, 1, &trajectory)].concat();
+    std::fs::write(dir.join("two.mcap"), mcap_channels(&kinds, &data)).unwrap();
+    let parts = [
+        "two.mcap",
+        "topic /joint_states is recorded with 2 types or encodings",
+        "sensor_msgs/msg/JointState in cdr (1 message)",
+        "trajectory_msgs/msg/JointTrajectory in cdr (1 message)",
+    ];
+    let named = ["replay", "--q-traj", "two.mcap", "--topic", "/joint_states"];
+    for args in [&named[..3], &named] {
+        let args = [args, &["-q"]].concat();
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &parts);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A CSV column given twice is refused naming it and both places (the last one won, unsaid);
+/// a row is named by its line in the file, comments and blank lines counted (issue 49: the
+/// count skipped them).
+#[test]
+fn csv_columns_are_given_once_and_rows_named_by_their_line() {
+    let dir = temp_dir("hostile-csv");
+    let twice = "t,j1,j2,j1.velocity,j2.velocity,j1.velocity\n0,0,0,0,0,0\n1,0,0,0,0,0\n";
+    std::fs::write(dir.join("twice.csv"), twice).unwrap();
+    std::fs::write(dir.join("lines.csv"), "# by hand\nt,j1,j2\n\n# next\n0,0,0\n1,0,x\n").unwrap();
+    for (file, said) in [
+        ("twice.csv", "column 'j1.velocity' is given twice (columns 4 and 6)"),
+        ("lines.csv", "line 6, column 'j2': 'x' is not a number"),
+    ] {
+        let args = ["replay", "--q-traj", file, "-q"];
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &[file, said]);
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

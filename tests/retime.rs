@@ -483,3 +483,84 @@ fn retime_then_replay_follows_on_the_binary() {
         assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
     }
 }
+
+/// A straight move of one joint from `start` by `amount` (toward its upper limit if there is
+/// room, else its lower), the other joints held: the path of the issue's refused moves.
+fn straight(model: &Model, start: &[f64], j: usize, amount: f64) -> PathSpline {
+    let joint = &model.joints[j];
+    let step = match start[j] + amount <= joint.upper {
+        true => amount,
+        false => -amount,
+    };
+    let mut end = start.to_vec();
+    end[j] += step;
+    PathSpline::through(&[start.to_vec(), end]).unwrap()
+}
+
+/// Each joint's zero, or the middle of its limits where zero is outside them.
+fn rest_pose(model: &Model) -> Vec<f64> {
+    (model.joints.iter())
+        .map(|j| match (j.lower..=j.upper).contains(&0.0) {
+            true => 0.0,
+            false => 0.5 * (j.lower + j.upper),
+        })
+        .collect()
+}
+
+/// No false "nothing follows" (issue 46): a straight move of 0.1 and 0.5 rad of every joint
+/// alone is timed on three arms under constant limits (with the URDF's damping), steppers
+/// (`--motors faze4`) and DC servos (`sts3215`, `xm540-w270`). Under main's solver the Faze4's
+/// J2 0.5 rad with its steppers (a sound line below the pull-out curve out to the motor's top
+/// speed started below the holding torque) and its wrist moves J4–J6 (a line below the damping
+/// taken at the relaxed profile's speed started below zero at rest) were refused. Every motored
+/// timing keeps each envelope at every grid point (less the margin), and none is faster than
+/// its relaxed bound.
+#[test]
+fn a_straight_move_of_every_joint_is_timed_on_three_arms() {
+    use faze4::control::catalog::{sts3215, xm540_w270};
+    let faze4_arm = faze4::faze4::model();
+    let ur5 = common::load("tests/urdf/example_robot_data/ur5_robot.urdf");
+    let so101 = common::load("tests/urdf/example_robot_data/so101.urdf");
+    let every = |m: fn(Option<f64>) -> faze4::control::JointMotor, n: usize| Some(vec![Some(m(None)); n]);
+    let cases = [
+        ("Faze4, constant", &faze4_arm, None),
+        ("Faze4, steppers", &faze4_arm, Some(faze4::faze4::motors::faze4(None))),
+        ("UR5, constant", &ur5, None),
+        ("SO-101, sts3215", &so101, every(sts3215, so101.dof())),
+        ("SO-101, xm540-w270", &so101, every(xm540_w270, so101.dof())),
+    ];
+    let keep = 1.0 - DEFAULT_MARGIN;
+    for (arm, model, motors) in cases {
+        let start = rest_pose(model);
+        let mut fitted = model.clone();
+        let envelopes = faze4::config::motors::fit(&mut fitted, motors.clone(), &[], &[]).unwrap();
+        for j in 0..model.dof() {
+            for amount in [0.1, 0.5] {
+                let path = straight(model, &start, j, amount);
+                let mut base = Scenario::builder(fitted.clone(), hold(&path));
+                if let Some(envelopes) = envelopes.clone() {
+                    base = base.motors(envelopes);
+                }
+                let timed = retime(&base, &path, &no_check())
+                    .unwrap_or_else(|e| panic!("{arm}: J{} by {amount} rad: {e}", j + 1));
+                let duration = timed.profile.duration();
+                assert!(duration.is_finite() && duration > 0.0, "{arm}: J{} by {amount}", j + 1);
+                assert!(
+                    timed.relaxed_duration <= duration * (1.0 + 1e-9),
+                    "{arm}: J{} by {amount}: {duration} vs {}",
+                    j + 1,
+                    timed.relaxed_duration
+                );
+                if let Some(motors) = &motors {
+                    let (share, worst, i, _) = most_asked(&fitted, motors, &path, &timed.profile);
+                    assert!(
+                        share <= keep * (1.0 + 1e-9),
+                        "{arm}: J{} by {amount} rad: J{} needs {share} of its envelope at grid point {i}",
+                        j + 1,
+                        worst + 1
+                    );
+                }
+            }
+        }
+    }
+}

@@ -14,7 +14,7 @@ use clap::{CommandFactory, Parser};
 
 use self::args::{Cli, Command};
 use faze4::atomic::Outputs;
-use faze4::error::{Error, Result, Words, escape_controls, escape_lines, in_words};
+use faze4::error::{Error, Result, Words, escape_lines, in_words, to_stderr};
 use faze4::session::{Prepared, divergence_line, report_text};
 use faze4::sim::{self, StopFlag};
 
@@ -34,9 +34,11 @@ pub fn main() -> ExitCode {
         Err(e) => return usage_error(e),
     };
     match execute(&cli) {
+        // stdout closed under it (`| head`): the pipe's status, as SIGPIPE would have ended it
+        Ok(_) if StopFlag::ctrl_c().signal() == Some(sim::SIGPIPE) => ExitCode::from(sim::exit_status(sim::SIGPIPE)),
         Ok(code) => code,
         Err(e) => {
-            eprintln!("faze4: error: {}", escape_controls(&flags(&e.to_string())));
+            to_stderr(&format!("faze4: error: {}", flags(&e.to_string())));
             ExitCode::from(EXIT_INPUT)
         }
     }
@@ -52,7 +54,7 @@ fn usage_error(e: clap::Error) -> ExitCode {
         let _ = e.print();
         return ExitCode::from(e.exit_code() as u8);
     }
-    eprintln!("faze4: error: {}", usage_line(&e));
+    to_stderr(&format!("faze4: error: {}", usage_line(&e)));
     ExitCode::from(EXIT_INPUT)
 }
 
@@ -125,9 +127,8 @@ fn shell_file(write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Resu
 }
 
 fn execute(cli: &Cli) -> Result<ExitCode> {
-    // the signal handlers go in before the model and its meshes load: a Ctrl-C (or SIGTERM)
-    // while they load stops the run before its first step (exit 130, the files as a stopped
-    // run writes them) instead of killing the process with nothing written
+    // the signal handlers go in first: until a run or its outputs begin, a Ctrl-C (or SIGTERM)
+    // ends the process at once with one line (a parse, a load, a retime look at no flag)
     let _ = StopFlag::ctrl_c();
     match &cli.command {
         Command::Sweep(a) => return sweep::execute(a),
@@ -158,7 +159,7 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     let quiet = config.outputs.quiet;
     let finished = match faze4::session::retime(config, None, &files, &mut [], &stop, |w| warn(w, quiet)) {
         Err(e @ Error::NothingFollows { .. }) if config.verdict.strict => {
-            eprintln!("faze4: {}", escape_controls(&flags(&e.to_string())));
+            to_stderr(&format!("faze4: {}", flags(&e.to_string())));
             return Ok(ExitCode::from(EXIT_CANNOT_FOLLOW));
         }
         other => other?,
@@ -175,13 +176,15 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     stdout.push_str(&format!("{}\n", summary.verdict));
     print_stdout(&stdout)?;
     if let Some(t) = summary.interrupted_at_s {
-        eprintln!(
-            "faze4: {} at t = {t:.3} s of a check; nothing is written",
-            stopped_by(&stop)
-        );
+        tell_stop(&stop, &format!("at t = {t:.3} s of a check; nothing is written"));
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     files.commit()?;
+    // a signal (or a closed stdout) after the check: the outputs are whole, the status says it
+    if stop.signal().is_some() {
+        tell_stop(&stop, "after the check; its outputs are complete");
+        return Ok(ExitCode::from(interrupted_status(&stop)));
+    }
     let code = exit_code(summary, config.verdict.strict);
     if let (Some(l), true) = (
         finished.replayed.as_ref().and_then(|r| r.recorders.live.as_ref()),
@@ -196,7 +199,7 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
 /// change the result ([`faze4::sim::Warning::changes_result`]).
 fn warn(warnings: &[faze4::sim::Warning], quiet: bool) {
     for warning in warnings.iter().filter(|w| !quiet || w.changes_result()) {
-        eprintln!("faze4: {}", escape_controls(&flags(&warning.to_string())));
+        to_stderr(&format!("faze4: {}", flags(&warning.to_string())));
     }
 }
 
@@ -220,17 +223,14 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     // line a terminal shows while the view is served and after Ctrl-C ends it
     let hold = (finished.recorders.live.as_ref()).filter(|_| config.outputs.hold && summary.interrupted_at_s.is_none());
     if let Some(l) = hold {
-        eprintln!("{}", l.hold_line());
+        to_stderr(&l.hold_line());
     }
     // what ended the run early, on stderr before the result lines: the verdict stays last
     if let Some(d) = &summary.diverged {
-        eprintln!("faze4: {}", flags(&divergence_line(&prepared.scenario, d)));
+        to_stderr(&format!("faze4: {}", flags(&divergence_line(&prepared.scenario, d))));
     }
     if let Some(t) = summary.interrupted_at_s {
-        eprintln!(
-            "faze4: {} at t = {t:.3} s; the outputs are complete up to there",
-            stopped_by(&stop)
-        );
+        tell_stop(&stop, &format!("at t = {t:.3} s; the outputs are complete up to there"));
     }
     print_stdout(&stdout)?;
     files.commit()?;
@@ -239,7 +239,7 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     }
     // a signal during the final writes: the outputs are whole, but the status says it came
     if stop.signal().is_some() {
-        eprintln!("faze4: {} after the run; its outputs are complete", stopped_by(&stop));
+        tell_stop(&stop, "after the run; its outputs are complete");
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     let code = exit_code(summary, config.verdict.strict);
@@ -266,6 +266,14 @@ fn interrupted_status(stop: &StopFlag) -> u8 {
     stop.signal().map_or(EXIT_INTERRUPTED, sim::exit_status)
 }
 
+/// Says on stderr that `stop` ended the run (`faze4: stopped by SIGTERM {what}`); a closed
+/// stdout ends it quietly, as SIGPIPE ends other programs.
+fn tell_stop(stop: &StopFlag, what: &str) {
+    if stop.signal() != Some(sim::SIGPIPE) {
+        to_stderr(&format!("faze4: {} {what}", stopped_by(stop)));
+    }
+}
+
 /// What stopped a run, for its message: "interrupted" (Ctrl-C), "stopped by SIGTERM"…
 fn stopped_by(stop: &StopFlag) -> &'static str {
     match stop.signal() {
@@ -276,16 +284,21 @@ fn stopped_by(stop: &StopFlag) -> &'static str {
 }
 
 /// Writes `text` on stdout, its control and bidirectional characters escaped but its line
-/// breaks. A failed write (a full disk) is an error; a closed pipe
-/// (`faze4 … | head`) is not the run's failure.
+/// breaks (the lines' own parts, paths and names, are escaped where each line is made:
+/// [`faze4::error::shown_path`]). A failed write (a full disk) is an error; a closed pipe
+/// (`faze4 … | head`) raises the stop flag as SIGPIPE ([`sim::stdout_closed`]): the command
+/// ends quietly with SIGPIPE's status.
 fn print_stdout(text: &str) -> Result<()> {
     let mut out = std::io::stdout().lock();
-    // paths and names as they are shown: no control or bidirectional character (escape_lines)
     match out.write_all(escape_lines(text).as_bytes()).and_then(|()| out.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+            sim::stdout_closed();
+            Ok(())
+        }
+        Err(e) => Err(Error::Io {
             path: "stdout".into(),
             source: e,
         }),
-        _ => Ok(()),
+        Ok(()) => Ok(()),
     }
 }

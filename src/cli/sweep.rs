@@ -13,10 +13,10 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 
 use super::args::{Cli, SweepArgs, SweepCommand};
-use super::{flags, interrupted_status, print_stdout, stopped_by, usage_line, warn};
+use super::{flags, interrupted_status, print_stdout, tell_stop, usage_line, warn};
 use faze4::atomic::{Outputs, check_output_path};
 use faze4::config::RunConfig;
-use faze4::error::{Error, Result};
+use faze4::error::{Error, Result, shown_path};
 use faze4::output::format::exact;
 use faze4::sim::StopFlag;
 use faze4::sweep::{
@@ -81,7 +81,7 @@ pub fn execute(args: &SweepArgs) -> Result<ExitCode> {
         print_stdout(&format!(
             "[done] {line} from {} tables -> {}\n",
             parts.len(),
-            m.out.display()
+            shown_path(&m.out)
         ))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -102,7 +102,6 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     if args.resolution.is_some() {
         return Err(Error::argument("--resolution", "is for --find and --find-min"));
     }
-    // before any temporary exists: a signal from here on stops the sweep cleanly
     let stop = StopFlag::ctrl_c();
     let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose()?;
     let (grid, indices) = Grid::parse(&args.vary, shard, MAX_RUNS)?;
@@ -126,6 +125,8 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
         .map(|a| (a.name.as_str(), a.values.as_slice()))
         .collect();
     let family = Family::load(base_config(&args.base)?, None, &names, sharing(args))?;
+    // the outputs' temporaries and the runs begin: a signal now stops the sweep cleanly
+    stop.watch();
     files.reading(family.inputs().clone())?;
     warn(family.warnings(), args.quiet);
     let axes: Vec<String> = grid.axes.iter().map(|a| a.name.clone()).collect();
@@ -176,14 +177,14 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
             PartMeta::new(&args.base, &grid, total, Some(s), held)
         });
         t.finish(part.as_mut())?;
-        written.push(format!("table -> {}", path.display()));
+        written.push(format!("table -> {}", shown_path(path)));
     }
     if let (Some(p), Some(path)) = (plot, &args.plot) {
         p.finish()?;
-        written.push(format!("plot -> {}", path.display()));
+        written.push(format!("plot -> {}", shown_path(path)));
     }
     if let Some(dir) = &args.trails {
-        written.push(format!("trails -> {}", dir.display()));
+        written.push(format!("trails -> {}", shown_path(dir)));
     }
     let part = match shard {
         Some(s) => format!(
@@ -204,19 +205,15 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     print_stdout(&format!("[done] {}\n", written.join(" · ")))?;
     files.commit()?;
     if ran < indices.len() {
-        eprintln!(
-            "faze4: {} after {ran} of {} runs; the outputs hold those",
-            stopped_by(&stop),
-            indices.len()
+        tell_stop(
+            &stop,
+            &format!("after {ran} of {} runs; the outputs hold those", indices.len()),
         );
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     // a signal during the final writes: the outputs are whole, but the status says it came
     if stop.signal().is_some() {
-        eprintln!(
-            "faze4: {} after the last run; the outputs are complete",
-            stopped_by(&stop)
-        );
+        tell_stop(&stop, "after the last run; the outputs are complete");
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
     Ok(ExitCode::SUCCESS)

@@ -168,8 +168,13 @@ fn playback_line(p: &Playback, words: Words) -> String {
 /// Prints `line` on stdout, its control and bidirectional characters escaped: a name read
 /// from a file (robot, link, joint, path) can neither start a new line nor reorder this one.
 fn out(line: &str) -> crate::Result<()> {
-    // a closed stdout (`faze4 … | head`) is not the run's failure
-    let _ = writeln!(std::io::stdout().lock(), "{}", escape_controls(line));
+    // a closed stdout (`faze4 … | head`) is not the run's failure: it ends the run at its next
+    // look at the stop flag, quietly (sim::stdout_closed); a full one is said by the last lines
+    if let Err(e) = writeln!(std::io::stdout().lock(), "{}", escape_controls(line))
+        && e.kind() == std::io::ErrorKind::BrokenPipe
+    {
+        crate::sim::stdout_closed();
+    }
     Ok(())
 }
 

@@ -384,7 +384,10 @@ impl JointTorque {
         for m in [0.0, tangent] {
             let offset = curve.lowest(m, v_max);
             let at = offset + m * v_at * v_at;
-            if offset.is_finite() && best.is_none_or(|(o, bm)| at > o + bm * v_at * v_at) {
+            // equal at v_at (v_at at the reach's end), the higher at rest
+            if offset.is_finite()
+                && best.is_none_or(|(o, bm)| at > o + bm * v_at * v_at || (at == o + bm * v_at * v_at && offset > o))
+            {
                 best = Some((offset, m));
             }
         }

@@ -32,6 +32,10 @@ use crate::id::JointId;
 pub const SETTLED: f64 = 1e-4;
 /// Most rounds of lines in all (the sound one and the tangent ones).
 pub const MAX_ITERATIONS: usize = 30;
+/// The share step 2's operating points are lowered by when nothing follows under its lines.
+const LOWER: f64 = 0.25;
+/// Most lowerings of step 2's operating points (0.25⁴⁰ ≈ 10⁻²⁴ of the relaxed x).
+const LOWERINGS: usize = 40;
 /// A torque beyond its range by at most this share of the range's larger end is round-off of
 /// the passes, not outside it.
 const OUTSIDE: f64 = 1e-9;
@@ -46,6 +50,9 @@ pub(crate) struct Solver<'a> {
     /// Per point: the cap on x from the speed limits, and the joint that sets it.
     speed_cap: Vec<(f64, Option<usize>)>,
     k: Vec<[f64; 2]>,
+    /// Per point: the largest x any timing under the limits can have there (the relaxed
+    /// controllable set's top, within the cap), over which a sound line holds.
+    reach: Vec<f64>,
 }
 
 /// A profile and how it was found.
@@ -93,6 +100,7 @@ impl<'a> Solver<'a> {
             ],
             speed_cap,
             k: vec![[0.0; 2]; n],
+            reach: vec![f64::INFINITY; n],
         }
     }
 
@@ -126,11 +134,24 @@ impl<'a> Solver<'a> {
                 iterations: 0,
             });
         }
-        // 2. sound lines tangent at the relaxed profile: a profile inside every range
+        // 2. sound lines tangent at the relaxed profile: a profile inside every range. Each
+        // line need hold only over the x a timing can have at its point: at most the relaxed
+        // controllable set's top (the relaxed ranges hold every true one), which near the ends
+        // is far below the speed cap (a line below a pull-out curve out to the motor's top
+        // speed starts below the holding torque, and refused every move against gravity)
+        // The profiles are kept within it, so the lines hold wherever they go (damping that
+        // helps a joint brake widens its true range beyond the relaxed one, which could
+        // otherwise take a profile past the reach)
+        self.reach = self
+            .k
+            .iter()
+            .zip(&self.stages.cap)
+            .map(|(k, &cap)| k[1].min(cap))
+            .collect();
+        self.stages.cap.copy_from_slice(&self.reach);
         let mut at = relaxed.x.clone();
         let mut sound = vec![true; self.lines.len()];
-        self.lines_at(&at, &sound);
-        let sound_profile = self.pass()?;
+        let sound_profile = self.sound_pass(&mut at, &sound)?;
         at.copy_from_slice(&sound_profile.x);
         let mut best: Fastest = (sound_profile, self.lines.clone(), self.k.clone());
         let mut iterations = 1;
@@ -161,11 +182,36 @@ impl<'a> Solver<'a> {
         self.lines = lines;
         self.k = k;
         self.fill_rows();
+        // the caps the bindings name: the speeds' and the check's, not the reach
+        for i in 0..n {
+            self.stages.cap[i] = self.speed_cap[i].0.min(extra_cap[i]);
+        }
         Ok(Solved {
             profile,
             relaxed_duration,
             iterations,
         })
+    }
+
+    /// Step 2's pass on sound lines taken at `at`, and where nothing follows under them, at
+    /// `at` lowered by [`LOWER`] each time, up to [`LOWERINGS`] times. A sound line is below
+    /// its range over the whole reach, but the higher it is at `at` the lower it may start at
+    /// x = 0: a joint whose range falls fast with speed (a light wrist's damping, a pull-out
+    /// curve) and whose relaxed profile is fast gets a line below its holding torque there,
+    /// and a move that must start and stop at rest is refused. Lines taken at a lower speed
+    /// keep more at rest (every one of them is sound, so any profile found keeps the ranges).
+    /// The first error if none passes.
+    fn sound_pass(&mut self, at: &mut [f64], sound: &[bool]) -> Result<Profile> {
+        let mut first = None;
+        for _ in 0..=LOWERINGS {
+            self.lines_at(at, sound);
+            match self.pass() {
+                Ok(profile) => return Ok(profile),
+                Err(e) => first = first.or(Some(e)),
+            }
+            at.iter_mut().for_each(|x| *x *= LOWER);
+        }
+        Err(first.expect("one pass at least"))
     }
 
     /// The lines of every joint at every point around `at` (x per point): per point and joint
@@ -178,7 +224,7 @@ impl<'a> Solver<'a> {
                 let p = i * dof + j;
                 let torque = &self.limits.torque[j];
                 let w = self.grid.dq[p];
-                let cap = self.stages.cap[i];
+                let cap = self.reach[i];
                 self.lines[p] = [Side::Upper, Side::Lower].map(|side| match sound[p] {
                     true => torque.line_below(side, w, cap, at[i]),
                     false => torque.line_tangent(side, w, at[i]),

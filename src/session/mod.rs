@@ -78,6 +78,8 @@ pub fn run(
         inputs,
     } = prepared;
     let save_q = save_q(config);
+    // the outputs' temporaries exist from here on: a signal must stop the run, not the process
+    stop.watch();
     files.reading(inputs.clone())?;
     let mut recorders = Recorders::open(scenario, config, files)?;
     warn(warnings);

@@ -4,7 +4,7 @@
 
 use super::{Finished, Recorders, save_q};
 use crate::config::RunConfig;
-use crate::error::quoted;
+use crate::error::{quoted, shown_path};
 use crate::output::format::number;
 use crate::output::sizing_table;
 use crate::sim::{Diverged, RUNAWAY_SPEED, Scenario, Summary};
@@ -32,22 +32,22 @@ pub fn done_line(outputs: &Recorders, config: &RunConfig, summary: &Summary) -> 
     let out = &config.outputs;
     let mut written = Vec::new();
     if let (Some(t), Some(path)) = (&outputs.trail, &out.trail) {
-        written.push(format!("trail -> {} ({} rows)", path.display(), t.rows()));
+        written.push(format!("trail -> {} ({} rows)", shown_path(path), t.rows()));
     }
     if let Some(path) = &out.summary {
-        written.push(format!("summary -> {}", path.display()));
+        written.push(format!("summary -> {}", shown_path(path)));
     }
     if let Some(path) = save_q(config) {
-        written.push(format!("joint samples -> {}", path.display()));
+        written.push(format!("joint samples -> {}", shown_path(path)));
     }
     if let Some(h) = &outputs.html {
-        written.push(format!("html -> {}", h.path().display()));
+        written.push(format!("html -> {}", shown_path(h.path())));
     }
     if let Some(p) = &outputs.plot {
-        written.push(format!("plot -> {}", p.path().display()));
+        written.push(format!("plot -> {}", shown_path(p.path())));
     }
     if let Some(path) = out.plot_motors.as_deref().filter(|_| outputs.motor_plot.is_some()) {
-        written.push(format!("motor plot -> {}", path.display()));
+        written.push(format!("motor plot -> {}", shown_path(path)));
     }
     let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
     let clearance = match summary.clearance_wall_time_s {

@@ -76,6 +76,8 @@ pub fn retime(
         .as_ref()
         .map(|c| c.summary.clone())
         .expect("retime's command checks its timing");
+    // the outputs are written from here on: a signal stops the run, not the process
+    stop.watch();
     let replayed = match records && summary.interrupted_at_s.is_none() {
         true => {
             let prepared = Prepared {
@@ -150,7 +152,7 @@ pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) ->
             if c.attempts == 1 { "" } else { "s" },
             c.slowed_points,
             if c.slowed_points == 1 { "" } else { "s" },
-            out.map_or(String::new(), |p| format!("; wrote {}", p.display()))
+            out.map_or(String::new(), |p| format!("; wrote {}", crate::error::shown_path(p)))
         ));
     }
     text

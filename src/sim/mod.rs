@@ -23,7 +23,7 @@ pub use scenario::{
 };
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};
-pub use stop::{StopFlag, exit_status};
+pub use stop::{SIGPIPE, StopFlag, exit_status, stdout_closed};
 pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Simulated, StepLoss,
     Summary, ToolRange, ToolRule,

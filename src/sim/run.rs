@@ -72,6 +72,8 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             _ => None,
         },
     };
+    // the loop looks at the flag: a signal now stops the run, not the process
+    stop.watch();
     for r in recorders.iter_mut() {
         r.begin(&info)?;
     }

@@ -1,9 +1,13 @@
 //! Stopping a run from outside (Ctrl-C, SIGTERM, SIGHUP), cleanly: the loop polls a flag,
-//! finishes its recorders, and every file is complete.
+//! finishes its recorders, and every file is complete. Before anything watches the process's
+//! flag (while a command reads and parses its inputs, loads its model, retimes a path: nothing
+//! is written yet, and nothing would look at the flag), a signal ends the process at once, with
+//! one line on stderr and the signal's status ([`StopFlag::ctrl_c`], [`StopFlag::watch`]). A
+//! closed stdout (`faze4 … | head`) raises the flag as SIGPIPE would ([`stdout_closed`]).
 
 use std::sync::Arc;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// A shared "please stop" flag, which remembers the signal that raised it; optionally with a
 /// [`StopFlag::with_poll`] question asked at every look at it.
@@ -24,6 +28,13 @@ impl std::fmt::Debug for StopFlag {
 
 /// SIGINT's number, what [`StopFlag::raise`] records.
 const SIGINT: usize = 2;
+/// SIGPIPE's number, what [`stdout_closed`] records.
+pub const SIGPIPE: i32 = 13;
+
+/// The process's flag ([`StopFlag::ctrl_c`]), once its handlers are installed.
+static PROCESS: OnceLock<StopFlag> = OnceLock::new();
+/// Whether something watches the process's flag: until then a signal ends the process.
+static WATCHED: AtomicBool = AtomicBool::new(false);
 
 impl StopFlag {
     /// A flag nobody has raised.
@@ -33,19 +44,43 @@ impl StopFlag {
 
     /// The process-wide flag raised by Ctrl-C (SIGINT), SIGTERM (what `timeout`, Slurm and
     /// Kubernetes send) and SIGHUP (a closed terminal). The handlers are installed on the first
-    /// call; later calls return the same flag.
+    /// call; later calls return the same flag. Until the flag is watched ([`StopFlag::watch`],
+    /// [`StopFlag::is_raised`]), a signal ends the process at once: `faze4: stopped by SIGTERM
+    /// before the run began; nothing is written` on stderr and 128 + its number (a parse, a
+    /// load or a retime has nothing to finish, and would not look at the flag until it ends).
     pub fn ctrl_c() -> StopFlag {
-        static FLAG: OnceLock<StopFlag> = OnceLock::new();
-        FLAG.get_or_init(|| {
-            let flag = StopFlag::new();
-            // the handler only stores the signal's number (async-signal-safe); if one cannot
-            // be installed, that signal keeps its default behaviour
-            for signal in signals() {
-                let _ = signal_hook::flag::register_usize(signal, flag.0.clone(), signal as usize);
-            }
-            flag
-        })
-        .clone()
+        PROCESS
+            .get_or_init(|| {
+                let flag = StopFlag::new();
+                // the handlers only store the signal's number, or write a line and _exit
+                // (async-signal-safe); if one cannot be installed, that signal keeps its
+                // default behaviour
+                for signal in signals() {
+                    let _ = signal_hook::flag::register_usize(signal, flag.0.clone(), signal as usize);
+                    let line = unwatched_line(signal);
+                    // SAFETY: the action reads an atomic, writes a static line to fd 2 and calls
+                    // _exit: all async-signal-safe, nothing allocated or locked
+                    let _ = unsafe {
+                        signal_hook::low_level::register(signal, move || {
+                            if !WATCHED.load(Ordering::SeqCst) {
+                                libc::write(2, line.as_ptr().cast(), line.len());
+                                signal_hook::low_level::exit(exit_status(signal).into());
+                            }
+                        })
+                    };
+                }
+                flag
+            })
+            .clone()
+    }
+
+    /// Says that the flag is watched from now on: a signal raises it instead of ending the
+    /// process ([`StopFlag::ctrl_c`]). Called before anything exists that a stop must finish
+    /// (a temporary output file, a run's first step); [`StopFlag::is_raised`] calls it too.
+    pub fn watch(&self) {
+        if PROCESS.get().is_some_and(|p| Arc::ptr_eq(&p.0, &self.0)) {
+            WATCHED.store(true, Ordering::SeqCst);
+        }
     }
 
     /// Asks whoever polls the flag to stop (as Ctrl-C does).
@@ -59,8 +94,9 @@ impl StopFlag {
         StopFlag(Arc::default(), Some(Arc::new(poll)))
     }
 
-    /// Whether a stop was asked for.
+    /// Whether a stop was asked for (the flag is watched from now on: [`StopFlag::watch`]).
     pub fn is_raised(&self) -> bool {
+        self.watch();
         if self.0.load(Ordering::Relaxed) != 0 {
             return true;
         }
@@ -79,6 +115,27 @@ impl StopFlag {
             0 => None,
             s => Some(s as i32),
         }
+    }
+}
+
+/// The process's stdout is closed (a write failed with a broken pipe: `faze4 … | head` once
+/// `head` has its lines): the process's flag, if installed, is raised as SIGPIPE would, so that
+/// the run ends at its next look, quietly, with SIGPIPE's status (141).
+pub fn stdout_closed() {
+    if let Some(flag) = PROCESS.get() {
+        let _ = flag
+            .0
+            .compare_exchange(0, SIGPIPE as usize, Ordering::Relaxed, Ordering::Relaxed);
+    }
+}
+
+/// The line a signal writes when it ends the process before anything watched the flag.
+fn unwatched_line(signal: i32) -> &'static [u8] {
+    match signal {
+        2 => b"faze4: interrupted before the run began; nothing is written\n",
+        15 => b"faze4: stopped by SIGTERM before the run began; nothing is written\n",
+        1 => b"faze4: stopped by SIGHUP before the run began; nothing is written\n",
+        _ => b"faze4: stopped by a signal before the run began; nothing is written\n",
     }
 }
 

@@ -48,7 +48,7 @@ impl LiveView {
             start: None,
             scratch: Vec::new(),
         };
-        eprintln!("viz: live view at {}", view.url());
+        crate::error::to_stderr(&format!("viz: live view at {}", view.url()));
         Ok(view)
     }
 
@@ -125,7 +125,7 @@ impl LiveHandle {
     /// command line's Ctrl-C flag, since a Ctrl-C handler keeps Ctrl-C from ending the
     /// process) or the server stopped by itself.
     pub fn hold_until(&self, stop: impl Fn() -> bool) {
-        eprintln!("{}", self.hold_line());
+        crate::error::to_stderr(&self.hold_line());
         self.serve_until(stop)
     }
 

@@ -15,7 +15,7 @@ use serde_json::json;
 
 use super::mesh::{CompactMesh, Indices, TriMesh, load_mesh};
 use crate::algo::{Data, forward_kinematics};
-use crate::error::escape_controls;
+use crate::error::{escape_controls, to_stderr};
 use crate::geometry::GeometryModel;
 use crate::geometry::mesh::Rgba;
 use crate::model::{FrameId, Geometry, Model};
@@ -246,17 +246,17 @@ impl Scene {
         static UNREADABLE: AtomicBool = AtomicBool::new(false);
         if !self.missing.is_empty() && !MISSING.swap(true, Ordering::Relaxed) {
             let names: Vec<&str> = self.missing.iter().map(|u| u.rsplit('/').next().unwrap_or(u)).collect();
-            eprintln!(
+            to_stderr(&format!(
                 "viz: meshes not found ({}); drawing boxes ({})",
-                escape_controls(&names.join(", ")),
-                escape_controls(&crate::model::not_found_advice(&self.missing[0]))
-            );
+                names.join(", "),
+                crate::model::not_found_advice(&self.missing[0])
+            ));
         }
         if !self.unreadable.is_empty() && !UNREADABLE.swap(true, Ordering::Relaxed) {
-            eprintln!(
+            to_stderr(&format!(
                 "viz: meshes unreadable ({}); drawing boxes",
-                escape_controls(&self.unreadable.join("; "))
-            );
+                self.unreadable.join("; ")
+            ));
         }
     }
 

@@ -48,6 +48,19 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<TimedTrajectory> {
             ),
         ));
     }
+    // a column given twice would have the last one win, unsaid
+    if let Some((second, h)) = (header.iter().enumerate()).find(|(k, h)| header[..*k].contains(h)) {
+        let first = header.iter().position(|x| x == h).unwrap_or(0);
+        return Err(invalid(
+            path,
+            format!(
+                "column {} is given twice (columns {} and {}): give each column once",
+                quoted(h),
+                first + 1,
+                second + 1
+            ),
+        ));
+    }
     let times: Vec<&String> = header.iter().filter(|h| TIME_COLUMNS.contains(&h.as_str())).collect();
     if times.len() != 1 {
         return Err(invalid(
@@ -106,15 +119,17 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<TimedTrajectory> {
     let n = joint_names.len();
     let (with_v, with_a) = (velocities.first() == Some(&true), accelerations.first() == Some(&true));
     let mut points = Vec::new();
-    for (r, record) in reader.records().enumerate() {
-        let row = r + 2; // 1-based line of the file, after the header (comments aside)
-        let record = record.map_err(|e| invalid(path, format!("row {row}: {e}")))?;
-        if record.len() != header.len() {
-            return Err(invalid(
+    for record in reader.records() {
+        // a row of another length than the header is the reader's error (it is not flexible)
+        let record = record.map_err(|e| match e.kind() {
+            ::csv::ErrorKind::UnequalLengths { pos: Some(at), len, .. } => invalid(
                 path,
-                format!("row {row} has {} fields; the header has {}", record.len(), header.len()),
-            ));
-        }
+                format!("line {} has {len} fields; the header has {}", at.line(), header.len()),
+            ),
+            _ => invalid(path, e.to_string()),
+        })?;
+        // the record's line in the file, comments and blank lines counted
+        let row = record.position().map_or(0, |at| at.line());
         let mut p = TrajectoryPoint {
             time_from_start: 0.0,
             positions: vec![0.0; n],
@@ -125,7 +140,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<TimedTrajectory> {
             let x: f64 = field.parse().map_err(|_| {
                 invalid(
                     path,
-                    format!("row {row}, column {}: {} is not a number", quoted(h), quoted(field)),
+                    format!("line {row}, column {}: {} is not a number", quoted(h), quoted(field)),
                 )
             })?;
             match *column {
@@ -194,9 +209,14 @@ mod tests {
         assert!(
             e("a,b\n1,2\n").contains("needs one time column named t, time or time_from_start (s); the header has none")
         );
-        assert!(e("t,a\n0,x\n").contains("row 2, column 'a': 'x' is not a number"));
+        assert!(e("t,a\n0,x\n").contains("line 2, column 'a': 'x' is not a number"));
+        // lines counted as the file has them, comments and blank lines included
+        assert!(e("# by hand\nt,a\n\n# next\n0,1\n1,x\n").contains("line 6, column 'a': 'x' is not a number"));
+        assert!(
+            e("t,a,a.velocity,a.velocity\n0,1,2,3\n").contains("column 'a.velocity' is given twice (columns 3 and 4)")
+        );
         assert!(e("t,a,b,a.velocity\n0,1,2,3\n").contains("has velocity columns for some joints but not 'b'"));
         assert!(e("t,a,c.velocity\n0,1,2\n").contains("column 'c.velocity' has no position column 'c'"));
-        assert!(e("t,a\n0,1,2\n").contains("row 2"));
+        assert!(e("# by hand\nt,a\n0,1,2\n").contains("line 3 has 3 fields; the header has 2"));
     }
 }

@@ -21,6 +21,7 @@
 //! [`TimedTrajectory::round_times_to_nanoseconds`]).
 
 pub mod bag;
+pub mod bounded;
 pub mod csv;
 pub mod joint_states;
 pub mod json;
@@ -187,7 +188,7 @@ pub fn open(path: &Path, selection: &Selection) -> Result<Opened> {
     if meta.is_dir() {
         return folder(path, selection);
     }
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = crate::input::open(path, &meta)?;
     let (head, source) = peek(bag::Capped::new(file)).map_err(io)?;
     let magic = Magic::of(&head);
     let whole = |source, cap: u64, what: &str| match meta.is_file() && meta.len() > cap {

@@ -1,7 +1,8 @@
 //! The ROS 2 messages the trajectory files carry, field for field (`trajectory_msgs/msg/
 //! JointTrajectory`, `sensor_msgs/msg/JointState`), and their conversion to and from a
 //! [`TimedTrajectory`]. Times are ROS's whole nanoseconds (`sec`, `nanosec`); see
-//! [`crate::traj::timed::nanoseconds`].
+//! [`crate::traj::timed::nanoseconds`]. The messages' lists are read under caps
+//! ([`super::bounded`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -39,8 +40,10 @@ pub struct JointTrajectoryMsg {
     /// The header (its stamp 0: start on receipt).
     pub header: Header,
     /// The joints, in the points' order.
+    #[serde(deserialize_with = "super::bounded::names")]
     pub joint_names: Vec<String>,
     /// The points.
+    #[serde(deserialize_with = "super::bounded::points")]
     pub points: Vec<JointTrajectoryPointMsg>,
 }
 
@@ -48,12 +51,16 @@ pub struct JointTrajectoryMsg {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointTrajectoryPointMsg {
     /// Positions (rad or m).
+    #[serde(deserialize_with = "super::bounded::values")]
     pub positions: Vec<f64>,
     /// Velocities, or empty.
+    #[serde(deserialize_with = "super::bounded::values")]
     pub velocities: Vec<f64>,
     /// Accelerations, or empty.
+    #[serde(deserialize_with = "super::bounded::values")]
     pub accelerations: Vec<f64>,
     /// Efforts, or empty (read and ignored: faze4's controller makes its own torque).
+    #[serde(deserialize_with = "super::bounded::values")]
     pub effort: Vec<f64>,
     /// Time since the trajectory's start.
     pub time_from_start: RosTime,
@@ -65,12 +72,16 @@ pub struct JointStateMsg {
     /// Its stamp is the time of the state.
     pub header: Header,
     /// The joints.
+    #[serde(deserialize_with = "super::bounded::names")]
     pub name: Vec<String>,
     /// Positions (rad or m).
+    #[serde(deserialize_with = "super::bounded::values")]
     pub position: Vec<f64>,
     /// Velocities, or empty.
+    #[serde(deserialize_with = "super::bounded::values")]
     pub velocity: Vec<f64>,
     /// Efforts, or empty (ignored).
+    #[serde(deserialize_with = "super::bounded::values")]
     pub effort: Vec<f64>,
 }
 

@@ -28,7 +28,10 @@ use super::ros::{JOINT_STATE, JOINT_TRAJECTORY, JointStateMsg, JointTrajectoryMs
 use super::sniff::{Magic, ZSTD_MAGIC, peek, shown};
 use super::{Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
-use crate::input::{MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, read_stream_capped, size_text, too_large};
+use crate::input::{
+    MAX_BAG_BYTES, MAX_MCAP_BYTES, MAX_MCAP_MESSAGE_BYTES, MAX_TRAJECTORY_POINTS, read_stream_capped, size_text,
+    too_large,
+};
 
 /// The message encoding of ROS 1's serialization (a `.bag`'s connections).
 pub const ROS1: &str = "ros1";
@@ -64,11 +67,12 @@ fn joint(kind: &str) -> Option<Joint> {
 }
 
 /// What a bag's readers found: every topic with its number of messages, and the messages of
-/// the joint topics with their log times (ns), decompressed.
+/// the joint topics with their log times (ns), decompressed. A topic is its name, type and
+/// encoding: one name recorded with two types is two topics, never one list of messages.
 #[derive(Debug, Default)]
 pub struct Collected {
     topics: BTreeMap<Topic, usize>,
-    messages: BTreeMap<String, Vec<(u64, Vec<u8>)>>,
+    messages: BTreeMap<Topic, Vec<(u64, Vec<u8>)>>,
     /// The bytes kept, with each message's place in its list.
     kept: u64,
 }
@@ -121,7 +125,7 @@ impl Collected {
         if self.kept > MAX_MCAP_MESSAGE_BYTES {
             return Err(over());
         }
-        (self.messages.entry(topic.name.clone()).or_default()).push((log_time, data));
+        (self.messages.entry(topic.clone()).or_default()).push((log_time, data));
         Ok(())
     }
 
@@ -152,16 +156,19 @@ impl Collected {
     /// The topic `selection` names, else the one candidate.
     fn topic(&self, selection: &Selection, path: &Path) -> Result<Topic> {
         if let Some(name) = &selection.topic {
-            return self.topics.keys().find(|t| &t.name == name).cloned().ok_or_else(|| {
-                Error::option(
+            let named: Vec<&Topic> = self.topics.keys().filter(|t| &t.name == name).collect();
+            return match named.as_slice() {
+                [one] => Ok((*one).clone()),
+                [] => Err(Error::option(
                     "topic",
                     format!(
                         "{name}: {} has no such topic (its topics: {})",
                         path.display(),
                         self.topic_list()
                     ),
-                )
-            });
+                )),
+                several => Err(self.one_name_several_types(several, path)),
+            };
         }
         let of = |kind: Joint| {
             (self.topics.keys())
@@ -171,6 +178,10 @@ impl Collected {
         let (trajectories, states) = (of(Joint::Trajectory), of(Joint::State));
         let found = if trajectories.is_empty() { states } else { trajectories };
         match found.as_slice() {
+            [one] if self.topics.keys().filter(|t| t.name == one.name).count() > 1 => {
+                let named: Vec<&Topic> = self.topics.keys().filter(|t| t.name == one.name).collect();
+                Err(self.one_name_several_types(&named, path))
+            }
             [one] => Ok((*one).clone()),
             [] => Err(invalid(
                 path,
@@ -188,6 +199,31 @@ impl Collected {
                 ),
             )),
         }
+    }
+
+    /// The refusal of a topic name that `topics` (two or more) give with different types or
+    /// encodings: their messages are not one stream.
+    fn one_name_several_types(&self, topics: &[&Topic], path: &Path) -> Error {
+        let kinds: Vec<String> = (topics.iter())
+            .map(|t| {
+                let n = self.topics.get(*t).copied().unwrap_or(0);
+                let kind = if t.kind.is_empty() { "no type" } else { &t.kind };
+                format!(
+                    "{kind} in {} ({n} message{})",
+                    t.encoding,
+                    if n == 1 { "" } else { "s" }
+                )
+            })
+            .collect();
+        invalid(
+            path,
+            format!(
+                "topic {} is recorded with {} types or encodings ({}): its messages are not one stream; faze4 reads a topic of one type",
+                topics[0].name,
+                topics.len(),
+                kinds.join("; ")
+            ),
+        )
     }
 
     /// The trajectory `selection` picks (unchecked), and its topic: one message of a
@@ -219,7 +255,7 @@ impl Collected {
                 ),
             ));
         }
-        let mut messages = self.messages.remove(&topic.name).unwrap_or_default();
+        let mut messages = self.messages.remove(&topic).unwrap_or_default();
         // log-time order (a stable sort keeps the file's order among equal times)
         messages.sort_by_key(|(log_time, _)| *log_time);
         if kind == Joint::Trajectory {
@@ -236,11 +272,35 @@ impl Collected {
                 ),
             ));
         }
-        let states = (messages.iter().enumerate())
+        if messages.len() > MAX_TRAJECTORY_POINTS {
+            return Err(invalid(
+                path,
+                format!(
+                    "topic {} holds {} messages, more than the {MAX_TRAJECTORY_POINTS} points a trajectory may have (docs/development.md, Caps)",
+                    topic.name,
+                    messages.len()
+                ),
+            ));
+        }
+        // each message decoded and its bytes let go, the decoded ones bounded
+        let mut decoded = 0;
+        let states = (messages.into_iter().enumerate())
             .map(|(k, (log_time, data))| {
-                let message = decode::<JointStateMsg>(data, path, &topic, k)?;
+                let message = decode::<JointStateMsg>(&data, path, &topic, k)?;
+                decoded += decoded_size(&message);
+                if decoded > MAX_DECODED_STATES_BYTES {
+                    return Err(invalid(
+                        path,
+                        format!(
+                            "topic {}'s messages take more than {} once decoded, at message {} (docs/development.md, Caps)",
+                            topic.name,
+                            size_text(MAX_DECODED_STATES_BYTES),
+                            k + 1
+                        ),
+                    ));
+                }
                 Ok(StampedState {
-                    log_time: Some(*log_time),
+                    log_time: Some(log_time),
                     message,
                 })
             })
@@ -252,6 +312,29 @@ impl Collected {
         };
         Ok((read, topic.name))
     }
+}
+
+/// Most bytes a JointState topic's messages may take once decoded (256 MiB, as much as the
+/// bytes kept, [`MAX_MCAP_MESSAGE_BYTES`], which are let go as they are decoded): a decoded name
+/// costs a `String` and its allocation, up to seven times its 8 bytes of CDR, so a topic of
+/// short messages could otherwise take gigabytes. A recording of 6 joints decodes to about 2.2
+/// times its bytes: about 6 minutes at 1 kHz fit, an hour at 100 Hz.
+pub const MAX_DECODED_STATES_BYTES: u64 = MAX_MCAP_MESSAGE_BYTES;
+
+/// What `message` takes in memory once decoded: its struct in its list and its allocations, as
+/// the system allocator rounds them (16-byte steps beyond 8 bytes of header, 32 bytes at least).
+fn decoded_size(message: &JointStateMsg) -> u64 {
+    let heap = |bytes: usize| match bytes {
+        0 => 0,
+        n => (n + 8).next_multiple_of(16).max(32),
+    };
+    let names = (message.name.iter()).map(|n| heap(n.len())).sum::<usize>();
+    let lists = [&message.position, &message.velocity, &message.effort].map(|v| heap(8 * v.len()));
+    (std::mem::size_of::<StampedState>()
+        + heap(message.header.frame_id.len())
+        + heap(std::mem::size_of::<String>() * message.name.len())
+        + names
+        + lists.iter().sum::<usize>()) as u64
 }
 
 /// A message of `topic`, its `k`-th (0-based): ROS 2's CDR (encapsulation header, then the
@@ -304,7 +387,7 @@ pub fn collect_file(path: &Path, bag: &mut Collected) -> Result<&'static str> {
     if meta.is_file() && meta.len() > MAX_BAG_BYTES {
         return Err(too_large(path, Some(meta.len()), MAX_BAG_BYTES, "a bag file"));
     }
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = crate::input::open(path, &meta)?;
     let (head, source) = peek(Capped::new(file)).map_err(io)?;
     collect_stream(Magic::of(&head), &head, source, meta.is_file(), bag, path)
 }

@@ -21,7 +21,7 @@ use std::path::Path;
 
 use super::{Collected, ROS1, Topic};
 use crate::error::Result;
-use crate::input::{MAX_MCAP_MESSAGE_BYTES, size_text};
+use crate::input::{MAX_MCAP_MESSAGE_BYTES, MAX_MOVING_JOINTS, MAX_TRAJECTORY_POINTS, size_text};
 use crate::traj::files::invalid;
 use crate::traj::files::ros::{Header, JointStateMsg, JointTrajectoryMsg, JointTrajectoryPointMsg, RosTime};
 use crate::traj::files::sniff::ROS1_MAGIC;
@@ -256,7 +256,7 @@ impl Decode for JointTrajectoryMsg {
         let mut r = Ros1(data);
         let header = r.header()?;
         let joint_names = r.strings()?;
-        let count = r.count(4 * 4 + 8)?;
+        let count = r.count(4 * 4 + 8, MAX_TRAJECTORY_POINTS, "points")?;
         let mut points = Vec::with_capacity(count);
         for _ in 0..count {
             points.push(JointTrajectoryPointMsg {
@@ -290,9 +290,15 @@ impl Ros1<'_> {
         self.take().map(u32::from_le_bytes)
     }
 
-    /// An array's count, checked against what is left (each element at least `least` bytes).
-    fn count(&mut self, least: usize) -> std::result::Result<usize, String> {
+    /// An array's count, checked against what is left (each element at least `least` bytes)
+    /// and against `max` (docs/development.md, Caps), `what` naming its elements.
+    fn count(&mut self, least: usize, max: usize, what: &str) -> std::result::Result<usize, String> {
         let n = self.u32()? as usize;
+        if n > max {
+            return Err(format!(
+                "an array claims {n} {what}, more than the {max} a message may hold (docs/development.md, Caps)"
+            ));
+        }
         match n.checked_mul(least).is_some_and(|b| b <= self.0.len()) {
             true => Ok(n),
             false => Err(format!(
@@ -303,19 +309,19 @@ impl Ros1<'_> {
     }
 
     fn string(&mut self) -> std::result::Result<String, String> {
-        let n = self.count(1)?;
+        let n = self.count(1, usize::MAX, "bytes")?;
         let (text, rest) = self.0.split_at(n);
         self.0 = rest;
         String::from_utf8(text.to_vec()).map_err(|_| "a string is not UTF-8".to_string())
     }
 
     fn strings(&mut self) -> std::result::Result<Vec<String>, String> {
-        let n = self.count(4)?;
+        let n = self.count(4, MAX_MOVING_JOINTS, "joint names")?;
         (0..n).map(|_| self.string()).collect()
     }
 
     fn floats(&mut self) -> std::result::Result<Vec<f64>, String> {
-        let n = self.count(8)?;
+        let n = self.count(8, MAX_MOVING_JOINTS, "values")?;
         (0..n).map(|_| self.take().map(f64::from_le_bytes)).collect()
     }
 
