@@ -706,3 +706,93 @@ fn an_intersecting_pair_reads_intersecting_not_a_negative_bound() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `faze4 completions bash` is a script bash loads, and it completes the options the run
+/// commands declare; `faze4 man` is a roff page naming every command; an unknown shell is
+/// refused naming the ones there are.
+#[test]
+fn completions_and_man_page() {
+    let dir = temp_dir("completions");
+    let script = faze4(&dir, &["completions", "bash"]);
+    assert!(script.status.success(), "{}", script.stderr);
+    std::fs::write(dir.join("faze4.bash"), &script.stdout).unwrap();
+    // bash's completion as a user's shell runs it: the words typed so far, then the function
+    // with the command, the word being completed and the one before it
+    let complete = |words: &str| {
+        let out = std::process::Command::new("bash")
+            .arg("-c")
+            .arg(format!(
+                "source ./faze4.bash; COMP_WORDS=({words}); COMP_CWORD=$((${{#COMP_WORDS[@]}} - 1)); \
+                 COMP_LINE=\"${{COMP_WORDS[*]}}\"; COMP_POINT=${{#COMP_LINE}}; _faze4 faze4 \"${{COMP_WORDS[COMP_CWORD]}}\" \"${{COMP_WORDS[COMP_CWORD-1]}}\"; printf '%s\\n' \"${{COMPREPLY[@]}}\""
+            ))
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let commands = complete("faze4 ''");
+    for command in ["wave", "replay", "shape", "retime", "sweep", "completions", "man"] {
+        assert!(
+            commands.lines().any(|l| l == command),
+            "{command} not completed: {commands}"
+        );
+    }
+    let options = complete("faze4 shape --pay");
+    assert_eq!(options.trim(), "--payload-kg", "{options}");
+    let shapes = complete("faze4 shape --shape ''");
+    assert_eq!(shapes.split_whitespace().collect::<Vec<_>>(), ["sine", "circle", "tri"]);
+    for shell in ["zsh", "fish", "elvish", "powershell"] {
+        let run = faze4(&dir, &["completions", shell]);
+        assert!(
+            run.status.success() && run.stdout.contains("payload-kg"),
+            "{shell}: {}",
+            run.stderr
+        );
+    }
+    let empty = temp_dir("completions-refused");
+    refuses(&empty, &["completions", "tcsh"], &["tcsh", "bash", "zsh"]);
+    std::fs::remove_dir_all(&empty).unwrap();
+
+    let man = faze4(&dir, &["man"]);
+    assert!(man.status.success(), "{}", man.stderr);
+    assert!(
+        man.stdout.starts_with(".ie") || man.stdout.contains(".TH faze4 1"),
+        "{}",
+        &man.stdout[..200]
+    );
+    for command in ["wave", "replay", "shape", "retime", "sweep"] {
+        assert!(
+            man.stdout.contains(&format!("faze4\\-{command}")),
+            "the man page does not name {command}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A file given without its flag gets a hint naming the flag; the line stays one line.
+#[test]
+fn a_path_without_its_flag_names_the_flag() {
+    let dir = temp_dir("path-hint");
+    refuses(
+        &dir,
+        &["replay", "circle.npy"],
+        &["'circle.npy'", "did you mean '--q-traj circle.npy'"],
+    );
+    refuses(
+        &dir,
+        &["retime", "plan.yaml", "--out", "t.yaml"],
+        &["did you mean '--q-traj plan.yaml'"],
+    );
+    refuses(&dir, &["wave", "arm.urdf"], &["did you mean '--urdf arm.urdf'"]);
+    refuses(
+        &dir,
+        &["shape", "--shape", "circle", "motors.toml"],
+        &["did you mean '--motors motors.toml'"],
+    );
+    // a word that is no path, or a path no flag of the command reads, gets no guess
+    let run = faze4(&dir, &["wave", "circle.npy"]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(!run.stderr.contains("did you mean"), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -475,3 +475,26 @@ fn masks_and_elision() {
     assert_eq!(regenerated(&lines("a/…/z"), &lines("A/b/c/Z")), lines("A/…/Z"));
     assert_eq!(regenerated(&lines("a/…/z"), &lines("A/Z")), lines("A/Z"));
 }
+
+/// The README says how to install what the optional tests need, in the words their `NOTICE:`
+/// line prints: every `` `apt-get install …` `` of tests/browser.rs and tests/slurm.rs.
+#[test]
+fn the_readme_names_the_installs_the_optional_tests_ask_for() {
+    let readme = std::fs::read_to_string(repo_path("README.md"))
+        .unwrap()
+        .replace('\n', " ");
+    for harness in ["tests/browser.rs", "tests/slurm.rs"] {
+        let source = std::fs::read_to_string(repo_path(harness)).unwrap();
+        let installs: Vec<&str> = (source.match_indices("`apt-get install "))
+            .map(|(k, _)| &source[k..k + 1 + source[k + 1..].find('`').unwrap() + 1])
+            .collect();
+        assert!(!installs.is_empty(), "{harness} names no `apt-get install`");
+        for install in installs {
+            assert!(
+                readme.contains(install),
+                "the README does not say {install} ({harness}'s notice)"
+            );
+        }
+        assert!(readme.contains(harness), "the README does not name {harness}");
+    }
+}

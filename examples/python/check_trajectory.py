@@ -41,7 +41,7 @@ def main() -> None:
     robot = faze4.Robot.faze4()
     q_traj = planned_trajectory(robot)  # (N, dof) float64
     run = faze4.replay(robot, q_traj, traj_period=3.0, duration=duration)
-    print(run.verdict)
+    print(run.verdict_line)
     print("max tracking error (rad):", np.round(run.summary["max_tracking_error_rad"], 4))
     print("torque at the limit (% of steps):", np.round(run.summary["saturation_pct"], 2))
 

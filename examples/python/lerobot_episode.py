@@ -136,7 +136,7 @@ def main() -> None:
                 f"{name:13s} beyond its envelope {motor['envelope_pct']:5.1f} % of the steps, "
                 f"peak {motor['sizing']['peak_torque'] * 1e3:.2f} mN·m at the motor"
             )
-    print(run.verdict)
+    print(run.verdict_line)
 
 
 if __name__ == "__main__":

@@ -201,25 +201,41 @@ class Run:
     """What a run did.
 
     ``summary``: the binary's ``--summary`` JSON as a dict; ``follows``: whether the arm follows
-    its command; ``verdict``: the verdict line the binary prints last; ``reasons``: why not;
+    its command; ``verdict``: the verdict, ``"follows"``, ``"collides"`` or ``"cannot follow"``;
+    ``verdict_line``: the line the binary prints last (``"verdict: follows"``, or the verdict
+    and its reasons); ``reasons``: why not;
     ``t`` (N,), ``q`` (N, dof), ``q_cmd`` (N, dof), ``tool_xyz`` (N, 3): the trail's samples
     (every ``record_period``, t = 0 and the last step included); ``warnings``: what the binary
     would have said on stderr. A run that diverged returns too: ``summary["diverged"]``."""
 
-    __slots__ = ("summary", "follows", "verdict", "reasons", "t", "q", "q_cmd", "tool_xyz", "warnings", "_engine_s")
+    __slots__ = (
+        "summary",
+        "follows",
+        "verdict",
+        "verdict_line",
+        "reasons",
+        "t",
+        "q",
+        "q_cmd",
+        "tool_xyz",
+        "warnings",
+        "_engine_s",
+    )
 
-    def __init__(self, summary_json, verdict, t, q, q_cmd, tool_xyz, warnings, engine_s):
+    def __init__(self, summary_json, verdict_line, t, q, q_cmd, tool_xyz, warnings, engine_s):
         self.summary = json.loads(summary_json)
         self.follows = bool(self.summary["verdict"]["follows"])
         self.reasons = list(self.summary["verdict"]["reasons"])
-        self.verdict = verdict
+        self.verdict_line = verdict_line
+        # the word after "verdict: ", up to its reasons: the first of "collides — …; cannot follow — …"
+        self.verdict = verdict_line.removeprefix("verdict: ").split(" — ")[0]
         self.t, self.q, self.q_cmd, self.tool_xyz = t, q, q_cmd, tool_xyz
         self.warnings = warnings
         # seconds the binary's own scenario-run-outputs code took (tools/bench/python_api.py)
         self._engine_s = engine_s
 
     def __repr__(self) -> str:
-        return f"<faze4.Run {self.verdict!r}, {len(self.t)} samples>"
+        return f"<faze4.Run {self.verdict_line!r}, {len(self.t)} samples>"
 
 
 def _robot_options(robot: Robot) -> dict[str, Any]:
@@ -298,11 +314,11 @@ def _reported(merged: dict[str, Any], run: Run, printed: str, diverged: str | No
     if not merged.get("quiet", True):
         for line in run.warnings:
             print(f"faze4: {line}", file=sys.stderr)
-        print(printed + run.verdict, flush=True)
+        print(printed + run.verdict_line, flush=True)
         if diverged:
             print(f"faze4: {diverged}", file=sys.stderr)
     if merged.get("strict") and not run.follows:
-        raise CannotFollow(run.verdict, run)
+        raise CannotFollow(run.verdict_line, run)
     return run
 
 
@@ -330,7 +346,7 @@ class Retimed:
     joint_names=r.joint_names)`` plays); ``duration`` (s); ``own_duration``: the input's own
     timing (a time-stamped file's last time, a ``.npy``'s ``traj_period``) or ``None``;
     ``speedup``: ``own_duration / duration`` or ``None``; ``run``: the checked timing's
-    :class:`Run` (its trail, summary and verdict); ``follows``, ``verdict``: the run's;
+    :class:`Run` (its trail, summary and verdict); ``follows``, ``verdict``, ``verdict_line``: the run's;
     ``lines``: what the binary prints before its verdict (the duration, what binds where, the
     check)."""
 
@@ -355,8 +371,12 @@ class Retimed:
     def verdict(self) -> str:
         return self.run.verdict
 
+    @property
+    def verdict_line(self) -> str:
+        return self.run.verdict_line
+
     def __repr__(self) -> str:
-        return f"<faze4.Retimed {self.duration:.4f} s, {len(self.t)} points, {self.run.verdict!r}>"
+        return f"<faze4.Retimed {self.duration:.4f} s, {len(self.t)} points, {self.run.verdict_line!r}>"
 
 
 def retime(robot: Robot, q_path: Any, **options: Any) -> Retimed:

@@ -203,6 +203,7 @@ class Run:
     summary: dict[str, Any]
     follows: bool
     verdict: str
+    verdict_line: str
     reasons: list[str]
     t: npt.NDArray[np.float64]
     q: npt.NDArray[np.float64]
@@ -226,6 +227,8 @@ class Retimed:
     def follows(self) -> bool: ...
     @property
     def verdict(self) -> str: ...
+    @property
+    def verdict_line(self) -> str: ...
 
 class Found:
     name: str

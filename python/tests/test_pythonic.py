@@ -29,7 +29,8 @@ def test_strict_raises_cannot_follow_carrying_the_run():
     error = caught.value
     assert isinstance(error, faze4.Error) and isinstance(error, ValueError)
     assert isinstance(error.run, faze4.Run) and not error.run.follows
-    assert str(error) == error.run.verdict and str(error).startswith("verdict: cannot follow")
+    assert str(error) == error.run.verdict_line and str(error).startswith("verdict: cannot follow — ")
+    assert error.run.verdict == "cannot follow"
     # it pickles with its run (a pool's worker can raise it)
     again = pickle.loads(pickle.dumps(error))
     assert str(again) == str(error) and again.run.summary == error.run.summary

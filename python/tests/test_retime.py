@@ -63,7 +63,7 @@ def test_equals_the_binarys_retime(retimed, binary, tmp_path):
     )
     assert summary is not None, proc.stderr
     assert without_wall_times(retimed.run.summary) == without_wall_times(summary)
-    assert proc.stdout.strip().splitlines()[-1] == retimed.verdict
+    assert proc.stdout.strip().splitlines()[-1] == retimed.verdict_line
     written = json.loads((tmp_path / "t.json").read_text())
     points = written["points"]
     assert written["joint_names"] == retimed.joint_names

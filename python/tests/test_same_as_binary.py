@@ -113,8 +113,11 @@ def test_summaries_equal_the_binarys(case, binary, tmp_path):
     run = python_run(command, robot_options, options)
     assert without_wall_times(run.summary) == without_wall_times(expected)
     # the verdict is the binary's last line
-    assert proc.stdout.strip().splitlines()[-1] == run.verdict
+    assert proc.stdout.strip().splitlines()[-1] == run.verdict_line
     assert run.follows == expected["verdict"]["follows"]
+    # run.verdict is the word: the summary's follows and collides say which
+    word = "follows" if run.follows else "collides" if expected["verdict"]["collides"] else "cannot follow"
+    assert run.verdict == word and run.verdict_line.startswith(f"verdict: {word}")
     if case == "wave, diverges":
         assert proc.returncode == 1 and run.summary["diverged"]["joint"] == 6
 

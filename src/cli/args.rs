@@ -38,6 +38,14 @@ pub enum Command {
     /// Many runs at once: vary options over a grid (--vary), or find the largest value that
     /// still follows (--find); after `--`, the command to run: sweep --vary payload-kg=0:2:0.5 -- shape --shape circle.
     Sweep(SweepArgs),
+    /// Print the shell completion script for SHELL on stdout: `faze4 completions bash > ~/.local/share/bash-completion/completions/faze4`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff) on stdout: `faze4 man > faze4.1 && man ./faze4.1`.
+    Man,
 }
 
 impl Command {
@@ -48,7 +56,7 @@ impl Command {
             Command::Replay(d) => Some(d.parts()),
             Command::Shape(d) => Some(d.parts()),
             Command::Retime(d) => Some(d.parts()),
-            Command::Sweep(_) => None,
+            Command::Sweep(_) | Command::Completions { .. } | Command::Man => None,
         }
     }
 }

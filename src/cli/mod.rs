@@ -10,7 +10,7 @@ pub mod sweep;
 use std::io::Write;
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, Parser};
 
 use self::args::{Cli, Command};
 use faze4::atomic::Outputs;
@@ -79,10 +79,36 @@ pub fn usage_line(e: &clap::Error) -> String {
         Some(ContextValue::Strings(v)) if !v.is_empty() => Some(v.join("' or '")),
         _ => None,
     });
-    match suggestion {
+    match suggestion.or_else(|| path_hint(e)) {
         Some(s) => format!("{first}; did you mean '{s}'? (faze4 --help lists the options)"),
         None => format!("{first} (faze4 --help lists the options)"),
     }
+}
+
+/// A file given without its flag (`faze4 replay circle.npy`): the flag it is most likely for,
+/// with the word (`--q-traj circle.npy`). A model by its extension (`--urdf`), a motors file
+/// (`--motors`), else the trajectory of a command that reads one (`replay`, `retime`).
+fn path_hint(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let (ErrorKind::UnknownArgument, Some(ContextValue::String(word))) = (e.kind(), e.get(ContextKind::InvalidArg))
+    else {
+        return None;
+    };
+    if word.starts_with('-') || !(word.contains('.') || word.contains('/')) {
+        return None;
+    }
+    let usage = e.get(ContextKind::Usage).map(|u| u.to_string()).unwrap_or_default();
+    let lower = word.to_lowercase();
+    let flag = if lower.ends_with(".urdf") || lower.ends_with(".xml") {
+        "--urdf"
+    } else if lower.ends_with(".toml") {
+        "--motors"
+    } else if usage.contains("faze4 replay") || usage.contains("faze4 retime") {
+        "--q-traj"
+    } else {
+        return None;
+    };
+    Some(format!("{flag} {word}"))
 }
 
 /// A library message with the options it names shown as the command line's flags.
@@ -90,12 +116,30 @@ pub fn flags(text: &str) -> String {
     in_words(text, Words::Flags)
 }
 
+/// `faze4 completions SHELL` and `faze4 man`: what `write` writes, on stdout.
+fn shell_file(write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<ExitCode> {
+    let mut out = std::io::stdout().lock();
+    write(&mut out).and_then(|()| out.flush()).map_err(|source| Error::Io {
+        path: "stdout".into(),
+        source,
+    })?;
+    Ok(ExitCode::SUCCESS)
+}
+
 fn execute(cli: &Cli) -> Result<ExitCode> {
     // the signal handlers go in first: until a run or its outputs begin, a Ctrl-C (or SIGTERM)
     // ends the process at once with one line (a parse, a load, a retime look at no flag)
     let _ = StopFlag::ctrl_c();
-    if let Command::Sweep(a) = &cli.command {
-        return sweep::execute(a);
+    match &cli.command {
+        Command::Sweep(a) => return sweep::execute(a),
+        Command::Completions { shell } => {
+            return shell_file(|out| {
+                clap_complete::generate(*shell, &mut Cli::command(), "faze4", out);
+                Ok(())
+            });
+        }
+        Command::Man => return shell_file(|out| clap_mangen::Man::new(Cli::command()).render(out)),
+        _ => {}
     }
     let config = config::run_config(&cli.command, true)?;
     if let faze4::config::Motion::Retime(_) = &config.motion {

@@ -129,6 +129,14 @@ fn mapped_line(m: &crate::model::Model) -> Option<String> {
     Some(format!("[faze4] mapped from {}: {}", m.format, mapped.join(" · ")))
 }
 
+/// A figure of the banner for people: `x` to 9 significant digits, written as short as that
+/// allows (a duration of 9894 steps of 0.2 ms reads `1.9788`, not its sum's
+/// `1.9788000000000001`).
+fn for_people(x: f64) -> String {
+    let rounded: f64 = format!("{x:.8e}").parse().unwrap_or(x);
+    format!("{rounded}")
+}
+
 /// A control rate for people: "5 kHz", "1 kHz", "250 Hz".
 fn rate(hz: f64) -> String {
     if hz >= 1e3 {
@@ -200,11 +208,11 @@ impl Recorder for Terminal {
             if g == 0.0 {
                 "off".to_string()
             } else {
-                format!("{g} m/s²")
+                format!("{} m/s²", for_people(g))
             },
-            run.dt * 1e3,
+            for_people(run.dt * 1e3),
             rate(1.0 / run.dt),
-            run.steps as f64 * run.dt,
+            for_people(run.steps as f64 * run.dt),
             run.steps
         ))?;
         if let Some(line) = mapped_line(m) {
@@ -454,4 +462,18 @@ pub fn clearance_line(c: &ClearanceReport, verdict: &Verdict) -> String {
         line += &format!(" · not checked: {}", c.unchecked.join(", "));
     }
     line
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn banner_figures_are_rounded_for_people() {
+        assert_eq!(super::for_people(9894.0 * 2e-4), "1.9788");
+        assert_eq!(super::for_people(40000.0 * 2e-4), "8");
+        assert_eq!(super::for_people(2e-4 * 1e3), "0.2");
+        assert_eq!(super::for_people(-9.81), "-9.81");
+        // figures that need their digits keep them
+        assert_eq!(super::for_people(1.23456789), "1.23456789");
+        assert_eq!(super::for_people(5e-5 * 1e3), "0.05");
+    }
 }
