@@ -784,7 +784,12 @@ fn a_path_without_its_flag_names_the_flag() {
         &["retime", "plan.yaml", "--out", "t.yaml"],
         &["did you mean '--q-traj plan.yaml'"],
     );
-    refuses(&dir, &["wave", "arm.urdf"], &["did you mean '--urdf arm.urdf'"]);
+    refuses(&dir, &["wave", "arm.urdf"], &["did you mean '--robot arm.urdf'"]);
+    refuses(
+        &dir,
+        &["wave", "ur.urdf.xacro"],
+        &["did you mean '--robot ur.urdf.xacro'"],
+    );
     refuses(
         &dir,
         &["shape", "--shape", "circle", "motors.toml"],

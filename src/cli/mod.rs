@@ -86,7 +86,7 @@ pub fn usage_line(e: &clap::Error) -> String {
 }
 
 /// A file given without its flag (`faze4 replay circle.npy`): the flag it is most likely for,
-/// with the word (`--q-traj circle.npy`). A model by its extension (`--urdf`), a motors file
+/// with the word (`--q-traj circle.npy`). A robot file by its extension (`--robot`), a motors file
 /// (`--motors`), else the trajectory of a command that reads one (`replay`, `retime`).
 fn path_hint(e: &clap::Error) -> Option<String> {
     use clap::error::{ContextKind, ContextValue, ErrorKind};
@@ -99,8 +99,8 @@ fn path_hint(e: &clap::Error) -> Option<String> {
     }
     let usage = e.get(ContextKind::Usage).map(|u| u.to_string()).unwrap_or_default();
     let lower = word.to_lowercase();
-    let flag = if lower.ends_with(".urdf") || lower.ends_with(".xml") {
-        "--urdf"
+    let flag = if [".urdf", ".xacro", ".xml"].iter().any(|ext| lower.ends_with(ext)) {
+        "--robot"
     } else if lower.ends_with(".toml") {
         "--motors"
     } else if usage.contains("faze4 replay") || usage.contains("faze4 retime") {
