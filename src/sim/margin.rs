@@ -12,7 +12,7 @@
 //! ratio. A stepper that did not slip but rang past its curve's peak is tried the other way:
 //! the damping ratio below which it would slip, and the verdict says it follows, marginally.
 
-use super::{Scenario, StopFlag, Summary};
+use super::{Scenario, Summary};
 
 /// The damping ratio a slip must survive to be called robust: a rotor whose ringing falls to a
 /// half in 1.1 periods (e^(−2π·0.1) = 0.53 a period), more than the sourced damping gives any
@@ -42,8 +42,13 @@ pub enum SlipMargin {
 /// did not but rang past its torque–angle curve's peak (a lag over one full step): where its
 /// slip begins as the damping goes down, or `None` (for a joint that neither slipped nor came
 /// near, or that holds down to [`HOLDS_FACTOR`] of its damping). Each probe is the run again
-/// with joint i's damping set, without recorders or self-clearance.
-pub fn margins(sc: &Scenario, summary: &Summary) -> Vec<Option<SlipMargin>> {
+/// with joint i's damping set, without recorders or self-clearance, made by `run_again` (the
+/// closed loop's own run, given by its caller so that this file stays below it).
+pub fn margins(
+    sc: &Scenario,
+    summary: &Summary,
+    run_again: impl Fn(&Scenario) -> Option<Summary>,
+) -> Vec<Option<SlipMargin>> {
     let n = sc.model.dof();
     let Some(motors) = &summary.motors else {
         return vec![None; n];
@@ -55,7 +60,7 @@ pub fn margins(sc: &Scenario, summary: &Summary) -> Vec<Option<SlipMargin>> {
             let slipped = m.loses_steps_at.flatten().is_some();
             let near = m.ringing.is_some_and(|r| r.max_lag_steps > 1.0);
             let zeta = drive.damping.ratio;
-            let slips = |ratio: f64| slips_with(sc, i, drive.damping.critical * ratio);
+            let slips = |ratio: f64| slips_with(sc, i, drive.damping.critical * ratio, &run_again);
             let (lo, hi) = match (slipped, near) {
                 (true, _) if zeta >= ROBUST_DAMPING_RATIO || slips(ROBUST_DAMPING_RATIO) => {
                     return Some(SlipMargin::Robust);
@@ -79,7 +84,7 @@ pub fn margins(sc: &Scenario, summary: &Summary) -> Vec<Option<SlipMargin>> {
 }
 
 /// Whether joint `i`'s stepper slips when the joint's damping is `damping` (N·m·s/rad).
-fn slips_with(sc: &Scenario, i: usize, damping: f64) -> bool {
+fn slips_with(sc: &Scenario, i: usize, damping: f64, run_again: impl Fn(&Scenario) -> Option<Summary>) -> bool {
     let mut probe = sc.clone();
     probe.slip_margins = false;
     probe.model.joints[i].damping = damping;
@@ -87,7 +92,7 @@ fn slips_with(sc: &Scenario, i: usize, damping: f64) -> bool {
         probe.collision_set = None;
         probe.path_clearance = None;
     }
-    let Ok(summary) = super::run(&probe, &mut [], &StopFlag::new()) else {
+    let Some(summary) = run_again(&probe) else {
         return true;
     };
     let motor = summary.motors.as_ref().and_then(|m| m[i].as_ref());

@@ -225,7 +225,7 @@ impl Summary {
             ..Summary::default()
         };
         if sc.slip_margins {
-            let margins = super::margin::margins(sc, &summary);
+            let margins = super::margin::margins(sc, &summary, |probe| run(probe, &mut [], &StopFlag::new()).ok());
             for (m, margin) in summary.motors.iter_mut().flatten().zip(margins) {
                 if let Some(ringing) = m.as_mut().and_then(|m| m.ringing.as_mut()) {
                     ringing.slips_below = margin;
