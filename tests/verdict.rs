@@ -230,10 +230,13 @@ fn output_paths_are_checked_before_the_run() {
 #[test]
 fn an_interrupted_run_counts_the_steps_it_ran() {
     let dir = temp_dir("verdict-interrupted");
-    let out = interrupted(
+    // once a progress line is printed the run has begun
+    let out = signalled_once_begun(
         &dir,
         &["wave", "--duration", "3600", "--trail", "none", "--summary", "s.json"],
-        std::time::Duration::from_millis(1000),
+        libc::SIGINT,
+        |_, stdout| stdout.lines().any(|l| l.starts_with("t=")),
+        std::time::Duration::from_millis(200),
     );
     assert_eq!(out.status.code(), Some(130));
     let s = summary(&dir, "s.json");
