@@ -4,7 +4,9 @@
 //! mesh references stay in their package; names from a file cannot forge a line of output;
 //! messages name the cause; a bag's messages are bounded as they are decoded; a signal stops a
 //! parse; a full stderr or a closed stdout is no panic; an output path cannot forge a line; a
-//! FIFO with no writer is not waited for for ever (issue 49). Each case checks the exit status,
+//! FIFO with no writer is not waited for for ever; YAML nesting and the values of text
+//! trajectories are counted before they cost time or memory; a file's misspelled field, its
+//! own span and its field names are said as the file has them (issue 49). Each case checks the exit status,
 //! the one line on stderr, and the directory before and after.
 
 mod common;
