@@ -1453,7 +1453,7 @@ fn text_trajectories_are_bounded_as_they_are_built() {
 
 /// A point's field the message type does not have is refused naming it as the file spells it,
 /// with the field it likely meant (issue 49: `velocites` was dropped unsaid, the points played
-/// linear instead of cubic); so is a JointState's.
+/// linear instead of cubic); so is a JointState's, and a key given twice.
 #[test]
 fn unknown_fields_of_a_trajectory_file_are_refused_naming_them() {
     let dir = temp_dir("hostile-unknown-fields");
@@ -1469,6 +1469,10 @@ fn unknown_fields_of_a_trajectory_file_are_refused_naming_them() {
     std::fs::write(dir.join("point.json"), json).unwrap();
     let state = "header: {stamp: {sec: 1}}\nname: [joint1]\nposition: [0]\nvelocities: [0]\n";
     std::fs::write(dir.join("state.yaml"), state).unwrap();
+    // a key given twice: JSON's last one won, unsaid
+    let twice = r#"{"joint_names": ["joint1"], "points": [{"positions": [0]}], "points": []}"#;
+    std::fs::write(dir.join("twice.json"), twice).unwrap();
+    std::fs::write(dir.join("twice.yaml"), "{joint_names: [a], joint_names: [b]}\n").unwrap();
     for (file, said) in [
         (
             "velocites.yaml",
@@ -1489,6 +1493,11 @@ fn unknown_fields_of_a_trajectory_file_are_refused_naming_them() {
         (
             "state.yaml",
             "document 1 has a field 'velocities' a sensor_msgs/msg/JointState does not have: did you mean 'velocity'?",
+        ),
+        ("twice.json", "twice.json: not JSON: the key 'points' is given twice"),
+        (
+            "twice.yaml",
+            "twice.yaml: document 1 is not YAML: the key 'joint_names' is given twice",
         ),
     ] {
         let args = ["replay", "--q-traj", file, "-q"];

@@ -97,8 +97,9 @@ pub trait Tree: Sized {
     fn string(s: String) -> Self;
     /// A sequence.
     fn seq(items: Vec<Self>) -> Self;
-    /// A mapping's entries, in order (`None`: a key the format does not take, given).
-    fn map(entries: Vec<(Self, Self)>) -> Option<Self>;
+    /// A mapping's entries, in order, or what is wrong with them (a key given twice: one of
+    /// them would be dropped unsaid; a key the format does not take).
+    fn map(entries: Vec<(Self, Self)>) -> Result<Self, String>;
     /// A tagged value (YAML's `!tag value`; `None` where the format has no tags).
     fn tagged(tag: String, value: Self) -> Option<Self>;
 }
@@ -209,7 +210,7 @@ impl<'de, T: Tree> Visitor<'de> for Counted<'_, T> {
         while let Some(key) = map.next_key_seed(self.clone())? {
             entries.push((key, map.next_value_seed(self.clone())?));
         }
-        T::map(entries).ok_or_else(|| A::Error::custom("a key that is not a string"))
+        T::map(entries).map_err(A::Error::custom)
     }
 
     fn visit_enum<A: EnumAccess<'de>>(self, data: A) -> Result<T, A::Error> {

@@ -11,7 +11,7 @@ use super::bounded::{self, Budget, Tree};
 use super::messages::{self, Document};
 use super::ros::JointTrajectoryMsg;
 use super::{Read, Selection, invalid};
-use crate::error::{Result, file_words};
+use crate::error::{Result, file_words, quoted};
 use crate::traj::TimedTrajectory;
 
 /// The trajectory `selection` picks from a JSON text (one message, or an array of messages),
@@ -80,13 +80,18 @@ impl Tree for Value {
         Value::Array(items)
     }
 
-    fn map(entries: Vec<(Self, Self)>) -> Option<Self> {
+    fn map(entries: Vec<(Self, Self)>) -> std::result::Result<Self, String> {
         let mut map = serde_json::Map::new();
         for (key, value) in entries {
-            let Value::String(key) = key else { return None };
+            let Value::String(key) = key else {
+                return Err("a key that is not a string".into());
+            };
+            if map.contains_key(&key) {
+                return Err(format!("the key {} is given twice", quoted(&key)));
+            }
             map.insert(key, value);
         }
-        Some(Value::Object(map))
+        Ok(Value::Object(map))
     }
 
     fn tagged(_: String, _: Self) -> Option<Self> {

@@ -18,7 +18,7 @@ use super::bounded::{self, Budget, Tree};
 use super::messages::{self, Document};
 use super::ros::JointTrajectoryMsg;
 use super::{Read, Selection, invalid};
-use crate::error::{Result, file_words};
+use crate::error::{Result, file_words, quoted};
 use crate::input::{MAX_TEXT_VALUES, MAX_YAML_NESTING};
 use crate::traj::TimedTrajectory;
 
@@ -135,8 +135,16 @@ impl Tree for Value {
         Value::Sequence(items)
     }
 
-    fn map(entries: Vec<(Self, Self)>) -> Option<Self> {
-        Some(Value::Mapping(entries.into_iter().collect::<Mapping>()))
+    fn map(entries: Vec<(Self, Self)>) -> std::result::Result<Self, String> {
+        let mut mapping = Mapping::with_capacity(entries.len());
+        for (key, value) in entries {
+            if mapping.contains_key(&key) {
+                let key = serde_norway::to_string(&key).unwrap_or_default();
+                return Err(format!("the key {} is given twice", quoted(key.trim_end())));
+            }
+            mapping.insert(key, value);
+        }
+        Ok(Value::Mapping(mapping))
     }
 
     fn tagged(tag: String, value: Self) -> Option<Self> {
