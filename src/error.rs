@@ -279,6 +279,13 @@ pub fn in_words(text: &str, words: Words) -> String {
     out
 }
 
+/// A parser's message about a file (serde's `unknown field \`colour\``) with its names quoted
+/// as `'colour'`, on one line: a name the file spells is not a field of a `RunConfig`, which
+/// the front ends would show as a flag or keyword ([`in_words`]).
+pub(crate) fn file_words(message: &str) -> String {
+    one_line(&message.replace('`', "'"))
+}
+
 /// `x` as its shortest decimal that reads back to the same `f64` (Ryū): positional from 1e-5
 /// to 1e16, scientific outside (`1e-300`, not 300 digits), `1` rather than `1.0`.
 pub fn shortest(x: f64) -> String {

@@ -62,6 +62,17 @@ pub const MAX_TRAJECTORY_TEXT_BYTES: u64 = 64 << 20;
 /// serde_norway lists every event of the document before it builds anything, about 13 times the
 /// text (a 64 MiB YAML trajectory peaked at 876 MB; docs/development.md, "Caps").
 pub const MAX_YAML_TRAJECTORY_BYTES: u64 = 16 << 20;
+/// Most values (numbers, strings, lists, mappings and keys alike) a YAML or JSON trajectory
+/// file's documents may hold together (4 Mi), counted as they are built, a YAML alias counted
+/// each time it repeats a value: a 15 MB YAML list of one-letter names took 1.43 GB as a tree
+/// (issue 49). `ros2 topic echo`'s 60,000 points of 6 joints at the YAML cap hold about 1.8
+/// million, the 64 MiB JSON of 355,850 points about 3.6 million (docs/development.md, "Caps").
+pub const MAX_TEXT_VALUES: usize = 4 << 20;
+/// Deepest nesting of a YAML trajectory file (64 collections, flow and block together), counted
+/// before the YAML parser sees the text: libyaml's time grows as the square of the depth (a
+/// 200 kB file of 100,000 nested `[` took 59 s, issue 49). A message echoed by ROS nests
+/// about 8 deep; serde_norway itself stops at 128.
+pub const MAX_YAML_NESTING: usize = 64;
 /// Largest bag read into memory whole (256 MiB, the `.npy` cap): a rosbag2 `.db3` from a stream
 /// or a `.db3.zstd` (SQLite opens it there); other bags are streamed (see [`MAX_BAG_BYTES`]).
 pub const MAX_MCAP_BYTES: u64 = 256 << 20;

@@ -257,7 +257,8 @@ fn sigterm_and_sighup_stop_a_run_as_ctrl_c_does() {
         let dir = temp_dir(&format!("aon-{name}"));
         std::fs::write(dir.join("t.csv"), "old\n").unwrap();
         // 10 000 s of simulated time: the signal always comes first
-        let out = signalled(
+        // sent once the trail's temporary exists: the run has begun
+        let out = signalled_once_begun(
             &dir,
             &[
                 "wave",
@@ -271,7 +272,8 @@ fn sigterm_and_sighup_stop_a_run_as_ctrl_c_does() {
                 "s.json",
             ],
             signal,
-            Duration::from_millis(1500),
+            |dir, _| has_temporary(dir),
+            Duration::from_millis(500),
         );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(status), "{name}: {stderr}");
@@ -288,7 +290,7 @@ fn sigterm_and_sighup_stop_a_run_as_ctrl_c_does() {
     // a sweep: the table of the runs that finished, their trails, no temporary
     let dir = temp_dir("aon-sweep-term");
     std::fs::create_dir(dir.join("trails")).unwrap();
-    let out = signalled(
+    let out = signalled_once_begun(
         &dir,
         &[
             "sweep",
@@ -306,7 +308,8 @@ fn sigterm_and_sighup_stop_a_run_as_ctrl_c_does() {
             "0.5",
         ],
         libc::SIGTERM,
-        Duration::from_millis(2500),
+        |dir, _| has_temporary(dir),
+        Duration::from_millis(1500),
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(143), "{stderr}");

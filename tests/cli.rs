@@ -384,10 +384,13 @@ fn progress_bar_shows_on_a_terminal_only() {
 #[test]
 fn ctrl_c_ends_the_run_with_complete_files() {
     let dir = temp_dir("ctrl-c");
-    let out = interrupted(
+    // once the trail's temporary exists the run has begun
+    let out = signalled_once_begun(
         &dir,
         &["wave", "--duration", "36000", "--trail", "t.csv", "--summary", "s.json"],
-        std::time::Duration::from_millis(1500),
+        libc::SIGINT,
+        |dir, _| has_temporary(dir),
+        std::time::Duration::from_millis(500),
     );
     assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains("interrupted at t = "));

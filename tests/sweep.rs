@@ -662,18 +662,15 @@ fn killed_and_stopped_tasks_leave_no_part_a_merge_takes_whole() {
         "1",
         "--no-collisions",
     ];
-    // SIGTERM, what Slurm sends at the time limit (and Kubernetes when it stops a pod)
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(long)
-        .current_dir(&dir)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    // SAFETY: kill(2) only reads its arguments; the pid is our child's
-    assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) }, 0);
-    let out = child.wait_with_output().unwrap();
+    // SIGTERM, what Slurm sends at the time limit (and Kubernetes when it stops a pod), once
+    // the part's temporary exists: its runs have begun
+    let out = signalled_once_begun(
+        &dir,
+        &long,
+        libc::SIGTERM,
+        |dir, _| has_temporary(dir),
+        std::time::Duration::from_millis(500),
+    );
     assert_eq!(out.status.code(), Some(143), "{}", String::from_utf8_lossy(&out.stderr));
     let meta: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("long2.csv.meta")).unwrap()).unwrap();
     assert_eq!(meta["complete"], false);
@@ -1068,8 +1065,9 @@ fn bad_input_is_one_line_and_exit_2() {
 #[test]
 fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
     let dir = temp_dir("ctrl-c");
-    // 100 000 runs of 1 s: hours, so the signal always comes first
-    let out = interrupted(
+    // 100 000 runs of 1 s: hours, so the signal always comes first; sent once the table's
+    // temporary exists (the runs have begun)
+    let out = signalled_once_begun(
         &dir,
         &[
             "sweep",
@@ -1084,7 +1082,9 @@ fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
             "--duration",
             "1",
         ],
-        std::time::Duration::from_millis(1500),
+        libc::SIGINT,
+        |dir, _| has_temporary(dir),
+        std::time::Duration::from_millis(500),
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");

@@ -260,6 +260,7 @@ def _real_array(name: str, value: Any, ndim: int, expected: str) -> np.ndarray:
         raise TypeError(f"{name}: dtype {array.dtype} is not a real number type (float64 expected)")
     if array.ndim != ndim:
         raise Error(f"{name}: shape {array.shape}; expected {expected}")
+    _faze4._check_array(name, array.shape)  # the .npy cap, before a float64 copy is made
     return array.astype(np.float64, copy=False)
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import os
 import struct
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -108,3 +110,67 @@ def test_an_output_never_replaces_an_input(tmp_path):
 def test_a_urdf_path_of_none_is_refused():
     with pytest.raises(TypeError, match="path is NoneType"):
         faze4.Robot.from_urdf(None)
+
+
+def _in_a_child(code: str) -> subprocess.CompletedProcess:
+    """``code`` run by a fresh interpreter: a crash (a segfault) fails the test, not pytest."""
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+
+
+def test_a_motors_dict_holding_itself_or_nested_deep_is_an_error_not_a_crash():
+    """Issue 49: a self-referencing or 20,000-deep motors dict segfaulted the interpreter (the
+    conversion recursed); each is now a faze4.Error naming the nesting, and the interpreter lives on."""
+    code = """
+import faze4
+cases = {}
+d = {}
+d["joint"] = [d]
+cases["itself"] = lambda: faze4.Robot.faze4(motors=d)
+deep = {"kind": "dc"}
+for _ in range(20_000):
+    deep = {"joint": [deep]}
+cases["deep"] = lambda: faze4.Robot.faze4(motors=deep)
+e = {}
+e["motors"] = e
+cases["options"] = lambda: faze4._faze4.Robot(e)
+for name, call in cases.items():
+    try:
+        call()
+    except faze4.Error as caught:
+        print(name, caught)
+    else:
+        print(name, "no error")
+print("alive")
+"""
+    child = _in_a_child(code)
+    assert child.returncode == 0, (child.returncode, child.stderr[-2000:])
+    lines = child.stdout.splitlines()
+    assert lines[-1] == "alive", child.stdout
+    for name in ("itself", "deep", "options"):
+        line = next(line for line in lines if line.startswith(name + " "))
+        assert "motors: nested more than 32 deep" in line, line
+
+
+def test_arrays_have_the_caps_of_the_same_data_as_a_file():
+    """Issue 49: a 960 MB array peaked at 11.4 GB. An array of more float64 values than a .npy
+    trajectory may hold (256 MiB) is refused before a copy is made, as the file would be; a
+    time-stamped one has a trajectory file's caps on its points and joints. The arrays here are
+    views that take no memory (broadcast zeros)."""
+    robot = faze4.Robot.faze4()
+    huge = np.broadcast_to(np.float32(0.0), (6_000_000, robot.dof))  # 144 MB as float32, 288 MB as float64
+    cases = [
+        (lambda: faze4.replay(robot, huge), "q_traj: shape [6000000, 6]: 274.7 MiB of float64 values, more than the 256 MiB"),
+        (
+            lambda: faze4._faze4._run("replay", {}, np.broadcast_to(0.0, (6_000_000, robot.dof)), None),
+            "q_traj: shape [6000000, 6]: 274.7 MiB of float64 values",
+        ),
+        (
+            lambda: faze4.replay(robot, np.zeros((1_000_001, 1)), t=np.arange(1_000_001.0)),
+            "q_traj: 1000001 rows: more than the 1000000 points a trajectory may have",
+        ),
+    ]
+    for call, part in cases:
+        with pytest.raises(faze4.Error) as caught:
+            call()
+        message = _one_line(caught.value)
+        assert part in message, message

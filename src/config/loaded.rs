@@ -233,6 +233,9 @@ impl Loaded {
                             ),
                         ));
                     }
+                    if duration.is_none() {
+                        own_duration(timed.duration, config.control.dt, &r.q_traj)?;
+                    }
                     duration = duration.or(Some(timed.duration));
                     (timed.trajectory, self.command("replay"), None)
                 }
@@ -407,6 +410,28 @@ fn collisions(config: &RunConfig) -> Option<Collisions> {
     (!c.no_collisions).then_some(Collisions {
         geometry: c.collision_geometry,
         pairs: c.collision_pairs,
+    })
+}
+
+/// A time-stamped trajectory's last time as a run's duration (no `duration` given): one a run
+/// cannot take is refused naming the file and its time, not `duration`, which was not given.
+fn own_duration(last: f64, dt: f64, path: &Path) -> Result<()> {
+    let Err(_) = crate::sim::steps(last, dt) else {
+        return Ok(());
+    };
+    let why = match last / dt < 1.0 {
+        true => format!(
+            "shorter than one step of `dt` ({} s): give `duration` to hold its last point longer",
+            shortest(dt)
+        ),
+        false => format!(
+            "more than the 10^12 steps of `dt` ({} s) a run may take: are its times seconds from its start? (`duration` runs a part of it)",
+            shortest(dt)
+        ),
+    };
+    Err(Error::InvalidData {
+        path: path.to_path_buf(),
+        message: format!("its points end {} s after it starts, {why}", shortest(last)),
     })
 }
 

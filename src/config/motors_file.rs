@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use crate::error::{Error, Result, one_line};
+use crate::error::{Error, Result};
 use crate::input::{MAX_MOTORS_BYTES, into_text, read_capped};
 
 /// One joint's motor as a motors file gives it (a `[[joint]]` entry; docs/motors.md).
@@ -78,7 +78,7 @@ pub fn read(path: &Path) -> Result<Vec<MotorEntry>> {
 
 /// [`read`] on the file's text; `path` names it in the errors.
 pub fn parse_text(text: &str, path: &Path) -> Result<Vec<MotorEntry>> {
-    let file: File = toml::from_str(text).map_err(|e| at(path, one_line(e.message())))?;
+    let file: File = toml::from_str(text).map_err(|e| at(path, crate::error::file_words(e.message())))?;
     Ok(file.joint)
 }
 

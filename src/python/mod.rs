@@ -16,6 +16,7 @@
 //! stop flag and the call raises `KeyboardInterrupt`. A panic on the worker is re-raised on the
 //! caller, where PyO3 turns it into a Python exception.
 
+use std::path::Path;
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -41,6 +42,7 @@ use crate::session::Prepared;
 use crate::sim::{StopFlag, Warning};
 use crate::sweep::{Family, Found, Grid, MAX_RUNS, Outcome, Row, Seek, Sharing};
 use crate::traj::TimedTrajectory;
+use crate::traj::npy::check_array_size;
 
 create_exception!(faze4, Error, PyValueError, "Bad input: one line naming what is wrong.");
 create_exception!(
@@ -191,15 +193,26 @@ fn motor_entries(obj: &Bound<'_, PyAny>) -> PyResult<Vec<config::MotorEntry>> {
     struct Table {
         joint: Vec<config::MotorEntry>,
     }
-    let json = to_json(obj)?;
+    let json = to_json(obj, 0)?;
     serde_json::from_value::<Table>(json)
         .map(|t| t.joint)
-        .map_err(|e| error(format!("motors: {}", crate::error::one_line(&e.to_string()))))
+        .map_err(|e| error(format!("motors: {}", crate::error::file_words(&e.to_string()))))
 }
 
-/// A Python value of dicts, lists, strings, numbers, booleans and None as JSON.
-fn to_json(obj: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
+/// Deepest nesting of a motors dict read (a dict holding itself, or 20,000 nested ones,
+/// crashed the interpreter: the conversion recurses). The motors file's schema nests 3 deep
+/// (`{"joint": [{"kind": ...}]}`).
+const MAX_MOTORS_NESTING: usize = 32;
+
+/// A Python value of dicts, lists, strings, numbers, booleans and None as JSON, `depth` deep
+/// in the value converted; deeper than [`MAX_MOTORS_NESTING`] is an error.
+fn to_json(obj: &Bound<'_, PyAny>, depth: usize) -> PyResult<serde_json::Value> {
     use serde_json::Value as J;
+    if depth > MAX_MOTORS_NESTING {
+        return Err(error(format!(
+            "motors: nested more than {MAX_MOTORS_NESTING} deep (a dict or list holding itself?); a motors dict is {{\"joint\": [{{...}}, ...]}}"
+        )));
+    }
     if obj.is_none() {
         return Ok(J::Null);
     }
@@ -212,13 +225,15 @@ fn to_json(obj: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
     if let Ok(d) = obj.cast::<PyDict>() {
         let mut map = serde_json::Map::new();
         for (k, v) in d.iter() {
-            map.insert(k.str()?.to_string(), to_json(&v)?);
+            map.insert(k.str()?.to_string(), to_json(&v, depth + 1)?);
         }
         return Ok(J::Object(map));
     }
     if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() || obj.cast::<PyUntypedArray>().is_ok() {
         return Ok(J::Array(
-            obj.try_iter()?.map(|i| to_json(&i?)).collect::<PyResult<_>>()?,
+            obj.try_iter()?
+                .map(|i| to_json(&i?, depth + 1))
+                .collect::<PyResult<_>>()?,
         ));
     }
     if let Ok(i) = obj.extract::<i64>() {
@@ -515,10 +530,20 @@ type TimedArrays<'py> = (
 /// What a replay given as arrays plays: `q_traj` (N, dof) frames, or with `timed` a
 /// time-stamped trajectory as a trajectory file gives one.
 fn frames(q_traj: Option<PyReadonlyArray2<'_, f64>>, timed: Option<TimedArrays<'_>>) -> PyResult<Option<Replayed>> {
-    let label = std::path::Path::new("q_traj");
+    let label = Path::new("q_traj");
     let Some(q) = q_traj else {
         return Ok(None);
     };
+    // each array as a .npy of it would be capped, before a value is copied
+    check_array_size(label, q.shape()).map_err(error)?;
+    if let Some((t, v, a, _)) = &timed {
+        check_array_size(Path::new("t"), t.shape()).map_err(error)?;
+        for (name, array) in [("v", v), ("a", a)] {
+            if let Some(array) = array {
+                check_array_size(Path::new(name), array.shape()).map_err(error)?;
+            }
+        }
+    }
     let replayed = match timed {
         None => crate::traj::npy::samples_from_array(label, q.as_array()).map(Replayed::Samples),
         Some((t, v, a, names)) => {
@@ -535,6 +560,13 @@ fn frames(q_traj: Option<PyReadonlyArray2<'_, f64>>, timed: Option<TimedArrays<'
         }
     };
     replayed.map(Some).map_err(error)
+}
+
+/// Refuses an array of `shape` given as `name` whose float64 values are more than a `.npy`
+/// trajectory may hold ([`check_array_size`]): Python asks before it converts one.
+#[pyfunction]
+fn _check_array(name: &str, shape: Vec<usize>) -> PyResult<()> {
+    check_array_size(Path::new(name), &shape).map_err(error)
 }
 
 /// The summary as JSON text (the `--summary` file's content, compact).
@@ -963,6 +995,7 @@ fn _faze4(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_varied, m)?)?;
     m.add_function(wrap_pyfunction!(_old_names, m)?)?;
     m.add_function(wrap_pyfunction!(_panic, m)?)?;
+    m.add_function(wrap_pyfunction!(_check_array, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

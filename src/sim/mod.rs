@@ -20,6 +20,7 @@ pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_ST
 pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
+pub(crate) use scenario::steps;
 pub use scenario::{
     Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, DriveMode,
     Scenario, ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,

@@ -693,8 +693,9 @@ fn override_gains(field: &str, gains: &mut [f64], values: &[Option<f64>]) -> Res
     override_per_joint(field, gains, values, |v| v.is_finite() && v >= 0.0, "finite and ≥ 0")
 }
 
-/// Number of steps for `duration` at `dt` (at least one).
-fn steps(duration: f64, dt: f64) -> Result<usize> {
+/// Number of steps for `duration` at `dt` (at least one, at most 10^12), or the error naming
+/// `duration`.
+pub(crate) fn steps(duration: f64, dt: f64) -> Result<usize> {
     let steps = (duration / dt).round();
     if steps < 1.0 {
         return Err(Error::option(

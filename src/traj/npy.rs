@@ -10,7 +10,7 @@ use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
 use crate::atomic::Outputs;
 use crate::error::{Error, Result, one_line};
-use crate::input::{MAX_NPY_BYTES, read_capped};
+use crate::input::{MAX_NPY_BYTES, read_capped, size_text};
 
 /// Reads an N×C array of samples (rows) from `path`: float64 or float32, any memory order,
 /// N ≥ 2 rows, every value finite. At most [`MAX_NPY_BYTES`] are read (a stream too).
@@ -86,6 +86,24 @@ pub fn samples_from_array(path: &Path, array: ndarray::ArrayView2<f64>) -> Resul
         message,
     };
     check_frames(array, bad, || format!("shape {:?}", array.shape()))
+}
+
+/// Refuses an array of `shape` given in memory (Python's `q_traj`, `t`, `v`, `a`; `name` names
+/// it) whose float64 values a `.npy` file could not hold: more than [`MAX_NPY_BYTES`] of them
+/// (docs/development.md, Caps). Checked before anything is copied: a 960 MB array took 11.4 GB
+/// as a replay's frames (issue 49).
+pub fn check_array_size(name: &Path, shape: &[usize]) -> Result<()> {
+    match shape.iter().try_fold(8u64, |bytes, &n| bytes.checked_mul(n as u64)) {
+        Some(bytes) if bytes <= MAX_NPY_BYTES => Ok(()),
+        bytes => Err(Error::InvalidData {
+            path: name.to_path_buf(),
+            message: format!(
+                "shape {shape:?}: {} of float64 values, more than the {} an .npy trajectory may hold (docs/development.md, Caps)",
+                bytes.map_or("more than 16 EiB".into(), size_text),
+                size_text(MAX_NPY_BYTES)
+            ),
+        }),
+    }
 }
 
 /// At least 2 rows, a column, every value finite: the rows.

@@ -9,7 +9,7 @@ use ndarray::ArrayView2;
 
 use crate::choice::Choice;
 use crate::error::{Error, Result, quoted, shortest};
-use crate::input::MAX_MOVING_JOINTS;
+use crate::input::{MAX_MOVING_JOINTS, MAX_TRAJECTORY_POINTS};
 
 /// A time-stamped joint trajectory: the joints it names, and its points in time order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -107,6 +107,17 @@ impl TimedTrajectory {
             message,
         };
         let (rows, columns) = positions.dim();
+        // as a trajectory file's points and joints are counted, before anything is copied
+        if rows > MAX_TRAJECTORY_POINTS {
+            return Err(bad(format!(
+                "{rows} rows: more than the {MAX_TRAJECTORY_POINTS} points a trajectory may have (docs/development.md, Caps)"
+            )));
+        }
+        if columns > MAX_MOVING_JOINTS {
+            return Err(bad(format!(
+                "{columns} columns; a model has at most {MAX_MOVING_JOINTS} moving joints (docs/development.md, Caps)"
+            )));
+        }
         if times.len() != rows {
             return Err(bad(format!(
                 "{} times for {rows} rows of positions: one time per row",

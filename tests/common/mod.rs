@@ -176,25 +176,67 @@ pub fn send(pid: u32, signal: libc::c_int) {
     assert_eq!(sent, 0, "kill({signal}) failed: {}", std::io::Error::last_os_error());
 }
 
-/// Runs the `faze4` binary with `args` in `dir`, sends it SIGINT (Ctrl-C) after `after`, and
-/// waits for it: its exit status and both outputs.
-pub fn interrupted(dir: &Path, args: &[&str], after: std::time::Duration) -> std::process::Output {
-    signalled(dir, args, libc::SIGINT, after)
-}
-
-/// Runs the `faze4` binary with `args` in `dir`, sends it `signal` after `after`, and waits for
-/// it: its exit status and both outputs.
-pub fn signalled(dir: &Path, args: &[&str], signal: libc::c_int, after: std::time::Duration) -> std::process::Output {
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
+/// Runs the `faze4` binary with `args` in `dir`, sends it `signal` once the run has begun —
+/// once `begun` says so, given `dir` and the standard output so far (looked at every 20 ms, for
+/// at most 60 s) — and `after` more, and waits for it: its exit status and both outputs. A
+/// signal before the run begins ends the process with nothing written (issue 49), so a fixed
+/// delay from the start fails on a loaded machine.
+pub fn signalled_once_begun(
+    dir: &Path,
+    args: &[&str],
+    signal: libc::c_int,
+    begun: impl Fn(&Path, &str) -> bool,
+    after: std::time::Duration,
+) -> std::process::Output {
+    use std::io::Read;
+    use std::sync::{Arc, Mutex};
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
         .args(args)
         .current_dir(dir)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("run faze4");
+    let printed = Arc::new(Mutex::new(Vec::new()));
+    let (mut out, mut err) = (child.stdout.take().unwrap(), child.stderr.take().unwrap());
+    let reader = {
+        let printed = Arc::clone(&printed);
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 4096];
+            while let Ok(n @ 1..) = out.read(&mut buffer) {
+                printed.lock().unwrap().extend_from_slice(&buffer[..n]);
+            }
+        })
+    };
+    let stderr = std::thread::spawn(move || {
+        let mut text = Vec::new();
+        let _ = err.read_to_end(&mut text);
+        text
+    });
+    let start = std::time::Instant::now();
+    while start.elapsed().as_secs() < 60 && !begun(dir, &String::from_utf8_lossy(&printed.lock().unwrap())) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
     std::thread::sleep(after);
     send(child.id(), signal);
-    child.wait_with_output().expect("faze4 ends")
+    let status = child.wait().expect("faze4 ends");
+    reader.join().unwrap();
+    let stdout = std::mem::take(&mut *printed.lock().unwrap());
+    std::process::Output {
+        status,
+        stdout,
+        stderr: stderr.join().unwrap(),
+    }
+}
+
+/// Whether `dir` holds an output's temporary (`NAME.tmp`): a run's outputs are open, so it has
+/// begun.
+pub fn has_temporary(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|entries| {
+        entries
+            .flatten()
+            .any(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+    })
 }
 
 /// Runs `args`, expects bad-input failure (status 2), one line on stderr containing `parts`,

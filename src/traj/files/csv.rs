@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::invalid;
 use crate::error::{Result, quoted};
-use crate::input::MAX_MOVING_JOINTS;
+use crate::input::{MAX_MOVING_JOINTS, MAX_TRAJECTORY_POINTS};
 use crate::traj::{TimedTrajectory, TrajectoryPoint};
 
 /// The names a time column may have.
@@ -130,6 +130,15 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<TimedTrajectory> {
         })?;
         // the record's line in the file, comments and blank lines counted
         let row = record.position().map_or(0, |at| at.line());
+        // counted as they come: a row of one short column costs 30 times its text once read
+        if points.len() == MAX_TRAJECTORY_POINTS {
+            return Err(invalid(
+                path,
+                format!(
+                    "line {row}: more than {MAX_TRAJECTORY_POINTS} rows, the points a trajectory may have (docs/development.md, Caps)"
+                ),
+            ));
+        }
         let mut p = TrajectoryPoint {
             time_from_start: 0.0,
             positions: vec![0.0; n],

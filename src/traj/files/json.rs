@@ -7,16 +7,23 @@ use std::path::Path;
 use serde::de::DeserializeOwned;
 use serde_json::Value;
 
+use super::bounded::{self, Budget, Tree};
 use super::messages::{self, Document};
 use super::ros::JointTrajectoryMsg;
 use super::{Read, Selection, invalid};
-use crate::error::Result;
+use crate::error::{Result, file_words, quoted};
 use crate::traj::TimedTrajectory;
 
 /// The trajectory `selection` picks from a JSON text (one message, or an array of messages),
-/// unchecked.
+/// unchecked. Its values are counted as they are built ([`bounded::tree`]).
 pub fn parse(text: &str, selection: &Selection, path: &Path) -> Result<Read> {
-    let value: Value = serde_json::from_str(text).map_err(|e| invalid(path, format!("not JSON: {e}")))?;
+    let (mut parser, budget) = (serde_json::Deserializer::from_str(text), Budget::default());
+    let value: Value = bounded::tree(&mut parser, &budget)
+        .and_then(|value| parser.end().map(|()| value))
+        .map_err(|e| match budget.refusal() {
+            Some(refusal) => invalid(path, refusal),
+            None => invalid(path, format!("not JSON: {}", file_words(&e.to_string()))),
+        })?;
     let documents: Vec<(String, Value)> = match value {
         Value::Array(items) => (items.into_iter().enumerate())
             .map(|(i, item)| (format!("message {}", i + 1), item))
@@ -40,7 +47,55 @@ impl Document for Value {
     }
 
     fn decode<T: DeserializeOwned>(&self) -> std::result::Result<T, String> {
-        serde_json::from_value(self.clone()).map_err(|e| e.to_string())
+        T::deserialize(self).map_err(|e| file_words(&e.to_string()))
+    }
+}
+
+impl Tree for Value {
+    fn null() -> Self {
+        Value::Null
+    }
+
+    fn bool(b: bool) -> Self {
+        Value::Bool(b)
+    }
+
+    fn int(i: i64) -> Self {
+        Value::from(i)
+    }
+
+    fn uint(u: u64) -> Self {
+        Value::from(u)
+    }
+
+    fn float(x: f64) -> Self {
+        Value::from(x)
+    }
+
+    fn string(s: String) -> Self {
+        Value::String(s)
+    }
+
+    fn seq(items: Vec<Self>) -> Self {
+        Value::Array(items)
+    }
+
+    fn map(entries: Vec<(Self, Self)>) -> std::result::Result<Self, String> {
+        let mut map = serde_json::Map::new();
+        for (key, value) in entries {
+            let Value::String(key) = key else {
+                return Err("a key that is not a string".into());
+            };
+            if map.contains_key(&key) {
+                return Err(format!("the key {} is given twice", quoted(&key)));
+            }
+            map.insert(key, value);
+        }
+        Ok(Value::Object(map))
+    }
+
+    fn tagged(_: String, _: Self) -> Option<Self> {
+        None
     }
 }
 

@@ -133,8 +133,12 @@ pub fn read(dir: &Path, selection: &Selection) -> Result<Episode> {
     }
     let info_path = dir.join(INFO);
     let text = read_file_capped(&info_path, MAX_META_BYTES, "a LeRobot info.json")?;
-    let info: Info =
-        serde_json::from_slice(&text).map_err(|e| invalid(&info_path, format!("not a LeRobot info.json: {e}")))?;
+    let info: Info = serde_json::from_slice(&text).map_err(|e| {
+        invalid(
+            &info_path,
+            format!("not a LeRobot info.json: {}", crate::error::file_words(&e.to_string())),
+        )
+    })?;
     let episode = selection.episode.unwrap_or(0);
     if let Some(total) = info.total_episodes
         && episode >= total
@@ -383,8 +387,9 @@ fn calibration(path: &Path) -> Result<BTreeMap<String, MotorCalibration>> {
         Error::option(
             "calibration",
             format!(
-                "{}: not a LeRobot calibration file (a motor's name → id, drive_mode, homing_offset, range_min, range_max): {e}",
-                path.display()
+                "{}: not a LeRobot calibration file (a motor's name → id, drive_mode, homing_offset, range_min, range_max): {}",
+                path.display(),
+                crate::error::file_words(&e.to_string())
             ),
         )
     })?;

@@ -71,6 +71,7 @@ pub(super) fn read<D: Document>(documents: &[(String, D)], selection: &Selection
         }
         let states = (states.iter())
             .map(|(label, s)| {
+                known_fields(*s, JOINT_STATE, label, path)?;
                 let state: LooseJointState = decode(*s, label, "sensor_msgs/msg/JointState", path)?;
                 let message = state.into_message().ok_or_else(|| {
                     invalid(
@@ -92,8 +93,62 @@ pub(super) fn read<D: Document>(documents: &[(String, D)], selection: &Selection
     }
     let k = pick(trajectories.len(), selection.message, "JointTrajectory messages", path)?;
     let (label, t) = trajectories[k];
+    known_fields(t, JOINT_TRAJECTORY, label, path)?;
+    for (i, point) in t
+        .field("points")
+        .and_then(|p| p.items())
+        .unwrap_or_default()
+        .iter()
+        .enumerate()
+    {
+        known_fields(point, POINT, &format!("{label}, point {}", i + 1), path)?;
+    }
     let trajectory: LooseJointTrajectory = decode(t, label, "trajectory_msgs/msg/JointTrajectory", path)?;
     Ok(trajectory.into_trajectory().into())
+}
+
+/// A message type's name and its fields (ROS 2's and ROS 1's).
+type Fields = (&'static str, &'static [&'static str]);
+
+/// trajectory_msgs/JointTrajectory.
+const JOINT_TRAJECTORY: Fields = (
+    "trajectory_msgs/msg/JointTrajectory",
+    &["header", "joint_names", "points"],
+);
+/// trajectory_msgs/JointTrajectoryPoint.
+const POINT: Fields = (
+    "trajectory_msgs/msg/JointTrajectoryPoint",
+    &["positions", "velocities", "accelerations", "effort", "time_from_start"],
+);
+/// sensor_msgs/JointState.
+const JOINT_STATE: Fields = (
+    "sensor_msgs/msg/JointState",
+    &["header", "name", "position", "velocity", "effort"],
+);
+
+/// Refuses a field of `document` its message type does not have, naming it as the file spells
+/// it and the field it likely meant: a misspelled `velocites` would otherwise be dropped, and
+/// the points played linear instead of cubic, unsaid (issue 49). ROS's own `ros2 topic pub`
+/// refuses such a field too.
+fn known_fields<D: Document>(document: &D, (kind, fields): Fields, label: &str, path: &Path) -> Result<()> {
+    let Some(unknown) = (document.keys().unwrap_or_default().into_iter()).find(|k| !fields.contains(&k.as_str()))
+    else {
+        return Ok(());
+    };
+    // the closest field by Jaro-Winkler similarity, if close (clap's threshold is 0.7)
+    let likely = (fields.iter())
+        .map(|f| (strsim::jaro_winkler(&unknown, f), f))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .filter(|(similarity, _)| *similarity > 0.8)
+        .map_or(String::new(), |(_, f)| format!(": did you mean {}?", quoted(f)));
+    Err(invalid(
+        path,
+        format!(
+            "{label} has a field {} a {kind} does not have{likely} (its fields: {})",
+            quoted(&unknown),
+            fields.join(", ")
+        ),
+    ))
 }
 
 /// `value` as a `T`, the error naming the document and the type.

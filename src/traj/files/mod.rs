@@ -336,7 +336,7 @@ pub fn parse(bytes: &[u8], format: Format, selection: &Selection, path: &Path) -
                     "picks a message of a .yaml, .json or .mcap file",
                 ));
             }
-            csv::parse(bytes, path)?.into()
+            csv::parse(unmarked(bytes), path)?.into()
         }
     };
     read.trajectory.check(path)?;
@@ -369,11 +369,19 @@ fn format_of(path: &Path) -> Result<Format> {
     })
 }
 
+/// `bytes` as UTF-8 text, without a byte order mark ([`unmarked`]).
 fn text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
-    std::str::from_utf8(bytes).map_err(|e| Error::InvalidData {
+    std::str::from_utf8(unmarked(bytes)).map_err(|e| Error::InvalidData {
         path: path.to_path_buf(),
         message: format!("not UTF-8 text ({e})"),
     })
+}
+
+/// `bytes` without the UTF-8 byte order mark Windows editors put first (Notepad, Excel's "CSV
+/// UTF-8"): no part of the text (libyaml read it as a second document, the CSV reader as part
+/// of the first column's name).
+fn unmarked(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 
 /// An [`Error::InvalidData`] for `path`, its message on one line.

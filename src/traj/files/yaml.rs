@@ -2,37 +2,157 @@
 //! (PyYAML's block style, each message followed by a line `---`), or as `ros2 topic pub` and
 //! `ros2 action send_goal` take them (flow style), read with serde_norway: a JointTrajectory,
 //! a message carrying one, or JointState messages (`messages.rs`). Times are
-//! `{sec, nanosec}`, `{secs, nsecs}` or seconds; `header` and `effort` are ignored.
+//! `{sec, nanosec}`, `{secs, nsecs}` or seconds; `header` and `effort` are ignored. The text's
+//! nesting is measured by yaml-rust2's scanner before serde_norway parses it ([`nesting`]), and
+//! its values are counted as they are built ([`bounded::tree`]).
 
 use std::fmt::Write;
 use std::path::Path;
 
-use serde::Deserialize;
 use serde::de::DeserializeOwned;
-use serde_norway::Value;
+use serde_norway::value::{Tag, TaggedValue};
+use serde_norway::{Mapping, Number, Value};
+use yaml_rust2::scanner::{Scanner, TokenType};
 
+use super::bounded::{self, Budget, Tree};
 use super::messages::{self, Document};
 use super::ros::JointTrajectoryMsg;
 use super::{Read, Selection, invalid};
-use crate::error::Result;
+use crate::error::{Result, file_words, quoted};
+use crate::input::{MAX_TEXT_VALUES, MAX_YAML_NESTING};
 use crate::traj::TimedTrajectory;
 
 /// The trajectory `selection` picks from a YAML text (documents separated by `---`; empty
 /// documents are skipped; a document that is a list holds one message per item), unchecked.
+/// A text nested more than [`MAX_YAML_NESTING`] deep is refused before it is parsed.
 pub fn parse(text: &str, selection: &Selection, path: &Path) -> Result<Read> {
+    nesting(text, path)?;
+    let budget = Budget::default();
     let mut documents = Vec::new();
     for (d, document) in serde_norway::Deserializer::from_str(text).enumerate() {
-        let value = Option::<Value>::deserialize(document)
-            .map_err(|e| invalid(path, format!("document {} is not YAML: {e}", d + 1)))?;
+        let value = bounded::tree::<_, Value>(document, &budget).map_err(|e| match budget.refusal() {
+            Some(refusal) => invalid(path, format!("document {}: {refusal}", d + 1)),
+            None => invalid(
+                path,
+                format!("document {} is not YAML: {}", d + 1, file_words(&e.to_string())),
+            ),
+        })?;
         match value {
-            Some(Value::Sequence(items)) => documents.extend(
+            Value::Sequence(items) => documents.extend(
                 (items.into_iter().enumerate()).map(|(i, item)| (format!("document {}, item {}", d + 1, i + 1), item)),
             ),
-            Some(value) => documents.push((format!("document {}", d + 1), value)),
-            None => {}
+            Value::Null => {}
+            value => documents.push((format!("document {}", d + 1), value)),
         }
     }
     messages::read(&documents, selection, path)
+}
+
+/// Refuses `text` nested more than [`MAX_YAML_NESTING`] collections deep (flow and block),
+/// holding more than [`MAX_TEXT_VALUES`] values (scalars, aliases and collections), or that
+/// yaml-rust2's scanner cannot read, naming the line. Linear in the text: the scanner stops at
+/// the first collection past the limit (libyaml's time grows as the square of the depth,
+/// serde_norway's limit of 128 comes after it), and at the value past the cap (serde_norway
+/// lists every event of a document, about 180 bytes each, before it builds a value).
+pub fn nesting(text: &str, path: &Path) -> Result<()> {
+    let mut scanner = Scanner::new(text.chars());
+    let (mut depth, mut values) = (0usize, 0usize);
+    loop {
+        let token = scanner.next_token().map_err(|e| {
+            let at = format!("line {}, column {}", e.marker().line(), e.marker().col() + 1);
+            match e.info() {
+                // the scanner's own limit, 255 flow collections: met first where it looks ahead
+                RECURSION => invalid(path, too_deep(&at)),
+                info => invalid(path, format!("not YAML: {at}: {info}")),
+            }
+        })?;
+        let Some(token) = token else { return Ok(()) };
+        match token.1 {
+            TokenType::BlockSequenceStart
+            | TokenType::BlockMappingStart
+            | TokenType::FlowSequenceStart
+            | TokenType::FlowMappingStart => {
+                depth += 1;
+                values += 1;
+            }
+            TokenType::Scalar(..) | TokenType::Alias(_) => values += 1,
+            TokenType::BlockEnd | TokenType::FlowSequenceEnd | TokenType::FlowMappingEnd => {
+                depth = depth.saturating_sub(1)
+            }
+            TokenType::StreamEnd => return Ok(()),
+            _ => {}
+        }
+        if values > MAX_TEXT_VALUES {
+            return Err(invalid(
+                path,
+                format!(
+                    "line {}: more than {MAX_TEXT_VALUES} values (docs/development.md, Caps)",
+                    token.0.line()
+                ),
+            ));
+        }
+        if depth > MAX_YAML_NESTING {
+            let at = format!("line {}, column {}", token.0.line(), token.0.col() + 1);
+            return Err(invalid(path, too_deep(&at)));
+        }
+    }
+}
+
+/// yaml-rust2's error past 255 nested flow collections.
+const RECURSION: &str = "recursion limit exceeded";
+
+/// The refusal of a text nested too deep, `at` where the scanner found it.
+fn too_deep(at: &str) -> String {
+    format!("{at}: collections nested more than {MAX_YAML_NESTING} deep (docs/development.md, Caps)")
+}
+
+impl Tree for Value {
+    fn null() -> Self {
+        Value::Null
+    }
+
+    fn bool(b: bool) -> Self {
+        Value::Bool(b)
+    }
+
+    fn int(i: i64) -> Self {
+        Value::Number(i.into())
+    }
+
+    fn uint(u: u64) -> Self {
+        Value::Number(u.into())
+    }
+
+    fn float(x: f64) -> Self {
+        Value::Number(Number::from(x))
+    }
+
+    fn string(s: String) -> Self {
+        Value::String(s)
+    }
+
+    fn seq(items: Vec<Self>) -> Self {
+        Value::Sequence(items)
+    }
+
+    fn map(entries: Vec<(Self, Self)>) -> std::result::Result<Self, String> {
+        let mut mapping = Mapping::with_capacity(entries.len());
+        for (key, value) in entries {
+            if mapping.contains_key(&key) {
+                let key = serde_norway::to_string(&key).unwrap_or_default();
+                return Err(format!("the key {} is given twice", quoted(key.trim_end())));
+            }
+            mapping.insert(key, value);
+        }
+        Ok(Value::Mapping(mapping))
+    }
+
+    fn tagged(tag: String, value: Self) -> Option<Self> {
+        Some(Value::Tagged(Box::new(TaggedValue {
+            tag: Tag::new(tag),
+            value,
+        })))
+    }
 }
 
 impl Document for Value {
@@ -50,7 +170,7 @@ impl Document for Value {
     }
 
     fn decode<T: DeserializeOwned>(&self) -> std::result::Result<T, String> {
-        serde_norway::from_value(self.clone()).map_err(|e| e.to_string())
+        T::deserialize(self).map_err(|e| file_words(&e.to_string()))
     }
 }
 

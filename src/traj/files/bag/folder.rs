@@ -44,7 +44,15 @@ pub fn files(dir: &Path) -> Result<(Vec<PathBuf>, String)> {
     let bytes = read_file_capped(&metadata, MAX_META_BYTES, "a rosbag2 metadata.yaml")?;
     let text = String::from_utf8_lossy(&bytes);
     let info = serde_norway::from_str::<Metadata>(&text)
-        .map_err(|e| invalid(&metadata, format!("not a rosbag2 metadata.yaml: {e}")))?
+        .map_err(|e| {
+            invalid(
+                &metadata,
+                format!(
+                    "not a rosbag2 metadata.yaml: {}",
+                    crate::error::file_words(&e.to_string())
+                ),
+            )
+        })?
         .rosbag2_bagfile_information;
     let compression = match (
         info.compression_format.as_str(),

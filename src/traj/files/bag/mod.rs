@@ -372,7 +372,9 @@ fn decode<T: DeserializeOwned + ros1::Decode>(data: &[u8], path: &Path, topic: &
             )));
         }
     };
-    decoded.map(|(value, _)| value).map_err(|e| bad(e.to_string()))
+    decoded
+        .map(|(value, _)| value)
+        .map_err(|e| bad(crate::error::file_words(&e.to_string())))
 }
 
 /// Reads the bag file (or stream) `path` into `bag`, whatever its name says: MCAP, SQLite,
