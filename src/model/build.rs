@@ -47,7 +47,7 @@ pub enum LoadWarning {
         /// The moment all three were set to (their mean).
         balanced: f64,
     },
-    /// Something the file describes that faze4 does not simulate (MJCF's `frictionloss`).
+    /// Something the file describes that faze4 does not simulate (MJCF's `stiffness`).
     NotSimulated {
         /// The robot file.
         file: String,

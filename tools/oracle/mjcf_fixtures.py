@@ -10,7 +10,8 @@ meshes, which MuJoCo reads; they are not committed, tests/mjcf/README.md says wh
   * tests/mjcf/menagerie/ur5e.xml and panda.xml (MuJoCo Menagerie, unmodified): their OBJ/STL
     meshes are not here, so MuJoCo is handed a small tetrahedron for each mesh file (every body
     of these arms gives its <inertial>, so no mass comes from a mesh; said in the README);
-  * tests/mjcf/feature_arm.xml (ours: every construct faze4 reads, meshes from tests/urdf).
+  * tests/mjcf/feature_arm.xml (ours: every construct faze4 reads, meshes from tests/urdf);
+  * tests/mjcf/friction_arm.xml (ours: frictionloss that sticks and slips).
 
 For each: faze4's coordinates (MuJoCo's joints in order, less the joint1 of each <equality joint>,
 which follows its joint2: q1 = ref1 + c0 + c1 (q2 - ref2)), their limits, damping G^T diag(d) G,
@@ -21,9 +22,13 @@ the limits, [-pi, pi] where unlimited; v uniform in [-1, 1]) M = G^T qM G (mj_fu
 included) and bias = G^T qfrc_bias (C v + g), g = bias at v = 0.
 
 Closed loop: pin_closed_loop.py's run_closed_loop on MjArm (MuJoCo's M, C v, g in faze4's
-coordinates; the discrete step of docs/model.md; damping from MuJoCo's dof_damping; frictionloss
-left out as faze4 leaves it out) for the SO-101 and the feature arm: wave --center mid, 2 deg
-(the slides 2 mm), 2 s at dt 2e-4, gains by faze4's tuning rule from the efforts above.
+coordinates; the discrete step of docs/model.md; damping from MuJoCo's dof_damping; frictionloss as
+faze4's joint Coulomb friction, the clamped stopping torque of docs/model.md 2.3) for the SO-101,
+the feature arm and the friction arm: wave --center mid, 2 deg (the slides 2 mm), 2 s at dt 2e-4,
+gains by faze4's tuning rule from the efforts above; `rounding_sensitivity`, how far the trail moves
+when M changes by one rounding. For the SO-101 and the friction arm also `mujoco_step`: the same
+loop on MuJoCo's own mj_step (frictionloss solved by its constraint solver), as the file writes it
+and made hard, with the differences to docs/model.md's step that explain tests/mjcf.rs's tolerance.
 
 Deterministic: fixed seeds; the same mujoco/numpy versions write the same bytes.
 """
