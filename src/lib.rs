@@ -32,6 +32,11 @@
 //! ```
 
 #![warn(missing_docs)]
+// No `unsafe` in faze4's own code. PyO3's macros expand to `unsafe` blocks marked
+// `#[allow(unsafe_code)]`, which `forbid` would refuse, so the Python build denies instead (an
+// `unsafe` written by hand still fails it).
+#![cfg_attr(not(feature = "python"), forbid(unsafe_code))]
+#![cfg_attr(feature = "python", deny(unsafe_code))]
 
 pub mod algo;
 pub mod atomic;

@@ -3,6 +3,8 @@
 //! ([`cli`]), and so do the command line's own conventions: flags, the default trail file,
 //! the exit statuses.
 
+#![forbid(unsafe_code)]
+
 mod cli;
 
 fn main() -> std::process::ExitCode {

@@ -64,6 +64,7 @@ fn wave_writes_the_trail_and_summary_contracts() {
             "diverged",
             "dof",
             "dt",
+            "dynamics_wall_time_s",
             "effective_inertia",
             "effort",
             "feed_forward",
@@ -90,6 +91,16 @@ fn wave_writes_the_trail_and_summary_contracts() {
         ]
     );
     assert_eq!(s["steps"], 5000);
+    // the loop's own time is part of its whole, the clearance's too
+    let wall = s["wall_time_s"].as_f64().unwrap();
+    assert!(
+        (0.0..=wall).contains(&s["dynamics_wall_time_s"].as_f64().unwrap()),
+        "{s}"
+    );
+    assert!(
+        (0.0..=wall).contains(&s["clearance_wall_time_s"].as_f64().unwrap()),
+        "{s}"
+    );
     assert_eq!(s["feed_forward"], "gravity");
     assert!(s["diverged"].is_null());
     // the printed banner and summary
@@ -799,5 +810,76 @@ fn a_path_without_its_flag_names_the_flag() {
     let run = faze4(&dir, &["wave", "circle.npy"]);
     assert_eq!(run.status.code(), Some(2));
     assert!(!run.stderr.contains("did you mean"), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `faze4 list motors|drives|robots` prints every preset, drive and robot format from where
+/// each is defined: a preset's sources and a row per joint with its motor's ratio, torque and
+/// speed as the library gives them; each drive's word and sentence; each format `--robot`
+/// reads. An unknown list is refused naming the choices.
+#[test]
+fn list_prints_presets_drives_and_robots_from_their_definitions() {
+    use faze4::choice::Choice;
+    let dir = temp_dir("list");
+    let motors = faze4(&dir, &["list", "motors"]);
+    assert!(motors.status.success(), "{}", motors.stderr);
+    let lines: Vec<&str> = motors.stdout.lines().collect();
+    for preset in faze4::config::PRESET_SETS {
+        let at = (lines
+            .iter()
+            .position(|l| *l == format!("{}: {}", preset.name, preset.sources)))
+        .unwrap_or_else(|| panic!("{}'s line in {}", preset.name, motors.stdout));
+        let set = (preset.motors)(None);
+        for (k, m) in set.iter().enumerate() {
+            let m = m.as_ref().unwrap();
+            let ratio = m.gear_ratio.unwrap();
+            let row = lines[at + 1 + k];
+            let joint = if preset.every_joint {
+                "every joint".to_string()
+            } else {
+                format!("J{}", k + 1)
+            };
+            assert!(
+                row.starts_with(&format!("  {joint:<11} {} · ratio {ratio} · ", m.motor.label)),
+                "{row}"
+            );
+            let torque = format!("up to {:.2} N·m", m.motor.joint_limit(ratio));
+            let speed = format!("torque to {:.2} rad/s", m.motor.envelope.top_speed() / ratio);
+            assert!(row.contains(&torque) && row.contains(&speed), "{row}");
+        }
+    }
+    // the faze4 preset's J2: 0.45 N·m / √2 at 2.0 A (its rated current) through 27:1
+    let j2 = lines
+        .iter()
+        .find(|l| l.starts_with("  J2          17HS16-2004S1, 2.0 A, 24 V"))
+        .unwrap();
+    assert!(
+        j2.contains(&format!("up to {:.2} N·m", 0.45 / 2f64.sqrt() * 27.0)),
+        "{j2}"
+    );
+    let drives = faze4(&dir, &["list", "drives"]);
+    assert!(drives.status.success(), "{}", drives.stderr);
+    assert_eq!(drives.stdout.lines().count(), faze4::config::DriveMode::WORDS.len());
+    for (drive, line) in faze4::config::DriveMode::VALUES.iter().zip(drives.stdout.lines()) {
+        assert_eq!(line, format!("{:<8} {}", drive.word(), drive.about()));
+    }
+    let robots = faze4(&dir, &["list", "robots"]);
+    assert!(robots.status.success(), "{}", robots.stderr);
+    assert!(
+        robots
+            .stdout
+            .starts_with("faze4 (the default, built in: urdf/faze4_arm.urdf): 6 joints")
+    );
+    for format in faze4::model::RobotFormat::ALL {
+        let line = format!("  {:<6} {}", format.name(), format.told_by());
+        assert!(robots.stdout.lines().any(|l| l == line), "{line}: {}", robots.stdout);
+    }
+    let wrong = faze4(&dir, &["list", "servos"]);
+    assert_eq!(wrong.status.code(), Some(2));
+    assert!(
+        wrong.stderr.contains("robots") && wrong.stderr.contains("motors"),
+        "{}",
+        wrong.stderr
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -80,11 +80,61 @@ fn matches_drake(name: &str, fixture_name: &str, friction: &str) -> Value {
     ours
 }
 
+/// A saturation share as the README's `--self-collisions` table writes it: `93.9 %`, `0 %`.
+fn share(pct: f64) -> String {
+    match pct == 0.0 {
+        true => "0 %".into(),
+        false => format!("{pct:.1} %"),
+    }
+}
+
+/// A summary's path deviation as the table writes it, max / mean (mm): one decimal from 10 mm
+/// up, else two.
+fn deviation(summary: &Value) -> String {
+    let (max, mean) = (
+        summary["path_deviation_mm"]["max"].as_f64().unwrap(),
+        summary["path_deviation_mm"]["mean"].as_f64().unwrap(),
+    );
+    match max >= 10.0 {
+        true => format!("{max:.1} / {mean:.1}"),
+        false => format!("{max:.2} / {mean:.2}"),
+    }
+}
+
+/// The README's `--self-collisions` table has `row` as one of its lines: its figures, ours and
+/// Drake's fixture's, are what the runs give (a figure edited there, or a run that changes,
+/// fails here).
+fn readme_has_row(row: &str) {
+    let readme = std::fs::read_to_string(repo_path("README.md")).unwrap();
+    let label = row.split(" | ").next().unwrap();
+    let shown = readme
+        .lines()
+        .find(|l| l.starts_with(&format!("{label} | ")))
+        .unwrap_or("(none)");
+    assert_eq!(shown, row, "README.md's --self-collisions table");
+}
+
 #[test]
 fn circle_on_hulls_pins_j3_as_drake_does() {
     let ours = matches_drake("hull_mu1", "contact_circle_mu1.json", "1");
     let sat = vec_f64(&ours["saturation_pct"]);
     assert!(sat[2] > 90.0 && sat[3] == 0.0, "J3 pinned, J4 free: {sat:?}");
+    let drake = &fixture("contact_circle_mu1.json")["summary"];
+    let (err, drake_sat, drake_err) = (
+        vec_f64(&ours["max_tracking_error_rad"]),
+        vec_f64(&drake["saturation_pct"]),
+        vec_f64(&drake["max_tracking_error_rad"]),
+    );
+    readme_has_row(&format!(
+        "| hull | `… --collision-geometry hull --self-collisions` | J3 {} (error {:.3} rad), J4 {} | {} | J3 {} ({:.3} rad), {} |",
+        share(sat[2]),
+        err[2],
+        share(sat[3]),
+        deviation(&ours),
+        share(drake_sat[2]),
+        drake_err[2],
+        deviation(drake)
+    ));
 }
 
 #[test]
@@ -92,6 +142,16 @@ fn circle_on_hulls_without_friction_lets_j4_roll_as_drake_does() {
     let ours = matches_drake("hull_mu0", "contact_circle_mu0.json", "0");
     let sat = vec_f64(&ours["saturation_pct"]);
     assert!(sat[3] > 90.0 && sat[2] == 0.0, "J4 saturated, J3 free: {sat:?}");
+    let drake = &fixture("contact_circle_mu0.json")["summary"];
+    let drake_sat = vec_f64(&drake["saturation_pct"]);
+    readme_has_row(&format!(
+        "| hull without friction | `… --collision-geometry hull --self-collisions --friction 0` | J4 {}, J3 {} | {} | J4 {}, {} |",
+        share(sat[3]),
+        share(sat[2]),
+        deviation(&ours),
+        share(drake_sat[3]),
+        deviation(drake)
+    ));
 }
 
 #[test]
@@ -109,6 +169,19 @@ fn exact_meshes_never_touch_on_the_circle() {
         assert_eq!(ours[key], free[key], "{key}");
     }
     assert_eq!(trail, free_trail);
+    // the README's rows of the run without collisions (Drake's: its closed loop on the circle,
+    // the fixture tests/closed_loop_vs_drake.rs compares with) and of the exact meshes
+    let drake = &fixture("closed_loop_shape_circle.json")["summary"];
+    let sat = vec_f64(&free["saturation_pct"]);
+    assert!(sat.iter().chain(&vec_f64(&drake["saturation_pct"])).all(|&s| s == 0.0));
+    let free_dev = deviation(&free);
+    readme_has_row(&format!(
+        "| no collisions | `faze4 shape --shape circle --robot urdf/faze4_real.urdf` | 0 % | {free_dev} | 0 %, {} |",
+        deviation(drake)
+    ));
+    readme_has_row(&format!(
+        "| exact mesh | `… --self-collisions` | 0 % (no contact) | {free_dev} | (Drake contacts hulls only) |"
+    ));
 }
 
 /// Runs `faze4 wave` with the self-contact on the arm, command and friction of a

@@ -194,6 +194,7 @@ fn a_xacro_runs_to_the_same_trail_as_xacros_expansion_bit_for_bit() {
             s.as_object_mut().unwrap().remove("robot_source");
             s.as_object_mut().unwrap().remove("format");
             s.as_object_mut().unwrap().remove("wall_time_s");
+            s.as_object_mut().unwrap().remove("dynamics_wall_time_s");
         }
         assert_eq!(summary, oracle_summary, "{name}");
     }

@@ -12,7 +12,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 # wall-clock times: the only fields of a summary that differ between two runs
-WALL = ("wall_time_s", "clearance_wall_time_s")
+WALL = ("wall_time_s", "dynamics_wall_time_s", "clearance_wall_time_s")
 
 
 def without_wall_times(summary: dict) -> dict:

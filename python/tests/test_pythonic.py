@@ -54,7 +54,9 @@ def test_a_wrong_type_is_a_type_error(keyword):
 
 
 # the figures of a [done] line that differ between two runs: the wall time and the speed
-DONE_TIMES = re.compile(r" in [0-9.]+ s \([0-9.]+ µs/step(; self-clearance [0-9.]+ s of it)?\)")
+DONE_TIMES = re.compile(
+    r" in [0-9.]+ s \((dynamics )?[0-9.]+ µs/step(; self-clearance [0-9.]+ s, [0-9]+ % of the time)?\)"
+)
 
 
 def test_quiet_false_prints_what_the_binary_prints(binary, tmp_path, capfd):

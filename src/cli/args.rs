@@ -46,6 +46,12 @@ pub enum Command {
     },
     /// Print the manual page (roff) on stdout: `faze4 man > faze4.1 && man ./faze4.1`.
     Man,
+    /// List what --robot, --motors and --drive take, with each one's figures and sources: `faze4 list motors`.
+    List {
+        /// What to list.
+        #[arg(value_enum)]
+        what: super::list::Listed,
+    },
 }
 
 impl Command {
@@ -56,7 +62,7 @@ impl Command {
             Command::Replay(d) => Some(d.parts()),
             Command::Shape(d) => Some(d.parts()),
             Command::Retime(d) => Some(d.parts()),
-            Command::Sweep(_) | Command::Completions { .. } | Command::Man => None,
+            Command::Sweep(_) | Command::Completions { .. } | Command::Man | Command::List { .. } => None,
         }
     }
 }

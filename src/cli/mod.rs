@@ -5,6 +5,7 @@
 
 pub mod args;
 pub mod config;
+pub mod list;
 pub mod sweep;
 
 use std::io::Write;
@@ -15,6 +16,7 @@ use clap::{CommandFactory, Parser};
 use self::args::{Cli, Command};
 use faze4::atomic::Outputs;
 use faze4::error::{Error, Result, Words, escape_lines, in_words, to_stderr};
+use faze4::output::for_people;
 use faze4::session::{Prepared, divergence_line, report_text};
 use faze4::sim::{self, StopFlag};
 
@@ -139,6 +141,7 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
             });
         }
         Command::Man => return shell_file(|out| clap_mangen::Man::new(Cli::command()).render(out)),
+        Command::List { what } => return shell_file(|out| out.write_all(list::text(*what).as_bytes())),
         _ => {}
     }
     let config = config::run_config(&cli.command, true)?;
@@ -173,12 +176,17 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     if !quiet {
         stdout = faze4::session::retime_lines(&finished, out);
     }
-    stdout.push_str(&format!("{}\n", summary.verdict));
-    print_stdout(&stdout)?;
+    // a stopped check has no verdict: it did not play the whole timing
     if let Some(t) = summary.interrupted_at_s {
-        tell_stop(&stop, &format!("at t = {t:.3} s of a check; nothing is written"));
+        print_stdout(&stdout)?;
+        tell_stop(
+            &stop,
+            &format!("at t = {t:.3} s of the check: no verdict; nothing is written"),
+        );
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
+    stdout.push_str(&format!("{}\n", summary.verdict));
+    print_stdout(&stdout)?;
     files.commit()?;
     // a signal (or a closed stdout) after the check: the outputs are whole, the status says it
     if stop.signal().is_some() {
@@ -217,8 +225,11 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
     let finished = faze4::session::run(prepared, &files, &mut [], &stop, |w| warn(w, config.outputs.quiet))?;
     let summary = &finished.summary;
     let mut stdout = report_text(&finished, config);
-    // the answer, always the last line on stdout
-    stdout.push_str(&format!("{}\n", summary.verdict));
+    // the answer, always the last line on stdout; a run stopped early has none (it did not run
+    // the rest of its command)
+    if summary.interrupted_at_s.is_none() {
+        stdout.push_str(&format!("{}\n", summary.verdict));
+    }
     // --hold: the line saying the view stays up comes before the verdict, which stays the last
     // line a terminal shows while the view is served and after Ctrl-C ends it
     let hold = (finished.recorders.live.as_ref()).filter(|_| config.outputs.hold && summary.interrupted_at_s.is_none());
@@ -230,7 +241,11 @@ fn run_and_report(prepared: &Prepared) -> Result<ExitCode> {
         to_stderr(&format!("faze4: {}", flags(&divergence_line(&prepared.scenario, d))));
     }
     if let Some(t) = summary.interrupted_at_s {
-        tell_stop(&stop, &format!("at t = {t:.3} s; the outputs are complete up to there"));
+        let of = for_people(prepared.scenario.steps as f64 * prepared.scenario.dt);
+        tell_stop(
+            &stop,
+            &format!("at t = {t:.3} s of {of} s: no verdict; the outputs are complete up to there"),
+        );
     }
     print_stdout(&stdout)?;
     files.commit()?;

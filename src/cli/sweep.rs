@@ -47,7 +47,10 @@ fn base_config(words: &[String]) -> Result<RunConfig> {
         super::args::Command::Sweep(_) => {
             return Err(Error::argument("sweep", "the command to sweep cannot be a sweep"));
         }
-        super::args::Command::Retime(_) | super::args::Command::Completions { .. } | super::args::Command::Man => {
+        super::args::Command::Retime(_)
+        | super::args::Command::Completions { .. }
+        | super::args::Command::Man
+        | super::args::Command::List { .. } => {
             return Err(Error::argument(
                 "sweep",
                 "the command to sweep is a run (wave, replay, shape)",

@@ -31,7 +31,7 @@ use crate::traj::shape::Shape;
 pub use arm::{Arm, load_arm, tool_frame};
 pub use fields::{Commands, DefaultValue, Field, Kind, Value};
 pub use loaded::{Loaded, Replayed, check_samples, wave_amplitudes, wave_center};
-pub use motors::{MotorEntry, Motors, PRESETS};
+pub use motors::{MotorEntry, Motors, PRESET_SETS, PRESETS, Preset};
 
 /// Default control and integration period Δt (s): 5 kHz.
 pub const DEFAULT_DT: f64 = crate::sim::DEFAULT_DT;

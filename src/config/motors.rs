@@ -13,8 +13,60 @@ use crate::sim::check::override_per_joint;
 
 pub use super::motors_file::MotorEntry;
 
-/// The presets `motors` knows, by name.
+/// The presets `motors` knows, by name (in the order of [`PRESET_SETS`]).
 pub const PRESETS: [&str; 4] = ["faze4", "faze4-bom", "sts3215", "xm540-w270"];
+
+/// A preset of `motors`: its name, its motors and where their figures come from. `faze4 list
+/// motors` prints each of [`PRESET_SETS`] from here: a preset added to the list appears there.
+#[derive(Clone, Copy, Debug)]
+pub struct Preset {
+    /// Its name, as `motors` takes it (one of [`PRESETS`]).
+    pub name: &'static str,
+    /// The motors at a supply (V; `None`: the preset's own): one per joint of a 6-joint arm,
+    /// or, for a preset of one motor on every joint, that one motor.
+    pub motors: fn(Option<f64>) -> Vec<Option<JointMotor>>,
+    /// Whether its one motor goes on every joint of any arm (else its motors are for a 6-joint
+    /// arm, in joint order).
+    pub every_joint: bool,
+    /// Where each of its figures is published (docs/motors.md has the addresses).
+    pub sources: &'static str,
+}
+
+/// Every preset, in the order of [`PRESETS`].
+pub const PRESET_SETS: [Preset; 4] = [
+    Preset {
+        name: "faze4",
+        motors: faze4,
+        every_joint: false,
+        sources: "motor 17HS16-2004S1: 0.45 N·m holding, 2.0 A (StepperOnline's listing), 1.1 Ω, 2.6 mH, 50 pole \
+                  pairs (Source Robotics' STEPFOC table), rotor 54 g·cm² (StepperOnline's datasheet); ratios: the \
+                  Faze4's B_Design_decisions.rst; microsteps: its 2020 firmware; reducer efficiency not \
+                  published, taken as 1 (docs/motors.md, \"The presets and their figures\")",
+    },
+    Preset {
+        name: "faze4-bom",
+        motors: faze4_bom,
+        every_joint: false,
+        sources: "motors: the Faze4's BOM_7_11_2023.xlsx on the joints of its firmware's step angles; currents \
+                  and supplies: its electronics guide; each motor's figures (StepperOnline's listings and \
+                  datasheets, Source Robotics' STEPFOC table, the stepper-simulator database; J1's and J2's \
+                  rotors and J2's inductance are same-frame proxies): docs/motors.md, \"faze4-bom: the Faze4 as \
+                  built\"",
+    },
+    Preset {
+        name: "sts3215",
+        motors: |supply| vec![Some(sts3215(supply))],
+        every_joint: true,
+        sources: "19.5 kg·cm stall, 0.192 s/60° no-load at 7.4 V, 1:345 gear train (DFRobot SER0069 listing); \
+                  rotor inertia and continuous torque not published",
+    },
+    Preset {
+        name: "xm540-w270",
+        motors: |supply| vec![Some(xm540_w270(supply))],
+        every_joint: true,
+        sources: "10.6 N·m stall, 30 rev/min no-load at 12 V, 272.5:1 (ROBOTIS e-Manual)",
+    },
+];
 
 /// Where a run's motors come from.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,13 +130,10 @@ pub fn resolve(motors: Option<&Motors>, supply: Option<f64>, model: &Model) -> R
                     ))
                 }
             };
-            let every = |m: JointMotor| vec![Some(m); n];
-            match name.as_str() {
-                "faze4" => six(faze4(supply))?,
-                "faze4-bom" => six(faze4_bom(supply))?,
-                "sts3215" => every(sts3215(supply)),
-                "xm540-w270" => every(xm540_w270(supply)),
-                other => return Err(Motors::named(other).err().unwrap_or_else(|| unknown(other))),
+            match PRESET_SETS.iter().find(|p| p.name == name) {
+                Some(p) if p.every_joint => vec![(p.motors)(supply).swap_remove(0); n],
+                Some(p) => six((p.motors)(supply))?,
+                None => return Err(Motors::named(name).err().unwrap_or_else(|| unknown(name))),
             }
         }
         Motors::File(path) => {
@@ -322,4 +371,20 @@ fn set_per_joint(
         *slot(joint) = x;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod preset_tests {
+    use super::*;
+
+    /// [`PRESETS`] names [`PRESET_SETS`], in order, and each preset gives six motors or one.
+    #[test]
+    fn the_preset_names_are_the_sets() {
+        let names: Vec<&str> = PRESET_SETS.iter().map(|p| p.name).collect();
+        assert_eq!(names, PRESETS);
+        for p in PRESET_SETS {
+            let count = (p.motors)(None).len();
+            assert_eq!(count, if p.every_joint { 1 } else { 6 }, "{}", p.name);
+        }
+    }
 }

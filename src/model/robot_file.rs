@@ -27,6 +27,18 @@ pub enum RobotFormat {
 }
 
 impl RobotFormat {
+    /// Every format `robot` reads.
+    pub const ALL: [RobotFormat; 3] = [RobotFormat::Urdf, RobotFormat::Xacro, RobotFormat::Mjcf];
+
+    /// How a file of the format is told apart, for people (`faze4 list robots`; [`RobotFormat::detect`]).
+    pub fn told_by(self) -> &'static str {
+        match self {
+            RobotFormat::Urdf => "a <robot> root element without <xacro:…> elements (.urdf)",
+            RobotFormat::Xacro => "a <robot> root element with <xacro:…> elements, or a name ending in .xacro",
+            RobotFormat::Mjcf => "a <mujoco> root element (.xml)",
+        }
+    }
+
     /// The format's name as messages and the banner write it.
     pub fn name(self) -> &'static str {
         match self {

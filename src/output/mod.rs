@@ -9,5 +9,5 @@ mod trail;
 
 pub use capture::Capture;
 pub use sizing::{INERTIA_RATIO_RULE, sizing_table};
-pub use terminal::{PRINT_PERIOD, Terminal};
+pub use terminal::{PRINT_PERIOD, Terminal, for_people};
 pub use trail::TrailCsv;

@@ -132,7 +132,7 @@ fn mapped_line(m: &crate::model::Model) -> Option<String> {
 /// A figure of the banner for people: `x` to 9 significant digits, written as short as that
 /// allows (a duration of 9894 steps of 0.2 ms reads `1.9788`, not its sum's
 /// `1.9788000000000001`).
-fn for_people(x: f64) -> String {
+pub fn for_people(x: f64) -> String {
     let rounded: f64 = format!("{x:.8e}").parse().unwrap_or(x);
     format!("{rounded}")
 }

@@ -49,18 +49,25 @@ pub fn done_line(outputs: &Recorders, config: &RunConfig, summary: &Summary) -> 
     if let Some(path) = out.plot_motors.as_deref().filter(|_| outputs.motor_plot.is_some()) {
         written.push(format!("motor plot -> {}", shown_path(path)));
     }
-    let per_step = summary.wall_time_s / summary.steps.max(1) as f64;
-    let clearance = match summary.clearance_wall_time_s {
-        Some(s) => format!("; self-clearance {s:.3} s of it"),
-        None => String::new(),
-    };
-    written.push(format!(
-        "{} steps in {:.3} s ({:.2} µs/step{clearance})",
-        summary.steps,
-        summary.wall_time_s,
-        per_step * 1e6
-    ));
+    written.push(speed(summary));
     format!("[done] {}", written.join(" · "))
+}
+
+/// The `[done]` line's speed: the steps and the loop's wall time, then the dynamics' µs per
+/// step and, when the run measures its self-clearance, the clearance's time and share of the
+/// loop's: `40000 steps in 1.339 s (dynamics 7.70 µs/step; self-clearance 1.031 s, 77 % of
+/// the time)`. The clearance's worker runs beside the dynamics, so the two need not add up.
+fn speed(summary: &Summary) -> String {
+    let steps = summary.steps.max(1) as f64;
+    let total = format!("{} steps in {:.3} s", summary.steps, summary.wall_time_s);
+    match summary.clearance_wall_time_s {
+        Some(c) => format!(
+            "{total} (dynamics {:.2} µs/step; self-clearance {c:.3} s, {:.0} % of the time)",
+            summary.dynamics_wall_time_s / steps * 1e6,
+            100.0 * c / summary.wall_time_s.max(f64::MIN_POSITIVE),
+        ),
+        None => format!("{total} ({:.2} µs/step)", summary.dynamics_wall_time_s / steps * 1e6),
+    }
 }
 
 /// How many of the stiffest joints a divergence message names.
@@ -132,4 +139,30 @@ fn stiffest_joints(scenario: &Scenario, b: &[f64]) -> String {
         None => String::new(),
     };
     format!("{coupled}b = Δt²·kp/I largest at {}{more}", named.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `[done]` line's speed separates the dynamics from the self-clearance (made-up
+    /// times: the format is tested, never a timing).
+    #[test]
+    fn the_speed_separates_dynamics_and_clearance() {
+        let mut summary = Summary {
+            steps: 40000,
+            wall_time_s: 1.339,
+            dynamics_wall_time_s: 0.308,
+            clearance_wall_time_s: Some(1.031),
+            ..Summary::default()
+        };
+        assert_eq!(
+            speed(&summary),
+            "40000 steps in 1.339 s (dynamics 7.70 µs/step; self-clearance 1.031 s, 77 % of the time)"
+        );
+        summary.clearance_wall_time_s = None;
+        summary.wall_time_s = 0.03;
+        summary.dynamics_wall_time_s = 0.0292;
+        assert_eq!(speed(&summary), "40000 steps in 0.030 s (0.73 µs/step)");
+    }
 }

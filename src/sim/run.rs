@@ -170,6 +170,7 @@ impl Summary {
             wall,
             contact,
         } = ended;
+        let dynamics_wall_time_s = (wall.elapsed().saturating_sub(records.clearance_held)).as_secs_f64();
         let Records {
             steps,
             samples,
@@ -207,6 +208,7 @@ impl Summary {
             tool_range_m: samples.range,
             diverged,
             wall_time_s,
+            dynamics_wall_time_s,
             path_deviation_mm: sc.shape.as_ref().map(|_| PathDeviation {
                 max: samples.deviation_max * 1e3,
                 mean: samples.deviation_sum / samples.samples.max(1) as f64 * 1e3,
@@ -249,6 +251,9 @@ struct Records<'a, 's> {
     motors: Option<MotorMetrics>,
     samples: SampleMetrics,
     clearance: Option<ClearanceStage<'a, 's>>,
+    /// Wall-clock time the run's thread spent on the self-clearance: measuring it inline, or
+    /// waiting to hand a sample to its worker (timed at metric samples only, not every step).
+    clearance_held: Duration,
     schedule: Schedule,
 }
 
@@ -266,6 +271,7 @@ impl<'a, 's> Records<'a, 's> {
                     false => ClearanceStage::worker(&sc.model, metrics, scope),
                 }
             }),
+            clearance_held: Duration::ZERO,
             schedule: Schedule::new(recorders, sc.dt, sc.record_every),
         }
     }
@@ -285,15 +291,16 @@ impl<'a, 's> Records<'a, 's> {
         if !(record_metrics || recorders_due) {
             return Ok(());
         }
-        if record_metrics {
-            match self.clearance.as_mut() {
-                Some(ClearanceStage::Inline(c)) => {
+        if let (true, Some(clearance)) = (record_metrics, self.clearance.as_mut()) {
+            let started = Instant::now();
+            match clearance {
+                ClearanceStage::Inline(c) => {
                     forward_kinematics(&sc.model, &mut p.data, &p.state.q);
                     c.add(&p.data.frame_pose, t);
                 }
-                Some(ClearanceStage::Worker(feed)) => feed.send(t, &p.state.q),
-                None => {}
+                ClearanceStage::Worker(feed) => feed.send(t, &p.state.q),
             }
+            self.clearance_held += started.elapsed();
         }
         let intersecting = match &self.clearance {
             Some(ClearanceStage::Inline(c)) => c.clearance.intersecting(),

@@ -124,6 +124,23 @@ pub enum DriveMode {
 
 crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper" });
 
+impl DriveMode {
+    /// What the drive does, in a sentence for people (`faze4 list drives`).
+    pub fn about(self) -> &'static str {
+        match self {
+            DriveMode::Pd => {
+                "the PD controller's torque at every control step, clipped to each motor's torque–speed envelope (the \
+                 original's; the default); a stepper asked for more than its pull-out torque is said to lose steps"
+            }
+            DriveMode::Stepper => {
+                "open loop for the joints with a stepper: the driver's microstep through the stepper's \
+                 torque–angle curve, its rotor damped by the driver's current loop, its own losses and its reducer's \
+                 friction; slips and all (the other joints stay on the PD)"
+            }
+        }
+    }
+}
+
 /// How a run measures the self-clearance of its collision geometry (see
 /// [`CollisionSet`]): the default is the exact meshes and Drake's non-adjacent pairs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -52,22 +52,22 @@ impl StopFlag {
         PROCESS
             .get_or_init(|| {
                 let flag = StopFlag::new();
-                // the handlers only store the signal's number, or write a line and _exit
-                // (async-signal-safe); if one cannot be installed, that signal keeps its
-                // default behaviour
+                // the handlers store the signal's number in the flag; a thread of signal_hook's
+                // (its iterator: the handler only wakes it) ends the process if nothing watches
+                // the flag yet. If a handler cannot be installed, that signal keeps its default
+                // behaviour
                 for signal in signals() {
                     let _ = signal_hook::flag::register_usize(signal, flag.0.clone(), signal as usize);
-                    let line = unwatched_line(signal);
-                    // SAFETY: the action reads an atomic, writes a static line to fd 2 and calls
-                    // _exit: all async-signal-safe, nothing allocated or locked
-                    let _ = unsafe {
-                        signal_hook::low_level::register(signal, move || {
+                }
+                if let Ok(mut arrived) = signal_hook::iterator::Signals::new(signals()) {
+                    std::thread::spawn(move || {
+                        for signal in arrived.forever() {
                             if !WATCHED.load(Ordering::SeqCst) {
-                                libc::write(2, line.as_ptr().cast(), line.len());
-                                signal_hook::low_level::exit(exit_status(signal).into());
+                                let _ = std::io::Write::write_all(&mut std::io::stderr(), unwatched_line(signal));
+                                std::process::exit(exit_status(signal).into());
                             }
-                        })
-                    };
+                        }
+                    });
                 }
                 flag
             })

@@ -213,8 +213,13 @@ pub struct Summary {
     pub verdict: Verdict,
     /// Wall-clock time of the simulation loop (s), the self-clearance included.
     pub wall_time_s: f64,
-    /// Of `wall_time_s`, the time spent measuring the self-clearance (s); absent when the run
-    /// checks none.
+    /// Of `wall_time_s`, the loop's own time (s): the dynamics, controller and recorders, without
+    /// the time the loop spent on the self-clearance (measuring it on the loop's thread, or
+    /// waiting to hand a sample to the clearance's worker) and without waiting for the worker
+    /// to finish after the last step.
+    pub dynamics_wall_time_s: f64,
+    /// Of `wall_time_s`, the time spent measuring the self-clearance (s), on whichever thread
+    /// measured it (a worker's time overlaps the dynamics'); absent when the run checks none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub clearance_wall_time_s: Option<f64>,
     /// Shapes only: tool distance to the reference path.
