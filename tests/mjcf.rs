@@ -108,65 +108,85 @@ fn mass_matrix_and_bias_equal_mujocos_at_random_states() {
     }
 }
 
+/// Runs the fixture's closed-loop wave (`cl`: its `args`) on MJCF model `model` as the binary,
+/// in `dir`: the run, its trail's rows in the fixture's columns, its summary.
+fn wave(dir: &Path, model: &str, cl: &Value) -> (Run, Vec<Vec<f64>>, Value) {
+    let a = &cl["args"];
+    let num = |k: &str| a[k].as_f64().unwrap().to_string();
+    let run = faze4(
+        dir,
+        &[
+            "wave",
+            "--robot",
+            model,
+            "--center",
+            "mid",
+            "--amp-deg",
+            &num("amp_deg"),
+            "--amp-m",
+            &num("amp_m"),
+            "--freq",
+            &num("freq"),
+            "--duration",
+            &num("duration"),
+            "--dt",
+            &num("dt"),
+            "--record-period",
+            &num("record_period"),
+            "--tool-link",
+            a["tool_link"].as_str().unwrap(),
+            "--no-collisions",
+            "--trail",
+            "trail.csv",
+            "--summary",
+            "summary.json",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    let rows = fixture_trail(dir, cl);
+    let ours = summary(dir, "summary.json");
+    (run, rows, ours)
+}
+
+/// The largest difference between a trail and a fixture's (tool xyz in m, q in rad or m), the
+/// sample times equal.
+fn trail_difference(rows: &[Vec<f64>], cl: &Value) -> f64 {
+    let theirs = mat_f64(&cl["trail"]["rows"]);
+    assert_eq!(rows.len(), theirs.len());
+    let mut worst = 0.0f64;
+    for (r, p) in rows.iter().zip(&theirs) {
+        assert_eq!(r[0], p[0], "sample times");
+        worst = worst.max(max_abs_diff(&r[1..], &p[1..]));
+    }
+    worst
+}
+
 /// The fixture's wave on an MJCF model, run as the binary: the trail within 1e-9 of MuJoCo's
-/// dynamics stepped as docs/model.md steps (frictionloss left out on both sides), the gains
-/// tuned from the same inertia and effort limits, the same errors and saturation.
+/// dynamics stepped as docs/model.md steps (frictionloss as faze4's joint Coulomb friction on
+/// both sides), the gains tuned from the same inertia and effort limits, the same errors and
+/// saturation. Where two coupled joints stick together, faze4's joint-alone stopping torque
+/// chatters and amplifies rounding (docs/model.md §2.3): there the tolerance is ten times the
+/// trail's change the oracle measured when M changes by one rounding (`rounding_sensitivity`:
+/// 6e-17 on the SO-101, 5.0e-8 on the feature arm, 2.0e-5 on the friction arm).
 #[test]
 fn closed_loop_wave_matches_mujocos_dynamics() {
-    for name in ["so101", "feature_arm"] {
+    for name in ["so101", "feature_arm", "friction_arm"] {
         let fx = fixture(&format!("mjcf_{name}.json"));
         let cl = &fx["closed_loop"];
-        let a = &cl["args"];
-        let num = |k: &str| a[k].as_f64().unwrap().to_string();
         let dir = temp_dir(&format!("mjcf-wave-{name}"));
         let model = repo_path(fx["model"].as_str().unwrap()).display().to_string();
-        let run = faze4(
-            &dir,
-            &[
-                "wave",
-                "--robot",
-                &model,
-                "--center",
-                "mid",
-                "--amp-deg",
-                &num("amp_deg"),
-                "--amp-m",
-                &num("amp_m"),
-                "--freq",
-                &num("freq"),
-                "--duration",
-                &num("duration"),
-                "--dt",
-                &num("dt"),
-                "--record-period",
-                &num("record_period"),
-                "--tool-link",
-                a["tool_link"].as_str().unwrap(),
-                "--no-collisions",
-                "--trail",
-                "trail.csv",
-                "--summary",
-                "summary.json",
-            ],
-        );
-        assert!(run.status.success(), "{}", run.stderr);
+        let (run, rows, ours) = wave(&dir, &model, cl);
+        std::fs::remove_dir_all(&dir).unwrap();
         assert!(
-            run.stderr.contains("frictionloss of") && run.stderr.contains("not simulated"),
-            "{name}: the friction left out is said: {}",
+            run.stdout.contains("frictionloss → joint Coulomb friction") && !run.stderr.contains("frictionloss"),
+            "{name}: the friction is mapped, not warned: {}{}",
+            run.stdout,
             run.stderr
         );
-        let rows = fixture_trail(&dir, cl);
-        let ours: Value = summary(&dir, "summary.json");
-        std::fs::remove_dir_all(&dir).unwrap();
-        let theirs = mat_f64(&cl["trail"]["rows"]);
-        assert_eq!(rows.len(), theirs.len());
-        let mut worst = 0.0f64;
-        for (r, p) in rows.iter().zip(&theirs) {
-            assert_eq!(r[0], p[0], "sample times");
-            worst = worst.max(max_abs_diff(&r[1..], &p[1..]));
-        }
-        eprintln!("{name} wave: trail worst difference {worst:.1e}");
-        assert!(worst <= 1e-9, "{name}: trail differs from MuJoCo's by {worst:e}");
+        let tol = (10.0 * cl["rounding_sensitivity"].as_f64().unwrap()).max(1e-9);
+        let worst = trail_difference(&rows, cl);
+        eprintln!("{name} wave: trail worst difference {worst:.1e} (tolerance {tol:.0e})");
+        assert!(worst <= tol, "{name}: trail differs from MuJoCo's by {worst:e}");
         let mj = &cl["summary"];
         assert_eq!(ours["steps"], mj["steps"]);
         for key in ["effective_inertia", "kp", "kd", "effort"] {
@@ -177,7 +197,7 @@ fn closed_loop_wave_matches_mujocos_dynamics() {
             &vec_f64(&ours["max_tracking_error_rad"]),
             &vec_f64(&mj["max_tracking_error_rad"]),
         );
-        assert!(e < 1e-9, "{name}: max tracking error differs by {e:e}");
+        assert!(e < tol, "{name}: max tracking error differs by {e:e}");
         assert_eq!(ours["saturation_pct"], mj["saturation_pct"]);
         // the format and the source once each, in the summary and the banner
         assert_eq!(ours["format"], "mjcf");
@@ -192,6 +212,61 @@ fn closed_loop_wave_matches_mujocos_dynamics() {
             "{name}: {}",
             run.stdout
         );
+    }
+}
+
+/// The trail's tolerance against MuJoCo's own step (`mj_step`, its constraint solver) with
+/// frictionloss, per model: (as the file writes it, MuJoCo's soft defaults; with MuJoCo's
+/// friction made as hard as it goes). faze4's friction is the clamped torque that stops the joint
+/// within one step; MuJoCo's a soft constraint that, while a joint sticks, lets 1 − d = 10 % of
+/// its unconstrained acceleration through and pulls its speed to 0 over solref's 0.02 s. Measured
+/// by the oracle on its own (the fixture's `friction_models_difference`, MuJoCo's step against
+/// docs/model.md's step with faze4's friction; 3.8e-4 and 7.8e-8 on the SO-101, 5.9e-3 and
+/// 4.5e-4 on the friction arm) and rounded up; hard, the friction arm keeps 4.5e-4: faze4 stops
+/// each joint alone, MuJoCo solves the joints' frictions together through M. Without friction
+/// MuJoCo's step and faze4's agree to 6e-17 (`integrators_difference`). docs/robots.md.
+const FRICTION_TOL: [(&str, f64, f64); 2] = [("so101", 5e-4, 1e-6), ("friction_arm", 8e-3, 1e-3)];
+
+/// MJCF's frictionloss against MuJoCo's own step: the SO-101's (TheRobotStudio's values) and
+/// our friction arm's (a yaw that sticks and slips) closed loops within [`FRICTION_TOL`] of
+/// MuJoCo's, as written and hard; with the frictionloss removed from the file, the same run
+/// differs from MuJoCo's by more than the tolerance as written and by ten times it hard.
+#[test]
+fn frictionloss_follows_mujocos_own_step_within_the_friction_models_difference() {
+    for (name, as_written, hard) in FRICTION_TOL {
+        let fx = fixture(&format!("mjcf_{name}.json"));
+        let mj = &fx["mujoco_step"];
+        let integrators = mj["integrators_difference"].as_f64().unwrap();
+        assert!(integrators < 1e-12, "{name}: without friction {integrators:e}");
+        let path = repo_path(fx["model"].as_str().unwrap());
+        let dir = temp_dir(&format!("mjcf-friction-{name}"));
+        let (_, rows, _) = wave(&dir, &path.display().to_string(), &mj["as_written"]);
+        // the same file without its frictionloss, beside it in the temporary folder
+        let text = std::fs::read_to_string(&path).unwrap();
+        let stripped = text.replace("frictionloss=\"", "frictionloss=\"0\" was=\"");
+        assert_ne!(stripped, text);
+        std::fs::write(dir.join("no_friction.xml"), stripped).unwrap();
+        let (free_run, free_rows, _) = wave(&dir, "no_friction.xml", &mj["as_written"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(!free_run.stdout.contains("frictionloss"), "{}", free_run.stdout);
+        for (key, tol, margin) in [("as_written", as_written, 1.0), ("hard", hard, 10.0)] {
+            let cl = &mj[key];
+            let measured = cl["friction_models_difference"].as_f64().unwrap();
+            let ours = trail_difference(&rows, cl);
+            let without = trail_difference(&free_rows, cl);
+            eprintln!(
+                "{name} frictionloss, MuJoCo {key}: faze4 {ours:.1e} (the oracle's {measured:.1e}, tolerance {tol:.0e}); without friction {without:.1e}"
+            );
+            assert!(measured <= tol, "{name} {key}: the models differ by {measured:e} now");
+            assert!(
+                ours <= tol,
+                "{name} {key}: faze4 differs from MuJoCo by {ours:e} > {tol:e}"
+            );
+            assert!(
+                without > margin * tol,
+                "{name} {key}: without friction only {without:e} from MuJoCo: the test could not fail"
+            );
+        }
     }
 }
 
@@ -251,17 +326,18 @@ fn the_feature_arm_maps_and_leaves_out_what_it_says() {
     };
     assert_eq!(mapped("world geom").items, ["floor"]);
     let friction = mapped("frictionloss");
-    assert!(friction.changes_dynamics && friction.items.len() == 6, "{friction:?}");
+    assert!(!friction.changes_dynamics && friction.items.len() == 6, "{friction:?}");
+    assert_eq!(friction.to, "joint Coulomb friction");
+    // the big class's 0.2 on every joint; finger_b's reaches finger_a through the mimic, |1|·0.2
+    let f: Vec<f64> = robot.model.joints.iter().map(|j| j.friction).collect();
+    assert_eq!(f, [0.2, 0.2, 0.2, 0.2, 0.4]);
     assert_eq!(mapped("armature").items.len(), 6);
     assert_eq!(mapped("equality joint").items, ["finger_b"]);
     assert_eq!(mapped("motor ctrlrange").items, ["yaw", "extend"]);
     assert!(!mapped("armature").changes_dynamics);
     assert_eq!(robot.model.format, "mjcf");
     assert!(
-        robot
-            .warnings
-            .iter()
-            .any(|w| w.to_string().contains("frictionloss of yaw, shoulder")),
+        !robot.warnings.iter().any(|w| w.to_string().contains("frictionloss")),
         "{:?}",
         robot.warnings
     );

@@ -148,6 +148,32 @@ def test_an_mjcf_model_runs_from_its_home_keyframe():
         faze4.wave(faze4.Robot.from_urdf(ROOT / "tests" / "mjcf" / "so101" / "scene.xml"), center="home")
 
 
+def test_an_mjcf_models_frictionloss_is_simulated(tmp_path):
+    # TheRobotStudio's SO-101 by robot=: its frictionloss is the joints' Coulomb friction, and the
+    # fixture's wave equals MuJoCo's M, C v and g stepped with faze4's friction (tests/mjcf.rs)
+    fx = fixture("mjcf_so101.json")
+    cl = fx["closed_loop"]
+    a = cl["args"]
+    def wave(robot):
+        return faze4.wave(robot, center="mid", amp_deg=a["amp_deg"], amp_m=a["amp_m"], freq=a["freq"],
+                          duration=a["duration"], dt=a["dt"], record_period=a["record_period"],
+                          tool_link=a["tool_link"], no_collisions=True)
+
+    run = wave(faze4.Robot(robot=ROOT / fx["model"]))
+    mapped = {m["from"]: m for m in run.summary["mapped"]}
+    assert mapped["frictionloss"]["to"] == "joint Coulomb friction"
+    assert not mapped["frictionloss"]["changes_dynamics"]
+    rows = np.array(cl["trail"]["rows"])
+    assert run.q.shape == rows[:, 4:].shape
+    assert np.max(np.abs(run.q - rows[:, 4:])) <= 1e-9
+    # the same file without its frictionloss runs another wave
+    text = (ROOT / fx["model"]).read_text()
+    (tmp_path / "so101.xml").write_text(text.replace('frictionloss="', 'frictionloss="0" was="'))
+    free = wave(faze4.Robot(robot=tmp_path / "so101.xml"))
+    assert "frictionloss" not in {m["from"] for m in free.summary["mapped"]}
+    assert np.max(np.abs(free.q - rows[:, 4:])) > 1e-4
+
+
 def test_model_options_change_the_model():
     q = np.zeros(6)
     plain, heavy = faze4.Robot.faze4(), faze4.Robot.faze4(payload_kg=1.0)

@@ -47,7 +47,7 @@ pub enum LoadWarning {
         /// The moment all three were set to (their mean).
         balanced: f64,
     },
-    /// Something the file describes that faze4 does not simulate (MJCF's `frictionloss`).
+    /// Something the file describes that faze4 does not simulate (MJCF's `stiffness`).
     NotSimulated {
         /// The robot file.
         file: String,
@@ -502,7 +502,8 @@ fn check_masses(desc: &RobotDescription, model: &Model) -> Result<()> {
 
 /// Each `<mimic>`: the follower's body is driven by its leader's coordinate
 /// (`q_f = m·q_l + o`) and the follower stops being a degree of freedom. Its limits constrain
-/// the leader through the map, its damping adds m²·d to the leader's (`Gᵀ D G`), its velocity
+/// the leader through the map, its damping adds m²·d to the leader's (`Gᵀ D G`), its Coulomb
+/// friction |m|·f (the range of m·τ_f for τ_f within ±f), its velocity
 /// limit bounds the leader's by v/|m|. Refused: a mimic of a missing, fixed or following joint
 /// (no chains), of itself, a fixed joint with `<mimic>`, a motor on a follower, limits that
 /// leave the leader no position.
@@ -578,7 +579,7 @@ fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
     if follows.is_empty() {
         return Ok(());
     }
-    // the leaders take their followers' limits, damping and speed limits
+    // the leaders take their followers' limits, damping, friction and speed limits
     for &(f, l, m, o) in &follows {
         let follower = model.joints[f].clone();
         let leader = &mut model.joints[l];
@@ -591,6 +592,7 @@ fn apply_mimics(desc: &RobotDescription, model: &mut Model) -> Result<()> {
             }
         }
         leader.damping += m * m * follower.damping;
+        leader.friction += m.abs() * follower.friction;
         if leader.lower > leader.upper {
             return Err(Error::model(
                 file,
@@ -673,12 +675,14 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
             ),
         ));
     }
-    if joint.damping < 0.0 {
-        return Err(Error::model(
-            file,
-            format!("joint '{}' <dynamics>", joint.name),
-            format!("damping {} is negative", shortest(joint.damping)),
-        ));
+    for (what, value) in [("damping", joint.damping), ("friction", joint.friction)] {
+        if value < 0.0 {
+            return Err(Error::model(
+                file,
+                format!("joint '{}' <dynamics>", joint.name),
+                format!("{what} {} is negative", shortest(value)),
+            ));
+        }
     }
     Ok(Some(Joint {
         name: joint.name.clone(),
@@ -689,6 +693,7 @@ fn moving_joint(file: &str, joint: &JointDesc) -> Result<Option<Joint>> {
         effort: joint.effort.filter(|&e| e > 0.0),
         velocity: joint.velocity.filter(|&v| v > 0.0),
         damping: joint.damping,
+        friction: joint.friction,
         child_link: joint.child.clone(),
         rotor_inertia: 0.0,
         gear_ratio: 1.0,
@@ -785,6 +790,7 @@ fn check_finite(desc: &RobotDescription) -> Result<()> {
         bad(e(), "origin rotation", j.origin.rot.as_slice())?;
         bad(e(), "axis", &j.axis)?;
         bad(e(), "damping", &[j.damping])?;
+        bad(e(), "friction", &[j.friction])?;
         let (lo, hi) = j.limits.unwrap_or((0.0, 0.0));
         if lo.is_nan() || hi.is_nan() || j.effort.is_some_and(f64::is_nan) || j.velocity.is_some_and(f64::is_nan) {
             return Err(Error::model(

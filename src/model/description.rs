@@ -121,6 +121,9 @@ pub struct JointDesc {
     pub velocity: Option<f64>,
     /// Viscous damping (0 if not given).
     pub damping: f64,
+    /// Coulomb friction at the joint (N·m or N, ≥ 0; 0 if not given): URDF's `<dynamics
+    /// friction>`, MJCF's `frictionloss`.
+    pub friction: f64,
     /// `<mimic>`: this joint follows another, q = multiplier·q_leader + offset.
     pub mimic: Option<MimicDesc>,
 }

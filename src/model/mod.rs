@@ -84,6 +84,9 @@ pub struct Joint {
     pub velocity: Option<f64>,
     /// Viscous damping coefficient d in τ_damping = −d·v (N·m·s/rad or N·s/m).
     pub damping: f64,
+    /// Coulomb friction f (N·m or N, ≥ 0): the step's friction torque is the one that would stop
+    /// the joint within the step, within ±f (docs/model.md §2.3); 0 without friction.
+    pub friction: f64,
     /// Name of the URDF link this joint moves (the body's frame).
     pub child_link: String,
     /// Inertia of the motor's rotor about its own axis, at the motor shaft (kg·m²); 0 when

@@ -145,6 +145,7 @@ pub fn describe(text: &str, file: &str, base_dir: Option<&Path>, packages: &Pack
                 effort: (lim.effort != 0.0).then_some(lim.effort),
                 velocity: (lim.velocity != 0.0).then_some(lim.velocity),
                 damping: j.dynamics.as_ref().map_or(0.0, |d| d.damping),
+                friction: j.dynamics.as_ref().map_or(0.0, |d| d.friction),
                 mimic: j.mimic.as_ref().map(|m| MimicDesc {
                     joint: m.joint.clone(),
                     multiplier: m.multiplier.unwrap_or(1.0),

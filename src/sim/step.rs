@@ -131,11 +131,16 @@ pub fn controller(sc: &Scenario, s: &mut Step) {
 /// under `drive` stepper a stepper's joint gets what its torque–angle curve gives at the
 /// rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw
 /// (an open-loop stepper asks for nothing else), and its reducer's Coulomb friction
-/// (`friction`; the viscous losses are in the joint's damping).
+/// (`with_friction`; the viscous losses are in the joint's damping). Every drive adds the
+/// joint's own Coulomb friction ([`crate::model::Joint::friction`], by `with_friction` too; a
+/// stepper's reducer's and the joint's add).
 #[inline]
 pub fn actuation(sc: &Scenario, s: &mut Step) {
     let Some(motors) = &sc.motors else {
         sc.controller.clip(&s.tau_raw, &mut s.state.tau);
+        for (i, joint) in sc.model.joints.iter().enumerate() {
+            s.state.tau[i] = with_friction(s, i, s.state.tau[i], joint.friction);
+        }
         return;
     };
     let effort = &sc.controller.gains.effort;
@@ -149,7 +154,8 @@ pub fn actuation(sc: &Scenario, s: &mut Step) {
             let (lo, hi) = m.envelope.bounds(omega);
             s.bounds[i] = (k * lo, k * hi);
             s.tau_raw[i] = k * tau_m;
-            s.state.tau[i] = s.tau_raw[i] + friction(s, i, ratio * drive.losses.reducer_friction);
+            let most = ratio * drive.losses.reducer_friction + sc.model.joints[i].friction;
+            s.state.tau[i] = with_friction(s, i, s.tau_raw[i], most);
             continue;
         }
         let e = effort[i];
@@ -161,7 +167,8 @@ pub fn actuation(sc: &Scenario, s: &mut Step) {
             None => (-e, e),
         };
         s.bounds[i] = (lo, hi);
-        s.state.tau[i] = s.tau_raw[i].max(lo).min(hi);
+        let tau = s.tau_raw[i].max(lo).min(hi);
+        s.state.tau[i] = with_friction(s, i, tau, sc.model.joints[i].friction);
     }
 }
 
@@ -211,19 +218,20 @@ pub fn step(sc: &Scenario, s: &mut Step, t: f64) -> Result<()> {
     integrate(sc, s, t)
 }
 
-/// The Coulomb friction (N·m at joint i) of a reducer whose friction is `most` at the joint,
-/// with the joint's torque `s.tau_raw[i]` held over the step: the torque that would stop the
-/// joint within the step, −(M_ii·v/Δt + τ − (C v + g)_i), within ±`most`. So a joint at rest
-/// stays there while the rest of its torque is within the friction (it sticks), and a moving
-/// joint is braked by `most` without being turned back. The joint alone: the other joints'
-/// accelerations through M's off-diagonal are left out of the estimate (docs/motors.md).
+/// The drive's torque `tau` at joint i (N·m or N, held over the step) with the Coulomb friction
+/// of a joint whose friction is `most` (its own, and a stepper's reducer's at the joint) added:
+/// the friction is the torque that would stop the joint within the step, −(M_ii·v/Δt + τ − (C v + g)_i), within
+/// ±`most`. So a joint at rest stays there while the rest of its torque is within the friction
+/// (it sticks), and a moving joint is braked by `most` without being turned back. The joint
+/// alone: the other joints' accelerations through M's off-diagonal are left out of the estimate
+/// (docs/model.md §2.3, docs/motors.md). `tau` itself, bit for bit, without friction.
 #[inline]
-fn friction(s: &Step, i: usize, most: f64) -> f64 {
+fn with_friction(s: &Step, i: usize, tau: f64, most: f64) -> f64 {
     if most == 0.0 {
-        return 0.0;
+        return tau;
     }
-    let stop = -(s.data.m[(i, i)] * s.state.v[i] / s.state.dt + s.tau_raw[i] - s.data.bias[i]);
-    stop.clamp(-most, most)
+    let stop = -(s.data.m[(i, i)] * s.state.v[i] / s.state.dt + tau - s.data.bias[i]);
+    tau + stop.clamp(-most, most)
 }
 
 /// Joint i's open-loop stepper under `drive` stepper.

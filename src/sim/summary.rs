@@ -34,7 +34,7 @@ pub struct Simulated {
     /// The robot file's format: `urdf`, `xacro`, `mjcf` (empty for a model built in memory).
     pub format: String,
     /// What reading the file mapped onto faze4's terms or left out (MJCF's `armature` as rotor
-    /// inertia, its world geoms left out, its `frictionloss` not simulated), each with the
+    /// inertia, its world geoms left out, its springs not simulated), each with the
     /// elements concerned; empty for a URDF.
     pub mapped: Vec<Mapping>,
 }

@@ -10,7 +10,8 @@ meshes, which MuJoCo reads; they are not committed, tests/mjcf/README.md says wh
   * tests/mjcf/menagerie/ur5e.xml and panda.xml (MuJoCo Menagerie, unmodified): their OBJ/STL
     meshes are not here, so MuJoCo is handed a small tetrahedron for each mesh file (every body
     of these arms gives its <inertial>, so no mass comes from a mesh; said in the README);
-  * tests/mjcf/feature_arm.xml (ours: every construct faze4 reads, meshes from tests/urdf).
+  * tests/mjcf/feature_arm.xml (ours: every construct faze4 reads, meshes from tests/urdf);
+  * tests/mjcf/friction_arm.xml (ours: frictionloss that sticks and slips).
 
 For each: faze4's coordinates (MuJoCo's joints in order, less the joint1 of each <equality joint>,
 which follows its joint2: q1 = ref1 + c0 + c1 (q2 - ref2)), their limits, damping G^T diag(d) G,
@@ -21,9 +22,13 @@ the limits, [-pi, pi] where unlimited; v uniform in [-1, 1]) M = G^T qM G (mj_fu
 included) and bias = G^T qfrc_bias (C v + g), g = bias at v = 0.
 
 Closed loop: pin_closed_loop.py's run_closed_loop on MjArm (MuJoCo's M, C v, g in faze4's
-coordinates; the discrete step of docs/model.md; damping from MuJoCo's dof_damping; frictionloss
-left out as faze4 leaves it out) for the SO-101 and the feature arm: wave --center mid, 2 deg
-(the slides 2 mm), 2 s at dt 2e-4, gains by faze4's tuning rule from the efforts above.
+coordinates; the discrete step of docs/model.md; damping from MuJoCo's dof_damping; frictionloss as
+faze4's joint Coulomb friction, the clamped stopping torque of docs/model.md 2.3) for the SO-101,
+the feature arm and the friction arm: wave --center mid, 2 deg (the slides 2 mm), 2 s at dt 2e-4,
+gains by faze4's tuning rule from the efforts above; `rounding_sensitivity`, how far the trail moves
+when M changes by one rounding. For the SO-101 and the friction arm also `mujoco_step`: the same
+loop on MuJoCo's own mj_step (frictionloss solved by its constraint solver), as the file writes it
+and made hard, with the differences to docs/model.md's step that explain tests/mjcf.rs's tolerance.
 
 Deterministic: fixed seeds; the same mujoco/numpy versions write the same bytes.
 """
@@ -54,7 +59,11 @@ MODELS = [
     ("ur5e", "tests/mjcf/menagerie/ur5e.xml", None),
     ("panda", "tests/mjcf/menagerie/panda.xml", None),
     ("feature_arm", "tests/mjcf/feature_arm.xml", "tool"),
+    ("friction_arm", "tests/mjcf/friction_arm.xml", "tool"),
 ]
+# the models whose closed loop is also run on MuJoCo's own step (mj_step: frictionloss solved as
+# its soft constraint), with and without frictionloss
+MUJOCO_STEP = ["so101", "friction_arm"]
 # a closed tetrahedron, standing in for a mesh file that is not here
 TETRA_OBJ = b"v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 
@@ -101,6 +110,8 @@ class Coords:
             lo[c], hi[c] = max(lo[c], min(x, y)), min(hi[c], max(x, y))
         self.lower, self.upper = lo, hi
         self.damping = self.G.T @ np.diag(m.dof_damping) @ self.G
+        # a follower's friction reaches its leader as |m| f (the range of m tau_f, |tau_f| <= f)
+        self.friction = np.abs(self.G).T @ m.dof_frictionloss
         self.effort = efforts(m, self)
 
     def names(self):
@@ -177,8 +188,40 @@ class MjArm:
 
     def step(self, q, v, tau, dt):
         M, cv, g = self.terms(q, v)
-        v_next = np.linalg.solve(M + dt * self.urdf.damping, M @ v + dt * (tau - cv - g))
+        tau = np.array(tau, dtype=float)
+        bias = cv + g
+        for i, f in enumerate(self.urdf.friction):
+            # faze4's joint friction (docs/model.md 2.3), operation for operation as step.rs
+            if f != 0.0:
+                stop = -(M[i, i] * v[i] / dt + tau[i] - bias[i])
+                tau[i] = tau[i] + min(max(stop, -f), f)
+        v_next = np.linalg.solve(M + dt * self.urdf.damping, M @ v + dt * (tau - bias))
         return q + dt * v_next, v_next
+
+
+class MjStepArm(MjArm):
+    """MuJoCo's own step: mj_step from (q, v) with tau as qfrc_applied; frictionloss is solved by
+    MuJoCo's constraint solver as a soft constraint (solreffriction, solimpfriction); actuators
+    and contacts off (the loop's torque is the actuation). `frictionloss=False` turns it off."""
+
+    def __init__(self, m, name, frictionloss=True):
+        super().__init__(m, name)
+        assert m.neq == 0, "an equality constraint would be MuJoCo's soft one, not faze4's exact map"
+        m.opt.timestep = RUN["dt"]
+        m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ACTUATION) | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+        if not frictionloss:
+            m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS)
+            self.urdf.friction = np.zeros_like(self.urdf.friction)
+        self.stepper = mujoco.MjData(m)
+
+    def step(self, q, v, tau, dt):
+        assert dt == self.m.opt.timestep
+        d = self.stepper
+        d.qpos[:] = self.urdf.qpos(q)
+        d.qvel[:] = self.urdf.G @ np.asarray(v)
+        d.qfrc_applied[:] = self.urdf.G @ np.asarray(tau)
+        mujoco.mj_step(self.m, d)
+        return d.qpos.copy(), d.qvel.copy()
 
 
 def load(rel, so_arm100, work):
@@ -198,6 +241,8 @@ def load(rel, so_arm100, work):
         spec.meshdir = ""
         spec.assets = assets
         return spec.compile(), "a tetrahedron for each mesh"
+    if "friction_arm" in rel:
+        return mujoco.MjModel.from_xml_path(path), "no meshes"
     return mujoco.MjModel.from_xml_path(path), "meshes of tests/urdf/mesh_arms"
 
 
@@ -238,6 +283,71 @@ def closed_loop(arm, tool):
             "summary": summary, "trail": {"columns": pcl.trail_columns(len(c)), "rows": trail.tolist()}}
 
 
+class NudgedArm(MjArm):
+    """MjArm with M one rounding larger (1 + 4e-16): how far rounding alone moves the closed loop."""
+
+    def terms(self, q, v):
+        M, cv, g = super().terms(q, v)
+        return M * (1.0 + 4e-16), cv, g
+
+
+def rounding_sensitivity(m, name, tool, loop):
+    """The trail's change when M changes by one rounding: about 0 where the loop damps rounding;
+    large where two coupled joints stick together and faze4's joint-alone stopping torque chatters
+    (docs/model.md 2.3), which amplifies rounding (the test's tolerance against this replica)."""
+    return trail_difference(closed_loop(NudgedArm(m, name), tool), loop)
+
+
+def trail_difference(a, b):
+    """The largest difference of two closed loops' trails (tool xyz in m, q in rad or m)."""
+    a, b = np.array(a["trail"]["rows"]), np.array(b["trail"]["rows"])
+    assert a.shape == b.shape and (a[:, 0] == b[:, 0]).all()
+    return float(np.max(np.abs(a[:, 1:] - b[:, 1:])))
+
+
+def mujoco_step(name, rel, tool, so_arm100, faze4_step):
+    """The closed loop on MuJoCo's own step with frictionloss, twice: `as_written` (the file's
+    solreffriction/solimpfriction, MuJoCo's defaults 0.02 s and 0.9 here) and `hard` (every dof's
+    solref (2 dt, 1), MuJoCo's shortest safe time constant, and solimp 0.9999, its largest
+    impedance: the nearest MuJoCo's soft constraint comes to a hard friction). With each, the
+    differences that explain the test's tolerance: MuJoCo's step against docs/model.md's step
+    with friction on both sides (`friction_models_difference`; `faze4_step` is the closed loop
+    with faze4's friction), with friction on MuJoCo's side alone (`without_friction_difference`),
+    and with none on either (`integrators_difference`: rounding)."""
+    def run(make, hard=False):
+        with tempfile.TemporaryDirectory() as work:
+            m, _ = load(rel, os.path.abspath(so_arm100), work)
+            if hard:
+                m.dof_solref[:] = [2 * RUN["dt"], 1.0]
+                m.dof_solimp[:, :2] = 0.9999
+            return make(m), closed_loop(make(m), tool)
+
+    def faze4_without(m):
+        arm = MjArm(m, name)
+        arm.urdf.friction = np.zeros_like(arm.urdf.friction)
+        return arm
+
+    arm, without = run(lambda m: MjStepArm(m, name, frictionloss=False))
+    _, faze4_free = run(faze4_without)
+    integrators = trail_difference(without, faze4_free)
+    out = {"friction": MjArm(load_plain(rel, so_arm100), name).urdf.friction.tolist(),
+           "integrators_difference": integrators}
+    for key, hard in [("as_written", False), ("hard", True)]:
+        _, loop = run(lambda m: MjStepArm(m, name), hard)
+        loop["friction_models_difference"] = trail_difference(loop, faze4_step)
+        loop["without_friction_difference"] = trail_difference(loop, faze4_free)
+        out[key] = loop
+        print(f"[{name}] MuJoCo's step ({key}) vs docs/model.md's step: with friction on both "
+              f"{loop['friction_models_difference']:.1e}, on MuJoCo's alone {loop['without_friction_difference']:.1e}, "
+              f"on neither {integrators:.1e}")
+    return out
+
+
+def load_plain(rel, so_arm100):
+    with tempfile.TemporaryDirectory() as work:
+        return load(rel, os.path.abspath(so_arm100), work)[0]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--so-arm100", required=True, help="a checkout of TheRobotStudio/SO-ARM100")
@@ -267,6 +377,9 @@ def main():
             }
             if tool:
                 fixture["closed_loop"] = closed_loop(arm, tool)
+                fixture["closed_loop"]["rounding_sensitivity"] = rounding_sensitivity(m, name, tool, fixture["closed_loop"])
+            if name in MUJOCO_STEP:
+                fixture["mujoco_step"] = mujoco_step(name, rel, tool, args.so_arm100, fixture["closed_loop"])
             out = f"tests/fixtures/mjcf_{name}.json"
             dump_fixture(os.path.join(REPO, out), fixture)
             print(f"[write] {out}: {len(c.joint_names)} coordinates {c.joint_names}, {meshes}")

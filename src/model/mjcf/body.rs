@@ -185,14 +185,8 @@ impl Tree {
         self.moving.push(joint.clone());
         self.references.push(reference);
         self.armature.push((joint.clone(), a.number("armature", 0.0)?));
-        let friction = a.number("frictionloss", 0.0)?;
-        if friction > 0.0 {
-            ctx.note(
-                "frictionloss",
-                "not simulated: faze4 has no Coulomb joint friction",
-                &joint,
-                true,
-            );
+        if a.number("frictionloss", 0.0)? > 0.0 {
+            ctx.note("frictionloss", "joint Coulomb friction", &joint, false);
         }
         if a.number("stiffness", 0.0)? != 0.0 {
             ctx.note("stiffness", "not simulated: faze4 has no joint springs", &joint, true);
@@ -258,6 +252,7 @@ impl Tree {
             effort: None,
             velocity: None,
             damping: 0.0,
+            friction: 0.0,
             mimic: None,
         });
     }
@@ -390,6 +385,7 @@ fn joint_desc(a: &Attrs, name: &str, ctx: &Context, hinge: bool) -> Result<Joint
             .filter(|&e| e > 0.0),
         velocity: None,
         damping: a.number("damping", 0.0)?,
+        friction: a.number("frictionloss", 0.0)?,
         mimic: None,
     })
 }

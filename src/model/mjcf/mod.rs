@@ -7,8 +7,9 @@
 //! the table): `armature` is the joint's rotor inertia at gear ratio 1 (MuJoCo adds it to M's
 //! diagonal, as faze4 adds r²·I_rotor), an actuator's `forcerange` (or a motor's `ctrlrange`)
 //! times its `gear` the joint's effort limit, `<equality joint>` a mimic, the `home` keyframe the
-//! start pose `center home`; world geoms (a floor) are left out; `frictionloss`, springs,
-//! tendons and gravity compensation are listed as not simulated (a [`LoadWarning`]).
+//! start pose `center home`, `frictionloss` the joint's Coulomb friction; world geoms (a floor)
+//! are left out; springs, tendons and gravity compensation are listed as not simulated (a
+//! [`LoadWarning`]).
 //!
 //! | file | holds |
 //! |---|---|
