@@ -97,6 +97,9 @@ pub fn collect(source: &mut dyn Read, bag: &mut Collected, path: &Path) -> Resul
     )
 }
 
+/// The most bytes asked of the source at once (1 MiB).
+const READ_PIECE: usize = 1 << 20;
+
 /// Calls `record` with the opcode and data of each record the linear reader with `options`
 /// yields from `source`, up to the data end.
 fn each_record(
@@ -109,8 +112,11 @@ fn each_record(
     while let Some(event) = reader.next_event() {
         match event.map_err(|e| bad(e.to_string()))? {
             LinearReadEvent::ReadRequest(need) => {
+                // a piece at a time: the buffer grows with what the file holds, not with what
+                // a record's length claims (a 5 kB file claiming a 250 MB record had the
+                // reader allocate and clear all of it first)
                 let n = source
-                    .read(reader.insert(need))
+                    .read(reader.insert(need.min(READ_PIECE)))
                     .map_err(|e| bad(format!("reading it: {e}")))?;
                 reader.notify_read(n);
             }
