@@ -582,6 +582,13 @@ fn colliding_links_are_drawn_red() {
     let url = stderr
         .find_map(|line| line.strip_prefix("viz: live view at ").map(str::to_string))
         .expect("the live view's address on stderr");
+    // the run over and the view holding (the run is paced to the wall clock): every record is
+    // served, so the page at t = 1 s has its sample whenever Chromium loads it (a screenshot
+    // taken during the run could come back before the run reached t = 1 s)
+    assert!(
+        stderr.any(|line| line.starts_with("viz: serving ")),
+        "no 'serving … until Ctrl-C' line after the run"
+    );
     let mut red = 0;
     for wait in [8, 24] {
         // on a slow machine, again with more time
@@ -594,12 +601,6 @@ fn colliding_links_are_drawn_red() {
             break;
         }
     }
-    // Ctrl-C once the run is over and the view holds (the run is paced to the wall clock, and
-    // a screenshot can come back before its 2 s are up)
-    assert!(
-        stderr.any(|line| line.starts_with("viz: serving ")),
-        "no 'serving … until Ctrl-C' line after the run"
-    );
     interrupt(child.id());
     assert_eq!(
         child.wait().unwrap().code(),
