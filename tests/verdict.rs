@@ -226,38 +226,6 @@ fn output_paths_are_checked_before_the_run() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Runs the binary with `args` in `dir`, waits until the run has begun (its first progress
-/// line on stdout, `t=  0.00s …`: no fixed sleep), sends `signal`, and returns its status, its
-/// stdout and its stderr.
-fn stopped_once_begun(dir: &std::path::Path, args: &[&str], signal: libc::c_int) -> (Option<i32>, String, String) {
-    use std::io::{BufRead, Read};
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run faze4");
-    let mut stderr = child.stderr.take().unwrap();
-    let errors = std::thread::spawn(move || {
-        let mut text = String::new();
-        stderr.read_to_string(&mut text).unwrap();
-        text
-    });
-    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
-    let mut printed = String::new();
-    while !printed.lines().any(|l| l.starts_with("t=")) {
-        assert!(
-            stdout.read_line(&mut printed).unwrap() > 0,
-            "ended before it began: {printed}"
-        );
-    }
-    send(child.id(), signal);
-    stdout.read_to_string(&mut printed).unwrap();
-    let status = child.wait().unwrap().code();
-    (status, printed, errors.join().unwrap())
-}
-
 /// A run stopped by a signal once it has begun says it stopped and when, and gives no verdict
 /// on the part it did not run; the summary counts the steps it ran; the status is 128 + the
 /// signal's number.
@@ -268,12 +236,19 @@ fn a_run_stopped_midway_says_so_and_gives_no_verdict() {
         (libc::SIGTERM, 143, "stopped by SIGTERM"),
         (libc::SIGINT, 130, "interrupted"),
     ] {
-        let (code, stdout, stderr) = stopped_once_begun(
+        // begun: its first progress line on stdout, `t=  0.00s …`
+        let run = signalled_once_begun(
             &dir,
             &["wave", "--duration", "3600", "--trail", "none", "--summary", "s.json"],
             signal,
+            |_, printed| printed.lines().any(|l| l.starts_with("t=")),
+            std::time::Duration::ZERO,
         );
-        assert_eq!(code, Some(status), "{stderr}");
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr),
+        );
+        assert_eq!(run.status.code(), Some(status), "{stderr}");
         let s = summary(&dir, "s.json");
         let t = s["interrupted_at_s"].as_f64().unwrap();
         let steps = s["steps"].as_u64().unwrap();
