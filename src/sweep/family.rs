@@ -356,7 +356,7 @@ mod tests {
     fn a_family_runs_in_order_and_a_failed_build_is_a_row() {
         let build = |values: &[f64]| -> Result<Scenario> {
             if values[0] < 0.0 {
-                return Err(Error::argument("--payload-kg", "negative"));
+                return Err(Error::option("payload_kg", "negative"));
             }
             let mut s = scenario();
             Scale::Kp.apply(&mut s, values[0])?;
@@ -373,7 +373,7 @@ mod tests {
             .unwrap();
         assert_eq!(ran, 4);
         assert_eq!(rows.iter().map(|r| r.index).collect::<Vec<_>>(), [0, 1, 2, 3]);
-        assert_eq!(rows[0].outcome, Outcome::Failed("--payload-kg: negative".into()));
+        assert_eq!(rows[0].outcome, Outcome::Failed("`payload_kg`: negative".into()));
         assert!(!rows[0].follows());
         for (row, factor) in rows[1..].iter().zip([0.5, 1.0, 2.0]) {
             let Outcome::Ran(s) = &row.outcome else {

@@ -110,7 +110,7 @@ fn refuse_compiler(a: &Attrs) -> Result<()> {
         }
     }
     if a.flag("balanceinertia")? == Some(true) {
-        return Err(a.error("balanceinertia=\"true\": faze4 applies it only when asked (--balance-inertia)"));
+        return Err(a.error("balanceinertia=\"true\": faze4 applies it only when asked (`balance_inertia`)"));
     }
     if a.text("coordinate").is_some_and(|c| c != "local") {
         return Err(a.error("coordinate=\"global\" is not read (MuJoCo itself dropped it in 2.3.3)"));

@@ -393,7 +393,7 @@ impl<'a> Expander<'a> {
                 let name = one("find")?;
                 self.packages.find_package(&name).map(|p| absolute(&p)).ok_or_else(|| {
                     format!(
-                        "$(find {name}): no package '{name}' (a folder whose package.xml names it) under --package-path or ROS_PACKAGE_PATH"
+                        "$(find {name}): no package '{name}' (a folder whose package.xml names it) under `package_path` or ROS_PACKAGE_PATH"
                     )
                 })
             }
