@@ -24,7 +24,8 @@ use faze4::sim::{self, StopFlag};
 pub const EXIT_DIVERGED: u8 = 1;
 /// Exit status of bad input (arguments, files, models).
 pub const EXIT_INPUT: u8 = 2;
-/// Exit status of a run whose verdict is "cannot follow" or "collides", under `--strict`.
+/// Exit status of a run whose verdict is "cannot follow" or "collides", under `--strict`, and
+/// of `retime` whenever its checked timing does not follow or no timing follows.
 pub const EXIT_CANNOT_FOLLOW: u8 = 3;
 /// Exit status of a run stopped by Ctrl-C (128 + SIGINT, as shells report it).
 pub const EXIT_INTERRUPTED: u8 = 130;
@@ -152,16 +153,17 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
     run_and_report(&prepared)
 }
 
-/// `faze4 retime`: the timing, its lines and the check's verdict last. The exit status is a
-/// run's (1 diverged, 128 + a signal's number, 3 under `--strict` when the checked timing
-/// does not follow); a path that no timing follows is the reason on stderr, with status 3
-/// under `--strict`, else 2 (nothing is written).
+/// `faze4 retime`: the timing, its lines and the check's verdict last. The exit status is 0
+/// only when the checked timing follows: 1 diverged, 128 + a signal's number, else 3 when the
+/// check's verdict is not "follows" (the verdict names why: collides, loses steps, tracking
+/// error, saturates), with or without `--strict`; a path that no timing follows is the reason
+/// on stderr, status 3 (nothing is written).
 fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
     let quiet = config.outputs.quiet;
     let finished = match faze4::session::retime(config, None, &files, &mut [], &stop, |w| warn(w, quiet)) {
-        Err(e @ Error::NothingFollows { .. }) if config.verdict.strict => {
+        Err(e @ Error::NothingFollows { .. }) => {
             to_stderr(&format!("faze4: {}", flags(&e.to_string())));
             return Ok(ExitCode::from(EXIT_CANNOT_FOLLOW));
         }
@@ -193,7 +195,8 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
         tell_stop(&stop, "after the check; its outputs are complete");
         return Ok(ExitCode::from(interrupted_status(&stop)));
     }
-    let code = exit_code(summary, config.verdict.strict);
+    // retime's answer is a timing that follows: anything else is status 3, `--strict` or not
+    let code = exit_code(summary, true);
     if let (Some(l), true) = (
         finished.replayed.as_ref().and_then(|r| r.recorders.live.as_ref()),
         config.outputs.hold,

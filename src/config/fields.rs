@@ -1232,7 +1232,8 @@ pub const FIELDS: &[Field] = &[
     .value_name("MM")
     .help("The verdict \"follows\" allows a shape's path deviation up to this (mm)."),
     flag!("strict", verdict.strict).help(
-        "Exit with status 3 when the verdict is \"cannot follow\" or \"collides\" (for CI jobs that guard a motion).",
+        "Exit with status 3 when the verdict is \"cannot follow\" or \"collides\" (for CI jobs that guard a motion); \
+         retime always does.",
     ),
     // the files
     output!("trail", outputs.trail)
