@@ -15,7 +15,7 @@ mod stepper;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, Visitor};
 
-use super::motor::Stepping;
+pub use stepper::{StepperLosses, Stepping};
 
 /// What a motor gives at a shaft speed.
 #[derive(Clone, Debug, PartialEq)]

@@ -6,7 +6,70 @@
 use serde::Deserialize;
 
 use super::{Envelope, Kind, KindMotor, fields_of, read_as};
-use crate::control::motor::{StepperLosses, Stepping};
+
+/// What an open-loop drive needs of a stepper beyond its pull-out curve (docs/motors.md,
+/// "The open-loop stepper drive").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stepping {
+    /// Rotor teeth N_r: 50 for a 1.8° motor, 100 for 0.9° (a full step is 2π/(4·N_r) rad).
+    pub rotor_teeth: f64,
+    /// Detent torque T_d (N·m at the shaft, ≥ 0; 0 where none is published): the unpowered
+    /// rotor's cogging, one period per full step.
+    pub detent_torque: f64,
+    /// Microsteps per full step the driver is set to, where the build says (`None`: the
+    /// default of [`crate::control::DEFAULT_MICROSTEPS`] unless `--microsteps` gives one).
+    pub microsteps: Option<u32>,
+    /// What damps its rotor besides the joint's own damping (docs/motors.md, "The stepper's
+    /// damping").
+    pub losses: StepperLosses,
+}
+
+/// What damps an open-loop stepper's rotor, at the motor shaft (docs/motors.md, "The stepper's
+/// damping"): the driver's current loop (with the winding behind [`crate::control::Electrics::Stepper`], the
+/// electrical damping), the rotor's own viscous losses and the reducer's friction.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepperLosses {
+    /// The driver's current-loop bandwidth f_c (Hz, > 0): the phase current follows its
+    /// reference as a first-order loop of this bandwidth, so the back-EMF leaves a current that
+    /// brakes the rotor. `None`: no electrical damping (an ideal current source, or a winding
+    /// not known).
+    pub driver_bandwidth: Option<f64>,
+    /// The rotor's viscous damping b_r (N·m·s/rad at the shaft, ≥ 0): iron losses and
+    /// bearings.
+    pub rotor_damping: f64,
+    /// The reducer's viscous friction b_g (N·m·s/rad at the shaft, ≥ 0).
+    pub reducer_damping: f64,
+    /// The reducer's Coulomb friction T_c (N·m at the shaft, ≥ 0).
+    pub reducer_friction: f64,
+}
+
+impl StepperLosses {
+    /// Whether each figure is finite and ≥ 0 (the bandwidth > 0); the error names the field.
+    pub fn check(&self) -> Result<(), String> {
+        if let Some(f) = self.driver_bandwidth
+            && !(f.is_finite() && f > 0.0)
+        {
+            return Err(format!("driver_bandwidth {f} must be > 0"));
+        }
+        for (name, x) in [
+            ("rotor_damping", self.rotor_damping),
+            ("reducer_damping", self.reducer_damping),
+            ("reducer_friction", self.reducer_friction),
+        ] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(format!("{name} {x} must be ≥ 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Stepping {
+    /// A 1.8° or 0.9° step angle (degrees) as rotor teeth, N_r = 90° / step angle.
+    pub fn rotor_teeth_of(step_angle_deg: f64) -> f64 {
+        90.0 / step_angle_deg
+    }
+}
 
 /// The kind's registration ([`super::KINDS`]).
 pub(super) const KIND: Kind = Kind {
