@@ -87,8 +87,8 @@ impl Electrics {
                 mechanical + r * i * i
             }
             (Electrics::Stepper { winding, current, .. }, _) => mechanical + winding.resistance * current * current,
-            // a DC supply given to a stepper's curve: the mechanical power alone
-            (Electrics::Dc { .. }, Envelope::Stepper { .. }) => mechanical,
+            // a DC supply given to another kind's envelope: the mechanical power alone
+            (Electrics::Dc { .. }, _) => mechanical,
         }
     }
 }
