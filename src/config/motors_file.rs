@@ -63,7 +63,33 @@ pub fn read(path: &Path) -> Result<Vec<MotorEntry>> {
 /// [`read`] on the file's text; `path` names it in the errors.
 pub fn parse_text(text: &str, path: &Path) -> Result<Vec<MotorEntry>> {
     let file: File = toml::from_str(text).map_err(|e| at(path, crate::error::file_words(e.message())))?;
+    for (k, entry) in file.joint.iter().enumerate() {
+        if let Some(field) = entry.figures.iter().find(|(_, v)| holds_null(v)).map(|(f, _)| f) {
+            let name = entry
+                .name
+                .as_deref()
+                .map_or("by order".to_string(), crate::error::escape_controls);
+            return Err(at(
+                path,
+                format!(
+                    "J{} ({name}): {field} must be finite (nan and inf are not figures)",
+                    k + 1
+                ),
+            ));
+        }
+    }
     Ok(file.joint)
+}
+
+/// Whether `value` holds a JSON null: in a TOML file's figures, a `nan` or `inf` (JSON has
+/// neither, so the kind's figures, read as JSON values, hold them as null).
+fn holds_null(value: &serde_json::Value) -> bool {
+    match value {
+        serde_json::Value::Null => true,
+        serde_json::Value::Array(items) => items.iter().any(holds_null),
+        serde_json::Value::Object(map) => map.values().any(holds_null),
+        _ => false,
+    }
 }
 
 /// An error of the motors file at `path`, naming the field.
@@ -87,5 +113,20 @@ mod tests {
             .filter(|f| text.contains(&format!("{f} = ")))
             .count();
         assert_eq!(given, COMMON_FIELDS.len());
+    }
+
+    /// A kind's figure of `nan` or `inf` is refused, naming it (JSON, which holds the kind's
+    /// figures, has no such number: read as absent, `peak_torque = nan` took the stall torque).
+    #[test]
+    fn non_finite_figures_are_refused() {
+        for (field, value) in [
+            ("peak_torque", "nan"),
+            ("stall_torque", "inf"),
+            ("curve", "[[0.0, -inf]]"),
+        ] {
+            let text = format!("[[joint]]\nkind = \"dc\"\n{field} = {value}\n");
+            let e = parse_text(&text, Path::new("m.toml")).unwrap_err().to_string();
+            assert!(e.contains(&format!("J1 (by order): {field} must be finite")), "{e}");
+        }
     }
 }
