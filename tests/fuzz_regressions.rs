@@ -212,6 +212,11 @@ fn motors_file_inputs() {
     });
 }
 
+#[test]
+fn python_conversion_inputs() {
+    check_all("python_conversion", fuzzing::python_conversion);
+}
+
 /// What a COLLADA file claims is checked before mesh-loader allocates or recurses (issue 35):
 /// an 834-byte file claiming 4 billion triangles asked for 48 GB, 100,000 nested `<node>`s
 /// overflowed the stack; an OBJ reference is said as written. Generated rather than stored.
