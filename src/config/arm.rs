@@ -37,10 +37,17 @@ pub fn load_arm(arm: &ArmConfig) -> Result<Arm> {
         }
         None => Robot::faze4(),
     };
-    let motors = resolve(arm.motors.as_ref(), arm.supply_voltage, &robot.model)?;
-    let motors = fit(&mut robot.model, motors, &arm.gear_ratio, &arm.rotor_inertia)?;
+    let motors = fit_motors(&mut robot.model, arm)?;
     let tool = tool_frame(&robot.model, arm.tool_link.as_deref())?;
     Ok(Arm { robot, motors, tool })
+}
+
+/// The motors of `arm` (`motors`, `supply_voltage`) resolved onto `model`'s joints and fitted
+/// with `gear_ratio` and `rotor_inertia` ([`resolve`], then [`fit`]): the one place both
+/// happen, for [`load_arm`] and for a loaded arm's runs.
+pub(super) fn fit_motors(model: &mut Model, arm: &ArmConfig) -> Result<Option<Vec<Option<Motor>>>> {
+    let motors = resolve(arm.motors.as_ref(), arm.supply_voltage, model)?;
+    fit(model, motors, &arm.gear_ratio, &arm.rotor_inertia)
 }
 
 /// The tool frame: the link `name`, or the model's default.

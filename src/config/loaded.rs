@@ -6,8 +6,8 @@ use std::borrow::Cow;
 use std::path::Path;
 use std::sync::Arc;
 
-use super::arm::{Arm, load_arm};
-use super::motors::{Motors, fit, resolve};
+use super::arm::{Arm, fit_motors, load_arm};
+use super::motors::Motors;
 use super::{ArmConfig, Center, Motion, ReplayConfig, RetimeConfig, RunConfig};
 use crate::atomic::Inputs;
 use crate::error::{Error, Result, quoted, shortest};
@@ -393,8 +393,7 @@ fn inputs(config: &RunConfig, arm: &Arm, replay_read: bool) -> Inputs {
 /// `bare` with the motors, ratios and rotors of `config` fitted to its joints.
 fn fitted(bare: &Arm, config: &ArmConfig) -> Result<Arm> {
     let mut arm = bare.clone();
-    let motors = resolve(config.motors.as_ref(), config.supply_voltage, &arm.robot.model)?;
-    arm.motors = fit(&mut arm.robot.model, motors, &config.gear_ratio, &config.rotor_inertia)?;
+    arm.motors = fit_motors(&mut arm.robot.model, config)?;
     Ok(arm)
 }
 

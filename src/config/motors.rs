@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::control::catalog::{sts3215, xm540_w270};
-use crate::control::{Envelope, JointMotor, Motor, StepperLosses, Stepping};
+use crate::control::{self, JointMotor, Motor};
 use crate::error::{Error, Result, escape_controls, quoted};
 use crate::faze4::motors::{faze4, faze4_bom};
 use crate::model::{Joint, Model};
@@ -180,6 +180,7 @@ fn at(path: &Path, message: String) -> Error {
 /// The entries on the joints of `model`: by name when every entry names one (a joint not named
 /// has no motor), in order when none does (then one per joint).
 fn pair(entries: Vec<MotorEntry>, model: &Model) -> std::result::Result<Vec<Option<JointMotor>>, String> {
+    check_fields(&entries)?;
     let n = model.dof();
     let named = entries.iter().filter(|e| e.name.is_some()).count();
     let mut out: Vec<Option<JointMotor>> = vec![None; n];
@@ -218,86 +219,26 @@ fn pair(entries: Vec<MotorEntry>, model: &Model) -> std::result::Result<Vec<Opti
     Ok(out)
 }
 
-/// One entry as joint i's motor.
-fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
+/// One entry as joint i's motor: its kind ([`crate::control::KINDS`]) reads its own fields.
+fn entry(mut e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
     let what = |m: &str| {
         let name = e.name.as_deref().map_or("by order".to_string(), escape_controls);
         format!("J{} ({name}): {m}", i + 1)
     };
-    let need = |field: Option<f64>, name: &str| field.ok_or_else(|| what(&format!("kind \"{}\" needs {name}", e.kind)));
-    let envelope = match e.kind.as_str() {
-        "dc" => {
-            if e.curve.is_some() {
-                return Err(what("a dc motor has no curve (that is a stepper's)"));
-            }
-            if e.step_angle.is_some() || e.detent_torque.is_some() || e.microsteps.is_some() || has_losses(&e) {
-                return Err(what(
-                    "a dc motor has no step_angle, detent_torque, microsteps, driver_bandwidth, rotor_damping or reducer_damping/friction (those are a stepper's open-loop drive's)",
-                ));
-            }
-            let stall_torque = need(e.stall_torque, "stall_torque")?;
-            Envelope::Dc {
-                stall_torque,
-                no_load_speed: need(e.no_load_speed, "no_load_speed")?,
-                peak_torque: e.peak_torque.unwrap_or(stall_torque),
-            }
-        }
-        "stepper" => {
-            if e.stall_torque.is_some() || e.no_load_speed.is_some() || e.peak_torque.is_some() {
-                return Err(what(
-                    "a stepper has a curve, not stall_torque, no_load_speed or peak_torque",
-                ));
-            }
-            let curve = e.curve.as_ref().ok_or_else(|| what("kind \"stepper\" needs curve"))?;
-            let points = curve.iter().enumerate().map(|(k, p)| match p[..] {
-                [speed, torque] => Ok([speed, torque]),
-                _ => Err(what(&format!(
-                    "curve point {} has {} values ({p:?}); a point is [speed rad/s, torque N·m]",
-                    k + 1,
-                    p.len()
-                ))),
-            });
-            Envelope::Stepper {
-                curve: points.collect::<std::result::Result<_, _>>()?,
-            }
-        }
-        other => {
-            return Err(what(&format!(
-                "kind \"{}\" is not \"dc\" or \"stepper\"",
-                escape_controls(other)
-            )));
-        }
+    let word = match e.figures.remove("kind") {
+        Some(serde_json::Value::String(word)) => word,
+        Some(other) => return Err(what(&format!("kind {other} must be a word (\"dc\", \"stepper\")"))),
+        None => return Err(what("missing field 'kind'")),
     };
-    let stepping = match e.step_angle {
-        Some(a) if !(a.is_finite() && a > 0.0 && a <= 90.0) => {
-            return Err(what(&format!("step_angle {a} must be in (0, 90] degrees")));
-        }
-        Some(a) => Some(Stepping {
-            rotor_teeth: Stepping::rotor_teeth_of(a),
-            detent_torque: e.detent_torque.unwrap_or(0.0),
-            microsteps: e.microsteps,
-            losses: StepperLosses {
-                driver_bandwidth: e.driver_bandwidth,
-                rotor_damping: e.rotor_damping.unwrap_or(0.0),
-                reducer_damping: e.reducer_damping.unwrap_or(0.0),
-                reducer_friction: e.reducer_friction.unwrap_or(0.0),
-            },
-        }),
-        None if e.detent_torque.is_some() || e.microsteps.is_some() || has_losses(&e) => {
-            return Err(what(
-                "detent_torque, microsteps, driver_bandwidth, rotor_damping and reducer_damping/friction need the stepper's step_angle",
-            ));
-        }
-        None => None,
-    };
-    if let Some(t) = e.detent_torque.filter(|t| !(t.is_finite() && *t >= 0.0)) {
-        return Err(what(&format!("detent_torque {t} must be ≥ 0")));
+    let kind = control::kind(&word).map_err(|m| what(&m))?;
+    let own = (kind.fields)();
+    if let Some(field) = e.figures.keys().find(|f| !own.contains(&f.as_str())) {
+        return Err(what(&(kind.has_no)(field)));
     }
-    if e.microsteps == Some(0) {
-        return Err(what("microsteps 0 must be ≥ 1"));
-    }
+    let figures = serde_json::Value::Object(std::mem::take(&mut e.figures));
+    let (envelope, stepping) = (kind.read)(figures).map_err(|m| what(&m))?;
     let motor = Motor {
-        label: e.label.clone().unwrap_or_else(|| e.kind.clone()),
+        label: e.label.clone().unwrap_or(word),
         envelope,
         efficiency: e.efficiency.unwrap_or(1.0),
         continuous_torque: e.continuous_torque,
@@ -319,16 +260,48 @@ fn entry(e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String> {
     })
 }
 
-/// Whether an entry gives any of a stepper's losses.
-fn has_losses(e: &MotorEntry) -> bool {
-    [
-        e.driver_bandwidth,
-        e.rotor_damping,
-        e.reducer_damping,
-        e.reducer_friction,
-    ]
-    .iter()
-    .any(Option::is_some)
+/// What the file's serde structs said before the entries are paired with joints: a missing or
+/// non-word `kind`, a field no kind has, a field of the wrong type; in serde's words.
+fn check_fields(entries: &[MotorEntry]) -> std::result::Result<(), String> {
+    let words = |e: serde_json::Error| crate::error::file_words(&e.to_string());
+    for e in entries {
+        let kind = e.figures.get("kind").ok_or("missing field 'kind'")?;
+        let kind = serde_json::from_value::<String>(kind.clone()).map_err(words)?;
+        if let Some(field) = e.figures.keys().find(|f| !known(f)) {
+            return Err(unknown_field(field));
+        }
+        if let Ok(kind) = control::kind(&kind) {
+            let own = (e.figures.iter()).filter(|(f, _)| (kind.fields)().contains(&f.as_str()));
+            (kind.types)(serde_json::Value::Object(
+                own.map(|(f, v)| (f.clone(), v.clone())).collect(),
+            ))?;
+        }
+    }
+    Ok(())
+}
+
+/// Whether `field` is `kind` or some kind's field.
+fn known(field: &str) -> bool {
+    field == "kind" || control::KINDS.iter().any(|k| (k.fields)().contains(&field))
+}
+
+/// An unknown field in serde's words.
+fn unknown_field(field: &str) -> String {
+    let mut names: Vec<String> = super::motors_file::COMMON_FIELDS
+        .iter()
+        .map(|f| format!("'{f}'"))
+        .collect();
+    names.push("'kind'".into());
+    names.extend(
+        control::KINDS
+            .iter()
+            .flat_map(|k| (k.fields)().iter().map(|f| format!("'{f}'"))),
+    );
+    format!(
+        "unknown field {}, expected one of {}",
+        crate::error::quoted(field),
+        names.join(", ")
+    )
 }
 
 /// Puts the motors on `model`, once: each joint's ratio and rotor from its motor where the

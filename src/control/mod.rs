@@ -1,15 +1,17 @@
 //! The joint controller: the digital PD with its feed-forward (gravity or computed torque), and
 //! its auto-tuning (at a start pose of a model, `tune`); the motors behind it, their
-//! torque–speed envelopes (`motor.rs`), the open-loop stepper drive (`stepper.rs`) and the
+//! torque–speed envelopes (`motor.rs`, each kind's in `kinds/`), the open-loop stepper drive (`stepper.rs`) and the
 //! published figures of the presets' motors (`catalog.rs`).
 
 pub mod catalog;
+mod kinds;
 mod motor;
 mod pd;
 mod stability;
 mod stepper;
 mod tuning;
 
+pub use kinds::{KINDS, Kind, kind};
 pub use motor::{Electrics, Envelope, JointMotor, Motor, StepperLosses, StepperWinding, Stepping};
 pub use pd::{FeedForward, Pd};
 pub use stability::{Stability, lambda_max, spectral_radius, stabilize};

@@ -3,126 +3,10 @@
 //! pull-out curve from a datasheet (docs/motors.md).
 //!
 //! A joint driven through a reducer of ratio r (motor turns per joint turn) and efficiency η
-//! turns its motor at ω_m = r·q̇ and gets `τ_joint = r·η·τ_m`. At ω_m the motor gives
-//!
-//! ```text
-//!   dc:      τ_m ∈ [τ_s(−1 − ω_m/ω₀), τ_s(1 − ω_m/ω₀)] ∩ [−τ_peak, τ_peak]
-//!   stepper: |τ_m| ≤ curve(|ω_m|)   (linear between the points, zero past the last)
-//! ```
+//! turns its motor at ω_m = r·q̇ and gets `τ_joint = r·η·τ_m`. At ω_m the motor gives its
+//! [`Envelope`], each kind's in its own file (`kinds/`).
 
-/// What a motor gives at a shaft speed.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Envelope {
-    /// A voltage-limited DC motor or servo (four quadrants, IsaacLab's `DCMotor`).
-    Dc {
-        /// Stall torque τ_s (N·m at the shaft, > 0).
-        stall_torque: f64,
-        /// No-load speed ω₀ (rad/s at the shaft, > 0).
-        no_load_speed: f64,
-        /// The cap ±τ_peak (N·m, > 0; the stall torque unless given).
-        peak_torque: f64,
-    },
-    /// An open-loop stepper's pull-out curve: (ω_m rad/s, τ N·m) points at the shaft, speeds
-    /// ascending from 0, linear between them, zero past the last. Above it the stepper loses
-    /// steps.
-    Stepper {
-        /// The points, at least one, the first at ω = 0.
-        curve: Vec<[f64; 2]>,
-    },
-}
-
-impl Envelope {
-    /// The motor torque range [lo, hi] (N·m) at shaft speed `omega` (rad/s).
-    #[inline]
-    pub fn bounds(&self, omega: f64) -> (f64, f64) {
-        match self {
-            Envelope::Dc {
-                stall_torque,
-                no_load_speed,
-                peak_torque,
-            } => {
-                let back = omega / no_load_speed;
-                let lo = (stall_torque * (-1.0 - back)).clamp(-peak_torque, *peak_torque);
-                let hi = (stall_torque * (1.0 - back)).clamp(-peak_torque, *peak_torque);
-                (lo, hi)
-            }
-            Envelope::Stepper { curve } => {
-                let t = pull_out(curve, omega.abs());
-                (-t, t)
-            }
-        }
-    }
-
-    /// The most torque the motor gives at any speed (N·m): the peak for a DC motor, the
-    /// curve's largest point for a stepper.
-    pub fn max_torque(&self) -> f64 {
-        match self {
-            Envelope::Dc { peak_torque, .. } => *peak_torque,
-            Envelope::Stepper { curve } => curve.iter().map(|p| p[1]).fold(0.0, f64::max),
-        }
-    }
-
-    /// The shaft speeds (rad/s, ascending, both signs) where [`Envelope::bounds`] changes slope:
-    /// between two of them both bounds are affine in ω (a DC motor's beyond the outermost too;
-    /// a stepper's are zero there). A DC motor's are where its lines meet ±τ_peak,
-    /// `ω₀(±1 ∓ τ_peak/τ_s)`; a stepper's, its curve's speeds on either side.
-    pub fn kinks(&self) -> Vec<f64> {
-        let mut kinks = match self {
-            Envelope::Dc {
-                stall_torque,
-                no_load_speed,
-                peak_torque,
-            } => {
-                let p = peak_torque / stall_torque;
-                [1.0 - p, 1.0 + p, -1.0 - p, -1.0 + p]
-                    .map(|k| k * no_load_speed)
-                    .to_vec()
-            }
-            Envelope::Stepper { curve } => curve.iter().flat_map(|p| [p[0], -p[0]]).collect(),
-        };
-        kinks.sort_by(f64::total_cmp);
-        kinks.dedup();
-        kinks
-    }
-
-    /// The fastest the motor can turn its shaft while still giving torque in the direction of
-    /// motion (rad/s): a DC motor's no-load speed ω₀, a stepper's last curve point (past it the
-    /// envelope is zero).
-    pub fn top_speed(&self) -> f64 {
-        match self {
-            Envelope::Dc { no_load_speed, .. } => *no_load_speed,
-            Envelope::Stepper { curve } => curve.last().map_or(0.0, |p| p[0]),
-        }
-    }
-
-    /// `"dc"` or `"stepper"`.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Envelope::Dc { .. } => "dc",
-            Envelope::Stepper { .. } => "stepper",
-        }
-    }
-}
-
-/// The curve's torque at speed `w` ≥ 0: linear between the points, the first point's torque
-/// below it, zero past the last.
-#[inline]
-fn pull_out(curve: &[[f64; 2]], w: f64) -> f64 {
-    let Some(last) = curve.last() else { return 0.0 };
-    if w > last[0] {
-        return 0.0;
-    }
-    if w <= curve[0][0] {
-        return curve[0][1];
-    }
-    // the segment [k−1, k] holding w: the first point at or past w (speeds ascend)
-    let k = curve.partition_point(|p| p[0] < w);
-    let ([w0, t0], [w1, t1]) = (curve[k - 1], curve[k]);
-    if w == w1 {
-        return t1;
-    }
-    t0 + (t1 - t0) * (w - w0) / (w1 - w0)
-}
+pub use super::kinds::{Envelope, StepperLosses, Stepping};
 
 /// One joint's motor: its envelope at the shaft, the reducer's efficiency and the continuous
 /// rating; for a stepper, what an open-loop drive needs of it; and where known, the electrics
@@ -143,70 +27,6 @@ pub struct Motor {
     pub stepping: Option<Stepping>,
     /// The drive's supply and the winding behind the envelope, where known.
     pub electrics: Option<Electrics>,
-}
-
-/// What an open-loop drive needs of a stepper beyond its pull-out curve (docs/motors.md,
-/// "The open-loop stepper drive").
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stepping {
-    /// Rotor teeth N_r: 50 for a 1.8° motor, 100 for 0.9° (a full step is 2π/(4·N_r) rad).
-    pub rotor_teeth: f64,
-    /// Detent torque T_d (N·m at the shaft, ≥ 0; 0 where none is published): the unpowered
-    /// rotor's cogging, one period per full step.
-    pub detent_torque: f64,
-    /// Microsteps per full step the driver is set to, where the build says (`None`: the
-    /// default of [`crate::control::DEFAULT_MICROSTEPS`] unless `--microsteps` gives one).
-    pub microsteps: Option<u32>,
-    /// What damps its rotor besides the joint's own damping (docs/motors.md, "The stepper's
-    /// damping").
-    pub losses: StepperLosses,
-}
-
-/// What damps an open-loop stepper's rotor, at the motor shaft (docs/motors.md, "The stepper's
-/// damping"): the driver's current loop (with the winding behind [`Electrics::Stepper`], the
-/// electrical damping), the rotor's own viscous losses and the reducer's friction.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StepperLosses {
-    /// The driver's current-loop bandwidth f_c (Hz, > 0): the phase current follows its
-    /// reference as a first-order loop of this bandwidth, so the back-EMF leaves a current that
-    /// brakes the rotor. `None`: no electrical damping (an ideal current source, or a winding
-    /// not known).
-    pub driver_bandwidth: Option<f64>,
-    /// The rotor's viscous damping b_r (N·m·s/rad at the shaft, ≥ 0): iron losses and
-    /// bearings.
-    pub rotor_damping: f64,
-    /// The reducer's viscous friction b_g (N·m·s/rad at the shaft, ≥ 0).
-    pub reducer_damping: f64,
-    /// The reducer's Coulomb friction T_c (N·m at the shaft, ≥ 0).
-    pub reducer_friction: f64,
-}
-
-impl StepperLosses {
-    /// Whether each figure is finite and ≥ 0 (the bandwidth > 0); the error names the field.
-    pub fn check(&self) -> Result<(), String> {
-        if let Some(f) = self.driver_bandwidth
-            && !(f.is_finite() && f > 0.0)
-        {
-            return Err(format!("driver_bandwidth {f} must be > 0"));
-        }
-        for (name, x) in [
-            ("rotor_damping", self.rotor_damping),
-            ("reducer_damping", self.reducer_damping),
-            ("reducer_friction", self.reducer_friction),
-        ] {
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(format!("{name} {x} must be ≥ 0"));
-            }
-        }
-        Ok(())
-    }
-}
-
-impl Stepping {
-    /// A 1.8° or 0.9° step angle (degrees) as rotor teeth, N_r = 90° / step angle.
-    pub fn rotor_teeth_of(step_angle_deg: f64) -> f64 {
-        90.0 / step_angle_deg
-    }
 }
 
 /// The electrics behind a motor's envelope: enough to turn a shaft torque and speed into the
@@ -267,8 +87,8 @@ impl Electrics {
                 mechanical + r * i * i
             }
             (Electrics::Stepper { winding, current, .. }, _) => mechanical + winding.resistance * current * current,
-            // a DC supply given to a stepper's curve: the mechanical power alone
-            (Electrics::Dc { .. }, Envelope::Stepper { .. }) => mechanical,
+            // a DC supply given to another kind's envelope: the mechanical power alone
+            (Electrics::Dc { .. }, _) => mechanical,
         }
     }
 }
@@ -308,47 +128,7 @@ impl Motor {
         if let Some(s) = &self.stepping {
             s.losses.check()?;
         }
-        match &self.envelope {
-            Envelope::Dc {
-                stall_torque,
-                no_load_speed,
-                peak_torque,
-            } => {
-                positive("stall_torque", *stall_torque)?;
-                positive("no_load_speed", *no_load_speed)?;
-                positive("peak_torque", *peak_torque)
-            }
-            Envelope::Stepper { curve } => {
-                let Some(first) = curve.first() else {
-                    return Err("curve has no points".into());
-                };
-                // the envelope is zero past the last point: one point gives torque at standstill only
-                if curve.len() < 2 {
-                    return Err(format!(
-                        "curve has one point ({:?}): it would give no torque at any speed above 0 (the curve is zero past its last point); give at least two",
-                        first
-                    ));
-                }
-                if first[0] != 0.0 {
-                    return Err(format!(
-                        "curve starts at {} rad/s; its first point must be at 0",
-                        first[0]
-                    ));
-                }
-                for p in curve {
-                    if !(p[0].is_finite() && p[1].is_finite() && p[1] >= 0.0) {
-                        return Err(format!(
-                            "curve point [{}, {}] must be finite, its torque ≥ 0",
-                            p[0], p[1]
-                        ));
-                    }
-                }
-                if let Some(w) = curve.windows(2).find(|w| w[1][0] <= w[0][0]) {
-                    return Err(format!("curve speeds must ascend ({} then {})", w[0][0], w[1][0]));
-                }
-                Ok(())
-            }
-        }
+        self.envelope.check()
     }
 }
 

@@ -7,7 +7,7 @@ use super::step::{self, Step};
 use super::{ContactStep, ContactSummary, DriveMode};
 use crate::algo::{Data, State, forward_kinematics};
 use crate::choice::Choice;
-use crate::control::{Envelope, Slips};
+use crate::control::Slips;
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet, PathClearance};
 use crate::model::{FrameId, JointId, JointKind, Model};
@@ -509,7 +509,7 @@ impl MotorMetrics {
             let raw = p.tau_raw[i];
             let beyond = beyond_envelope(raw, p.bounds[i]);
             self.envelope[i] += u64::from(beyond);
-            if beyond && self.lost[i].is_none() && matches!(m.envelope, Envelope::Stepper { .. }) {
+            if beyond && self.lost[i].is_none() && m.envelope.loses_steps() {
                 self.lost[i] = Some(StepLoss {
                     t,
                     needs: raw.abs() / k,
@@ -526,7 +526,7 @@ impl MotorMetrics {
         (sc.motors.iter().flatten().enumerate())
             .map(|(i, m)| {
                 m.as_ref().map(|m| {
-                    let stepper = matches!(m.envelope, Envelope::Stepper { .. });
+                    let stepper = m.envelope.loses_steps();
                     let joint = &sc.model.joints[i];
                     let drive = sc.stepper_drive.as_ref().and_then(|d| d[i].as_ref());
                     let slips = self.slips[i];

@@ -8,7 +8,7 @@ use super::Warning;
 use super::check::{count, override_per_joint, positive};
 use super::warning::STEPPER_STEPS_PER_RADIAN;
 use crate::algo::{Data, crba};
-use crate::control::{DEFAULT_MICROSTEPS, Envelope, Motor, OpenLoopStepper, StepperDamping, StepperLosses};
+use crate::control::{DEFAULT_MICROSTEPS, Motor, OpenLoopStepper, StepperDamping, StepperLosses};
 use crate::error::{Error, Result};
 use crate::model::Model;
 
@@ -73,10 +73,7 @@ pub fn drives(
     )?;
     let mut drives = Vec::with_capacity(n);
     for (i, motor) in motors.iter().enumerate() {
-        let Some(m) = motor
-            .as_ref()
-            .filter(|m| matches!(m.envelope, Envelope::Stepper { .. }))
-        else {
+        let Some(m) = motor.as_ref().filter(|m| m.envelope.loses_steps()) else {
             drives.push(None);
             continue;
         };

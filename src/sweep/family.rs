@@ -7,8 +7,8 @@ use rayon::prelude::*;
 
 use super::Grid;
 use crate::atomic::Outputs;
+use crate::control::Stability;
 use crate::control::arithmetic_holds;
-use crate::control::{Envelope, Stability};
 use crate::error::{Error, Result, shortest};
 use crate::output::TrailCsv;
 use crate::sim::{self, Recorder, Scenario, StopFlag, Summary};
@@ -96,17 +96,7 @@ impl Scale {
                         m.efficiency *= factor;
                         continue;
                     }
-                    match &mut m.envelope {
-                        Envelope::Dc {
-                            stall_torque,
-                            peak_torque,
-                            ..
-                        } => {
-                            *stall_torque *= factor;
-                            *peak_torque *= factor;
-                        }
-                        Envelope::Stepper { curve } => curve.iter_mut().for_each(|p| p[1] *= factor),
-                    }
+                    m.envelope.scale_torque(factor);
                 }
                 return Ok(());
             }

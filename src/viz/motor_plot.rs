@@ -14,7 +14,7 @@ use plotters::prelude::*;
 
 use super::figure::{FAMILY, Figure, PALETTE, TITLE_HEIGHT, chart_area, err, titled, write_figure};
 use crate::atomic::{Outputs, check_output_path};
-use crate::control::{Envelope, Motor};
+use crate::control::Motor;
 use crate::error::{Error, Result};
 use crate::sim::{ENVELOPE_MARGIN, Recorder, RunInfo, Sample, Summary};
 
@@ -142,10 +142,7 @@ impl Figure for MotorPlot {
             // x to past the fastest point and where the envelope has halved; y over both
             // envelope limits and every point, given or asked
             let fastest = points.iter().map(|p| p.speed).fold(0.0, f64::max);
-            let reach = match &m.envelope {
-                Envelope::Dc { no_load_speed, .. } => *no_load_speed,
-                Envelope::Stepper { curve } => curve.last().map_or(0.0, |p| p[0]),
-            };
+            let reach = m.envelope.top_speed();
             let top = m.envelope.max_torque();
             let halved = (0..=ENVELOPE_POINTS)
                 .map(|s| reach * s as f64 / ENVELOPE_POINTS as f64)
@@ -237,14 +234,15 @@ impl Figure for MotorPlot {
                         .label(format!("continuous ±{c} N·m"))
                         .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], CONTINUOUS.stroke_width(1)));
                 }
-                None if matches!(m.envelope, Envelope::Stepper { .. }) => {
-                    chart
-                        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                        .map_err(err)?
-                        .label("no continuous line: a constant-current driver heats a stepper alike at any torque")
-                        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], WHITE));
+                None => {
+                    if let Some(note) = m.envelope.no_continuous_note() {
+                        chart
+                            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                            .map_err(err)?
+                            .label(note)
+                            .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], WHITE));
+                    }
                 }
-                None => {}
             }
             let (ws, ts) = self.rms[k];
             chart
