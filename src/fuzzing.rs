@@ -651,18 +651,27 @@ fn keywords(bytes: &mut Bytes) -> std::result::Result<(), String> {
             assert!(!line.contains(['\n', '\r']), "{line:?}");
             Err(line)
         }
-        Err(Refusal::Value(e)) => Err(check_keyword_error(&e)),
+        Err(Refusal::Value(e)) => Err(check_keyword_error(&e, &given)),
     }
 }
 
 /// A library error as Python shows it: one line, options named as keywords, an option (or
-/// `command`) first.
-fn check_keyword_error(e: &Error) -> String {
+/// `command`, or a keyword of `given` that is no option, as it was given) first.
+fn check_keyword_error(e: &Error, given: &[Keyword]) -> String {
     let line = crate::error::escape_controls(&crate::error::in_words(&e.to_string(), crate::error::Words::Keywords));
     assert!(!line.contains(['\n', '\r']), "not one line: {line:?}");
     let first = line.split([':', ' ']).next().unwrap_or_default();
+    // a keyword as given may hold ':' or ' ' itself
+    let named = |name: &str| {
+        first == name
+            || [format!("`{name}`:"), format!("`{name}` ")]
+                .iter()
+                .any(|n| line.starts_with(n.as_str()))
+    };
     assert!(
-        first == "command" || crate::config::fields::any_field(first).is_some(),
+        named("command")
+            || crate::config::fields::any_field(first).is_some()
+            || given.iter().any(|k| named(&crate::error::escape_controls(&k.name))),
         "the error does not name an option first: {line:?}"
     );
     line
@@ -685,7 +694,7 @@ fn check_motors(config: &crate::config::RunConfig) -> std::result::Result<(), St
             }
             Ok(())
         }
-        Err(e) => Err(check_keyword_error(&e)),
+        Err(e) => Err(check_keyword_error(&e, &[])),
     }
 }
 

@@ -378,7 +378,11 @@ mod tests {
         };
         assert_eq!(entries.len(), 1);
         assert_eq!(entries[0].name.as_deref(), Some("joint_1"));
-        assert_eq!(entries[0].stall_torque, Some(2.0));
+        assert_eq!(entries[0].figures.get("kind"), Some(&serde_json::json!("dc")));
+        assert_eq!(
+            entries[0].figures.get("stall_torque").and_then(|v| v.as_f64()),
+            Some(2.0)
+        );
         assert_eq!(entries[0].gear_ratio, Some((1u128 << 70) as f64));
     }
 
