@@ -756,7 +756,9 @@ fn arrays(bytes: &mut Bytes) -> Result<()> {
     let a = other(bytes, "a")?;
     let names = match bytes.byte() % 3 {
         0 => None,
-        1 => Some((0..columns).map(|j| format!("j{j}")).collect()),
+        // one name a column, as a caller would give them; an empty array may claim 2³² columns,
+        // and a list past the joints' cap (256) is as good as a longer one
+        1 => Some((0..columns.min(300)).map(|j| format!("j{j}")).collect()),
         _ => Some((0..bytes.byte() % 8).map(|_| bytes.text(WORDS)).collect()),
     };
     let result = crate::traj::TimedTrajectory::from_arrays(
