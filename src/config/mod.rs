@@ -17,6 +17,7 @@ pub mod fields;
 mod loaded;
 pub mod motors;
 mod motors_file;
+pub mod object;
 
 use std::path::PathBuf;
 
