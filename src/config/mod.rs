@@ -342,6 +342,9 @@ pub struct RetimeConfig {
     pub margin: f64,
     /// Most closed-loop checks (≥ 1), the first timing's included.
     pub attempts: usize,
+    /// Whether `out` is written when the checked timing does not follow (it is not
+    /// otherwise).
+    pub force: bool,
 }
 
 impl RetimeConfig {
@@ -354,6 +357,7 @@ impl RetimeConfig {
             grid: DEFAULT_GRID,
             margin: DEFAULT_MARGIN,
             attempts: DEFAULT_ATTEMPTS,
+            force: false,
         }
     }
 

@@ -50,7 +50,7 @@ create_exception!(
     faze4,
     NothingFollows,
     Error,
-    "No timing of a retime's path follows (the Python package raises it as Error, or as CannotFollow under strict)."
+    "No timing of a retime's path follows, or the path collides (the Python package raises it as Error, or as CannotFollow under strict)."
 );
 
 /// How often a waiting call looks for Ctrl-C.
@@ -676,7 +676,7 @@ fn _retime<'py>(
     });
     interrupted(py, &caught)?;
     let (finished, trail, warnings, printed) = finished.map_err(|e| match e {
-        crate::Error::NothingFollows { .. } => {
+        crate::Error::NothingFollows { .. } | crate::Error::PathCollides { .. } => {
             NothingFollows::new_err(crate::error::escape_controls(&keywords(&e.to_string())))
         }
         e => error(e),
