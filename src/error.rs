@@ -172,6 +172,28 @@ pub enum Error {
         message: String,
     },
 
+    /// The path retime is given makes the arm's collision geometry intersect itself: no timing
+    /// follows it, since a timing changes when the poses come, not the poses (checked before
+    /// any timing, at `samples` positions of the path).
+    #[error(
+        "retime: the path collides: '{}' and '{}' intersect at s = {s:.4} of {length:.4} (near point {point}); no timing follows it (a timing changes when the poses come, not the poses; checked at {samples} positions of the path, each joint moving at most {step} rad or m between two): change the path, or leave the self-clearance out with `no_collisions`",
+        links[0].escape_debug(), links[1].escape_debug()
+    )]
+    PathCollides {
+        /// The first pair to intersect along the path (URDF link names).
+        links: [String; 2],
+        /// Where it first does (rad or m of path length).
+        s: f64,
+        /// The path's length.
+        length: f64,
+        /// The input point nearest to s (0-based).
+        point: usize,
+        /// How many positions of the path are checked.
+        samples: usize,
+        /// The most any joint moves between two of them (rad or m).
+        step: f64,
+    },
+
     /// Under `--self-collisions` with exact meshes, two meshes intersect: contact between two
     /// triangle meshes is not modelled (only between convex shapes).
     #[error(

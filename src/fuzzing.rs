@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::geometry::mesh::{Mesh, parse_mesh};
 use crate::geometry::{GeometryModel, Robot};
 use crate::model::{FrameId, Model, PackagePaths};
-use crate::traj::npy;
+use crate::traj::npy::{self, check_array_size};
 
 /// The name the fuzzed URDF goes by in error messages.
 pub const URDF_LABEL: &str = "fuzz.urdf";
@@ -435,4 +435,350 @@ fn byte(data: &[u8], i: usize, salt: usize) -> u8 {
         0 => 0,
         len => data[(i.wrapping_mul(7).wrapping_add(salt * 13)) % len],
     }
+}
+
+/// `python_conversion`: the Python binding's conversions without Python. The first byte picks
+/// what: even, keyword values (a command, then up to 8 keywords, each an option's name and a
+/// tree of [`Object`]s up to 40 levels deep: dicts, lists, numpy arrays, numbers, strings, paths,
+/// iterables, values the reader cut) → [`crate::config::object::run_config`], what the binding
+/// calls with the trees it reads; odd, the arrays a replay takes (`q_traj`, and `t`, `v`, `a`,
+/// joint names), their claimed shapes first checked as the binding checks them, then
+/// [`npy::samples_from_array`] or [`crate::traj::TimedTrajectory::from_arrays`].
+///
+/// Checks: a type error is one line naming its keyword first; any other error is one line once
+/// escaped as Python shows it, naming an option (or `command`) first; motors given as a dict
+/// resolve on the bundled Faze4 to motors that pass their check, or to a one-line error;
+/// accepted frames are 2 rows or more, finite; an accepted timed trajectory passes its check.
+/// `None` for no bytes.
+pub fn python_conversion(data: &[u8]) -> Option<std::result::Result<(), String>> {
+    let (&first, rest) = data.split_first()?;
+    let mut bytes = Bytes { data: rest, at: 0 };
+    Some(match first % 2 {
+        0 => keywords(&mut bytes),
+        _ => arrays(&mut bytes).map_err(|e| e.to_string()),
+    })
+}
+
+use crate::config::object::{Keyword, Limit, Object};
+
+/// The fuzz input read a piece at a time; past its end, zeros.
+struct Bytes<'a> {
+    data: &'a [u8],
+    at: usize,
+}
+
+impl Bytes<'_> {
+    fn byte(&mut self) -> u8 {
+        let b = self.data.get(self.at).copied().unwrap_or(0);
+        self.at += 1;
+        b
+    }
+
+    fn eight(&mut self) -> [u8; 8] {
+        std::array::from_fn(|_| self.byte())
+    }
+
+    fn done(&self) -> bool {
+        self.at >= self.data.len()
+    }
+
+    /// A word from `words` or, when the first byte is a multiple of 4 (`4n`), the `n` bytes
+    /// that follow (up to 63) as (lossy) UTF-8.
+    fn text(&mut self, words: &[&str]) -> String {
+        let b = self.byte();
+        match b % 4 {
+            0 => {
+                let n = (b / 4) as usize;
+                let raw: Vec<u8> = (0..n).map(|_| self.byte()).collect();
+                String::from_utf8_lossy(&raw).into_owned()
+            }
+            _ => words[b as usize / 4 % words.len()].to_string(),
+        }
+    }
+}
+
+/// The words a fuzzed string or key is most often: motors-dict keys and values, presets,
+/// choices, per-joint texts.
+const WORDS: &[&str] = &[
+    "joint",
+    "kind",
+    "stepper",
+    "dc",
+    "servo",
+    "curve",
+    "stall_torque",
+    "no_load_speed",
+    "peak_torque",
+    "continuous_torque",
+    "gear_ratio",
+    "rotor_inertia",
+    "efficiency",
+    "name",
+    "label",
+    "step_angle",
+    "detent_torque",
+    "microsteps",
+    "joint_1",
+    "joint_2",
+    "joint_6",
+    "faze4",
+    "nema17",
+    "a.toml",
+    "1,2,3,4,5,6",
+    "0.5",
+    "mid",
+    "none",
+    "",
+    "x\ny",
+    "1e400",
+    "-1",
+];
+
+/// An option's name as a keyword: a byte under 255 picks one of every field's names and old
+/// names, and one that is none; 255 is followed by a text ([`Bytes::text`], so that a seed can
+/// spell its keywords).
+fn keyword_name(bytes: &mut Bytes) -> String {
+    let names: Vec<&str> = (crate::config::fields::FIELDS.iter())
+        .flat_map(|f| std::iter::once(f.name).chain(f.aliases.iter().copied()))
+        .chain(["colour"])
+        .collect();
+    match bytes.byte() {
+        255 => bytes.text(&names),
+        b => names[b as usize % names.len()].to_string(),
+    }
+}
+
+/// Deepest tree built: past [`crate::config::object::MAX_NESTING`].
+const MAX_FUZZ_DEPTH: usize = 40;
+
+/// A tree of Python values from the bytes, `depth` deep.
+fn object(bytes: &mut Bytes, depth: usize) -> Object {
+    if depth >= MAX_FUZZ_DEPTH || bytes.done() {
+        return Object::None;
+    }
+    let b = bytes.byte();
+    let count = |bytes: &mut Bytes| bytes.byte() as usize % 8;
+    match b % 16 {
+        0 => Object::None,
+        1 => Object::Bool(b & 16 != 0),
+        2 => Object::Int((b as i128 >> 4) - 4),
+        3 => Object::Int(i64::from_le_bytes(bytes.eight()) as i128 * if b & 16 != 0 { 1 << 64 } else { 1 }),
+        4 => Object::Float(f64::from_le_bytes(bytes.eight())),
+        5 => Object::Float((b >> 4) as f64 / 4.0),
+        6 | 7 => Object::Str(bytes.text(WORDS)),
+        8 => Object::Path(bytes.text(WORDS).into()),
+        9 | 10 => {
+            let n = count(bytes);
+            Object::Dict((0..n).map(|_| (bytes.text(WORDS), object(bytes, depth + 1))).collect())
+        }
+        11 | 12 => {
+            let n = count(bytes);
+            Object::List((0..n).map(|_| object(bytes, depth + 1)).collect())
+        }
+        13 => {
+            let dims = 1 + bytes.byte() as usize % 3;
+            let shape: Vec<usize> = (0..dims).map(|_| bytes.byte() as usize % 4).collect();
+            array(bytes, &shape)
+        }
+        14 => {
+            let n = count(bytes);
+            Object::Iterable((0..n).map(|_| object(bytes, depth + 1)).collect())
+        }
+        _ => match b >> 4 {
+            0 => Object::Cut(Limit::Depth),
+            1 => Object::Cut(Limit::Count),
+            _ => Object::Other("object".into()),
+        },
+    }
+}
+
+/// A numpy array of `shape` (at least one dimension) as the binding reads it: its items along
+/// the first axis, floats or arrays.
+fn array(bytes: &mut Bytes, shape: &[usize]) -> Object {
+    let items = (0..shape[0])
+        .map(|_| match shape.len() {
+            1 => Object::Float((bytes.byte() as f64 - 128.0) / 8.0),
+            _ => array(bytes, &shape[1..]),
+        })
+        .collect();
+    Object::Array {
+        shape: shape.to_vec(),
+        items,
+    }
+}
+
+/// The Python type's name of a value, as the binding gives it with a keyword.
+fn python_type(object: &Object) -> String {
+    match object {
+        Object::None => "NoneType",
+        Object::Bool(_) => "bool",
+        Object::Int(_) => "int",
+        Object::Float(_) => "float",
+        Object::Str(_) => "str",
+        Object::Path(_) => "PosixPath",
+        Object::Dict(_) => "dict",
+        Object::List(_) => "list",
+        Object::Array { .. } => "ndarray",
+        Object::Iterable(_) => "generator",
+        Object::Other(name) => name,
+        Object::Cut(_) => "list",
+    }
+    .to_string()
+}
+
+/// The keywords half of [`python_conversion`].
+fn keywords(bytes: &mut Bytes) -> std::result::Result<(), String> {
+    use crate::config::object::{Refusal, run_config};
+    const COMMANDS: [&str; 5] = ["wave", "replay", "shape", "retime", "walk"];
+    let command = COMMANDS[bytes.byte() as usize % COMMANDS.len()];
+    let mut given = Vec::new();
+    while given.len() < 8 && !bytes.done() {
+        let name = keyword_name(bytes);
+        let value = object(bytes, 0);
+        given.push(Keyword {
+            name,
+            type_name: python_type(&value),
+            value,
+        });
+    }
+    match run_config(command, &given) {
+        Ok(config) => check_motors(&config),
+        Err(Refusal::Type(line)) => {
+            assert!(
+                given.iter().any(|k| line.starts_with(&format!("{}: ", k.name))),
+                "a type error names no keyword: {line:?}"
+            );
+            assert!(!line.contains(['\n', '\r']), "{line:?}");
+            Err(line)
+        }
+        Err(Refusal::Value(e)) => Err(check_keyword_error(&e, &given)),
+    }
+}
+
+/// A library error as Python shows it: one line, options named as keywords, an option (or
+/// `command`, or a keyword of `given` that is no option, as it was given) first.
+fn check_keyword_error(e: &Error, given: &[Keyword]) -> String {
+    let line = crate::error::escape_controls(&crate::error::in_words(&e.to_string(), crate::error::Words::Keywords));
+    assert!(!line.contains(['\n', '\r']), "not one line: {line:?}");
+    let first = line.split([':', ' ']).next().unwrap_or_default();
+    // a keyword as given may hold ':' or ' ' itself
+    let named = |name: &str| {
+        first == name
+            || [format!("`{name}`:"), format!("`{name}` ")]
+                .iter()
+                .any(|n| line.starts_with(n.as_str()))
+    };
+    assert!(
+        named("command")
+            || crate::config::fields::any_field(first).is_some()
+            || given.iter().any(|k| named(&crate::error::escape_controls(&k.name)))
+            // a keyword holding a backtick is shown with the options it quotes reworded
+            // (`error::in_words`): it cannot be matched as given
+            || given.iter().any(|k| k.name.contains('`')),
+        "the error does not name an option first: {line:?}"
+    );
+    line
+}
+
+/// Motors given as a dict, resolved on the bundled Faze4 as a run would.
+fn check_motors(config: &crate::config::RunConfig) -> std::result::Result<(), String> {
+    use crate::config::Motors;
+    let Some(motors @ Motors::Entries(_)) = &config.arm.motors else {
+        return Ok(());
+    };
+    static MODEL: std::sync::OnceLock<Model> = std::sync::OnceLock::new();
+    let model = MODEL.get_or_init(crate::faze4::model);
+    match crate::config::motors::resolve(Some(motors), config.arm.supply_voltage, model) {
+        Ok(set) => {
+            let set = set.expect("motors given");
+            assert_eq!(set.len(), model.dof());
+            for m in set.iter().flatten() {
+                assert_eq!(m.motor.check(), Ok(()), "{m:?}");
+            }
+            Ok(())
+        }
+        Err(e) => Err(check_keyword_error(&e, &[])),
+    }
+}
+
+/// The arrays half of [`python_conversion`]: shapes claimed up to 2³² per axis are checked as
+/// the binding checks them; arrays of up to 4,096 values are then built and converted.
+fn arrays(bytes: &mut Bytes) -> Result<()> {
+    use ndarray::Array2;
+    let claim = |bytes: &mut Bytes| match bytes.byte() {
+        b if b < 250 => b as usize % 12,
+        _ => u32::from_le_bytes(std::array::from_fn(|_| bytes.byte())) as usize,
+    };
+    let (rows, columns) = (claim(bytes), claim(bytes));
+    let q_traj = Path::new("q_traj");
+    check_array_size(q_traj, &[rows, columns])?;
+    let table = |bytes: &mut Bytes, rows: usize, columns: usize| -> Result<Array2<f64>> {
+        if rows * columns > 4096 {
+            return Err(Error::argument("q_traj", "too large to build in the fuzz target"));
+        }
+        let values = (0..rows * columns)
+            .map(|_| match bytes.byte() {
+                255 => f64::from_le_bytes(bytes.eight()),
+                b => b as f64 / 16.0,
+            })
+            .collect();
+        Ok(Array2::from_shape_vec((rows, columns), values).expect("the shape's values"))
+    };
+    let q = table(bytes, rows, columns)?;
+    let timed = bytes.byte();
+    if timed.is_multiple_of(2) {
+        let frames = npy::samples_from_array(q_traj, q.view());
+        match &frames {
+            Ok(rows) => {
+                assert!(
+                    rows.len() >= 2
+                        && rows
+                            .iter()
+                            .all(|r| r.len() == columns && r.iter().all(|v| v.is_finite()))
+                );
+            }
+            Err(e) => check_error(e, "q_traj"),
+        }
+        return frames.map(|_| ());
+    }
+    let t_len = claim(bytes);
+    check_array_size(Path::new("t"), &[t_len])?;
+    let t = table(bytes, 1, t_len.min(4096))?.into_raw_vec_and_offset().0;
+    let other = |bytes: &mut Bytes, name: &str| -> Result<Option<Array2<f64>>> {
+        match bytes.byte() % 3 {
+            0 => Ok(None),
+            1 => Ok(Some(table(bytes, rows, columns)?)),
+            _ => {
+                let (r, c) = (claim(bytes), claim(bytes));
+                check_array_size(Path::new(name), &[r, c])?;
+                Ok(Some(table(bytes, r, c)?))
+            }
+        }
+    };
+    let v = other(bytes, "v")?;
+    let a = other(bytes, "a")?;
+    let names = match bytes.byte() % 3 {
+        0 => None,
+        // one name a column, as a caller would give them; an empty array may claim 2³² columns,
+        // and a list past the joints' cap (256) is as good as a longer one
+        1 => Some((0..columns.min(300)).map(|j| format!("j{j}")).collect()),
+        _ => Some((0..bytes.byte() % 8).map(|_| bytes.text(WORDS)).collect()),
+    };
+    let result = crate::traj::TimedTrajectory::from_arrays(
+        names,
+        &t,
+        q.view(),
+        v.as_ref().map(|v| v.view()),
+        a.as_ref().map(|a| a.view()),
+        q_traj,
+    );
+    match &result {
+        Ok(trajectory) => {
+            if let Err(e) = trajectory.check(q_traj) {
+                panic!("accepted arrays fail the trajectory's check: {e}");
+            }
+        }
+        Err(e) => check_error(e, "q_traj"),
+    }
+    result.map(|_| ())
 }

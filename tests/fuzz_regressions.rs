@@ -97,6 +97,27 @@ const EXPECTED: &[(&str, &str, Option<&str>)] = &[
         "joint-name-with-carriage-return",
         Some("joint 1 names 'rotya\\r_base', not a moving joint of"),
     ),
+    // python_conversion's first campaign, at its 15th input: a keyword that is no option is
+    // named first as it was given (the target's check wanted an option's name there)
+    (
+        "python_conversion",
+        "unknown-keyword-named-first",
+        Some("`m$otor`: is not an option of shape"),
+    ),
+    // python_conversion's campaign: an empty array (0 rows) may claim 2³² columns; the target
+    // made a name for each (out of memory in the target itself, not in faze4)
+    (
+        "python_conversion",
+        "empty-array-of-2-32-columns",
+        Some("q_traj: 1953459480 columns; a model has at most 256"),
+    ),
+    // python_conversion's campaign: a keyword holding backticks around an option's name is
+    // shown with that name reworded, so the check cannot find it as given
+    (
+        "python_conversion",
+        "keyword-holding-backticks",
+        Some("is not an option of replay"),
+    ),
 ];
 
 fn inputs(target: &str) -> Vec<(PathBuf, bool)> {
@@ -210,6 +231,11 @@ fn motors_file_inputs() {
     check_all("motors_file", |bytes| {
         fuzzing::motors_file(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))
     });
+}
+
+#[test]
+fn python_conversion_inputs() {
+    check_all("python_conversion", fuzzing::python_conversion);
 }
 
 /// What a COLLADA file claims is checked before mesh-loader allocates or recurses (issue 35):

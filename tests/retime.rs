@@ -565,3 +565,102 @@ fn a_straight_move_of_every_joint_is_timed_on_three_arms() {
         }
     }
 }
+
+/// A path whose poses collide is refused before it is timed (slowing cannot fix a collision):
+/// the Faze4's elbow (J3) folded from 0 to 2.6 rad brings the upper arm ('nadlaktica') into
+/// the wrist ('saka') near J3 = 1.18 rad; retime names the pair and the path position, exits 3
+/// and writes nothing, `--force` or not, and prints no timing. Without the self-clearance
+/// (`--no-collisions`) the same path is timed: the refusal is the clearance's.
+#[test]
+fn a_colliding_path_is_refused_before_it_is_timed() {
+    let dir = common::temp_dir("retime-collides");
+    let fold: Vec<Vec<f64>> = [0.0, 1.3, 2.6]
+        .iter()
+        .map(|&q3| vec![0.0, 0.0, q3, 0.0, 0.0, 0.0])
+        .collect();
+    faze4::traj::npy::write_samples(&dir.join("fold.npy"), &fold).unwrap();
+    for force in [false, true] {
+        let mut args = vec![
+            "retime",
+            "--q-traj",
+            "fold.npy",
+            "--out",
+            "fold.yaml",
+            "--trail",
+            "none",
+        ];
+        if force {
+            args.push("--force");
+        }
+        let run = common::faze4(&dir, &args);
+        assert_eq!(run.status.code(), Some(3), "force {force}: {}", run.stderr);
+        assert!(!dir.join("fold.yaml").exists(), "force {force}");
+        assert_eq!(run.stdout, "", "no timing is found: {}", run.stdout);
+        assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+        assert!(
+            run.stderr
+                .contains("the path collides: 'nadlaktica' and 'saka' intersect at s = 1.1839 of 2.6000"),
+            "{}",
+            run.stderr
+        );
+        assert!(
+            run.stderr
+                .contains("checked at 2707 positions of the path, each joint moving at most 0.001 rad"),
+            "{}",
+            run.stderr
+        );
+    }
+    let free = common::faze4(
+        &dir,
+        &[
+            "retime",
+            "--q-traj",
+            "fold.npy",
+            "--out",
+            "fold.yaml",
+            "--trail",
+            "none",
+            "--no-collisions",
+        ],
+    );
+    assert!(free.status.success(), "{}{}", free.stdout, free.stderr);
+    assert!(dir.join("fold.yaml").exists());
+}
+
+/// A timing whose check does not follow (the circle under the Faze4's steppers driven as
+/// steppers, `--drive stepper`: J2 loses steps) exits 3 and is written only with `--force`;
+/// the lines say which.
+#[test]
+fn a_timing_that_does_not_follow_is_written_only_with_force() {
+    let dir = common::temp_dir("retime-force");
+    let circle = repo_path("tests/fixtures/shape_circle_q.npy");
+    let circle = circle.to_str().unwrap();
+    for force in [false, true] {
+        let mut args = vec![
+            "retime", "--q-traj", circle, "--motors", "faze4", "--drive", "stepper", "--out", "c.yaml", "--trail",
+            "none",
+        ];
+        if force {
+            args.push("--force");
+        }
+        let run = common::faze4(&dir, &args);
+        assert_eq!(
+            run.status.code(),
+            Some(3),
+            "force {force}: {}{}",
+            run.stdout,
+            run.stderr
+        );
+        let verdict = run.stdout.lines().last().unwrap();
+        assert!(
+            verdict.starts_with("verdict: ") && verdict.contains("slips"),
+            "{verdict}"
+        );
+        assert_eq!(dir.join("c.yaml").exists(), force);
+        let said = match force {
+            true => "; wrote c.yaml\n",
+            false => "; it does not follow: nothing is written to c.yaml (--force writes it)\n",
+        };
+        assert!(run.stdout.contains(said), "{}", run.stdout);
+    }
+}

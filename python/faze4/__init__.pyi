@@ -436,6 +436,7 @@ def retime(
     grid: int = 200,
     margin: float = 0.3,
     attempts: int = 8,
+    force: bool = False,
     xacro_arg: Sequence[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
     balance_inertia: bool = False,

@@ -119,7 +119,8 @@ def _in_a_child(code: str) -> subprocess.CompletedProcess:
 
 def test_a_motors_dict_holding_itself_or_nested_deep_is_an_error_not_a_crash():
     """Issue 49: a self-referencing or 20,000-deep motors dict segfaulted the interpreter (the
-    conversion recursed); each is now a faze4.Error naming the nesting, and the interpreter lives on."""
+    conversion recursed); each is now a faze4.Error naming the nesting, a dict of more values
+    than its cap one naming the cap, and the interpreter lives on."""
     code = """
 import faze4
 cases = {}
@@ -133,6 +134,8 @@ cases["deep"] = lambda: faze4.Robot.faze4(motors=deep)
 e = {}
 e["motors"] = e
 cases["options"] = lambda: faze4._faze4.Robot(e)
+wide = {"joint": [None] * (2**20 + 1)}
+cases["wide"] = lambda: faze4.Robot.faze4(motors=wide)
 for name, call in cases.items():
     try:
         call()
@@ -149,6 +152,9 @@ print("alive")
     for name in ("itself", "deep", "options"):
         line = next(line for line in lines if line.startswith(name + " "))
         assert "motors: nested more than 32 deep" in line, line
+    # a wide one is read up to its cap of values, then refused (config::object::MAX_OBJECT_VALUES)
+    line = next(line for line in lines if line.startswith("wide "))
+    assert "motors: holds more than 1048576 values" in line, line
 
 
 def test_arrays_have_the_caps_of_the_same_data_as_a_file():

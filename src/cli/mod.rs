@@ -156,14 +156,15 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 /// `faze4 retime`: the timing, its lines and the check's verdict last. The exit status is 0
 /// only when the checked timing follows: 1 diverged, 128 + a signal's number, else 3 when the
 /// check's verdict is not "follows" (the verdict names why: collides, loses steps, tracking
-/// error, saturates), with or without `--strict`; a path that no timing follows is the reason
-/// on stderr, status 3 (nothing is written).
+/// error, saturates), with or without `--strict`, the timing then written only under
+/// `--force`; a path that no timing follows, or whose poses collide (refused before it is
+/// timed), is the reason on stderr, status 3 (nothing is written).
 fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
     let quiet = config.outputs.quiet;
     let finished = match faze4::session::retime(config, None, &files, &mut [], &stop, |w| warn(w, quiet)) {
-        Err(e @ Error::NothingFollows { .. }) => {
+        Err(e @ (Error::NothingFollows { .. } | Error::PathCollides { .. })) => {
             to_stderr(&format!("faze4: {}", flags(&e.to_string())));
             return Ok(ExitCode::from(EXIT_CANNOT_FOLLOW));
         }
@@ -176,7 +177,7 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     };
     let mut stdout = String::new();
     if !quiet {
-        stdout = faze4::session::retime_lines(&finished, out);
+        stdout = flags(&faze4::session::retime_lines(&finished, out));
     }
     // a stopped check has no verdict: it did not play the whole timing
     if let Some(t) = summary.interrupted_at_s {

@@ -929,6 +929,27 @@ pub const FIELDS: &[Field] = &[
     .default(DefaultValue::Count(super::DEFAULT_ATTEMPTS as u64))
     .value_name("N")
     .help("Most closed-loop checks: the first timing's, then one per slowed timing."),
+    Field::new(
+        "force",
+        Kind::Flag,
+        Commands::RETIME,
+        |c, v| {
+            let on = match v {
+                Value::Flag(on) => on,
+                Value::Default => false,
+                other => return Err(wrong("force", Kind::Flag, &other)),
+            };
+            if let Some(r) = retime(c) {
+                r.force = on;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .help(
+        "Write the timing (`out`) even when the checked timing does not follow; without it nothing is written then. \
+         The exit status is 3 either way.",
+    ),
     // shape
     Field::new(
         "shape",

@@ -17,6 +17,7 @@ pub mod fields;
 mod loaded;
 pub mod motors;
 mod motors_file;
+pub mod object;
 
 use std::path::PathBuf;
 
@@ -341,6 +342,9 @@ pub struct RetimeConfig {
     pub margin: f64,
     /// Most closed-loop checks (≥ 1), the first timing's included.
     pub attempts: usize,
+    /// Whether `out` is written when the checked timing does not follow (it is not
+    /// otherwise).
+    pub force: bool,
 }
 
 impl RetimeConfig {
@@ -353,6 +357,7 @@ impl RetimeConfig {
             grid: DEFAULT_GRID,
             margin: DEFAULT_MARGIN,
             attempts: DEFAULT_ATTEMPTS,
+            force: false,
         }
     }
 

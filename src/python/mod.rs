@@ -33,8 +33,9 @@ use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
 use crate::algo::{Data, crba, forward_dynamics, forward_kinematics, gravity, rnea_checked};
 use crate::choice::Choice;
-use crate::config::fields::{self, Field, Kind, Value, any_field};
-use crate::config::{self, Command, Motion, Motors, Replayed, RunConfig};
+use crate::config::fields::{self, Field, Kind, any_field};
+use crate::config::object::{self, Keyword, Object, Reading, Refusal};
+use crate::config::{self, Command, Motion, Replayed, RunConfig};
 use crate::error::{Words, in_words};
 use crate::model::Model;
 use crate::output::Capture;
@@ -49,7 +50,7 @@ create_exception!(
     faze4,
     NothingFollows,
     Error,
-    "No timing of a retime's path follows (the Python package raises it as Error, or as CannotFollow under strict)."
+    "No timing of a retime's path follows, or the path collides (the Python package raises it as Error, or as CannotFollow under strict)."
 );
 
 /// How often a waiting call looks for Ctrl-C.
@@ -86,190 +87,92 @@ fn keywords(text: &str) -> String {
     in_words(text, Words::Keywords)
 }
 
-/// The type error for keyword `name` given `obj`, which its kind does not take.
-fn type_error(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyErr {
-    let got = obj.get_type().name().map(|s| s.to_string()).unwrap_or_default();
-    PyTypeError::new_err(format!("{name}: takes {}, not {got}", config::fields::kind_name(kind)))
-}
-
-/// The keyword `name`'s value `obj` as a value of its field's kind: None is the default; a
-/// value of another type is a `TypeError`.
-fn value(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Value> {
-    if obj.is_none() {
-        return Ok(Value::Default);
-    }
-    let is_bool = obj.is_instance_of::<PyBool>() || obj.get_type().name().is_ok_and(|n| n == "bool_");
-    let text = || obj.cast::<PyString>().ok().map(|s| s.to_string());
-    let path = || -> Option<std::path::PathBuf> {
-        match obj.is_instance_of::<PyString>() {
-            true => None,
-            false => obj.extract::<std::path::PathBuf>().ok(),
-        }
-    };
-    let bad = || type_error(name, kind, obj);
-    Ok(match kind {
-        Kind::Flag => match is_bool {
-            true => Value::Flag(obj.is_truthy()?),
-            false => return Err(bad()),
-        },
-        Kind::Number => match (is_bool, obj.extract::<f64>()) {
-            (false, Ok(x)) if !obj.is_instance_of::<PyString>() => Value::Number(x),
-            _ => return Err(bad()),
-        },
-        Kind::Count => match (is_bool, obj.extract::<i128>()) {
-            (false, Ok(n)) => {
-                Value::Count(u64::try_from(n).map_err(|_| error(format!("{name}: {n} must be a whole number ≥ 0")))?)
-            }
-            _ => return Err(bad()),
-        },
-        Kind::Text | Kind::Choice(_) => Value::Text(text().ok_or_else(bad)?),
-        Kind::Texts => match text() {
-            Some(t) => Value::Text(t),
-            None => Value::Texts(
-                (obj.try_iter().map_err(|_| bad())?)
-                    .map(|item| item.and_then(|i| i.extract::<String>()).map_err(|_| bad()))
-                    .collect::<PyResult<_>>()?,
-            ),
-        },
-        Kind::Path => match (text(), path()) {
-            (Some(t), _) => Value::Text(t),
-            (None, Some(p)) => Value::Path(p),
-            _ => return Err(bad()),
-        },
-        Kind::Paths => match (text(), path()) {
-            (Some(t), _) => Value::Path(t.into()),
-            (None, Some(p)) => Value::Path(p),
-            _ => Value::Paths(
-                (obj.try_iter().map_err(|_| bad())?)
-                    .map(|item| item.and_then(|i| i.extract::<std::path::PathBuf>()).map_err(|_| bad()))
-                    .collect::<PyResult<_>>()?,
-            ),
-        },
-        Kind::PerJoint | Kind::Numbers | Kind::Center => match text() {
-            Some(t) => Value::Text(t),
-            None => Value::PerJoint(per_joint(name, kind, obj)?),
-        },
-        Kind::Motors => match (text(), path()) {
-            (Some(t), _) => Value::Text(t),
-            (None, Some(p)) => Value::Path(p),
-            _ if obj.is_instance_of::<PyDict>() => Value::Motors(Motors::Entries(motor_entries(obj)?)),
-            _ => return Err(bad()),
-        },
-    })
-}
-
-/// One value per joint from a sequence or a 1-D array of numbers (None: keep a joint's own).
-fn per_joint(name: &str, kind: Kind, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Option<f64>>> {
-    if let Ok(array) = obj.cast::<PyUntypedArray>()
-        && array.ndim() != 1
-    {
-        return Err(error(format!(
-            "{name}: shape {:?}; expected one value per joint",
-            array.shape()
-        )));
-    }
-    let items = obj.try_iter().map_err(|_| type_error(name, kind, obj))?;
-    items
-        .map(|item| {
-            let item = item?;
-            if item.is_none() {
-                return Ok(None);
-            }
-            match (
-                item.is_instance_of::<PyBool>() || item.is_instance_of::<PyString>(),
-                item.extract::<f64>(),
-            ) {
-                (false, Ok(x)) => Ok(Some(x)),
-                _ => Err(type_error(name, kind, obj)),
-            }
-        })
-        .collect()
-}
-
-/// A motors dict (`{"joint": [{...}, ...]}`, the motors file's schema) as its entries.
-fn motor_entries(obj: &Bound<'_, PyAny>) -> PyResult<Vec<config::MotorEntry>> {
-    #[derive(serde::Deserialize)]
-    #[serde(deny_unknown_fields)]
-    struct Table {
-        joint: Vec<config::MotorEntry>,
-    }
-    let json = to_json(obj, 0)?;
-    serde_json::from_value::<Table>(json)
-        .map(|t| t.joint)
-        .map_err(|e| error(format!("motors: {}", crate::error::file_words(&e.to_string()))))
-}
-
-/// Deepest nesting of a motors dict read (a dict holding itself, or 20,000 nested ones,
-/// crashed the interpreter: the conversion recurses). The motors file's schema nests 3 deep
-/// (`{"joint": [{"kind": ...}]}`).
-const MAX_MOTORS_NESTING: usize = 32;
-
-/// A Python value of dicts, lists, strings, numbers, booleans and None as JSON, `depth` deep
-/// in the value converted; deeper than [`MAX_MOTORS_NESTING`] is an error.
-fn to_json(obj: &Bound<'_, PyAny>, depth: usize) -> PyResult<serde_json::Value> {
-    use serde_json::Value as J;
-    if depth > MAX_MOTORS_NESTING {
-        return Err(error(format!(
-            "motors: nested more than {MAX_MOTORS_NESTING} deep (a dict or list holding itself?); a motors dict is {{\"joint\": [{{...}}, ...]}}"
-        )));
+/// A Python value as the conversion reads it ([`object::Object`]), `depth` levels below the
+/// keyword's own value; each value is admitted by `reading` first (its depth and count caps).
+fn read(obj: &Bound<'_, PyAny>, depth: usize, reading: &mut Reading) -> PyResult<Object> {
+    if let Err(limit) = reading.admit(depth) {
+        return Ok(Object::Cut(limit));
     }
     if obj.is_none() {
-        return Ok(J::Null);
+        return Ok(Object::None);
     }
-    if obj.is_instance_of::<PyBool>() {
-        return Ok(J::Bool(obj.is_truthy()?));
+    if obj.is_instance_of::<PyBool>() || obj.get_type().name().is_ok_and(|n| n == "bool_") {
+        return Ok(Object::Bool(obj.is_truthy()?));
     }
     if let Ok(s) = obj.cast::<PyString>() {
-        return Ok(J::String(s.to_string()));
+        return Ok(Object::Str(s.to_string()));
     }
     if let Ok(d) = obj.cast::<PyDict>() {
-        let mut map = serde_json::Map::new();
+        let mut entries = Vec::new();
         for (k, v) in d.iter() {
-            map.insert(k.str()?.to_string(), to_json(&v, depth + 1)?);
+            let v = read(&v, depth + 1, reading)?;
+            let cut = matches!(v, Object::Cut(_));
+            entries.push((k.str()?.to_string(), v));
+            if cut {
+                break;
+            }
         }
-        return Ok(J::Object(map));
+        return Ok(Object::Dict(entries));
     }
-    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() || obj.cast::<PyUntypedArray>().is_ok() {
-        return Ok(J::Array(
-            obj.try_iter()?
-                .map(|i| to_json(&i?, depth + 1))
-                .collect::<PyResult<_>>()?,
-        ));
+    if let Ok(array) = obj.cast::<PyUntypedArray>()
+        && array.ndim() > 0
+    {
+        return Ok(Object::Array {
+            shape: array.shape().to_vec(),
+            items: read_items(obj.try_iter()?, depth, reading)?,
+        });
     }
-    if let Ok(i) = obj.extract::<i64>() {
-        return Ok(J::from(i));
+    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
+        return Ok(Object::List(read_items(obj.try_iter()?, depth, reading)?));
+    }
+    if let Ok(n) = obj.extract::<i128>() {
+        return Ok(Object::Int(n));
     }
     if let Ok(x) = obj.extract::<f64>() {
-        return serde_json::Number::from_f64(x)
-            .map(J::Number)
-            .ok_or_else(|| error(format!("motors: {x} is not a finite number")));
+        return Ok(Object::Float(x));
     }
-    Err(PyTypeError::new_err(format!(
-        "motors: a value of type {} is not a string, number, boolean, list or dict",
-        obj.get_type().name()?
-    )))
+    if let Ok(p) = obj.extract::<std::path::PathBuf>() {
+        return Ok(Object::Path(p));
+    }
+    if reading.iterates(depth)
+        && let Ok(iter) = obj.try_iter()
+    {
+        return Ok(Object::Iterable(read_items(iter, depth, reading)?));
+    }
+    Ok(Object::Other(obj.get_type().name()?.to_string()))
 }
 
-/// The configuration of `command` (`wave`, `replay`, `shape`, `retime`) with the keywords of `options`,
-/// each set by name.
+/// The items of an iterable `depth` levels down, read until the first one [`Reading`] cuts.
+fn read_items(iter: Bound<'_, pyo3::types::PyIterator>, depth: usize, reading: &mut Reading) -> PyResult<Vec<Object>> {
+    let mut out = Vec::new();
+    for item in iter {
+        let item = read(&item?, depth + 1, reading)?;
+        let cut = matches!(item, Object::Cut(_));
+        out.push(item);
+        if cut {
+            break;
+        }
+    }
+    Ok(out)
+}
+
+/// The configuration of `command` (`wave`, `replay`, `shape`, `retime`) with the keywords of
+/// `options`, each read ([`read`]) and set by name ([`object::run_config`]).
 fn run_config(command: &str, options: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
-    let command = Command::from_word(command).ok_or_else(|| {
-        error(format!(
-            "command: '{command}' is not one of {}",
-            Command::WORDS.join(", ")
-        ))
-    })?;
-    let mut config = RunConfig::new(command.motion());
-    config.outputs.words = Words::Keywords;
+    let mut keywords = Vec::with_capacity(options.len());
     for (key, obj) in options.iter() {
         let name: String = key.extract()?;
-        let v = match any_field(&name) {
-            Some(f) => value(&name, f.kind, &obj)?,
-            None => Value::Default,
-        };
-        config.set(&name, v).map_err(error)?;
+        let kind = any_field(&name).map_or(Kind::Flag, |f| f.kind);
+        keywords.push(Keyword {
+            type_name: obj.get_type().name()?.to_string(),
+            value: read(&obj, 0, &mut Reading::new(kind))?,
+            name,
+        });
     }
-    Ok(config)
+    object::run_config(command, &keywords).map_err(|refusal| match refusal {
+        Refusal::Type(line) => PyTypeError::new_err(line),
+        Refusal::Value(e) => error(e),
+    })
 }
 
 /// Warnings as Python's lines.
@@ -773,7 +676,7 @@ fn _retime<'py>(
     });
     interrupted(py, &caught)?;
     let (finished, trail, warnings, printed) = finished.map_err(|e| match e {
-        crate::Error::NothingFollows { .. } => {
+        crate::Error::NothingFollows { .. } | crate::Error::PathCollides { .. } => {
             NothingFollows::new_err(crate::error::escape_controls(&keywords(&e.to_string())))
         }
         e => error(e),

@@ -24,6 +24,7 @@
 //! ```
 
 mod check;
+mod clearance;
 mod envelope;
 mod grid;
 mod limits;
@@ -36,6 +37,7 @@ mod timing;
 use std::fmt;
 
 pub use check::command;
+pub use clearance::CLEARANCE_STEP;
 pub use limits::SpeedSource;
 pub use phase::PhasePlane;
 pub use solve::{MAX_ITERATIONS, SETTLED};
@@ -274,7 +276,9 @@ fn joint_names(model: &crate::model::Model) -> Vec<String> {
 ///
 /// Errors: bad options; a path whose points do not fit the model or leave its joint limits
 /// ([`Error::BadPath`]); limits that no timing keeps, however slow
-/// ([`Error::NothingFollows`]); and whatever building the scenario reports. A timing that the
+/// ([`Error::NothingFollows`]); a path whose collision geometry intersects itself
+/// ([`Error::PathCollides`], checked before any timing, at every grid point and between them, each joint moving at
+/// most [`CLEARANCE_STEP`] from one sample to the next); and whatever building the scenario reports. A timing that the
 /// checks never see follow is returned, its check's verdict saying why.
 pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions) -> Result<Retimed> {
     options.check()?;
@@ -283,6 +287,9 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     let model = &start.model;
     let grid = grid::PathGrid::new(model, path, options.intervals);
     check_between(model, path, &grid)?;
+    if let Some(set) = &start.collision_set {
+        clearance::check_path(model, set, start.clearance_tolerance, path, &grid)?;
+    }
     let limits = limits::Limits::of(&start, options.margin);
     let mut solver = solve::Solver::new(&grid, &limits);
     let n = grid.points();

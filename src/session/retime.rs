@@ -24,11 +24,15 @@ pub struct RetimeFinished {
     pub own_duration: Option<f64>,
     /// The replay with the outputs, when any was asked for (trail, HTML, motors' plot, view).
     pub replayed: Option<Finished>,
+    /// Whether the timing was written to `out`: asked for, and the checked timing follows or
+    /// `force` writes it anyway.
+    pub written: bool,
 }
 
 /// Retimes the path `config` (a [`Motion::Retime`]) names, or `replayed`, into `files` (the
 /// caller commits them): every output path claimed first, `warn` told the warnings, then the
-/// timing found and checked, `out` and `plot` written, and, when the trail, HTML, the
+/// timing found and checked, `out` written when the checked timing follows or `force` asks,
+/// `plot` written, and, when the trail, HTML, the
 /// motors' plot, the live view or `extra` recorders are asked for, the timing played once more
 /// with them (a run as deterministic as the check's: the same summary).
 pub fn retime(
@@ -98,7 +102,9 @@ pub fn retime(
             None
         }
     };
-    if let Some(path) = &r.out {
+    // a timing that does not follow is written only when asked to (`force`)
+    let written = r.out.is_some() && (summary.verdict.follows || r.force);
+    if let (Some(path), true) = (&r.out, written) {
         files::write_within(files, path, &retimed.trajectory)?;
     }
     if let Some(plot) = plot {
@@ -110,12 +116,14 @@ pub fn retime(
         retimed,
         summary,
         replayed,
+        written,
     })
 }
 
 /// The lines a retime prints before its verdict: the duration and the speed-up over the
 /// input's own timing, what binds along the path (consecutive segments with the same limit
-/// as one range of s and t), and the check.
+/// as one range of s and t), and the check (and whether `out` was written; options named as
+/// `field`, for each front end to show in its own words).
 pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) -> String {
     let retimed = &finished.retimed;
     let p = &retimed.profile;
@@ -152,7 +160,14 @@ pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) ->
             if c.attempts == 1 { "" } else { "s" },
             c.slowed_points,
             if c.slowed_points == 1 { "" } else { "s" },
-            out.map_or(String::new(), |p| format!("; wrote {}", crate::error::shown_path(p)))
+            match (out, finished.written) {
+                (None, _) => String::new(),
+                (Some(p), true) => format!("; wrote {}", crate::error::shown_path(p)),
+                (Some(p), false) => format!(
+                    "; it does not follow: nothing is written to {} (`force` writes it)",
+                    crate::error::shown_path(p)
+                ),
+            }
         ));
     }
     text
