@@ -10,6 +10,7 @@
 //! schema, and the caps: at most [`MAX_NESTING`] levels (a dict holding itself crashed the
 //! interpreter, issue 49) and [`MAX_OBJECT_VALUES`] values read for one keyword.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 
 use super::fields::{Kind, Value, any_field};
@@ -240,12 +241,14 @@ fn nested_too_deep(name: &str) -> Error {
     )
 }
 
-/// The items of a sequence (a dict's: its keys, as Python iterates it); `None` for a value
-/// that is not one.
-fn items(object: &Object) -> Option<Vec<Object>> {
+/// The items of a sequence, borrowed (a dict's: its keys, as Python iterates it); `None` for a
+/// value that is not one.
+fn items(object: &Object) -> Option<Cow<'_, [Object]>> {
     match object {
-        Object::List(items) | Object::Array { items, .. } | Object::Iterable(items) => Some(items.clone()),
-        Object::Dict(entries) => Some(entries.iter().map(|(k, _)| Object::Str(k.clone())).collect()),
+        Object::List(items) | Object::Array { items, .. } | Object::Iterable(items) => Some(Cow::Borrowed(items)),
+        Object::Dict(entries) => Some(Cow::Owned(
+            entries.iter().map(|(k, _)| Object::Str(k.clone())).collect(),
+        )),
         _ => None,
     }
 }
