@@ -16,10 +16,10 @@
 use std::sync::Arc;
 
 use super::check::{count, non_negative, override_per_joint, positive};
-use super::stepper_drive::{self, StepperOptions};
+use super::drives::{self, Drive, JointDrive};
 use super::{MeshSource, SelfContact, Thresholds, Warning, steps_per_record};
 use crate::algo::{Data, crba};
-use crate::control::{FeedForward, Motor, OpenLoopStepper, Pd, Stability, arithmetic_holds, tune};
+use crate::control::{FeedForward, Motor, Pd, Stability, arithmetic_holds, tune};
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter, PathClearance};
 use crate::model::{FrameId, LoadWarning, Model};
@@ -90,55 +90,13 @@ pub struct Scenario {
     /// without one: the constant limit alone), its gear ratio and rotor those of the model's
     /// joint; `None`: no motors, the constant limits of the controller.
     pub motors: Option<Vec<Option<Motor>>>,
-    /// [`Drive::Stepper`]: per joint the open-loop drive of its stepper (`None` for a joint the
-    /// PD drives); `None`: the PD drives every joint ([`Drive::Pd`]).
-    pub stepper_drive: Option<Vec<Option<OpenLoopStepper>>>,
+    /// What drives each joint (n; [`JointDrive::Pd`] for all under [`Drive::Pd`]), with the
+    /// drive's state at the start pose.
+    pub drives: Vec<JointDrive>,
     /// Under [`Drive::Stepper`], whether a slip's robustness is found by running again with
     /// the joint's damping changed (the summary's `ringing.slips_below`; on by default;
     /// off in those runs themselves).
     pub slip_margins: bool,
-}
-
-/// How the joints are driven (`drive`).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Drive {
-    /// The PD controller's torque, clipped to each motor's envelope (the original's).
-    #[default]
-    Pd,
-    /// The joints with a stepper driven open loop: the command is the microstep the driver
-    /// holds, the torque the stepper's torque–angle curve, its rotor damped by its driver's
-    /// current loop, its own losses and its reducer's friction (docs/motors.md); the other
-    /// joints stay on the PD.
-    Stepper(StepperOptions),
-}
-
-/// How the joints with a stepper are driven (`drive`; the summary's `drive` of each motor).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DriveMode {
-    /// The controller's torque clipped to each motor's envelope (the original's).
-    #[default]
-    Pd,
-    /// Open loop: the driver's microstep through the stepper's torque–angle curve.
-    Stepper,
-}
-
-crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper" });
-
-impl DriveMode {
-    /// What the drive does, in a sentence for people (`faze4 list drives`).
-    pub fn about(self) -> &'static str {
-        match self {
-            DriveMode::Pd => {
-                "the PD controller's torque at every control step, clipped to each motor's torque–speed envelope (the \
-                 original's; the default); a stepper asked for more than its pull-out torque is said to lose steps"
-            }
-            DriveMode::Stepper => {
-                "open loop for the joints with a stepper: the driver's microstep through the stepper's \
-                 torque–angle curve, its rotor damped by the driver's current loop, its own losses and its reducer's \
-                 friction; slips and all (the other joints stay on the PD)"
-            }
-        }
-    }
 }
 
 /// How a run measures the self-clearance of its collision geometry (see
@@ -459,10 +417,7 @@ impl ScenarioBuilder {
                 }
             }
         }
-        let mut stepper_drive = match &self.drive {
-            Drive::Pd => None,
-            Drive::Stepper(options) => Some(stepper_drive::drives(options, self.motors.as_deref(), n)?),
-        };
+        let mut drives = self.drive.joints(self.motors.as_deref(), n)?;
         let steps = steps(self.duration, self.dt)?;
         check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
         // the arm without its payload, kept only to say which input overflows
@@ -493,14 +448,13 @@ impl ScenarioBuilder {
         }
         let effort = effort_limits(&model, self.effort.as_deref(), self.motors.as_deref());
         let q_start = start_pose(&model, &self.trajectory);
-        if let (Some(drives), Some(motors)) = (stepper_drive.as_mut(), self.motors.as_deref()) {
-            stepper_drive::damp(&mut model, motors, drives, &q_start);
-            if self.effort.is_some() {
-                warnings.push(Warning::IdleEffort {
-                    joints: idle_effort(drives),
-                });
-            }
-        }
+        warnings.extend(drives::prepare(
+            &mut model,
+            self.motors.as_deref(),
+            &mut drives,
+            &q_start,
+            self.effort.is_some(),
+        ));
         let (mut gains, m) = tune(&model, &q_start, &effort, self.dt);
         override_gains("kp", &mut gains.kp, &self.kp)?;
         override_gains("kd", &mut gains.kd, &self.kd)?;
@@ -526,9 +480,7 @@ impl ScenarioBuilder {
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
         }
-        if let Some(w) = (stepper_drive.as_deref()).and_then(|d| stepper_drive::coarse_step(&model, d, self.dt)) {
-            warnings.push(w);
-        }
+        warnings.extend(drives::timing_warnings(&model, &drives, self.dt));
         let speed_limit = speed_limits(&model, &self.max_speed)?;
         let meshes = MeshSource::of(&self.geometry);
         let (geometry, collision_set) = match (self.collisions, self.collision_set) {
@@ -558,19 +510,10 @@ impl ScenarioBuilder {
             warnings,
             self_contact: self.self_contact,
             motors: self.motors,
-            stepper_drive,
+            drives,
             slip_margins: true,
         })
     }
-}
-
-/// The open-loop steppers' joints, for people (`J4, J6`), whose torque `effort` does not clip.
-fn idle_effort(drives: &[Option<OpenLoopStepper>]) -> String {
-    let joints: Vec<String> = (drives.iter().enumerate())
-        .filter(|(_, d)| d.is_some())
-        .map(|(i, _)| format!("J{}", i + 1))
-        .collect();
-    joints.join(", ")
 }
 
 /// The error of a scenario whose arithmetic overflows: the payload's (`payload_kg`) when the

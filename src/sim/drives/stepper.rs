@@ -2,15 +2,21 @@
 //! stepper drive" and "The stepper's damping"): which joints it drives and at what microsteps,
 //! what damps each rotor (its driver's current loop on the winding, the rotor's own losses, the
 //! reducer's friction), put on the model's joint damping once, and the warning when Δt resolves
-//! a rotor's ringing coarsely.
+//! a rotor's ringing coarsely; its actuation in the step, its settled start, its slips and
+//! its summary fields.
 
-use super::Warning;
-use super::check::{count, override_per_joint, positive};
-use super::warning::STEPPER_STEPS_PER_RADIAN;
-use crate::algo::{Data, crba};
-use crate::control::{DEFAULT_MICROSTEPS, Motor, OpenLoopStepper, StepperDamping, StepperLosses};
+use super::{JointDrive, with_friction};
+use crate::algo::{Data, State, crba, gravity};
+use crate::control::{DEFAULT_MICROSTEPS, Motor, OpenLoopStepper, Slips, StepperDamping, StepperLosses};
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{Joint, Model};
+use crate::sim::check::{count, override_per_joint, positive};
+use crate::sim::{MotorSummary, Ringing, STEPPER_STEPS_PER_RADIAN, Scenario, Step, Warning};
+
+/// What the drive does, for people (`faze4 list drives`).
+pub const ABOUT: &str = "open loop for the joints with a stepper: the driver's microstep through the stepper's \
+                         torque–angle curve, its rotor damped by the driver's current loop, its own losses and its \
+                         reducer's friction; slips and all (the other joints stay on the PD)";
 
 /// What `drive` stepper is given beyond the motors (each `None`, or an empty list, keeps the
 /// motor's own).
@@ -119,10 +125,10 @@ fn given_or(given: f64, own: f64) -> f64 {
 /// model: payload and rotors on it): its figures into the drive ([`StepperDamping::of`], the
 /// joint's inertia M_ii(q_start)), and r²(b_e + b_r + b_g) added to the joint's damping, where
 /// the discrete step takes it implicitly.
-pub fn damp(model: &mut Model, motors: &[Option<Motor>], drives: &mut [Option<OpenLoopStepper>], q_start: &[f64]) {
+pub fn damp(model: &mut Model, motors: &[Option<Motor>], drives: &mut [JointDrive], q_start: &[f64]) {
     let m = crba(model, &mut Data::new(model), q_start).clone();
     for (i, (drive, motor)) in drives.iter_mut().zip(motors).enumerate() {
-        let (Some(drive), Some(motor)) = (drive.as_mut(), motor.as_ref()) else {
+        let (JointDrive::Stepper(drive), Some(motor)) = (drive, motor.as_ref()) else {
             continue;
         };
         let joint = &mut model.joints[i];
@@ -135,13 +141,87 @@ pub fn damp(model: &mut Model, motors: &[Option<Motor>], drives: &mut [Option<Op
 /// The fastest-ringing open-loop stepper's [`Warning::CoarseStepperStep`], if its natural
 /// frequency ω_n (its [`StepperDamping::natural_frequency`]) times Δt is above
 /// [`STEPPER_STEPS_PER_RADIAN`].
-pub fn coarse_step(model: &Model, drives: &[Option<OpenLoopStepper>], dt: f64) -> Option<Warning> {
+pub fn coarse_step(model: &Model, drives: &[JointDrive], dt: f64) -> Option<Warning> {
     let (i, omega) = (drives.iter().enumerate())
-        .filter_map(|(i, d)| Some((i, d.as_ref()?.damping.natural_frequency)))
+        .filter_map(|(i, d)| Some((i, d.stepper()?.damping.natural_frequency)))
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     (omega * dt > STEPPER_STEPS_PER_RADIAN).then(|| Warning::CoarseStepperStep {
         joint: format!("J{} ({})", i + 1, crate::error::quoted(&model.joints[i].name)),
         omega,
         dt,
     })
+}
+
+/// The open-loop steppers' joints, for people (`J4, J6`), whose torque `effort` does not clip.
+pub fn idle_effort(drives: &[JointDrive]) -> String {
+    let joints: Vec<String> = (drives.iter().enumerate())
+        .filter(|(_, d)| d.stepper().is_some())
+        .map(|(i, _)| format!("J{}", i + 1))
+        .collect();
+    joints.join(", ")
+}
+
+/// Joint `i`'s τ under its open-loop stepper `drive` (motor `m`): what its torque–angle curve
+/// gives at the rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is
+/// also its τ_raw (an open-loop stepper asks for nothing else), with its reducer's and the
+/// joint's Coulomb friction (the viscous losses are in the joint's damping); `bounds[i]` the
+/// envelope's at the joint's speed.
+#[inline]
+pub fn actuate(drive: &OpenLoopStepper, m: &Motor, sc: &Scenario, s: &mut Step, i: usize) {
+    let ratio = sc.model.joints[i].gear_ratio;
+    let k = ratio * m.efficiency;
+    let theta_cmd = drive.commanded(ratio * s.q_cmd[i]);
+    let omega = ratio * s.state.v[i];
+    let tau_m = drive.torque(&m.envelope, ratio * s.state.q[i], omega, theta_cmd);
+    let (lo, hi) = m.envelope.bounds(omega);
+    s.bounds[i] = (k * lo, k * hi);
+    s.tau_raw[i] = k * tau_m;
+    let most = ratio * drive.losses.reducer_friction + sc.model.joints[i].friction;
+    s.state.tau[i] = with_friction(s, i, s.tau_raw[i], most);
+}
+
+/// Each stepper's joint at its static lag behind the driver's first microstep: where its
+/// torque–angle curve holds the joint's gravity load g_i(q), N_r·δ = −asin(g_i / (r·η·T_max))
+/// (clamped to the curve's peak), q_i = (θ_cmd + δ)/r; as an arm that has been switched on and
+/// has settled. One pass: the lags are under a full step at the motor, so they barely move g.
+pub fn settle(sc: &Scenario, motors: &[Option<Motor>], data: &mut Data, state: &mut State) {
+    let g = gravity(&sc.model, data, &state.q).clone();
+    for (i, (drive, motor)) in sc.drives.iter().zip(motors).enumerate() {
+        let (JointDrive::Stepper(drive), Some(m)) = (drive, motor) else {
+            continue;
+        };
+        let ratio = sc.model.joints[i].gear_ratio;
+        let t_max = m.envelope.bounds(ratio * state.v[i]).1;
+        let share = (g[i] / (ratio * m.efficiency * t_max)).clamp(-1.0, 1.0);
+        let lag = -share.asin() / drive.rotor_teeth;
+        state.q[i] = (drive.commanded(ratio * state.q[i]) + lag) / ratio;
+    }
+}
+
+/// Folds step `p`'s lag of joint `i`'s rotor behind `drive`'s microstep at time `t` (s) into
+/// its `slips`.
+#[inline]
+pub fn record(slips: &mut Slips, drive: &OpenLoopStepper, sc: &Scenario, p: &Step, i: usize, t: f64) {
+    let ratio = sc.model.joints[i].gear_ratio;
+    let lag = ratio * p.state.q[i] - drive.commanded(ratio * p.q_cmd[i]);
+    slips.add(drive, lag, t);
+}
+
+/// Its motor summary's fields over `steps` steps (`joint` the stepper's joint): the share of
+/// the steps past the curve's peak, the first slip, the steps and position lost, the ringing.
+pub fn summarize(slips: &Slips, drive: &OpenLoopStepper, joint: &Joint, steps: f64, summary: &mut MotorSummary) {
+    summary.envelope_pct = 100.0 * slips.past_peak as f64 / steps;
+    summary.loses_steps_at = Some(slips.first);
+    summary.steps_lost = Some(slips.steps_lost());
+    summary.position_lost = Some(slips.offset(drive) / joint.gear_ratio);
+    summary.ringing = Some(Ringing {
+        natural_hz: drive.damping.ring_hz(),
+        damping_ratio: drive.damping.ratio,
+        electrical_damping: drive.damping.electrical,
+        rotor_damping: drive.damping.rotor,
+        reducer_damping: drive.damping.reducer,
+        reducer_friction: drive.losses.reducer_friction,
+        max_lag_steps: slips.max_lag_steps(),
+        slips_below: None,
+    });
 }
