@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use super::drives::DriveRecord;
 use super::step::{self, Step};
-use super::{ContactStep, ContactSummary};
+use super::{ContactStep, ContactSummary, SelfContact};
 use crate::algo::{Data, State, forward_kinematics};
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet, PathClearance};
@@ -214,24 +214,14 @@ impl Summary {
             }),
             ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
             interrupted_at_s,
-            self_contact: contact.zip(sc.self_contact).map(|(c, settings)| ContactSummary {
-                friction: settings.friction,
-                geometry: c.geometry().geometry(),
-                steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
-                max_depth_m: c.max_depth,
-                geometry_queries: c.geometry_queries(),
-                newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
-            }),
+            self_contact: contact
+                .zip(sc.self_contact)
+                .map(|(c, settings)| contact_summary(c, settings, done)),
             motors: motors.map(|m| m.summary(sc, done)),
             ..Summary::default()
         };
         if sc.slip_margins {
-            let margins = super::margin::margins(sc, &summary, |probe| run(probe, &mut [], &StopFlag::new()).ok());
-            for (m, margin) in summary.motors.iter_mut().flatten().zip(margins) {
-                if let Some(ringing) = m.as_mut().and_then(|m| m.ringing.as_mut()) {
-                    ringing.slips_below = margin;
-                }
-            }
+            summary.add_slip_margins(sc);
         }
         let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
         let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
@@ -239,6 +229,32 @@ impl Summary {
         summary.clearance = clearance.map(|c| c.clearance.into_report());
         summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
         summary
+    }
+}
+
+impl Summary {
+    /// Each open-loop stepper's slip margin (its `ringing.slips_below`): where its slip begins
+    /// as its damping goes down, found by running `sc` again ([`super::margin::margins`]).
+    fn add_slip_margins(&mut self, sc: &Scenario) {
+        let margins = super::margin::margins(sc, self, |probe| run(probe, &mut [], &StopFlag::new()).ok());
+        for (m, margin) in self.motors.iter_mut().flatten().zip(margins) {
+            if let Some(ringing) = m.as_mut().and_then(|m| m.ringing.as_mut()) {
+                ringing.slips_below = margin;
+            }
+        }
+    }
+}
+
+/// The summary's `self_contact` of a run of `done` steps with `settings`, from its contact
+/// step `c`.
+fn contact_summary(c: &ContactStep, settings: SelfContact, done: usize) -> ContactSummary {
+    ContactSummary {
+        friction: settings.friction,
+        geometry: c.geometry().geometry(),
+        steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
+        max_depth_m: c.max_depth,
+        geometry_queries: c.geometry_queries(),
+        newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
     }
 }
 

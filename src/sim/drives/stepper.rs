@@ -48,35 +48,7 @@ pub fn drives(
             "stepper drives the steppers of `motors`: give `motors`",
         ));
     };
-    for (field, given) in [
-        ("microsteps", options.microsteps.len()),
-        ("rotor_damping", options.rotor_damping.len()),
-        ("reducer_friction", options.reducer_friction.len()),
-    ] {
-        if given > 0 {
-            count(field, given, n)?;
-        }
-    }
-    if let Some(f) = options.driver_bandwidth {
-        positive("driver_bandwidth", f)?;
-    }
-    let mut rotor: Vec<f64> = vec![f64::NAN; n];
-    let mut friction: Vec<f64> = vec![f64::NAN; n];
-    let non_negative = |v: f64| v.is_finite() && v >= 0.0;
-    override_per_joint(
-        "rotor_damping",
-        &mut rotor,
-        &options.rotor_damping,
-        non_negative,
-        "finite and ≥ 0",
-    )?;
-    override_per_joint(
-        "reducer_friction",
-        &mut friction,
-        &options.reducer_friction,
-        non_negative,
-        "finite and ≥ 0",
-    )?;
+    let (rotor, friction) = given_losses(options, n)?;
     let mut drives = Vec::with_capacity(n);
     for (i, motor) in motors.iter().enumerate() {
         let Some(m) = motor.as_ref().filter(|m| m.envelope.loses_steps()) else {
@@ -114,6 +86,42 @@ pub fn drives(
         ));
     }
     Ok(drives)
+}
+
+/// `options`' per-joint values checked (one per joint where given, the bandwidth > 0, the
+/// losses finite and ≥ 0): each joint's rotor damping and reducer friction, NaN where not
+/// given.
+fn given_losses(options: &StepperOptions, n: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+    for (field, given) in [
+        ("microsteps", options.microsteps.len()),
+        ("rotor_damping", options.rotor_damping.len()),
+        ("reducer_friction", options.reducer_friction.len()),
+    ] {
+        if given > 0 {
+            count(field, given, n)?;
+        }
+    }
+    if let Some(f) = options.driver_bandwidth {
+        positive("driver_bandwidth", f)?;
+    }
+    let mut rotor: Vec<f64> = vec![f64::NAN; n];
+    let mut friction: Vec<f64> = vec![f64::NAN; n];
+    let non_negative = |v: f64| v.is_finite() && v >= 0.0;
+    override_per_joint(
+        "rotor_damping",
+        &mut rotor,
+        &options.rotor_damping,
+        non_negative,
+        "finite and ≥ 0",
+    )?;
+    override_per_joint(
+        "reducer_friction",
+        &mut friction,
+        &options.reducer_friction,
+        non_negative,
+        "finite and ≥ 0",
+    )?;
+    Ok((rotor, friction))
 }
 
 /// `given` unless it is the NaN that marks "not given".
