@@ -70,11 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .min_by(|a, b| a.2.cmp(&b.2).then(a.1.total_cmp(&b.1)))
         .ok_or("no joint slipped")?;
-    let drive: OpenLoopStepper = scenario
-        .stepper_drive
-        .as_ref()
-        .and_then(|d| d[joint])
-        .ok_or("no drive")?;
+    let drive: OpenLoopStepper = *scenario.drives[joint].stepper().ok_or("no drive")?;
     let ratio = scenario.model.joints[joint].gear_ratio;
     let full = drive.full_step();
     let (t0, t1) = ((t_slip - BEFORE).max(0.0), t_slip + AFTER);

@@ -70,7 +70,7 @@ fn with_motors_and_open_loop_steppers() {
         c.arm.motors = Some(Motors::Preset("faze4".into()));
         c.control.drive = DriveMode::Stepper;
     });
-    assert!(sc.stepper_drive.is_some());
+    assert!(sc.drives.iter().any(|d| d.stepper().is_some()));
     same_trail(&sc);
 }
 

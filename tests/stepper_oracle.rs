@@ -101,7 +101,7 @@ fn scenario(c: &Value, trajectory: Trajectory, duration: f64) -> Scenario {
 }
 
 fn drive(sc: &Scenario) -> OpenLoopStepper {
-    sc.stepper_drive.as_ref().unwrap()[0].unwrap()
+    *sc.drives[0].stepper().unwrap()
 }
 
 /// The damping ratio and the damped frequency (rad/s) from the peaks of `lag` about the

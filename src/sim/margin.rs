@@ -55,7 +55,7 @@ pub fn margins(
     };
     (0..n)
         .map(|i| {
-            let drive = sc.stepper_drive.as_ref()?.get(i)?.as_ref()?;
+            let drive = sc.drives.get(i)?.stepper()?;
             let m = motors.get(i)?.as_ref()?;
             let slipped = m.loses_steps_at.flatten().is_some();
             let near = m.ringing.is_some_and(|r| r.max_lag_steps > 1.0);

@@ -3,13 +3,13 @@
 
 pub mod check;
 mod contact;
+mod drives;
 mod margin;
 mod record;
 mod run;
 mod scenario;
 mod sizing;
 pub mod step;
-mod stepper_drive;
 mod stop;
 mod summary;
 mod timed;
@@ -17,17 +17,17 @@ mod verdict;
 mod warning;
 
 pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_STIFFNESS, SelfContact};
+pub use drives::{Drive, DriveMode, JointDrive, StepperOptions};
 pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
 pub(crate) use scenario::steps;
 pub use scenario::{
-    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Drive, DriveMode,
-    Scenario, ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
+    Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
+    ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
 };
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};
-pub use stepper_drive::StepperOptions;
 pub use stop::{SIGPIPE, StopFlag, exit_status, stdout_closed};
 pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing, Simulated,

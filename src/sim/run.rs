@@ -3,11 +3,10 @@
 use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
+use super::drives::DriveRecord;
 use super::step::{self, Step};
-use super::{ContactStep, ContactSummary, DriveMode};
+use super::{ContactStep, ContactSummary, SelfContact};
 use crate::algo::{Data, State, forward_kinematics};
-use crate::choice::Choice;
-use crate::control::Slips;
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet, PathClearance};
 use crate::model::{FrameId, JointId, JointKind, Model};
@@ -17,8 +16,8 @@ use crate::traj::Trajectory;
 use crate::traj::shape::distance_to_closed_path;
 
 use super::{
-    Diverged, ENVELOPE_MARGIN, Intersection, MotorSummary, PathDeviation, Recorder, Ringing, RunInfo, Sample, Scenario,
-    Simulated, SizingSums, StepLoss, StopFlag, Summary, ToolRange, Verdict, steps_per_record,
+    Diverged, Intersection, MotorSummary, PathDeviation, Recorder, RunInfo, Sample, Scenario, Simulated, SizingSums,
+    StopFlag, Summary, ToolRange, Verdict, steps_per_record,
 };
 
 /// Steps between two looks at the stop flag (a fraction of a millisecond of wall time).
@@ -215,24 +214,14 @@ impl Summary {
             }),
             ik_max_residual_m: sc.shape.as_ref().map(|s| s.ik_max_residual_m),
             interrupted_at_s,
-            self_contact: contact.zip(sc.self_contact).map(|(c, settings)| ContactSummary {
-                friction: settings.friction,
-                geometry: c.geometry().geometry(),
-                steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
-                max_depth_m: c.max_depth,
-                geometry_queries: c.geometry_queries(),
-                newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
-            }),
+            self_contact: contact
+                .zip(sc.self_contact)
+                .map(|(c, settings)| contact_summary(c, settings, done)),
             motors: motors.map(|m| m.summary(sc, done)),
             ..Summary::default()
         };
         if sc.slip_margins {
-            let margins = super::margin::margins(sc, &summary, |probe| run(probe, &mut [], &StopFlag::new()).ok());
-            for (m, margin) in summary.motors.iter_mut().flatten().zip(margins) {
-                if let Some(ringing) = m.as_mut().and_then(|m| m.ringing.as_mut()) {
-                    ringing.slips_below = margin;
-                }
-            }
+            summary.add_slip_margins(sc);
         }
         let prismatic: Vec<bool> = (model.joints.iter()).map(|j| j.kind == JointKind::Prismatic).collect();
         let intersections = clearance.as_ref().map_or(Vec::new(), ClearanceMetrics::intersections);
@@ -240,6 +229,32 @@ impl Summary {
         summary.clearance = clearance.map(|c| c.clearance.into_report());
         summary.verdict = Verdict::judge(&summary, &sc.thresholds, &prismatic).with_intersections(intersections);
         summary
+    }
+}
+
+impl Summary {
+    /// Each open-loop stepper's slip margin (its `ringing.slips_below`): where its slip begins
+    /// as its damping goes down, found by running `sc` again ([`super::margin::margins`]).
+    fn add_slip_margins(&mut self, sc: &Scenario) {
+        let margins = super::margin::margins(sc, self, |probe| run(probe, &mut [], &StopFlag::new()).ok());
+        for (m, margin) in self.motors.iter_mut().flatten().zip(margins) {
+            if let Some(ringing) = m.as_mut().and_then(|m| m.ringing.as_mut()) {
+                ringing.slips_below = margin;
+            }
+        }
+    }
+}
+
+/// The summary's `self_contact` of a run of `done` steps with `settings`, from its contact
+/// step `c`.
+fn contact_summary(c: &ContactStep, settings: SelfContact, done: usize) -> ContactSummary {
+    ContactSummary {
+        friction: settings.friction,
+        geometry: c.geometry().geometry(),
+        steps_in_contact_pct: 100.0 * c.steps_in_contact as f64 / done.max(1) as f64,
+        max_depth_m: c.max_depth,
+        geometry_queries: c.geometry_queries(),
+        newton_iterations_per_step: c.newton_iterations as f64 / c.steps_in_contact.max(1) as f64,
     }
 }
 
@@ -262,7 +277,7 @@ impl<'a, 's> Records<'a, 's> {
         let inline = recorders.iter().any(|r| r.reads_intersections());
         Records {
             steps: StepMetrics::new(sc.model.dof()),
-            motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc.model.dof())),
+            motors: sc.motors.as_ref().map(|_| MotorMetrics::new(sc)),
             samples: SampleMetrics::new(),
             clearance: (sc.collision_set.as_deref()).map(|set| {
                 let metrics = ClearanceMetrics::new(set, sc.clearance_tolerance, sc.path_clearance.as_deref());
@@ -444,8 +459,8 @@ impl StepMetrics {
         let State { q, v, .. } = state;
         for i in 0..q.len() {
             self.max_error[i] = self.max_error[i].max((q_cmd[i] - q[i]).abs());
-            // an open-loop stepper's torque is its curve's: no limit acts on it
-            let open_loop = step::stepper(sc, i).is_some();
+            // an open-loop drive's torque is its own (a stepper's, its curve's): no limit acts on it
+            let open_loop = sc.drives[i].open_loop();
             self.saturated[i] += u64::from(!open_loop && sc.controller.saturated(i, tau_raw[i]));
             self.max_speed[i] = self.max_speed[i].max(v[i].abs());
             self.over_speed[i] += u64::from(v[i].abs() > sc.speed_limit[i]);
@@ -455,29 +470,24 @@ impl StepMetrics {
 
 /// The motors' figures over the steps (`--motors`).
 struct MotorMetrics {
-    /// Steps with τ_raw beyond the actuation's range (by more than [`ENVELOPE_MARGIN`]), per
-    /// joint the PD drives.
-    envelope: Vec<u64>,
     /// max |ω_m| (rad/s).
     max_speed: Vec<f64>,
     /// Σ τ_m² over the steps (N²·m²).
     sum_sq: Vec<f64>,
-    /// A stepper's first step beyond its pull-out torque, under the PD.
-    lost: Vec<Option<StepLoss>>,
-    /// A stepper's slips, under `drive` stepper.
-    slips: Vec<Slips>,
+    /// What each joint's drive records (the PD's steps beyond the envelope and a stepper's
+    /// step loss, an open-loop stepper's slips).
+    drives: Vec<DriveRecord>,
     /// The sizing report's sums.
     sizing: Vec<SizingSums>,
 }
 
 impl MotorMetrics {
-    fn new(n: usize) -> Self {
+    fn new(sc: &Scenario) -> Self {
+        let n = sc.model.dof();
         MotorMetrics {
-            envelope: vec![0; n],
             max_speed: vec![0.0; n],
             sum_sq: vec![0.0; n],
-            lost: vec![None; n],
-            slips: vec![Slips::default(); n],
+            drives: sc.drives.iter().map(|d| d.record()).collect(),
             sizing: vec![SizingSums::default(); n],
         }
     }
@@ -493,30 +503,15 @@ impl MotorMetrics {
             let omega = ratio * p.state.v[i];
             let speed = omega.abs();
             self.max_speed[i] = self.max_speed[i].max(speed);
-            // an open-loop stepper's own torque: its joint's τ_raw (τ adds the reducer's friction)
-            let tau_m = match step::stepper(sc, i) {
-                Some(_) => p.tau_raw[i] / k,
-                None => p.state.tau[i] / k,
+            // an open-loop drive's own torque: its joint's τ_raw (τ adds the drive's friction)
+            let tau_m = match sc.drives[i].open_loop() {
+                true => p.tau_raw[i] / k,
+                false => p.state.tau[i] / k,
             };
             self.sum_sq[i] += tau_m * tau_m;
             let inertia = p.data.m[(i, i)] / (ratio * ratio);
             self.sizing[i].add(m, tau_m, omega, inertia, sc.dt);
-            if let Some(drive) = step::stepper(sc, i) {
-                let lag = ratio * p.state.q[i] - drive.commanded(ratio * p.q_cmd[i]);
-                self.slips[i].add(drive, lag, t);
-                continue;
-            }
-            let raw = p.tau_raw[i];
-            let beyond = beyond_envelope(raw, p.bounds[i]);
-            self.envelope[i] += u64::from(beyond);
-            if beyond && self.lost[i].is_none() && m.envelope.loses_steps() {
-                self.lost[i] = Some(StepLoss {
-                    t,
-                    needs: raw.abs() / k,
-                    speed,
-                    gives: m.envelope.bounds(speed).1,
-                });
-            }
+            self.drives[i].add(&sc.drives[i], m, sc, p, i, t);
         }
     }
 
@@ -526,56 +521,22 @@ impl MotorMetrics {
         (sc.motors.iter().flatten().enumerate())
             .map(|(i, m)| {
                 m.as_ref().map(|m| {
-                    let stepper = m.envelope.loses_steps();
                     let joint = &sc.model.joints[i];
-                    let drive = sc.stepper_drive.as_ref().and_then(|d| d[i].as_ref());
-                    let slips = self.slips[i];
-                    MotorSummary {
+                    let mut summary = MotorSummary {
                         label: m.label.clone(),
                         kind: m.envelope.kind(),
-                        drive: match drive {
-                            Some(_) => DriveMode::Stepper.word(),
-                            None => DriveMode::Pd.word(),
-                        },
-                        envelope_pct: 100.0
-                            * match drive {
-                                Some(_) => slips.past_peak,
-                                None => self.envelope[i],
-                            } as f64
-                            / steps,
                         max_motor_speed: self.max_speed[i],
                         rms_torque: (self.sum_sq[i] / steps).sqrt(),
                         continuous_torque: m.continuous_torque,
-                        loses_steps_at: stepper.then(|| match drive {
-                            Some(_) => slips.first,
-                            None => self.lost[i].map(|l| l.t),
-                        }),
-                        step_loss: self.lost[i],
-                        steps_lost: drive.map(|_| slips.steps_lost()),
-                        position_lost: drive.map(|d| slips.offset(d) / joint.gear_ratio),
-                        ringing: drive.map(|d| Ringing {
-                            natural_hz: d.damping.ring_hz(),
-                            damping_ratio: d.damping.ratio,
-                            electrical_damping: d.damping.electrical,
-                            rotor_damping: d.damping.rotor,
-                            reducer_damping: d.damping.reducer,
-                            reducer_friction: d.losses.reducer_friction,
-                            max_lag_steps: slips.max_lag_steps(),
-                            slips_below: None,
-                        }),
                         sizing: self.sizing[i].sizing(m, joint.rotor_inertia, done as f64 * sc.dt),
-                    }
+                        ..MotorSummary::default()
+                    };
+                    self.drives[i].summarize(&sc.drives[i], m, joint, steps, &mut summary);
+                    summary
                 })
             })
             .collect()
     }
-}
-
-/// Whether a demand `raw` is beyond the range `(lo, hi)` by more than [`ENVELOPE_MARGIN`]
-/// (relative): a demand equal to a bound within round-off is not.
-#[inline]
-fn beyond_envelope(raw: f64, (lo, hi): (f64, f64)) -> bool {
-    raw - hi > ENVELOPE_MARGIN * hi.abs() || lo - raw > ENVELOPE_MARGIN * lo.abs()
 }
 
 /// Tool range and path deviation over the metric samples.
@@ -760,34 +721,5 @@ impl<'a> ClearanceMetrics<'a> {
             new
         });
         pairs
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A demand equal to the envelope within round-off (the issue's "needs 0.318 N·m, gives
-    /// 0.318") is not beyond it; one a millionth over is, as is anything where the envelope is
-    /// zero.
-    #[test]
-    fn a_demand_at_the_envelope_within_round_off_is_not_beyond_it() {
-        let t0 = 0.45 / 2f64.sqrt();
-        let k = 25.0;
-        let (lo, hi) = (-k * t0, k * t0);
-        // the same torque by another order of operations (one ulp off here)
-        let raw = (0.45 * k) / 2f64.sqrt();
-        for raw in [
-            hi,
-            raw,
-            hi * (1.0 + 4.0 * f64::EPSILON),
-            -hi * (1.0 + 4.0 * f64::EPSILON),
-        ] {
-            assert!(!beyond_envelope(raw, (lo, hi)), "{raw} vs {hi}");
-        }
-        assert!(beyond_envelope(hi * (1.0 + 1e-6), (lo, hi)));
-        assert!(beyond_envelope(lo * (1.0 + 1e-6), (lo, hi)));
-        assert!(beyond_envelope(1e-12, (0.0, 0.0)) && beyond_envelope(-1e-12, (0.0, 0.0)));
-        assert!(!beyond_envelope(0.0, (0.0, 0.0)));
     }
 }

@@ -16,10 +16,10 @@
 use std::sync::Arc;
 
 use super::check::{count, non_negative, override_per_joint, positive};
-use super::stepper_drive::{self, StepperOptions};
+use super::drives::{self, Drive, JointDrive};
 use super::{MeshSource, SelfContact, Thresholds, Warning, steps_per_record};
 use crate::algo::{Data, crba};
-use crate::control::{FeedForward, Motor, OpenLoopStepper, Pd, Stability, arithmetic_holds, tune};
+use crate::control::{FeedForward, Gains, Motor, Pd, Stability, arithmetic_holds, tune};
 use crate::error::{Error, Result, shortest};
 use crate::geometry::{ClearanceGeometry, CollisionSet, GeometryModel, PairFilter, PathClearance};
 use crate::model::{FrameId, LoadWarning, Model};
@@ -90,55 +90,13 @@ pub struct Scenario {
     /// without one: the constant limit alone), its gear ratio and rotor those of the model's
     /// joint; `None`: no motors, the constant limits of the controller.
     pub motors: Option<Vec<Option<Motor>>>,
-    /// [`Drive::Stepper`]: per joint the open-loop drive of its stepper (`None` for a joint the
-    /// PD drives); `None`: the PD drives every joint ([`Drive::Pd`]).
-    pub stepper_drive: Option<Vec<Option<OpenLoopStepper>>>,
+    /// What drives each joint (n; [`JointDrive::Pd`] for all under [`Drive::Pd`]), with the
+    /// drive's state at the start pose.
+    pub drives: Vec<JointDrive>,
     /// Under [`Drive::Stepper`], whether a slip's robustness is found by running again with
     /// the joint's damping changed (the summary's `ringing.slips_below`; on by default;
     /// off in those runs themselves).
     pub slip_margins: bool,
-}
-
-/// How the joints are driven (`drive`).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Drive {
-    /// The PD controller's torque, clipped to each motor's envelope (the original's).
-    #[default]
-    Pd,
-    /// The joints with a stepper driven open loop: the command is the microstep the driver
-    /// holds, the torque the stepper's torque–angle curve, its rotor damped by its driver's
-    /// current loop, its own losses and its reducer's friction (docs/motors.md); the other
-    /// joints stay on the PD.
-    Stepper(StepperOptions),
-}
-
-/// How the joints with a stepper are driven (`drive`; the summary's `drive` of each motor).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DriveMode {
-    /// The controller's torque clipped to each motor's envelope (the original's).
-    #[default]
-    Pd,
-    /// Open loop: the driver's microstep through the stepper's torque–angle curve.
-    Stepper,
-}
-
-crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper" });
-
-impl DriveMode {
-    /// What the drive does, in a sentence for people (`faze4 list drives`).
-    pub fn about(self) -> &'static str {
-        match self {
-            DriveMode::Pd => {
-                "the PD controller's torque at every control step, clipped to each motor's torque–speed envelope (the \
-                 original's; the default); a stepper asked for more than its pull-out torque is said to lose steps"
-            }
-            DriveMode::Stepper => {
-                "open loop for the joints with a stepper: the driver's microstep through the stepper's \
-                 torque–angle curve, its rotor damped by the driver's current loop, its own losses and its reducer's \
-                 friction; slips and all (the other joints stay on the PD)"
-            }
-        }
-    }
 }
 
 /// How a run measures the self-clearance of its collision geometry (see
@@ -409,6 +367,67 @@ impl ScenarioBuilder {
     /// Checks everything, applies gravity and the payload, tunes the controller at the start
     /// pose, and returns the scenario with its warnings.
     pub fn build(self) -> Result<Scenario> {
+        self.check_values()?;
+        let (n, tool_frame) = self.check_model()?;
+        let mut drives = self.drive.joints(self.motors.as_deref(), n)?;
+        let steps = steps(self.duration, self.dt)?;
+        check_wave_limits(&self.model, &self.trajectory, self.dt, steps)?;
+        // the arm without its payload, kept only to say which input overflows
+        let bare = (self.payload_kg > 0.0).then(|| simulated_model(&self.model, tool_frame, 0.0, self.gravity));
+        let mut model = simulated_model(&self.model, tool_frame, self.payload_kg, self.gravity);
+
+        let mut warnings: Vec<Warning> = self.load_warnings.iter().cloned().map(Warning::Model).collect();
+        warnings.extend(self.command_warnings.iter().cloned());
+        warnings.extend(self.check_effort(&model)?);
+        let effort = effort_limits(&model, self.effort.as_deref(), self.motors.as_deref());
+        let q_start = start_pose(&model, &self.trajectory);
+        warnings.extend(drives::prepare(
+            &mut model,
+            self.motors.as_deref(),
+            &mut drives,
+            &q_start,
+            self.effort.is_some(),
+        ));
+        let gains = self.gains(&model, bare.as_ref(), &q_start, &effort, &mut warnings)?;
+        warnings.extend(drives::timing_warnings(&model, &drives, self.dt));
+        let speed_limit = speed_limits(&model, &self.max_speed)?;
+        let meshes = MeshSource::of(&self.geometry);
+        let (geometry, collision_set) = match (self.collisions, self.collision_set) {
+            (Some(_), Some(set)) => (self.geometry, Some(set)),
+            (collisions, _) => load_collisions(&model, self.geometry, collisions, &mut warnings)?,
+        };
+        Ok(Scenario {
+            command: self.command,
+            model,
+            geometry,
+            collision_set,
+            meshes,
+            clearance_tolerance: self.clearance_tolerance,
+            path_clearance: self.path_clearance,
+            tool_frame,
+            trajectory: self.trajectory,
+            dt: self.dt,
+            steps,
+            controller: Pd {
+                gains,
+                feedforward: self.feedforward,
+            },
+            record_every: steps_per_record(self.record_period, self.dt),
+            speed_limit,
+            shape: self.shape,
+            thresholds: self.thresholds,
+            warnings,
+            self_contact: self.self_contact,
+            motors: self.motors,
+            drives,
+            slip_margins: true,
+        })
+    }
+
+    /// The values that stand alone: Δt, the duration, the record period, the thresholds, the
+    /// payload, the clearance tolerance and the contact settings (and that contact has the
+    /// collision geometry).
+    fn check_values(&self) -> Result<()> {
         positive("dt", self.dt)?;
         positive("duration", self.duration)?;
         positive("record_period", self.record_period)?;
@@ -424,7 +443,13 @@ impl ScenarioBuilder {
                 ));
             }
         }
-        let mut model = self.model;
+        Ok(())
+    }
+
+    /// The model against the rest: it moves, the command has its joints, the tool frame is one
+    /// of its frames and each motor is whole. Its dof n and the tool frame.
+    fn check_model(&self) -> Result<(usize, FrameId)> {
+        let model = &self.model;
         let n = model.dof();
         if n == 0 {
             return Err(Error::model(
@@ -459,49 +484,48 @@ impl ScenarioBuilder {
                 }
             }
         }
-        let mut stepper_drive = match &self.drive {
-            Drive::Pd => None,
-            Drive::Stepper(options) => Some(stepper_drive::drives(options, self.motors.as_deref(), n)?),
-        };
-        let steps = steps(self.duration, self.dt)?;
-        check_wave_limits(&model, &self.trajectory, self.dt, steps)?;
-        // the arm without its payload, kept only to say which input overflows
-        let bare = (self.payload_kg > 0.0).then(|| simulated_model(&model, tool_frame, 0.0, self.gravity));
-        model = simulated_model(&model, tool_frame, self.payload_kg, self.gravity);
+        Ok((n, tool_frame))
+    }
 
-        let mut warnings: Vec<Warning> = self.load_warnings.iter().cloned().map(Warning::Model).collect();
-        warnings.extend(self.command_warnings);
+    /// The given torque limits, one per joint and each > 0; without them, the warning for the
+    /// joints of `model` (the simulated model) that have no limit at all.
+    fn check_effort(&self, model: &Model) -> Result<Option<Warning>> {
         if let Some(effort) = &self.effort {
-            count("effort", effort.len(), n)?;
+            count("effort", effort.len(), model.dof())?;
             if let Some((i, x)) = effort.iter().enumerate().find(|(_, x)| x.is_nan() || **x <= 0.0) {
                 return Err(Error::option(
                     "effort",
                     format!("J{} limit {} must be > 0", i + 1, shortest(*x)),
                 ));
             }
-        } else if model.defaults.effort.is_none() {
-            let unlimited: Vec<String> = (model.joints.iter())
-                .filter(|j| j.effort.is_none())
-                .map(|j| j.name.clone())
-                .collect();
-            if !unlimited.is_empty() {
-                warnings.push(Warning::UnlimitedEffort {
-                    source: model.source.clone(),
-                    joints: unlimited,
-                });
-            }
+            return Ok(None);
         }
-        let effort = effort_limits(&model, self.effort.as_deref(), self.motors.as_deref());
-        let q_start = start_pose(&model, &self.trajectory);
-        if let (Some(drives), Some(motors)) = (stepper_drive.as_mut(), self.motors.as_deref()) {
-            stepper_drive::damp(&mut model, motors, drives, &q_start);
-            if self.effort.is_some() {
-                warnings.push(Warning::IdleEffort {
-                    joints: idle_effort(drives),
-                });
-            }
+        if model.defaults.effort.is_some() {
+            return Ok(None);
         }
-        let (mut gains, m) = tune(&model, &q_start, &effort, self.dt);
+        let unlimited: Vec<String> = (model.joints.iter())
+            .filter(|j| j.effort.is_none())
+            .map(|j| j.name.clone())
+            .collect();
+        Ok((!unlimited.is_empty()).then(|| Warning::UnlimitedEffort {
+            source: model.source.clone(),
+            joints: unlimited,
+        }))
+    }
+
+    /// The gains at the start pose `q_start` of `model` (the simulated model, `bare` without its
+    /// payload) within the limits `effort`: tuned, `kp` and `kd` over them (their stability
+    /// assessed again), or the error of an arithmetic that overflows; an unstable loop's
+    /// warning appended to `warnings`.
+    fn gains(
+        &self,
+        model: &Model,
+        bare: Option<&Model>,
+        q_start: &[f64],
+        effort: &[f64],
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Gains> {
+        let (mut gains, m) = tune(model, q_start, effort, self.dt);
         override_gains("kp", &mut gains.kp, &self.kp)?;
         override_gains("kd", &mut gains.kd, &self.kd)?;
         let given = self.kp.iter().chain(&self.kd).any(Option::is_some);
@@ -514,63 +538,13 @@ impl ScenarioBuilder {
             });
         }
         if !arithmetic_holds(&m, &gains) {
-            return Err(overflow(
-                &model,
-                bare.as_ref(),
-                self.payload_kg,
-                &q_start,
-                &effort,
-                self.dt,
-            ));
+            return Err(overflow(model, bare, self.payload_kg, q_start, effort, self.dt));
         }
         if let Some(stability) = gains.stability.filter(|s| !s.is_stable()) {
             warnings.push(Warning::UnstableGains { stability, given });
         }
-        if let Some(w) = (stepper_drive.as_deref()).and_then(|d| stepper_drive::coarse_step(&model, d, self.dt)) {
-            warnings.push(w);
-        }
-        let speed_limit = speed_limits(&model, &self.max_speed)?;
-        let meshes = MeshSource::of(&self.geometry);
-        let (geometry, collision_set) = match (self.collisions, self.collision_set) {
-            (Some(_), Some(set)) => (self.geometry, Some(set)),
-            (collisions, _) => load_collisions(&model, self.geometry, collisions, &mut warnings)?,
-        };
-        Ok(Scenario {
-            command: self.command,
-            model,
-            geometry,
-            collision_set,
-            meshes,
-            clearance_tolerance: self.clearance_tolerance,
-            path_clearance: self.path_clearance,
-            tool_frame,
-            trajectory: self.trajectory,
-            dt: self.dt,
-            steps,
-            controller: Pd {
-                gains,
-                feedforward: self.feedforward,
-            },
-            record_every: steps_per_record(self.record_period, self.dt),
-            speed_limit,
-            shape: self.shape,
-            thresholds: self.thresholds,
-            warnings,
-            self_contact: self.self_contact,
-            motors: self.motors,
-            stepper_drive,
-            slip_margins: true,
-        })
+        Ok(gains)
     }
-}
-
-/// The open-loop steppers' joints, for people (`J4, J6`), whose torque `effort` does not clip.
-fn idle_effort(drives: &[Option<OpenLoopStepper>]) -> String {
-    let joints: Vec<String> = (drives.iter().enumerate())
-        .filter(|(_, d)| d.is_some())
-        .map(|(i, _)| format!("J{}", i + 1))
-        .collect();
-    joints.join(", ")
 }
 
 /// The error of a scenario whose arithmetic overflows: the payload's (`payload_kg`) when the

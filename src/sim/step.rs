@@ -33,11 +33,12 @@
 //!
 //! Nothing is allocated after [`Step::new`].
 
-use crate::algo::{Data, State, compute_all_terms, frame_position, gravity, integrate_discrete, rnea};
-use crate::control::{FeedForward, OpenLoopStepper};
+use crate::algo::{Data, State, compute_all_terms, frame_position, integrate_discrete, rnea};
+use crate::control::FeedForward;
 use crate::error::Result;
 use crate::spatial::Vec3;
 
+use super::drives;
 use super::{ContactStep, Sample, Scenario};
 
 /// The closed loop's mutable state and workspaces for one [`Scenario`] (n = its model's dof).
@@ -76,7 +77,7 @@ impl Step {
         let mut state = State::new(model, sc.dt);
         sc.trajectory.start_state(&mut state.q, &mut state.v);
         let mut data = Data::new(model);
-        settle_steppers(sc, &mut data, &mut state);
+        drives::settle(sc, &mut data, &mut state);
         let contact = (sc.self_contact.zip(sc.collision_set.clone()))
             .map(|(settings, set)| ContactStep::new(model, set, settings));
         Step {
@@ -126,49 +127,22 @@ pub fn controller(sc: &Scenario, s: &mut Step) {
     (sc.controller).torque(q, v, &s.q_cmd, &s.v_cmd, ff, &mut s.tau_raw);
 }
 
-/// (τ_raw, q, v, q_cmd, motors) ⇒ τ (held over the step) and `bounds`: τ_raw clipped to the
-/// limits, and under `motors` to each motor's envelope at the joint's speed, r·η·bounds(r·q̇);
-/// under `drive` stepper a stepper's joint gets what its torque–angle curve gives at the
-/// rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw
-/// (an open-loop stepper asks for nothing else), and its reducer's Coulomb friction
-/// (`with_friction`; the viscous losses are in the joint's damping). Every drive adds the
-/// joint's own Coulomb friction ([`crate::model::Joint::friction`], by `with_friction` too; a
-/// stepper's reducer's and the joint's add).
+/// (τ_raw, q, v, q_cmd, motors) ⇒ τ (held over the step) and `bounds`: each joint's drive's
+/// ([`super::JointDrive::actuate`]): under the PD τ_raw clipped to the limits, and under
+/// `motors` to each motor's envelope at the joint's speed, r·η·bounds(r·q̇); under `drive`
+/// stepper a stepper's joint gets what its torque–angle curve gives at the rotor's lag behind
+/// the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw (an open-loop
+/// stepper asks for nothing else), and its reducer's Coulomb friction (the viscous losses are
+/// in the joint's damping). Every drive adds the joint's own Coulomb friction
+/// ([`crate::model::Joint::friction`]; a stepper's reducer's and the joint's add).
 #[inline]
 pub fn actuation(sc: &Scenario, s: &mut Step) {
     let Some(motors) = &sc.motors else {
-        sc.controller.clip(&s.tau_raw, &mut s.state.tau);
-        for (i, joint) in sc.model.joints.iter().enumerate() {
-            s.state.tau[i] = with_friction(s, i, s.state.tau[i], joint.friction);
-        }
+        drives::actuate_without_motors(sc, s);
         return;
     };
-    let effort = &sc.controller.gains.effort;
-    for (i, motor) in motors.iter().enumerate() {
-        if let (Some(m), Some(drive)) = (motor, stepper(sc, i)) {
-            let ratio = sc.model.joints[i].gear_ratio;
-            let k = ratio * m.efficiency;
-            let theta_cmd = drive.commanded(ratio * s.q_cmd[i]);
-            let omega = ratio * s.state.v[i];
-            let tau_m = drive.torque(&m.envelope, ratio * s.state.q[i], omega, theta_cmd);
-            let (lo, hi) = m.envelope.bounds(omega);
-            s.bounds[i] = (k * lo, k * hi);
-            s.tau_raw[i] = k * tau_m;
-            let most = ratio * drive.losses.reducer_friction + sc.model.joints[i].friction;
-            s.state.tau[i] = with_friction(s, i, s.tau_raw[i], most);
-            continue;
-        }
-        let e = effort[i];
-        let (lo, hi) = match motor {
-            Some(m) => {
-                let (lo, hi) = m.joint_bounds(sc.model.joints[i].gear_ratio, s.state.v[i]);
-                (lo.max(-e), hi.min(e))
-            }
-            None => (-e, e),
-        };
-        s.bounds[i] = (lo, hi);
-        let tau = s.tau_raw[i].max(lo).min(hi);
-        s.state.tau[i] = with_friction(s, i, tau, sc.model.joints[i].friction);
+    for (i, (drive, motor)) in sc.drives.iter().zip(motors).enumerate() {
+        drive.actuate(sc, s, i, motor.as_ref());
     }
 }
 
@@ -216,48 +190,4 @@ pub fn step(sc: &Scenario, s: &mut Step, t: f64) -> Result<()> {
     controller(sc, s);
     actuation(sc, s);
     integrate(sc, s, t)
-}
-
-/// The drive's torque `tau` at joint i (N·m or N, held over the step) with the Coulomb friction
-/// of a joint whose friction is `most` (its own, and a stepper's reducer's at the joint) added:
-/// the friction is the torque that would stop the joint within the step, −(M_ii·v/Δt + τ − (C v + g)_i), within
-/// ±`most`. So a joint at rest stays there while the rest of its torque is within the friction
-/// (it sticks), and a moving joint is braked by `most` without being turned back. The joint
-/// alone: the other joints' accelerations through M's off-diagonal are left out of the estimate
-/// (docs/model.md §2.3, docs/motors.md). `tau` itself, bit for bit, without friction.
-#[inline]
-fn with_friction(s: &Step, i: usize, tau: f64, most: f64) -> f64 {
-    if most == 0.0 {
-        return tau;
-    }
-    let stop = -(s.data.m[(i, i)] * s.state.v[i] / s.state.dt + tau - s.data.bias[i]);
-    tau + stop.clamp(-most, most)
-}
-
-/// Joint i's open-loop stepper under `drive` stepper.
-#[inline]
-pub(super) fn stepper(sc: &Scenario, i: usize) -> Option<&OpenLoopStepper> {
-    sc.stepper_drive.as_ref().and_then(|d| d[i].as_ref())
-}
-
-/// Under `drive` stepper, each stepper's joint at its static lag behind the driver's first
-/// microstep: where its torque–angle curve holds the joint's gravity load g_i(q),
-/// N_r·δ = −asin(g_i / (r·η·T_max)) (clamped to the curve's peak), q_i = (θ_cmd + δ)/r; as an
-/// arm that has been switched on and has settled. One pass: the lags are under a full step
-/// at the motor, so they barely move g.
-fn settle_steppers(sc: &Scenario, data: &mut Data, state: &mut State) {
-    let (Some(drives), Some(motors)) = (&sc.stepper_drive, &sc.motors) else {
-        return;
-    };
-    let g = gravity(&sc.model, data, &state.q).clone();
-    for (i, (drive, motor)) in drives.iter().zip(motors).enumerate() {
-        let (Some(drive), Some(m)) = (drive, motor) else {
-            continue;
-        };
-        let ratio = sc.model.joints[i].gear_ratio;
-        let t_max = m.envelope.bounds(ratio * state.v[i]).1;
-        let share = (g[i] / (ratio * m.efficiency * t_max)).clamp(-1.0, 1.0);
-        let lag = -share.asin() / drive.rotor_teeth;
-        state.q[i] = (drive.commanded(ratio * state.q[i]) + lag) / ratio;
-    }
 }
