@@ -15,7 +15,8 @@ use crate::algo::{Data, rnea};
 use crate::model::Model;
 use crate::traj::Trajectory;
 
-/// Samples per grid interval at which the played trajectory is checked (both ends included).
+/// Steps per grid interval at which the played trajectory is checked: each interval at
+/// `SAMPLES + 1` evenly spaced times, both ends included.
 pub const SAMPLES: usize = 20;
 
 /// Most rounds of capping and solving again before the timing is taken as it is.

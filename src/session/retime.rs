@@ -121,13 +121,13 @@ pub fn retime(
 }
 
 /// What the written trajectory asks of the limits as a controller plays it (a quintic between
-/// its points, [`crate::retime::SAMPLES`] samples an interval), beyond the grid points where
+/// its points, checked every 1/[`crate::retime::SAMPLES`] of an interval), beyond the grid points where
 /// the timing keeps them.
 fn played_line(played: &crate::retime::Played) -> String {
     // round-off of the profile's own bounds: a share this close to 1 is the limit itself
     const KEPT: f64 = 1.0 + 1e-6;
     let how = format!(
-        "as played (quintic between the written points, {} samples an interval)",
+        "as played (quintic between the written points, checked every 1/{} of an interval)",
         crate::retime::SAMPLES
     );
     if played.worst <= KEPT {
