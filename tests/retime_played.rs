@@ -1,7 +1,7 @@
 //! The timing as a controller plays it (issue 46, item 2): the trajectory retime writes,
 //! joined between its points as `joint_trajectory_controller` joins it (a quintic when
 //! positions, velocities and accelerations are written, as retime writes them), keeps every
-//! speed and torque limit, less the margin, at 20 samples per interval: not only at the grid
+//! speed and torque limit, less the margin, at 21 times per interval (every 1/20 of it): not only at the grid
 //! points. Checked here from the command `faze4 replay` makes of the written trajectory, with
 //! inverse dynamics, damping and each motor's envelope computed apart from retime's own code.
 
