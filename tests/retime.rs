@@ -85,7 +85,8 @@ fn the_relaxed_duration_bounds_the_timing_from_below() {
 }
 
 /// The phase plane: the profile is under every joint's torque-limit curve (the true envelope)
-/// and the speed-limit curve, and within the controllable sets.
+/// and the speed-limit curve. (The profile is TOPP-RA's averaged over a window, so not within
+/// TOPP-RA's controllable sets at every point: an average of speeds before and after.)
 #[test]
 fn the_phase_plane_holds_the_profile_under_its_limits() {
     let model = faze4::faze4::model();
@@ -97,10 +98,7 @@ fn the_phase_plane_holds_the_profile_under_its_limits() {
     for i in 0..plane.s.len() {
         let sd = plane.profile[i];
         assert!(sd <= plane.speed_limit[i] * (1.0 + 1e-9), "speed at {i}");
-        assert!(
-            sd <= plane.controllable[i] * (1.0 + 1e-9) + 1e-12,
-            "controllable at {i}"
-        );
+
         for (j, curve) in plane.torque_limit.iter().enumerate() {
             assert!(
                 sd <= curve[i] * (1.0 + 1e-6) + 1e-9,
@@ -110,10 +108,11 @@ fn the_phase_plane_holds_the_profile_under_its_limits() {
             );
         }
     }
-    // the profile touches the torque limits somewhere (a switch point of the time-optimal profile)
+    // the profile comes near the torque limits somewhere (a switch point of the time-optimal
+    // profile, averaged over the window)
     let touches = (1..plane.s.len() - 1).any(|i| {
         let lowest = plane.torque_limit.iter().map(|c| c[i]).fold(f64::INFINITY, f64::min);
-        plane.profile[i] > 0.99 * lowest
+        plane.profile[i] > 0.95 * lowest
     });
     assert!(touches);
 }
@@ -383,8 +382,16 @@ fn a_line_under_a_constant_acceleration_is_bang_bang() {
     let m11 = faze4::algo::crba(&model, &mut Data::new(&model), &[0.0; 6])[(0, 0)];
     let a = 2.0 / m11;
     let expected = 2.0 * (1.0_f64 / a).sqrt(); // L = 1 rad: accelerate over 0.5, brake over 0.5
-    let got = timed.profile.duration();
+    let got = timed.toppra.duration();
     assert!((got - expected).abs() < 1e-9 * expected, "{got} vs {expected}");
+    // the timing written: TOPP-RA's averaged over its window, that much longer
+    let written = timed.profile.duration();
+    assert!(timed.window >= faze4::retime::WINDOW * got * (1.0 - 1e-12));
+    assert!(
+        written >= got + timed.window * (1.0 - 1e-9),
+        "{written} vs {got} + {}",
+        timed.window
+    );
 }
 
 /// The walk-through on the real binary: `retime` of the circle's samples under the
@@ -418,15 +425,17 @@ fn retime_then_replay_follows_on_the_binary() {
     let last = run.stdout.lines().last().unwrap();
     assert_eq!(last, "verdict: follows", "{}", run.stdout);
     assert!(run.stdout.starts_with("retime: "), "{}", run.stdout);
-    // the grid-point timing, played as ros2_control plays it, asks more than a torque limit
-    // between the points (docs/retime.md, "Between the grid points"), and says so
+    // the timing, played as ros2_control plays it, keeps every limit between the points too
+    // (docs/retime.md, "Between the grid points"), and says so
     let played_line = (run.stdout.lines())
         .find_map(|l| {
-            l.strip_prefix("as played (quintic between the written points, checked every 1/20 of an interval): up to ")
+            l.strip_prefix(
+                "as played (quintic between the written points, checked every 1/20 of an interval): every limit kept, at most ",
+            )
         })
         .unwrap_or_else(|| panic!("no played line: {}", run.stdout));
-    let share: f64 = played_line.split('x').next().unwrap().parse().unwrap();
-    assert!(share > 1.0 && played_line.contains("torque limit"), "{played_line}");
+    let share: f64 = played_line.split(' ').next().unwrap().parse().unwrap();
+    assert!(share > 0.9 && share <= 1.0, "{played_line}");
     assert!(std::fs::read_to_string(dir.join("phase.svg")).unwrap().contains("<svg"));
     let retimed = common::summary(&dir, "retimed.json");
     let played = common::faze4(
@@ -637,8 +646,9 @@ fn a_colliding_path_is_refused_before_it_is_timed() {
 }
 
 /// A timing whose check does not follow (the circle under the Faze4's steppers driven as
-/// steppers, `--drive stepper`: J2 loses steps) exits 3 and is written only with `--force`;
-/// the lines say which.
+/// steppers, `--drive stepper`, with a margin of 0.1 and one check run: J3 loses steps) exits 3
+/// and is written only with `--force`; the lines say which. (With the default margin this
+/// timing follows under `--drive stepper`.)
 #[test]
 fn a_timing_that_does_not_follow_is_written_only_with_force() {
     let dir = common::temp_dir("retime-force");
@@ -646,8 +656,21 @@ fn a_timing_that_does_not_follow_is_written_only_with_force() {
     let circle = circle.to_str().unwrap();
     for force in [false, true] {
         let mut args = vec![
-            "retime", "--q-traj", circle, "--motors", "faze4", "--drive", "stepper", "--out", "c.yaml", "--trail",
+            "retime",
+            "--q-traj",
+            circle,
+            "--motors",
+            "faze4",
+            "--drive",
+            "stepper",
+            "--out",
+            "c.yaml",
+            "--trail",
             "none",
+            "--margin",
+            "0.1",
+            "--attempts",
+            "1",
         ];
         if force {
             args.push("--force");

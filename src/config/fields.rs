@@ -595,6 +595,25 @@ macro_rules! per_joint {
     };
 }
 
+/// A per-joint option of `retime` alone.
+macro_rules! retime_per_joint {
+    ($name:literal, $field:ident) => {
+        Field::new(
+            $name,
+            Kind::PerJoint,
+            Commands::RETIME,
+            |c, v| {
+                let values = per_joint($name, v)?;
+                if let Some(r) = retime(c) {
+                    r.$field = values;
+                }
+                Ok(())
+            },
+            None,
+        )
+    };
+}
+
 fn wave(c: &mut RunConfig) -> Option<&mut super::WaveConfig> {
     match &mut c.motion {
         Motion::Wave(w) => Some(w),
@@ -950,6 +969,14 @@ pub const FIELDS: &[Field] = &[
     .help(
         "Write the timing (`out`) even when the checked timing does not follow; without it nothing is written then. \
          The exit status is 3 either way.",
+    ),
+    retime_per_joint!("max_accel", max_accel).value_name("A1,A2,…").help(
+        "Acceleration limits per joint, rad/s² or m/s² ('auto' or none: no limit), kept along the written trajectory \
+         as a controller plays it.",
+    ),
+    retime_per_joint!("max_jerk", max_jerk).value_name("J1,J2,…").help(
+        "Jerk limits per joint, rad/s³ or m/s³ ('auto' or none: no limit), kept along the written trajectory as a \
+         controller plays it (the smoothing window widens for them).",
     ),
     // shape
     Field::new(

@@ -345,6 +345,10 @@ pub struct RetimeConfig {
     /// Whether `out` is written when the checked timing does not follow (it is not
     /// otherwise).
     pub force: bool,
+    /// Acceleration limits per joint (rad/s² or m/s²; empty or `None`: none).
+    pub max_accel: Vec<Option<f64>>,
+    /// Jerk limits per joint (rad/s³ or m/s³; empty or `None`: none).
+    pub max_jerk: Vec<Option<f64>>,
 }
 
 impl RetimeConfig {
@@ -358,6 +362,8 @@ impl RetimeConfig {
             margin: DEFAULT_MARGIN,
             attempts: DEFAULT_ATTEMPTS,
             force: false,
+            max_accel: Vec::new(),
+            max_jerk: Vec::new(),
         }
     }
 
@@ -368,7 +374,8 @@ impl RetimeConfig {
             margin: self.margin,
             check: true,
             attempts: self.attempts,
-            between_points: false,
+            max_acceleration: self.max_accel.clone(),
+            max_jerk: self.max_jerk.clone(),
             stop,
         }
     }

@@ -6,9 +6,12 @@
 //! its ratio; the torque range at a speed ([`JointTorque`]): the motor's envelope within the
 //! constant limit E, shrunk by the margin, less the joint's damping.
 
+use super::RetimeOptions;
 use super::envelope::JointTorque;
+use crate::error::Result;
 use crate::model::JointKind;
 use crate::sim::Scenario;
+use crate::sim::check::override_per_joint;
 
 /// Where a joint's speed limit comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,6 +30,10 @@ pub(crate) struct Limits {
     pub torque: Vec<JointTorque>,
     /// The speed limit per joint (rad/s or m/s; +∞ for none).
     pub speed: Vec<f64>,
+    /// The acceleration limit per joint (rad/s² or m/s²; +∞ for none).
+    pub acceleration: Vec<f64>,
+    /// The jerk limit per joint (rad/s³ or m/s³; +∞ for none).
+    pub jerk: Vec<f64>,
     /// Where each speed limit comes from.
     pub speed_source: Vec<SpeedSource>,
     /// The unit of each joint's torque: `N·m` (revolute) or `N` (prismatic).
@@ -34,8 +41,11 @@ pub(crate) struct Limits {
 }
 
 impl Limits {
-    /// The limits of `scenario`'s model and motors, keeping `1 − margin` of each torque limit.
-    pub fn of(scenario: &Scenario, margin: f64) -> Limits {
+    /// The limits of `scenario`'s model and motors, keeping `1 − margin` of each torque limit,
+    /// and the acceleration and jerk limits of `options` (an error naming the option where
+    /// one does not fit the joints or is not > 0).
+    pub fn of(scenario: &Scenario, options: &RetimeOptions) -> Result<Limits> {
+        let margin = options.margin;
         let model = &scenario.model;
         let effort = &scenario.controller.gains.effort;
         let torque: Vec<JointTorque> = (0..model.dof())
@@ -62,11 +72,24 @@ impl Limits {
                 _ => "N·m",
             })
             .collect();
-        Limits {
+        let n = model.dof();
+        let (mut acceleration, mut jerk) = (vec![f64::INFINITY; n], vec![f64::INFINITY; n]);
+        let positive = |v: f64| v > 0.0;
+        override_per_joint(
+            "max_accel",
+            &mut acceleration,
+            &options.max_acceleration,
+            positive,
+            "> 0",
+        )?;
+        override_per_joint("max_jerk", &mut jerk, &options.max_jerk, positive, "> 0")?;
+        Ok(Limits {
             torque,
             speed,
+            acceleration,
+            jerk,
             speed_source,
             torque_unit,
-        }
+        })
     }
 }

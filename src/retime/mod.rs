@@ -31,6 +31,7 @@ mod limits;
 mod phase;
 mod played;
 mod reach;
+mod smooth;
 mod solve;
 mod spline;
 mod timing;
@@ -79,11 +80,13 @@ pub struct RetimeOptions {
     pub check: bool,
     /// Most checks (≥ 1), the first included.
     pub attempts: usize,
-    /// Whether the limits are kept between the grid points as a controller plays the
-    /// trajectory (a quintic between points, sampled [`SAMPLES`] times per interval), not
-    /// only at them (TOPP-RA's grid, what toppra keeps): docs/retime.md, "Between the grid
-    /// points". Off by default: it costs 1.1–2.4× the duration on the paths measured there.
-    pub between_points: bool,
+    /// Acceleration limits per joint (rad/s² or m/s²; `None` or an empty list: none), kept
+    /// along the played trajectory.
+    pub max_acceleration: Vec<Option<f64>>,
+    /// Jerk limits per joint (rad/s³ or m/s³; `None` or an empty list: none), kept along the
+    /// played trajectory by widening the smoothing window (docs/retime.md, "Smooth ends and
+    /// jerk").
+    pub max_jerk: Vec<Option<f64>>,
     /// Stops a check run early (Ctrl-C); the check then reports what ran.
     pub stop: StopFlag,
 }
@@ -95,7 +98,8 @@ impl Default for RetimeOptions {
             margin: DEFAULT_MARGIN,
             check: true,
             attempts: DEFAULT_ATTEMPTS,
-            between_points: false,
+            max_acceleration: Vec::new(),
+            max_jerk: Vec::new(),
             stop: StopFlag::new(),
         }
     }
@@ -142,6 +146,10 @@ pub struct Profile {
     pub u: Vec<f64>,
     /// t_i (s), N + 1, from 0.
     pub t: Vec<f64>,
+    /// s̈ at each grid point (path units/s²), N + 1: the acceleration written there. TOPP-RA's
+    /// own profile takes the interval's that starts there (the last point the last
+    /// interval's); retime's smooth timing its s̈ at the point, 0 at both ends.
+    pub sdd: Vec<f64>,
 }
 
 /// The limit that shapes a segment of the timing.
@@ -153,8 +161,13 @@ pub enum Limit {
     TorqueUpper,
     /// A joint's torque at the bottom of its range.
     TorqueLower,
+    /// A joint's acceleration limit (`--max-accel`).
+    Acceleration,
     /// The cap the closed-loop check set where an earlier timing failed.
     Slowed,
+    /// A cap set where the played trajectory (a quintic between the written points) passed a
+    /// limit between grid points.
+    Played,
     /// No constraint of the segment's own (none given).
     None,
 }
@@ -190,7 +203,9 @@ impl fmt::Display for Binding {
             Limit::Speed(SpeedSource::Motor) => "motor top speed",
             Limit::TorqueUpper => "torque (upper)",
             Limit::TorqueLower => "torque (lower)",
+            Limit::Acceleration => "acceleration limit",
             Limit::Slowed => "slowed by the check",
+            Limit::Played => "slowed to keep the limits between the points",
             Limit::None => "none",
         };
         write!(f, "{joint}{limit}")
@@ -211,8 +226,14 @@ pub struct Check {
 /// What retime found.
 #[derive(Clone, Debug)]
 pub struct Retimed {
-    /// The timing on the grid.
+    /// The timing on the grid: TOPP-RA's averaged over [`Retimed::window`], s̈ continuous,
+    /// starting and ending at rest with s̈ = 0.
     pub profile: Profile,
+    /// TOPP-RA's time-optimal profile on the grid under the limits (s̈ bang-bang, the limits
+    /// kept at the grid points only), before any cap or averaging: what toppra gives.
+    pub toppra: Profile,
+    /// The averaging window (s): the timing is this much longer than TOPP-RA's.
+    pub window: f64,
     /// The timing at the grid points as a joint trajectory (positions, velocities,
     /// accelerations, times to the nanosecond; [`timed_trajectory`]): what the check played
     /// and the file writers write.
@@ -302,7 +323,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     if let Some(set) = &start.collision_set {
         clearance::check_path(model, set, start.clearance_tolerance, path, &grid)?;
     }
-    let limits = limits::Limits::of(&start, options.margin);
+    let limits = limits::Limits::of(&start, options)?;
     let mut solver = solve::Solver::new(&grid, &limits);
     let n = grid.points();
     let mut cap = vec![f64::INFINITY; n];
@@ -329,24 +350,29 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         path,
         limits: &limits,
         names: &names,
-        rounds: match options.between_points {
-            true => played::ROUNDS,
-            false => 0,
-        },
     };
-    let (mut solved, mut trajectory, mut played) = as_played.solve(&mut solver, &mut cap).map_err(located)?;
+    let mut window = 0.0;
+    let mut timed = as_played.solve(&mut solver, &mut cap, &mut window).map_err(located)?;
     // the bound without the check's caps (a capped solve's relaxed profile is capped too)
-    let relaxed_duration = solved.relaxed_duration;
+    let relaxed_duration = timed.solved.relaxed_duration;
+    let toppra = timed.uncapped.clone();
     let mut check = None;
     if options.check {
         for attempt in 1..=options.attempts {
-            let (command, duration) = command(model, &trajectory)?;
+            let (command, duration) = command(model, &timed.trajectory)?;
             let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
             let (summary, failed_at) = check::run_check(&scenario, &options.stop)?;
             let done = summary.verdict.follows || attempt == options.attempts || summary.interrupted_at_s.is_some();
             let slowed_now = match done {
                 true => 0,
-                false => slow_down(&solved.profile, &grid, &limits, &failed_at, &mut cap, &mut slowed),
+                false => {
+                    let at = Slowing {
+                        raw: &timed.solved.profile,
+                        smooth: &timed.profile,
+                        window,
+                    };
+                    slow_down(&at, &grid, &limits, &failed_at, &mut cap, &mut slowed)
+                }
             };
             check = Some(Check {
                 summary,
@@ -356,18 +382,20 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
             if done || slowed_now == 0 {
                 break;
             }
-            (solved, trajectory, played) = as_played.solve(&mut solver, &mut cap).map_err(located)?;
+            timed = as_played.solve(&mut solver, &mut cap, &mut window).map_err(located)?;
         }
     }
-    let bindings = solver.bindings(&solved.profile, &slowed);
+    let bindings = solver.bindings(&timed.solved.profile, &slowed);
     let controllable = solver.controllable().to_vec();
     Ok(Retimed {
-        trajectory,
-        profile: solved.profile,
+        trajectory: timed.trajectory,
+        profile: timed.profile,
+        toppra,
+        window,
         bindings,
         relaxed_duration,
-        iterations: solved.iterations,
-        played,
+        iterations: timed.solved.iterations,
+        played: timed.played,
         check,
         controllable,
         limits,
@@ -381,32 +409,103 @@ struct AsPlayed<'a> {
     path: &'a PathSpline,
     limits: &'a limits::Limits,
     names: &'a [String],
-    /// Most rounds of capping where the played trajectory passes a limit (0: none).
-    rounds: usize,
 }
 
+/// A timing as [`AsPlayed::solve`] finds it.
+struct Timed {
+    /// TOPP-RA's profile (s̈ constant on each interval) and how it was found.
+    solved: solve::Solved,
+    /// It averaged over the window: the timing written.
+    profile: Profile,
+    /// The written trajectory.
+    trajectory: TimedTrajectory,
+    /// The most it asks of a limit as played.
+    played: Played,
+    /// The first TOPP-RA profile, before the caps of this call.
+    uncapped: Profile,
+}
+
+/// The smoothing window as a share of TOPP-RA's duration, where no jerk limit asks for a
+/// wider one (docs/retime.md, "Smooth ends and jerk").
+pub const WINDOW: f64 = 0.05;
+/// Most widenings of the window for a jerk limit in one round.
+const WIDENINGS: usize = 12;
+
 impl AsPlayed<'_> {
-    /// The fastest profile under `cap`, then, while its trajectory played (a quintic between
-    /// points) passes a limit between grid points, `cap` lowered there and the profile found
-    /// again (at most `rounds` rounds): the profile, its trajectory and the most it
-    /// asks of a limit as played.
-    fn solve(&self, solver: &mut solve::Solver, cap: &mut [f64]) -> Result<(solve::Solved, TimedTrajectory, Played)> {
-        let mut round = 0;
-        loop {
+    /// TOPP-RA's profile under `cap`, averaged over the window (`window`, s; at least
+    /// [`WINDOW`] of the profile's duration, widened until the played jerk keeps its limits),
+    /// then, while its trajectory played (a quintic between points) passes a limit, `cap`
+    /// lowered where the raw profile fed the failing interval and all found again (at most
+    /// [`played::ROUNDS`] rounds).
+    fn solve(&self, solver: &mut solve::Solver, cap: &mut [f64], window: &mut f64) -> Result<Timed> {
+        let mut keep = vec![1.0; cap.len().saturating_sub(1)];
+        let mut uncapped = None;
+        for round in 0.. {
             let solved = solver.solve(cap)?;
-            let trajectory = timed_trajectory(&solved.profile, self.path, self.names.to_vec());
-            let (command, _) = command(self.model, &trajectory)?;
-            let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();
-            round += 1;
-            let mut lowered = cap.to_vec();
-            let (played, capped) =
-                played::tighten(self.model, self.limits, &command, &times, &solved.profile, &mut lowered);
-            if capped == 0 || round > self.rounds {
-                return Ok((solved, trajectory, played));
+            if uncapped.is_none() {
+                uncapped = Some(solved.profile.clone());
             }
-            cap.copy_from_slice(&lowered);
+            let raw = &solved.profile;
+            *window = window.max(WINDOW * raw.duration());
+            let mut widened = 0;
+            let (profile, trajectory, played) = loop {
+                let profile = smooth::Averaged::new(raw, *window).profile();
+                let trajectory = timed_trajectory(&profile, self.path, self.names.to_vec());
+                let (command, _) = command(self.model, &trajectory)?;
+                let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();
+                let (played, jerk) = played::sample(self.model, self.limits, &command, &times, &mut keep);
+                if jerk <= 1.0 || widened == WIDENINGS {
+                    break (profile, trajectory, played);
+                }
+                // the path's jerk falls about as 1/w
+                *window *= jerk * 1.02;
+                widened += 1;
+            };
+            let capped = match round < played::ROUNDS {
+                true => cap_raw(raw, &profile, *window, &keep, cap),
+                false => 0,
+            };
+            if capped == 0 {
+                let uncapped = uncapped.take().unwrap_or_else(|| solved.profile.clone());
+                return Ok(Timed {
+                    solved,
+                    profile,
+                    trajectory,
+                    played,
+                    uncapped,
+                });
+            }
+        }
+        unreachable!("the rounds end")
+    }
+}
+
+/// Caps x at each raw grid point that fed an interval of the smooth profile whose played
+/// samples passed a limit (the raw timing over [t_i − w, t_{i+1}], the smooth one's
+/// interval and its window before it), at that interval's `keep` share of the raw x. Returns
+/// how many points it capped lower.
+fn cap_raw(raw: &Profile, smooth: &Profile, window: f64, keep: &[f64], cap: &mut [f64]) -> usize {
+    let mut capped = 0;
+    for (i, &k) in keep.iter().enumerate().filter(|&(_, &k)| k < 1.0) {
+        let first = raw.interval_at(smooth.t[i] - window);
+        let last = raw.interval_at(smooth.t[i + 1]);
+        for p in first..=last + 1 {
+            let limit = k * raw.x[p];
+            if limit < cap[p] && raw.x[p] > 0.0 {
+                cap[p] = limit;
+                capped += 1;
+            }
         }
     }
+    capped
+}
+
+/// The raw and smooth profiles of a checked timing, to map a failure's time to the raw grid
+/// points that fed it.
+struct Slowing<'a> {
+    raw: &'a Profile,
+    smooth: &'a Profile,
+    window: f64,
 }
 
 /// Caps x at the failure's share of the profile's at the ends of every segment the timing
@@ -416,13 +515,14 @@ impl AsPlayed<'_> {
 /// each stretch at the limit alike, and one run then slows them all. Returns how many points
 /// it capped lower.
 fn slow_down(
-    profile: &Profile,
+    at: &Slowing,
     grid: &grid::PathGrid,
     limits: &limits::Limits,
     failures: &[check::Failure],
     cap: &mut [f64],
     slowed: &mut [bool],
 ) -> usize {
+    let profile = at.raw;
     let mut capped = 0;
     let mut lower = |i: usize, keep: f64| {
         let limit = keep * profile.x[i];
@@ -433,8 +533,9 @@ fn slow_down(
         }
     };
     for f in failures {
-        let last = profile.interval_at(f.t);
-        let first = profile.interval_at(f.t - LOOKBACK_S);
+        // the raw timing's [t − w, t] fed the smooth one's state at t
+        let last = profile.interval_at(f.t.min(at.smooth.duration()));
+        let first = profile.interval_at(f.t - LOOKBACK_S - at.window);
         for i in first..=last + 1 {
             lower(i, f.keep);
         }

@@ -1,15 +1,14 @@
 //! The timing as a controller plays it (docs/retime.md, "Between the grid points"): the
 //! trajectory written (positions, velocities, accelerations at the grid points) joined as
 //! `joint_trajectory_controller` joins it, a quintic per joint between two points, sampled
-//! [`SAMPLES`] times per interval; where a sample asks a joint for more speed or torque than
-//! its limit less the margin, the x = ṡ² at both ends of that interval is capped and the
-//! profile found again.
+//! [`SAMPLES`] times per interval: the most it asks of a speed, torque, acceleration or jerk
+//! limit, and per interval the share of x = ṡ² that would have kept them.
 //!
-//! The quintic matches q, q̇ and q̈ at both ends but is not the spline: where s̈ steps between
+//! The quintic matches q, q̇ and q̈ at both ends but is not the path: where s̈ steps between
 //! two intervals (TOPP-RA's profile is bang-bang), the quintic blends the two accelerations
-//! and its acceleration, and so its torque, overshoots both ends' between them.
+//! and its acceleration, and so its torque, overshoots both ends' between them; retime's
+//! smooth timing (`smooth.rs`) has no such step.
 
-use super::Profile;
 use super::limits::Limits;
 use crate::algo::{Data, rnea};
 use crate::model::Model;
@@ -25,6 +24,11 @@ pub(crate) const ROUNDS: usize = 200;
 /// A sample beyond a limit caps x at this share below the one that would have kept it there.
 const HEADROOM: f64 = 0.97;
 
+/// The lowest share of x one round keeps: where the estimate asks for less (a torque range
+/// nearly empty at the played speed, so the motion's part would have to vanish), the next
+/// round's sampling says how much more.
+const FLOOR: f64 = 0.5;
+
 /// Where a sample asks the most of a limit in a played timing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Played {
@@ -35,24 +39,25 @@ pub struct Played {
     pub t: f64,
     /// Its joint.
     pub joint: usize,
-    /// Whether it is a speed (else a torque).
-    pub speed: bool,
+    /// Which limit: `speed`, `torque`, `acceleration` or `jerk`.
+    pub limit: &'static str,
 }
 
-/// What one sample asks of joint j's limits: the share of the speed limit and of the torque
-/// range at that speed (the side the torque is on; >1 beyond it), and the share of x to keep
-/// there (1 where within).
+/// What one sample asks of joint j's limits: the share of each (speed, torque range at that
+/// speed on the side the torque is on, acceleration, jerk; >1 beyond it), and the share of x
+/// to keep there (1 where within).
 struct Asked {
-    speed: f64,
-    torque: f64,
+    shares: [(f64, &'static str); 4],
     keep: f64,
 }
 
-/// What one played sample asks of joint `j`: its speed `v`, the torque `tau` the motion needs
-/// (inverse dynamics), `gravity` the torque at rest at that pose (computed only where `tau`
-/// is beyond its range).
-fn asked(limits: &Limits, j: usize, v: f64, tau: f64, gravity: impl Fn() -> f64) -> Asked {
+/// What one played sample asks of joint `j`: its speed, acceleration and jerk `[v, a, jerk]`,
+/// the torque `tau` the motion needs (inverse dynamics), `gravity` the torque at rest at that
+/// pose (computed only where `tau` is beyond its range).
+fn asked(limits: &Limits, j: usize, [v, a, jerk]: [f64; 3], tau: f64, gravity: impl Fn() -> f64) -> Asked {
     let speed = v.abs() / limits.speed[j];
+    let acceleration = a.abs() / limits.acceleration[j];
+    let jerk = jerk.abs() / limits.jerk[j];
     let (lo, hi) = limits.torque[j].range(v);
     let (bound, torque) = match tau >= 0.0 {
         true => (hi, if hi > 0.0 { tau / hi } else { f64::INFINITY }),
@@ -67,6 +72,13 @@ fn asked(limits: &Limits, j: usize, v: f64, tau: f64, gravity: impl Fn() -> f64)
     if speed > 1.0 {
         keep = keep.min(HEADROOM / (speed * speed));
     }
+    // an acceleration scales about with x, a jerk with ṡ³
+    if acceleration > 1.0 {
+        keep = keep.min(HEADROOM / acceleration);
+    }
+    if jerk > 1.0 {
+        keep = keep.min(HEADROOM * jerk.powf(-2.0 / 3.0));
+    }
     if !within {
         // the motion's part scales about with x: g + f (τ − g) at the bound
         let g = gravity();
@@ -76,62 +88,81 @@ fn asked(limits: &Limits, j: usize, v: f64, tau: f64, gravity: impl Fn() -> f64)
             false => super::SLOWDOWN,
         });
     }
-    Asked { speed, torque, keep }
+    Asked {
+        keep: keep.max(FLOOR),
+        shares: [
+            (speed, "speed"),
+            (torque, "torque"),
+            (acceleration, "acceleration"),
+            (jerk, "jerk"),
+        ],
+    }
 }
 
-/// Samples `command` [`SAMPLES`] times on each interval of `profile` (times `times`, the
-/// trajectory's points) and caps `cap` at both ends of every interval where a sample is
-/// beyond a limit. Returns the worst sample and how many points it capped lower.
-pub(crate) fn tighten(
+/// A jerk is taken by central differences of the quintic's acceleration over this share of
+/// the interval (a cubic: exact but for round-off).
+const JERK_STEP: f64 = 1e-4;
+
+/// Samples `command` [`SAMPLES`] times on each interval between `times` (the trajectory's
+/// points) and writes into `keep` (one per interval) the share of x = ṡ² that would have kept
+/// every limit there (1 where every sample is within). Returns the worst sample, and the most
+/// asked of a jerk limit (0 where none is given).
+pub(crate) fn sample(
     model: &Model,
     limits: &Limits,
     command: &Trajectory,
     times: &[f64],
-    profile: &Profile,
-    cap: &mut [f64],
-) -> (Played, usize) {
+    keep: &mut [f64],
+) -> (Played, f64) {
     let dof = model.dof();
     let mut data = Data::new(model);
     let (mut q, mut v, mut a) = (vec![0.0; dof], vec![0.0; dof], vec![0.0; dof]);
+    let (mut a_plus, mut a_minus) = (vec![0.0; dof], vec![0.0; dof]);
+    let (mut q_near, mut v_near) = (vec![0.0; dof], vec![0.0; dof]);
     let zero = vec![0.0; dof];
+    let jerk_limited = limits.jerk.iter().any(|j| j.is_finite());
     let mut worst = Played {
         worst: 0.0,
         t: 0.0,
         joint: 0,
-        speed: false,
+        limit: "speed",
     };
-    let mut capped = 0;
+    let mut most_jerk: f64 = 0.0;
     for (i, w) in times.windows(2).enumerate() {
-        let mut keep: f64 = 1.0;
+        keep[i] = 1.0;
+        let dt = w[1] - w[0];
         for k in 0..=SAMPLES {
-            let t = w[0] + (w[1] - w[0]) * k as f64 / SAMPLES as f64;
+            let t = w[0] + dt * k as f64 / SAMPLES as f64;
             command.eval_with_acceleration(t, &mut q, &mut v, &mut a);
+            if jerk_limited {
+                // within the interval's own quintic
+                let h = JERK_STEP * dt;
+                let at = t.clamp(w[0] + h, w[1] - h);
+                command.eval_with_acceleration(at + h, &mut q_near, &mut v_near, &mut a_plus);
+                command.eval_with_acceleration(at - h, &mut q_near, &mut v_near, &mut a_minus);
+            }
             let tau = rnea(model, &mut data, &q, &v, &a).clone();
             for j in 0..dof {
                 let gravity = || rnea(model, &mut Data::new(model), &q, &zero, &zero)[j];
-                let asked = asked(limits, j, v[j], tau[j], gravity);
-                for (share, speed) in [(asked.speed, true), (asked.torque, false)] {
+                let jerk = match jerk_limited {
+                    true => (a_plus[j] - a_minus[j]) / (2.0 * JERK_STEP * dt),
+                    false => 0.0,
+                };
+                let asked = asked(limits, j, [v[j], a[j], jerk], tau[j], gravity);
+                most_jerk = most_jerk.max(asked.shares[3].0);
+                for (share, limit) in asked.shares {
                     if share > worst.worst {
                         worst = Played {
                             worst: share,
                             t,
                             joint: j,
-                            speed,
+                            limit,
                         };
                     }
                 }
-                keep = keep.min(asked.keep);
-            }
-        }
-        if keep < 1.0 {
-            for p in [i, i + 1] {
-                let limit = keep * profile.x[p];
-                if limit < cap[p] && profile.x[p] > 0.0 {
-                    cap[p] = limit;
-                    capped += 1;
-                }
+                keep[i] = keep[i].min(asked.keep);
             }
         }
     }
-    (worst, capped)
+    (worst, most_jerk)
 }

@@ -86,8 +86,10 @@ impl<'a> Solver<'a> {
             grid,
             limits,
             stages: Stages {
-                rows: vec![[0.0; 3]; n * 2 * dof],
-                per_stage: 2 * dof,
+                // per joint: the torque under its upper line, over its lower line, and the
+                // acceleration within ± its limit
+                rows: vec![[0.0; 3]; n * 4 * dof],
+                per_stage: 4 * dof,
                 cap: vec![0.0; n],
                 delta: grid.s.windows(2).map(|w| w[1] - w[0]).collect(),
             },
@@ -268,13 +270,15 @@ impl<'a> Solver<'a> {
             return Err(self.nothing_follows(i.max(1).min(n - 2)));
         }
         let mut profile = Profile::from_x(self.grid.s.clone(), x);
+        profile.sdd = (0..n).map(|i| u[i.min(n - 2)]).collect();
         profile.u = u;
         Ok(profile)
     }
 
     /// Stage rows `α u + β x ≤ γ` from the lines: per joint
-    /// `a u + (b − h1) x ≤ h0 − c` (τ below the line under hi) and
-    /// `−a u − (b + l1) x ≤ l0 + c` (τ above the line over lo).
+    /// `a u + (b − h1) x ≤ h0 − c` (τ below the line under hi),
+    /// `−a u − (b + l1) x ≤ l0 + c` (τ above the line over lo), and the acceleration
+    /// q̈ = q′ u + q″ x within ± its limit Ā: `q′ u + q″ x ≤ Ā`, `−q′ u − q″ x ≤ Ā`.
     fn fill_rows(&mut self) {
         let dof = self.grid.dof;
         for i in 0..self.grid.points() {
@@ -282,8 +286,12 @@ impl<'a> Solver<'a> {
                 let p = i * dof + j;
                 let (a, b, c) = (self.grid.a[p], self.grid.b[p], self.grid.c[p]);
                 let [hi, lo] = self.lines[p];
-                self.stages.rows[2 * p] = row([a, b - hi.slope, hi.offset - c]);
-                self.stages.rows[2 * p + 1] = row([-a, -b - lo.slope, lo.offset + c]);
+                let (d1, d2, limit) = (self.grid.dq[p], self.grid.ddq[p], self.limits.acceleration[j]);
+                let rows = &mut self.stages.rows[4 * p..4 * p + 4];
+                rows[0] = row([a, b - hi.slope, hi.offset - c]);
+                rows[1] = row([-a, -b - lo.slope, lo.offset + c]);
+                rows[2] = row([d1, d2, limit]);
+                rows[3] = row([-d1, -d2, limit]);
             }
         }
     }
@@ -310,15 +318,30 @@ impl<'a> Solver<'a> {
                             limit: Limit::Speed(self.limits.speed_source[j]),
                             slack,
                         },
-                        _ => Binding {
+                        (true, _) => Binding {
                             joint: None,
                             limit: Limit::Slowed,
+                            slack,
+                        },
+                        _ => Binding {
+                            joint: None,
+                            limit: Limit::Played,
                             slack,
                         },
                     };
                 }
                 for j in 0..dof {
                     let p = i * dof + j;
+                    let limit = self.limits.acceleration[j];
+                    let acceleration = self.grid.dq[p] * u + self.grid.ddq[p] * x;
+                    let slack = (limit - acceleration.abs()) / limit;
+                    if slack < best.slack {
+                        best = Binding {
+                            joint: Some(JointId(j)),
+                            limit: Limit::Acceleration,
+                            slack,
+                        };
+                    }
                     let tau = self.grid.a[p] * u + self.grid.b[p] * x + self.grid.c[p];
                     let [hi, lo] = self.lines[p];
                     let width = hi.at(x) + lo.at(x);

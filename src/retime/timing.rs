@@ -25,7 +25,8 @@ impl Profile {
             u[i] = (x[i + 1] - x[i]) / (2.0 * delta);
             t[i + 1] = t[i] + 2.0 * delta / (x[i].max(0.0).sqrt() + x[i + 1].max(0.0).sqrt());
         }
-        Profile { s, x, u, t }
+        let sdd = (0..n).map(|i| u[i.min(n.saturating_sub(2))]).collect();
+        Profile { s, x, u, t, sdd }
     }
 
     /// The duration of the timing (s).
@@ -58,8 +59,7 @@ impl Profile {
 /// The timing at its grid points as a trajectory of `joint_names`, as a controller is given it
 /// and `faze4 replay` plays it (a quintic between the points): positions q(s_i), velocities
 /// q'(s_i) ṡ_i and accelerations q'(s_i) s̈ + q''(s_i) ṡ_i², with s̈ at a point that of the
-/// interval starting there (the pair (s̈, ṡ²) TOPP-RA's stage keeps within the limits; the last
-/// point takes the last interval's). Times are rounded to whole nanoseconds, as the ROS formats
+/// interval starting there in TOPP-RA's own profile, [`Profile::sdd`]). Times are rounded to whole nanoseconds, as the ROS formats
 /// hold them, so the file written plays what the check played.
 pub fn timed_trajectory(profile: &Profile, spline: &PathSpline, joint_names: Vec<String>) -> TimedTrajectory {
     let dof = spline.dof();
@@ -68,7 +68,7 @@ pub fn timed_trajectory(profile: &Profile, spline: &PathSpline, joint_names: Vec
     let points = (0..n)
         .map(|i| {
             spline.eval(profile.s[i], &mut q, &mut dq, &mut ddq);
-            let (x, sd, sdd) = (profile.x[i], profile.x[i].sqrt(), profile.u[i.min(n - 2)]);
+            let (x, sd, sdd) = (profile.x[i], profile.x[i].sqrt(), profile.sdd[i]);
             TrajectoryPoint {
                 time_from_start: profile.t[i],
                 positions: q.clone(),
@@ -95,7 +95,8 @@ mod tests {
         for i in 0..4 {
             t[i + 1] = t[i] + 2.0 * 0.5 / (f64::sqrt(x[i]) + f64::sqrt(x[i + 1]));
         }
-        Profile { s, x, u, t }
+        let sdd = vec![2.0, 2.0, -2.0, -2.0, -2.0];
+        Profile { s, x, u, t, sdd }
     }
 
     /// Constant s̈ = ±2 from rest over s = 1 then back to rest: 1 s each way, s(t) = t².

@@ -140,7 +140,7 @@ fn played_line(played: &crate::retime::Played) -> String {
     format!(
         "{how}: {share} J{}'s {} limit (less the margin) at t = {:.3} s; the timing keeps the limits at its grid points only\n",
         played.joint + 1,
-        if played.speed { "speed" } else { "torque" },
+        played.limit,
         played.t
     )
 }

@@ -324,7 +324,7 @@ pub fn most_asked(
     let mut data = Data::new(model);
     let (mut q, mut dq, mut ddq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut most = (0.0, 0, 0, 0.0);
-    for (i, &u) in profile.u.iter().enumerate() {
+    for (i, &u) in profile.sdd.iter().enumerate() {
         let x = profile.x[i];
         path.eval(profile.s[i], &mut q, &mut dq, &mut ddq);
         let qd: Vec<f64> = dq.iter().map(|d| d * x.sqrt()).collect();
