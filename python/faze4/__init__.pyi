@@ -437,6 +437,8 @@ def retime(
     margin: float = 0.3,
     attempts: int = 8,
     force: bool = False,
+    max_accel: str | Sequence[float | None] | np.ndarray | None = None,
+    max_jerk: str | Sequence[float | None] | np.ndarray | None = None,
     xacro_arg: Sequence[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
     balance_inertia: bool = False,
