@@ -527,24 +527,30 @@ fn rest_pose(model: &Model) -> Vec<f64> {
 }
 
 /// No false "nothing follows" (issue 46): a straight move of 0.1 and 0.5 rad of every joint
-/// alone is timed on three arms under constant limits (with the URDF's damping), steppers
-/// (`--motors faze4`) and DC servos (`sts3215`, `xm540-w270`). Under main's solver the Faze4's
+/// alone, and two curved 5-point paths, are timed on five arms (the Faze4, the UR5, the Panda,
+/// our rotor_arm, the SO-101) under constant limits (with the URDF's damping), steppers
+/// (`--motors faze4`) and DC servos (`sts3215`, `xm540-w270`), each keeping every limit as a
+/// controller plays it. Under main's solver the Faze4's
 /// J2 0.5 rad with its steppers (a sound line below the pull-out curve out to the motor's top
 /// speed started below the holding torque) and its wrist moves J4–J6 (a line below the damping
 /// taken at the relaxed profile's speed started below zero at rest) were refused. Every motored
 /// timing keeps each envelope at every grid point (less the margin), and none is faster than
 /// its relaxed bound.
 #[test]
-fn a_straight_move_of_every_joint_is_timed_on_three_arms() {
+fn straight_moves_of_every_joint_and_curved_paths_are_timed_on_five_arms() {
     use faze4::control::catalog::{sts3215, xm540_w270};
     let faze4_arm = faze4::faze4::model();
     let ur5 = common::load("tests/urdf/example_robot_data/ur5_robot.urdf");
     let so101 = common::load("tests/urdf/example_robot_data/so101.urdf");
+    let panda = common::load("tests/urdf/example_robot_data/panda.urdf");
+    let ours = common::load("tests/urdf/rotor_arm.urdf");
     let every = |m: fn(Option<f64>) -> faze4::control::JointMotor, n: usize| Some(vec![Some(m(None)); n]);
     let cases = [
         ("Faze4, constant", &faze4_arm, None),
         ("Faze4, steppers", &faze4_arm, Some(faze4::faze4::motors::faze4(None))),
         ("UR5, constant", &ur5, None),
+        ("Panda, constant", &panda, None),
+        ("rotor_arm (ours), constant", &ours, None),
         ("SO-101, sts3215", &so101, every(sts3215, so101.dof())),
         ("SO-101, xm540-w270", &so101, every(xm540_w270, so101.dof())),
     ];
@@ -553,32 +559,65 @@ fn a_straight_move_of_every_joint_is_timed_on_three_arms() {
         let start = rest_pose(model);
         let mut fitted = model.clone();
         let envelopes = faze4::config::motors::fit(&mut fitted, motors.clone(), &[], &[]).unwrap();
-        for j in 0..model.dof() {
-            for amount in [0.1, 0.5] {
-                let path = straight(model, &start, j, amount);
-                let mut base = Scenario::builder(fitted.clone(), hold(&path));
-                if let Some(envelopes) = envelopes.clone() {
-                    base = base.motors(envelopes);
-                }
-                let timed = retime(&base, &path, &no_check())
-                    .unwrap_or_else(|e| panic!("{arm}: J{} by {amount} rad: {e}", j + 1));
-                let duration = timed.profile.duration();
-                assert!(duration.is_finite() && duration > 0.0, "{arm}: J{} by {amount}", j + 1);
-                assert!(
-                    timed.relaxed_duration <= duration * (1.0 + 1e-9),
-                    "{arm}: J{} by {amount}: {duration} vs {}",
-                    j + 1,
-                    timed.relaxed_duration
-                );
-                if let Some(motors) = &motors {
-                    let (share, worst, i, _) = most_asked(&fitted, motors, &path, &timed.profile);
+        let moves = (0..model.dof()).flat_map(|j| {
+            // within a short joint's range (the Panda's fingers move 4 cm)
+            let range = model.joints[j].upper - model.joints[j].lower;
+            [0.1, 0.5].map(|amount: f64| {
+                let amount = amount.min(0.5 * range);
+                (format!("J{} by {amount}", j + 1), straight(model, &start, j, amount))
+            })
+        });
+        let curved = (1..=2).map(|seed| (format!("curved path {seed}"), common::curved(model, 5, seed)));
+        for (what, path) in moves.chain(curved) {
+            let mut base = Scenario::builder(fitted.clone(), hold(&path));
+            if let Some(envelopes) = envelopes.clone() {
+                base = base.motors(envelopes);
+            }
+            let timed = match retime(&base, &path, &no_check()) {
+                Ok(timed) => timed,
+                // refused only where holding the arm still needs more than the joint may use
+                Err(Error::NothingFollows {
+                    s, joint: Some(joint), ..
+                }) if what.starts_with("curved") => {
+                    let scenario = base.clone().build().unwrap();
+                    let mut q = vec![0.0; model.dof()];
+                    path.position(s, &mut q);
+                    let zero = vec![0.0; model.dof()];
+                    let g = faze4::algo::rnea(&fitted, &mut Data::new(&fitted), &q, &zero, &zero)[joint.0];
+                    let (lo, hi) = match &scenario.motors {
+                        Some(m) => m[joint.0]
+                            .as_ref()
+                            .unwrap()
+                            .joint_bounds(fitted.joints[joint.0].gear_ratio, 0.0),
+                        None => (
+                            -scenario.controller.gains.effort[joint.0],
+                            scenario.controller.gains.effort[joint.0],
+                        ),
+                    };
                     assert!(
-                        share <= keep * (1.0 + 1e-9),
-                        "{arm}: J{} by {amount} rad: J{} needs {share} of its envelope at grid point {i}",
-                        j + 1,
-                        worst + 1
+                        g > keep * hi || g < keep * lo,
+                        "{arm}: {what}: refused at s = {s} but {joint} holds with {g}"
                     );
+                    continue;
                 }
+                Err(e) => panic!("{arm}: {what}: {e}"),
+            };
+            let duration = timed.profile.duration();
+            assert!(duration.is_finite() && duration > 0.0, "{arm}: {what}");
+            assert!(
+                timed.relaxed_duration <= duration * (1.0 + 1e-9),
+                "{arm}: {what}: {duration} vs {}",
+                timed.relaxed_duration
+            );
+            // as a controller plays it, every limit kept between the points too
+            assert!(timed.played.worst <= 1.0 + 1e-6, "{arm}: {what}: {:?}", timed.played);
+            if let Some(motors) = &motors {
+                let (share, worst, i, _) = most_asked(&fitted, motors, &path, &timed.profile);
+                assert!(
+                    share <= keep * (1.0 + 1e-9),
+                    "{arm}: {what}: J{} needs {share} of its envelope at grid point {i}",
+                    worst + 1
+                );
             }
         }
     }

@@ -8,36 +8,11 @@
 mod common;
 
 use faze4::algo::{Data, rnea};
-use faze4::model::Model;
 use faze4::retime::{DEFAULT_MARGIN, PathSpline, RetimeOptions, command, hold, retime};
 use faze4::sim::Scenario;
 
 /// Samples per interval of the written trajectory.
 const SAMPLES: usize = 20;
-
-/// `n` points of a curved path inside `model`'s limits (a fixed pseudo-random walk from the
-/// middle of each joint's range, each point within the middle 30 %).
-fn curved(model: &Model, n: usize, seed: u64) -> PathSpline {
-    let mut state = seed;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let points: Vec<Vec<f64>> = (0..n)
-        .map(|_| {
-            (model.joints.iter())
-                .map(|j| {
-                    let (lo, hi) = (j.lower.max(-3.0), j.upper.min(3.0));
-                    let mid = 0.5 * (lo + hi);
-                    mid + 0.3 * (next() - 0.5) * (hi - lo)
-                })
-                .collect()
-        })
-        .collect();
-    PathSpline::through(&points).unwrap()
-}
 
 /// The most the played trajectory asks of a limit: the largest of |q̇|/v̄ and τ/bound over
 /// joints and samples, τ the inverse dynamics plus damping, bound the torque limit (and the
@@ -102,14 +77,14 @@ fn the_played_trajectory_keeps_every_limit_between_its_points() {
             Some(faze4::faze4::motors::faze4(None)),
             circle,
         ),
-        ("Faze4, constant", &faze4_arm, None, curved(&faze4_arm, 5, 3)),
-        ("UR5, constant", &ur5, None, curved(&ur5, 5, 1)),
-        ("Panda, constant", &panda, None, curved(&panda, 5, 2)),
+        ("Faze4, constant", &faze4_arm, None, common::curved(&faze4_arm, 5, 3)),
+        ("UR5, constant", &ur5, None, common::curved(&ur5, 5, 1)),
+        ("Panda, constant", &panda, None, common::curved(&panda, 5, 2)),
         (
             "SO-101, sts3215",
             &so101,
             Some(vec![Some(sts3215(None)); so101.dof()]),
-            curved(&so101, 9, 4),
+            common::curved(&so101, 9, 4),
         ),
     ];
     // the default timing (no check run): kept as played by default, not by a flag

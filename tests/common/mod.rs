@@ -346,3 +346,27 @@ pub fn most_asked(
     }
     most
 }
+
+/// `n` points of a curved path inside `model`'s limits (a fixed pseudo-random walk from the
+/// middle of each joint's range, each point within the middle 30 %).
+pub fn curved(model: &Model, n: usize, seed: u64) -> PathSpline {
+    let mut state = seed;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let points: Vec<Vec<f64>> = (0..n)
+        .map(|_| {
+            (model.joints.iter())
+                .map(|j| {
+                    let (lo, hi) = (j.lower.max(-3.0), j.upper.min(3.0));
+                    let mid = 0.5 * (lo + hi);
+                    mid + 0.3 * (next() - 0.5) * (hi - lo)
+                })
+                .collect()
+        })
+        .collect();
+    PathSpline::through(&points).unwrap()
+}
