@@ -11,14 +11,13 @@ use super::motors::Motors;
 use super::{ArmConfig, Center, Motion, ReplayConfig, RetimeConfig, RunConfig};
 use crate::atomic::Inputs;
 use crate::error::{Error, Result, quoted, shortest};
-use crate::faze4::{BOARD, SHAPE_PERIOD};
 use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Play, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
 use crate::traj::files::{self, Content, Selection};
-use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, shape};
 
 /// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
 #[derive(Clone, Debug)]
@@ -397,10 +396,18 @@ fn fitted(bare: &Arm, config: &ArmConfig) -> Result<Arm> {
     Ok(arm)
 }
 
-/// The shape's plan on the original's board ([`crate::faze4::BOARD`], a loop every
-/// [`crate::faze4::SHAPE_PERIOD`]).
-fn plan(arm: &Arm, shape: crate::traj::shape::Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
-    ShapeRun::plan(&arm.robot.model, arm.tool, shape, points, BOARD, SHAPE_PERIOD)
+/// The shape's plan on the arm's board ([`shape::board`]: its maker's, else one from its
+/// reach), a loop every [`shape::PERIOD`].
+fn plan(arm: &Arm, which: shape::Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
+    let model = &arm.robot.model;
+    ShapeRun::plan(
+        model,
+        arm.tool,
+        which,
+        points,
+        shape::board(model, arm.tool),
+        shape::PERIOD,
+    )
 }
 
 /// The clearance settings of `config` (`None`: no clearance).
