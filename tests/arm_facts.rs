@@ -126,7 +126,7 @@ fn built_in_meshes_belong_to_the_bundled_arm() {
 }
 
 /// A board from an arm's reach: the chain's length R from its first joint (at its base) to the
-/// tool, the board R·(0, −0.3, 0.45) from the base, 0.45·R wide, 0.88 times as tall; twice the
+/// tool, the board R·(0, −0.5, 0.45) from the base, 0.35·R wide, 0.88 times as tall; twice the
 /// arm, twice the board about its base. The Faze4 keeps the original's board.
 #[test]
 fn a_board_follows_the_arms_reach() {
@@ -138,16 +138,16 @@ fn a_board_follows_the_arms_reach() {
         assert_eq!(base, Vec3::new(0.0, 0.0, 0.05));
         assert!((r - (5.0 * link + 0.1)).abs() < 1e-15, "{r}");
         let board = shape::board(&robot.model, tool);
-        assert!((board.center - (base + Vec3::new(0.0, -0.3 * r, 0.45 * r))).norm() < 1e-15);
-        assert!((board.width - 0.45 * r).abs() < 1e-15 && (board.height - 0.88 * board.width).abs() < 1e-15);
+        assert!((board.center - (base + Vec3::new(0.0, -0.5 * r, 0.45 * r))).norm() < 1e-15);
+        assert!((board.width - 0.35 * r).abs() < 1e-15 && (board.height - 0.88 * board.width).abs() < 1e-15);
         // the shapes scale with the board: the circle's radius is 0.32 of its width
         let circle = Shape::Circle.targets(4, &board);
         assert!(((circle[0] - board.center).norm() - 0.32 * board.width).abs() < 1e-12);
     }
     let faze4 = Robot::faze4();
     assert_eq!(shape::board(&faze4.model, faze4.model.default_tool_frame()), BOARD);
-    // the rule on the Faze4 (docs/model.md 4.3): R = 0.903 m, the board at (0.076, −0.484,
-    // 0.457) m, 0.41 m wide; the Faze4 keeps the original's
+    // the rule on the Faze4 (docs/model.md 4.3): R = 0.903 m, the board at (0.076, −0.664,
+    // 0.457) m, 0.32 m wide; the Faze4 keeps the original's
     let mut bare = faze4.model.clone();
     bare.defaults = ArmDefaults::default();
     let tool = bare.default_tool_frame();
@@ -155,27 +155,49 @@ fn a_board_follows_the_arms_reach() {
     assert_eq!(round(shape::reach(&bare, tool).1, 3), 0.903);
     let rule = shape::board(&bare, tool);
     let c = rule.center;
-    assert_eq!((round(c.x, 3), round(c.y, 3), round(c.z, 3)), (0.076, -0.484, 0.457));
-    assert_eq!(round(rule.width, 2), 0.41);
+    assert_eq!((round(c.x, 3), round(c.y, 3), round(c.z, 3)), (0.076, -0.664, 0.457));
+    assert_eq!(round(rule.width, 2), 0.32);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// On a public arm (example-robot-data's UR5, its `tool0`), the shapes are drawn on its own
-/// board: every target on the board's plane, inside it, and reached by the IK.
+/// On public arms (example-robot-data's UR5, Panda and SO-101, MuJoCo Menagerie's UR5e and
+/// Panda, the SO-101's MJCF), each with its default tool frame, the three shapes are drawn on
+/// the arm's own board at the default 240 samples: every target on the board's plane, inside it,
+/// and reached by the IK (docs/model.md 4.3).
 #[test]
-fn a_public_arm_draws_its_shapes_on_its_own_board() {
-    let robot = read(&repo_path("tests/urdf/example_robot_data/ur5_robot.urdf"));
-    let tool: FrameId = robot.model.frame_index("tool0").unwrap();
-    let board = shape::board(&robot.model, tool);
-    assert_ne!(board, BOARD);
-    for which in Shape::ALL {
-        let (_, run) = ShapeRun::plan(&robot.model, tool, which, 60, board, shape::PERIOD).unwrap();
-        assert_eq!(run.board, board);
-        assert!(run.ik_max_residual_m < 1e-9, "{which:?}: {}", run.ik_max_residual_m);
-        for p in &run.reference {
-            assert_eq!(p.y, board.center.y);
-            assert!((p.x - board.center.x).abs() <= board.width / 2.0, "{which:?} {p:?}");
-            assert!((p.z - board.center.z).abs() <= board.height / 2.0, "{which:?} {p:?}");
+fn public_arms_draw_their_shapes_on_their_own_boards() {
+    for arm in [
+        "tests/urdf/example_robot_data/ur5_robot.urdf",
+        "tests/urdf/example_robot_data/panda.urdf",
+        "tests/urdf/example_robot_data/so101.urdf",
+        "tests/mjcf/menagerie/ur5e.xml",
+        "tests/mjcf/menagerie/panda.xml",
+        "tests/mjcf/so101/scene.xml",
+    ] {
+        let robot = read(&repo_path(arm));
+        let tool: FrameId = robot.model.default_tool_frame();
+        let board = shape::board(&robot.model, tool);
+        assert_ne!(board, BOARD);
+        for which in Shape::ALL {
+            let planned = ShapeRun::plan(&robot.model, tool, which, 240, board, shape::PERIOD);
+            let (_, run) = planned.unwrap_or_else(|e| panic!("{arm} {which:?}: {e}"));
+            assert_eq!(run.board, board);
+            assert!(
+                run.ik_max_residual_m < 1e-9,
+                "{arm} {which:?}: {}",
+                run.ik_max_residual_m
+            );
+            for p in &run.reference {
+                assert_eq!(p.y, board.center.y);
+                assert!(
+                    (p.x - board.center.x).abs() <= board.width / 2.0,
+                    "{arm} {which:?} {p:?}"
+                );
+                assert!(
+                    (p.z - board.center.z).abs() <= board.height / 2.0,
+                    "{arm} {which:?} {p:?}"
+                );
+            }
         }
     }
 }

@@ -22,20 +22,20 @@ pub const SHAPES_WIDTH: f64 = 0.50;
 /// Time for one loop of a shape (s), on every arm.
 pub const PERIOD: f64 = 5.0;
 
-/// A board from an arm's reach R ([`reach`]): its centre `REACH_DEPTH`·R in front of the arm's
-/// base (along −y, where the original's board stands) ...
-pub const REACH_DEPTH: f64 = 0.3;
-/// ... and `REACH_HEIGHT`·R above it ...
+/// How far in front of an arm's base (along −y, where the original's board stands) a board
+/// from its reach R ([`board`]) stands, in R.
+pub const REACH_DEPTH: f64 = 0.5;
+/// How high above the arm's base that board's centre is, in R.
 pub const REACH_HEIGHT: f64 = 0.45;
-/// ... `REACH_WIDTH`·R wide (the shapes scaled with it) ...
-pub const REACH_WIDTH: f64 = 0.45;
-/// ... and as tall, for its width, as the original's (0.44 m for 0.50 m).
+/// That board's width, in R (the shapes scaled with it).
+pub const REACH_WIDTH: f64 = 0.35;
+/// That board's height for its width: the original's (0.44 m for 0.50 m).
 pub const REACH_ASPECT: f64 = 0.88;
 
 /// The board `model` draws its shapes on with `tool` as the pen: its maker's
 /// ([`crate::model::ArmDefaults::board`]), else one from its reach R ([`reach`]): the vertical
 /// plane [`REACH_DEPTH`]·R in front of its base (along −y), centred [`REACH_HEIGHT`]·R above
-/// it, [`REACH_WIDTH`]·R wide and [`REACH_ASPECT`] times as tall (docs/model.md, 4.2).
+/// it, [`REACH_WIDTH`]·R wide and [`REACH_ASPECT`] times as tall (docs/model.md, 4.3: the ratios with which the shapes' IK reaches on six public arms).
 pub fn board(model: &Model, tool: FrameId) -> Board {
     if let Some(board) = model.defaults.board {
         return board;
