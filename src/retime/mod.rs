@@ -5,9 +5,11 @@
 //! limits become rows linear in x = ṡ² and u = s̈ (`grid.rs`, `envelope.rs`, `limits.rs`);
 //! TOPP-RA's backward and forward passes give the time-optimal profile under them (`reach.rs`),
 //! iterated with lines tangent to the motors' speed-dependent envelopes and each profile
-//! checked against them at every grid point (`solve.rs`); the timing is then played in
-//! faze4's closed loop, and where it does not follow the segments where it failed are slowed
-//! and it is tried again (`check.rs`).
+//! checked against them at every grid point (`solve.rs`); that profile is averaged over a
+//! window so that s̈ is continuous and 0 at both ends (`smooth.rs`), and the trajectory written
+//! is sampled as a controller plays it, TOPP-RA capped where it passes a limit between the
+//! points (`played.rs`); the timing is then played in faze4's closed loop, and where it does
+//! not follow the segments where it failed are slowed and it is tried again (`check.rs`).
 //!
 //! ```no_run
 //! use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
