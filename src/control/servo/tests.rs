@@ -96,6 +96,23 @@ fn more_supply_holds_more() {
     assert!(s.trip.is_none() && q > -0.25, "{q} {:?}", s.trip);
 }
 
+/// The model's current at stall at 7.4 V, τ_s ω₀ / V = 1.41 A, is below the STS3215's assumed
+/// 3.25 A protection current: a stalled servo at full duty for 3 s trips its overload
+/// protection, never its over-current one.
+#[test]
+fn the_sts3215_current_at_stall_is_below_its_protection_current() {
+    let spec = sts3215_servo(None);
+    let stall_current = spec.stall_torque * spec.no_load_speed / spec.supply;
+    assert!((stall_current - 1.41).abs() < 0.005, "{stall_current}");
+    let mut s = ServoState::default();
+    s.send(0, 1.0);
+    for k in 0..15000 {
+        spec.step(&mut s, 0.0, 0.0, k as f64 * DT, DT);
+    }
+    assert_eq!(s.trip.map(|t| t.kind), Some(TripKind::Overload));
+    assert!(!s.off);
+}
+
 /// Feetech: above the overload torque for the protection time the output is limited to the
 /// protective torque; it recovers when the loop asks for less.
 #[test]
