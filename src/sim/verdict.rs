@@ -18,7 +18,7 @@ use std::fmt;
 use serde::{Serialize, Serializer};
 
 use super::check::non_negative;
-use super::{DriveMode, ROBUST_DAMPING_RATIO, Ringing, SlipMargin, StepLoss, Summary};
+use super::{DriveMode, MotorSummary, ROBUST_DAMPING_RATIO, Ringing, SlipMargin, StepLoss, Summary};
 use crate::choice::Choice;
 use crate::error::quoted;
 use crate::model::JointId;
@@ -420,36 +420,7 @@ impl Verdict {
         for (joint, m) in (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
             .filter_map(|(j, m)| m.as_ref().map(|m| (j, m)))
         {
-            // an open-loop stepper asks for nothing: its slips are the reason, not a demand
-            if m.drive == DriveMode::Pd.word() && m.envelope_pct > thresholds.max_saturation_pct {
-                reasons.push(Reason::EnvelopeSaturates {
-                    joint,
-                    pct: m.envelope_pct,
-                    limit: thresholds.max_saturation_pct,
-                });
-            }
-            if let Some(loss) = m.step_loss {
-                reasons.push(Reason::LosesSteps { joint, loss });
-            }
-            if let (Some(Some(t)), Some(steps_lost), Some(position_lost)) =
-                (m.loses_steps_at, m.steps_lost, m.position_lost)
-            {
-                reasons.push(Reason::Slips {
-                    joint,
-                    t,
-                    steps_lost,
-                    position_lost,
-                    prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
-                    ringing: m.ringing,
-                });
-            }
-            if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {
-                reasons.push(Reason::Overheats {
-                    joint,
-                    rms: m.rms_torque,
-                    continuous,
-                });
-            }
+            motor_reasons(joint, m, thresholds, prismatic, &mut reasons);
         }
         if let Some(d) = &summary.path_deviation_mm
             && (d.max > thresholds.max_deviation_mm || d.max.is_nan())
@@ -459,18 +430,7 @@ impl Verdict {
                 limit: thresholds.max_deviation_mm,
             });
         }
-        let marginal = (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
-            .filter_map(|(joint, m)| {
-                let m = m.as_ref()?;
-                let ringing = m
-                    .ringing
-                    .filter(|r| matches!(r.slips_below, Some(SlipMargin::Below(_))))?;
-                m.loses_steps_at
-                    .flatten()
-                    .is_none()
-                    .then_some(NearSlip { joint, ringing })
-            })
-            .collect();
+        let marginal = near_slips(summary);
         Verdict {
             follows: reasons.is_empty(),
             collides: false,
@@ -489,6 +449,62 @@ impl Verdict {
         }
         self
     }
+}
+
+/// The reasons joint `joint`'s motor `m` gives not to follow, appended to `reasons`: a PD's
+/// demand beyond the envelope too often, a stepper's step loss or slip, an RMS torque over the
+/// continuous rating.
+fn motor_reasons(
+    joint: JointId,
+    m: &MotorSummary,
+    thresholds: &Thresholds,
+    prismatic: &[bool],
+    reasons: &mut Vec<Reason>,
+) {
+    // an open-loop stepper asks for nothing: its slips are the reason, not a demand
+    if m.drive == DriveMode::Pd.word() && m.envelope_pct > thresholds.max_saturation_pct {
+        reasons.push(Reason::EnvelopeSaturates {
+            joint,
+            pct: m.envelope_pct,
+            limit: thresholds.max_saturation_pct,
+        });
+    }
+    if let Some(loss) = m.step_loss {
+        reasons.push(Reason::LosesSteps { joint, loss });
+    }
+    if let (Some(Some(t)), Some(steps_lost), Some(position_lost)) = (m.loses_steps_at, m.steps_lost, m.position_lost) {
+        reasons.push(Reason::Slips {
+            joint,
+            t,
+            steps_lost,
+            position_lost,
+            prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
+            ringing: m.ringing,
+        });
+    }
+    if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {
+        reasons.push(Reason::Overheats {
+            joint,
+            rms: m.rms_torque,
+            continuous,
+        });
+    }
+}
+
+/// The open-loop steppers of `summary` that did not slip but would with less damping.
+fn near_slips(summary: &Summary) -> Vec<NearSlip> {
+    (JointId::all(summary.dof).zip(summary.motors.iter().flatten()))
+        .filter_map(|(joint, m)| {
+            let m = m.as_ref()?;
+            let ringing = m
+                .ringing
+                .filter(|r| matches!(r.slips_below, Some(SlipMargin::Below(_))))?;
+            m.loses_steps_at
+                .flatten()
+                .is_none()
+                .then_some(NearSlip { joint, ringing })
+        })
+        .collect()
 }
 
 impl fmt::Display for Verdict {

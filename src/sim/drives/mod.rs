@@ -221,3 +221,57 @@ fn with_friction(s: &Step, i: usize, tau: f64, most: f64) -> f64 {
     let stop = -(s.data.m[(i, i)] * s.state.v[i] / s.state.dt + tau - s.data.bias[i]);
     tau + stop.clamp(-most, most)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::{Envelope, Stepping};
+
+    /// The Faze4's J1 stepper, or (`stepper` false) a DC motor (no steps to lose).
+    fn motor(stepper: bool) -> Motor {
+        let mut m = (crate::faze4::motors::faze4(None).swap_remove(0))
+            .expect("J1's motor")
+            .motor;
+        if !stepper {
+            m.envelope = Envelope::Dc {
+                stall_torque: 1.0,
+                no_load_speed: 10.0,
+                peak_torque: 1.0,
+            };
+            m.stepping = None::<Stepping>;
+        }
+        m
+    }
+
+    /// Each drive's word is its mode's, said once, with a sentence of its own; the PD drives
+    /// every joint under `drive` pd and the joints without a stepper under `drive` stepper,
+    /// which refuses an arm without motors or without any stepper, naming `drive`.
+    #[test]
+    fn each_drive_is_registered_once() {
+        let words: Vec<&str> = DriveMode::VALUES.iter().map(|d| d.word()).collect();
+        assert_eq!(words, ["pd", "stepper"]);
+        let about: Vec<&str> = DriveMode::VALUES.iter().map(|d| d.about()).collect();
+        assert!(about[0] != about[1] && about.iter().all(|a| a.len() > 40), "{about:?}");
+
+        let pd = Drive::Pd.joints(None, 3).unwrap();
+        assert_eq!(pd, [JointDrive::Pd; 3]);
+        assert!(
+            pd.iter()
+                .all(|d| d.word() == "pd" && !d.open_loop() && d.stepper().is_none())
+        );
+
+        let stepper = Drive::Stepper(StepperOptions::default());
+        let motors = [Some(motor(true)), None, Some(motor(false))];
+        let drives = stepper.joints(Some(&motors), 3).unwrap();
+        assert!(matches!(drives[0], JointDrive::Stepper(_)) && drives[0].open_loop());
+        assert_eq!(drives[0].word(), "stepper");
+        assert_eq!(drives[1..], [JointDrive::Pd, JointDrive::Pd]);
+        assert!(matches!(drives[0].record(), DriveRecord::Stepper(_)));
+        assert!(matches!(drives[2].record(), DriveRecord::Pd(_)));
+
+        for motors in [None, Some(&[None, Some(motor(false))][..])] {
+            let e = stepper.joints(motors, 2).unwrap_err().to_string();
+            assert!(e.contains("`drive`"), "{e}");
+        }
+    }
+}
