@@ -520,3 +520,56 @@ fn nesting_and_body_counts_are_capped() {
     let e = mjcf::describe_str(&wide, "wide.xml", None).unwrap_err().to_string();
     assert!(e.contains("more than the 4096 faze4 reads"), "{e}");
 }
+
+/// The notes that name an option (`<option gravity>` not simulated, the `home` keyframe as the
+/// start pose) name it in each front end's words: the command line's banner `--no-gravity` and
+/// `--center home`, the summary (every front end's) the fields `no_gravity` and `center`; no
+/// flag reaches the summary.
+#[test]
+fn mapped_notes_name_options_in_each_front_ends_words() {
+    let dir = temp_dir("mjcf-mapped-words");
+    let body = "<inertial pos=\"0 0 -0.1\" mass=\"1\" diaginertia=\"0.01 0.01 0.01\"/>";
+    let xml = format!(
+        "<mujoco><option gravity=\"0 0 -3\"/><worldbody><body name=\"b\">{body}<joint name=\"j\" \
+         range=\"-60 60\" limited=\"true\"/></body></worldbody><keyframe><key name=\"home\" \
+         qpos=\"0.2\"/></keyframe></mujoco>"
+    );
+    std::fs::write(dir.join("arm.xml"), xml).unwrap();
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--robot",
+            "arm.xml",
+            "--center",
+            "home",
+            "--duration",
+            "0.01",
+            "--summary",
+            "s.json",
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    let banner = run.stdout.lines().find(|l| l.starts_with("[faze4] mapped from mjcf: "));
+    let banner = banner.unwrap_or_else(|| panic!("no mapped line: {}", run.stdout));
+    assert!(
+        banner.contains("keyframe home → start pose (--center home) (1)"),
+        "{banner}"
+    );
+    assert!(banner.contains("9.81 m/s² down (--no-gravity: none) (1)"), "{banner}");
+    let s = summary(&dir, "s.json");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let to = |from: &str| {
+        let m = s["mapped"].as_array().unwrap().iter().find(|m| m["from"] == from);
+        m.unwrap_or_else(|| panic!("{from} not in {}", s["mapped"]))["to"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(to("keyframe home"), "start pose (center home)");
+    assert_eq!(
+        to("option gravity"),
+        "not simulated: faze4's gravity is 9.81 m/s² down (no_gravity: none)"
+    );
+    assert!(!s["mapped"].to_string().contains("--"), "{}", s["mapped"]);
+}

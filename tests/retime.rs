@@ -418,6 +418,15 @@ fn retime_then_replay_follows_on_the_binary() {
     let last = run.stdout.lines().last().unwrap();
     assert_eq!(last, "verdict: follows", "{}", run.stdout);
     assert!(run.stdout.starts_with("retime: "), "{}", run.stdout);
+    // the grid-point timing, played as ros2_control plays it, asks more than a torque limit
+    // between the points (docs/retime.md, "Between the grid points"), and says so
+    let played_line = (run.stdout.lines())
+        .find_map(|l| {
+            l.strip_prefix("as played (quintic between the written points, checked every 1/20 of an interval): up to ")
+        })
+        .unwrap_or_else(|| panic!("no played line: {}", run.stdout));
+    let share: f64 = played_line.split('x').next().unwrap().parse().unwrap();
+    assert!(share > 1.0 && played_line.contains("torque limit"), "{played_line}");
     assert!(std::fs::read_to_string(dir.join("phase.svg")).unwrap().contains("<svg"));
     let retimed = common::summary(&dir, "retimed.json");
     let played = common::faze4(

@@ -95,6 +95,7 @@ fn constant_limits(name: &str, arm_name: &str) -> (String, f64) {
     let bare = RetimeOptions {
         margin: 0.0,
         check: false,
+        between_points: false,
         intervals: f["intervals"].as_u64().unwrap() as usize,
         ..RetimeOptions::default()
     };

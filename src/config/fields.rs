@@ -538,6 +538,15 @@ macro_rules! optional_number {
     };
 }
 
+/// A flag's value for the field `name`: on or off as given, off by default.
+fn flag_value(name: &str, v: Value) -> Result<bool> {
+    match v {
+        Value::Flag(on) => Ok(on),
+        Value::Default => Ok(false),
+        other => Err(wrong(name, Kind::Flag, &other)),
+    }
+}
+
 /// A flag every command has.
 macro_rules! flag {
     ($name:literal, $($path:ident).+) => {
@@ -546,11 +555,7 @@ macro_rules! flag {
             Kind::Flag,
             Commands::ALL,
             |c, v| {
-                c.$($path).+ = match v {
-                    Value::Flag(on) => on,
-                    Value::Default => false,
-                    other => return Err(wrong($name, Kind::Flag, &other)),
-                };
+                c.$($path).+ = flag_value($name, v)?;
                 Ok(())
             },
             None,
@@ -934,11 +939,7 @@ pub const FIELDS: &[Field] = &[
         Kind::Flag,
         Commands::RETIME,
         |c, v| {
-            let on = match v {
-                Value::Flag(on) => on,
-                Value::Default => false,
-                other => return Err(wrong("force", Kind::Flag, &other)),
-            };
+            let on = flag_value("force", v)?;
             if let Some(r) = retime(c) {
                 r.force = on;
             }

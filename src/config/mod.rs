@@ -368,6 +368,7 @@ impl RetimeConfig {
             margin: self.margin,
             check: true,
             attempts: self.attempts,
+            between_points: false,
             stop,
         }
     }

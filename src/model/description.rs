@@ -35,7 +35,9 @@ pub struct RobotDescription {
 pub struct Mapping {
     /// What the file says, in its own words (`armature`, `forcerange`, `frictionloss`).
     pub from: String,
-    /// What faze4 made of it (`rotor inertia`, `effort limit`), or why it was left out.
+    /// What faze4 made of it (`rotor inertia`, `effort limit`), or why it was left out; a run
+    /// option it names is written `` `field` ``, for each front end to word
+    /// ([`crate::error::in_words`]).
     pub to: String,
     /// The elements concerned (joint, actuator or geom names), in document order.
     pub items: Vec<String>,

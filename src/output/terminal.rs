@@ -118,13 +118,14 @@ fn origin(m: &crate::model::Model) -> String {
 }
 
 /// The banner's line of what reading the model mapped onto faze4's terms or left out, each with
-/// the number of elements concerned (`None` when nothing was: a URDF, a xacro file).
-fn mapped_line(m: &crate::model::Model) -> Option<String> {
+/// the number of elements concerned (`None` when nothing was: a URDF, a xacro file), the
+/// options it names in `words`.
+fn mapped_line(m: &crate::model::Model, words: Words) -> Option<String> {
     if m.mapped.is_empty() {
         return None;
     }
     let mapped: Vec<String> = (m.mapped.iter())
-        .map(|x| format!("{} → {} ({})", x.from, x.to, x.items.len()))
+        .map(|x| format!("{} → {} ({})", x.from, in_words(&x.to, words), x.items.len()))
         .collect();
     Some(format!("[faze4] mapped from {}: {}", m.format, mapped.join(" · ")))
 }
@@ -215,7 +216,7 @@ impl Recorder for Terminal {
             for_people(run.steps as f64 * run.dt),
             run.steps
         ))?;
-        if let Some(line) = mapped_line(m) {
+        if let Some(line) = mapped_line(m, self.words) {
             out(&line)?;
         }
         // how a default tool was chosen, said only where it is not the chain's obvious one

@@ -120,6 +120,31 @@ pub fn retime(
     })
 }
 
+/// What the written trajectory asks of the limits as a controller plays it (a quintic between
+/// its points, checked every 1/[`crate::retime::SAMPLES`] of an interval), beyond the grid points where
+/// the timing keeps them.
+fn played_line(played: &crate::retime::Played) -> String {
+    // round-off of the profile's own bounds: a share this close to 1 is the limit itself
+    const KEPT: f64 = 1.0 + 1e-6;
+    let how = format!(
+        "as played (quintic between the written points, checked every 1/{} of an interval)",
+        crate::retime::SAMPLES
+    );
+    if played.worst <= KEPT {
+        return format!("{how}: every limit kept, at most {:.3} of one\n", played.worst);
+    }
+    let share = match played.worst.is_finite() {
+        true => format!("up to {:.2}x", played.worst),
+        false => String::from("beyond (its motor gives no torque that way at that speed)"),
+    };
+    format!(
+        "{how}: {share} J{}'s {} limit (less the margin) at t = {:.3} s; the timing keeps the limits at its grid points only\n",
+        played.joint + 1,
+        if played.speed { "speed" } else { "torque" },
+        played.t
+    )
+}
+
 /// The lines a retime prints before its verdict: the duration and the speed-up over the
 /// input's own timing, what binds along the path (consecutive segments with the same limit
 /// as one range of s and t), and the check (and whether `out` was written; options named as
@@ -153,6 +178,7 @@ pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) ->
             p.t[last + 1]
         ));
     }
+    text.push_str(&played_line(&retimed.played));
     if let Some(c) = &retimed.check {
         text.push_str(&format!(
             "checked in the closed loop: {} run{}, {} grid point{} slowed{}\n",

@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::{Scenario, Sizing, SlipMargin, Verdict};
 use crate::control::{FeedForward, Gains};
+use crate::error::{Words, in_words};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
 use crate::model::{Geometry, JointId, Mapping, ToolChoice};
@@ -35,7 +36,8 @@ pub struct Simulated {
     pub format: String,
     /// What reading the file mapped onto faze4's terms or left out (MJCF's `armature` as rotor
     /// inertia, its world geoms left out, its springs not simulated), each with the
-    /// elements concerned; empty for a URDF.
+    /// elements concerned; empty for a URDF. An option it names is in field words
+    /// (`center home`), the summary being every front end's.
     pub mapped: Vec<Mapping>,
 }
 
@@ -62,7 +64,12 @@ impl Simulated {
             },
             meshes: sc.meshes.clone(),
             format: model.format.clone(),
-            mapped: model.mapped.clone(),
+            mapped: (model.mapped.iter())
+                .map(|m| Mapping {
+                    to: in_words(&m.to, Words::Keywords),
+                    ..m.clone()
+                })
+                .collect(),
         }
     }
 }

@@ -225,6 +225,35 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
     inputs.check(&meta_path(out), "`out`")?;
     let parts: Vec<Part> = tables.iter().map(|p| Part::open(p)).collect::<Result<_>>()?;
     let first = &parts[0];
+    same_sweep(&parts)?;
+    let held = held_once(&parts)?;
+    let total = first.meta.runs_total;
+    let absent = gaps(0..total, held.iter().map(|(r, _)| r.clone()));
+    let absent_text = check_absent(&parts, &absent, allow_partial)?;
+    let columns = first.meta.columns.clone();
+    let textual = textual_columns(&parts, columns.len())?;
+    let mut table = TableWriter::create(out, out_format)?;
+    table.set_columns(columns.clone())?;
+    write_rows(&mut table, &parts, &held, &columns, &textual, out_format)?;
+    let rows = table.rows();
+    let mut meta = PartMeta {
+        shard: None,
+        complete: absent.is_empty(),
+        runs: coalesce(held.iter().map(|(r, _)| r.clone())),
+        ..first.meta.clone()
+    };
+    table.finish(Some(&mut meta))?;
+    Ok(Merged {
+        rows,
+        total,
+        absent: absent_text,
+    })
+}
+
+/// Refuses parts of different sweeps, or with different columns (a model or option changed
+/// between their tasks), naming the first that differs from the first part.
+fn same_sweep(parts: &[Part]) -> Result<()> {
+    let first = &parts[0];
     for part in &parts[1..] {
         if part.meta.sweep != first.meta.sweep || part.meta.runs_total != first.meta.runs_total {
             return Err(Error::argument(
@@ -263,7 +292,12 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             ));
         }
     }
-    // runs held twice
+    Ok(())
+}
+
+/// Every part's held run ranges, each with its part's index, in run order; refused when two
+/// ranges overlap (one part given twice, or two parts holding the same runs).
+fn held_once(parts: &[Part]) -> Result<Vec<(Range<usize>, usize)>> {
     let mut held: Vec<(Range<usize>, usize)> = (parts.iter().enumerate())
         .flat_map(|(i, p)| p.meta.held().map(move |r| (r, i)))
         .collect();
@@ -288,8 +322,14 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             return Err(Error::argument(MERGE, message));
         }
     }
-    let total = first.meta.runs_total;
-    let absent = gaps(0..total, held.iter().map(|(r, _)| r.clone()));
+    Ok(held)
+}
+
+/// Refuses runs no part holds (`absent`, out of the sweep's total) unless `allow_partial`, and a
+/// part stopped early whose absent runs no other part holds; the absent runs in words (with the
+/// parts they belong to) when they are allowed, `None` when none are.
+fn check_absent(parts: &[Part], absent: &[Range<usize>], allow_partial: bool) -> Result<Option<String>> {
+    let total = parts[0].meta.runs_total;
     let overlaps = |runs: &[Range<usize>]| {
         runs.iter()
             .any(|r| absent.iter().any(|a| a.start < r.end && r.start < a.end))
@@ -311,26 +351,29 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             ),
         ));
     }
-    let which = describe_absent(&absent, &parts, total);
+    let which = describe_absent(absent, parts, total);
     if !allow_partial && !absent.is_empty() {
         let message = match &which {
-            Some(parts) => format!("{parts} missing: {}", runs_text(&absent)),
-            None => format!("{} missing", runs_text(&absent)),
+            Some(parts) => format!("{parts} missing: {}", runs_text(absent)),
+            None => format!("{} missing", runs_text(absent)),
         };
         return Err(Error::argument(
             MERGE,
             format!("{message} (`allow_partial` merges without them)"),
         ));
     }
-    let absent_text = (!absent.is_empty()).then(|| match &which {
-        Some(parts) => format!("{} ({parts})", runs_text(&absent)),
-        None => runs_text(&absent),
-    });
+    Ok((!absent.is_empty()).then(|| match &which {
+        Some(parts) => format!("{} ({parts})", runs_text(absent)),
+        None => runs_text(absent),
+    }))
+}
 
-    // check every part's rows (and what its text cells are) before anything is written
-    let columns = first.meta.columns.clone();
-    let mut textual = vec![false; columns.len()];
-    for part in &parts {
+/// Which of the `n_columns` columns hold text in some row of some part (the others' text cells
+/// are numbers or booleans, typed again in a JSON table); every part's rows are read, so a
+/// truncated part is refused before anything is written.
+fn textual_columns(parts: &[Part], n_columns: usize) -> Result<Vec<bool>> {
+    let mut textual = vec![false; n_columns];
+    for part in parts {
         for row in part.rows()? {
             for (c, cell) in row.iter().enumerate() {
                 if let Cell::Text(t) = cell {
@@ -339,12 +382,22 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             }
         }
     }
-    let mut table = TableWriter::create(out, out_format)?;
-    table.set_columns(columns.clone())?;
+    Ok(textual)
+}
+
+/// The held ranges' rows into `table`, in run order.
+fn write_rows(
+    table: &mut TableWriter,
+    parts: &[Part],
+    held: &[(Range<usize>, usize)],
+    columns: &[String],
+    textual: &[bool],
+    out_format: Format,
+) -> Result<()> {
     // the held ranges in run order, each a slice of its part's rows (a merged table may hold
     // several ranges, with another part's between them)
     let mut loaded: Option<(usize, Vec<Vec<Cell>>)> = None;
-    for (range, i) in &held {
+    for (range, i) in held {
         if loaded.as_ref().is_none_or(|(j, _)| j != i) {
             loaded = Some((*i, parts[*i].rows()?));
         }
@@ -367,19 +420,7 @@ pub fn merge(tables: &[&Path], out: &Path, allow_partial: bool) -> Result<Merged
             table.push_cells(&cells)?;
         }
     }
-    let rows = table.rows();
-    let mut meta = PartMeta {
-        shard: None,
-        complete: absent.is_empty(),
-        runs: coalesce(held.iter().map(|(r, _)| r.clone())),
-        ..first.meta.clone()
-    };
-    table.finish(Some(&mut meta))?;
-    Ok(Merged {
-        rows,
-        total,
-        absent: absent_text,
-    })
+    Ok(())
 }
 
 /// The ranges of `within` that `held` (sorted, disjoint) leave out.

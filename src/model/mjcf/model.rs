@@ -161,7 +161,7 @@ fn option(root: &Element, ctx: &Context) -> Result<()> {
             let item = format!("{} {} {}", g[0], g[1], g[2]);
             ctx.note(
                 "option gravity",
-                "not simulated: faze4's gravity is 9.81 m/s² down (--no-gravity: none)",
+                "not simulated: faze4's gravity is 9.81 m/s² down (`no_gravity`: none)",
                 &item,
                 true,
             );
@@ -338,7 +338,7 @@ fn keyframe(root: &Element, ctx: &Context, tree: &Tree) -> Result<Option<Vec<(St
             tree.moving.len()
         )));
     }
-    ctx.note("keyframe home", "start pose (--center home)", "home", false);
+    ctx.note("keyframe home", "start pose (`center` home)", "home", false);
     Ok(Some(tree.moving.iter().cloned().zip(qpos).collect()))
 }
 
