@@ -129,14 +129,23 @@ pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f6
             current,
             supply,
         }),
+        servo: None,
     }
 }
 
 /// A servo given at its output (stall torque N·m and no-load speed rad/s at `datasheet_volts`)
 /// through a reducer of `ratio`, at `supply` volts: a DC motor's stall torque and no-load speed
 /// are both proportional to its voltage (τ_s = K V/R, ω₀ = V/K). Efficiency 1: the output
-/// figures already include the gears.
-fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64, supply: f64) -> JointMotor {
+/// figures already include the gears. `spec`: its own loop and protection at that supply.
+fn servo(
+    label: &str,
+    ratio: f64,
+    stall: f64,
+    no_load: f64,
+    datasheet_volts: f64,
+    supply: f64,
+    spec: ServoSpec,
+) -> JointMotor {
     let scale = supply / datasheet_volts;
     JointMotor {
         gear_ratio: Some(ratio),
@@ -152,6 +161,7 @@ fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64
             continuous_torque: None,
             stepping: None,
             electrics: Some(Electrics::Dc { supply }),
+            servo: Some(spec),
         },
     }
 }
@@ -162,7 +172,15 @@ fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64
 pub fn sts3215(supply: Option<f64>) -> JointMotor {
     let v = supply.unwrap_or(7.4);
     let no_load = (std::f64::consts::PI / 3.0) / 0.192;
-    servo("Feetech STS3215", 345.0, 19.5 * KGF_CM, no_load, 7.4, v)
+    servo(
+        "Feetech STS3215",
+        345.0,
+        19.5 * KGF_CM,
+        no_load,
+        7.4,
+        v,
+        sts3215_servo(supply),
+    )
 }
 
 /// ROBOTIS Dynamixel XM540-W270: 10.6 N·m stall torque and 30 rev/min no-load at 12 V, 272.5:1
@@ -170,7 +188,15 @@ pub fn sts3215(supply: Option<f64>) -> JointMotor {
 pub fn xm540_w270(supply: Option<f64>) -> JointMotor {
     let v = supply.unwrap_or(12.0);
     let no_load = 30.0 * 2.0 * std::f64::consts::PI / 60.0;
-    servo("Dynamixel XM540-W270", 272.5, 10.6, no_load, 12.0, v)
+    servo(
+        "Dynamixel XM540-W270",
+        272.5,
+        10.6,
+        no_load,
+        12.0,
+        v,
+        xm540_w270_servo(supply),
+    )
 }
 
 /// The duty one unit of an STS servo's P register gives per encoder count of error (k): Feetech

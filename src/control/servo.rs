@@ -128,6 +128,8 @@ pub struct ServoState {
     pub trip: Option<Trip>,
     /// The largest duty the loop asked for (share).
     pub max_duty: f64,
+    /// The duty the loop asked for at the last step (share).
+    pub asked: f64,
 }
 
 impl ServoState {
@@ -179,6 +181,7 @@ impl ServoSpec {
     /// the step that brings it to its time (within half a step: the sum of the steps' Δt).
     fn protect(&self, s: &mut ServoState, asked: f64, current: f64, torque: f64, t: f64, dt: f64) -> f64 {
         s.max_duty = s.max_duty.max(asked.abs());
+        s.asked = asked;
         if s.off {
             return 0.0;
         }
