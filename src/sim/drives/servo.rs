@@ -19,7 +19,8 @@ pub const ABOUT: &str = "the joints with a smart servo (the sts3215 and xm540-w2
 
 /// How often a servo is sent its goal when the command has no sample times of its own (a
 /// wave) and `servo_rate` is not given (Hz): LeRobot's recording and datasets' default frame
-/// rate (`lerobot/configs/dataset.py`, `fps: int = 30`).
+/// rate (`src/lerobot/scripts/lerobot_record.py`: `DatasetRecordConfig.fps: int = 30`, its
+/// `record_loop` sending one action a frame).
 pub const DEFAULT_GOAL_RATE: f64 = 30.0;
 
 /// What the summary says of every servo's protection registers: assumed, not published.
