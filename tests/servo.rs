@@ -115,17 +115,13 @@ fn the_sts3215_holds_1_kg_and_trips_on_2_kg_at_10_cm() {
     assert!(t.kind == TripKind::Shutdown && t.t > 1.0 && t.t < 1.3, "{t:?}");
 }
 
-/// The binary says it: the verdict names the servo's trip, stderr says the protection is
-/// assumed, the summary holds the trip's kind, time, torque and duration.
-#[test]
-fn the_binary_names_the_trip_and_the_assumption() {
-    let dir = std::env::temp_dir().join(format!("faze4-servo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let summary = dir.join("lever.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(["wave", "--robot"])
-        .arg(repo_path("tests/urdf/servo_lever.urdf"))
-        .args([
+/// The binary's run of the lever held (a wave of amplitude 0) by its STS3215 for 3 s without
+/// clearance, with `extra`.
+fn lever_args(extra: &[&str]) -> Vec<String> {
+    let lever = repo_path("tests/urdf/servo_lever.urdf");
+    let mut args: Vec<String> = ["wave", "--robot", lever.to_str().unwrap()].map(String::from).to_vec();
+    args.extend(
+        [
             "--motors",
             "sts3215",
             "--drive",
@@ -134,11 +130,35 @@ fn the_binary_names_the_trip_and_the_assumption() {
             "0",
             "--duration",
             "3",
-        ])
-        .args(["--payload-kg", "2", "--no-collisions", "--trail", "none", "--summary"])
-        .arg(&summary)
-        .output()
-        .unwrap();
+            "--no-collisions",
+        ]
+        .map(String::from),
+    );
+    args.extend(extra.iter().map(|a| a.to_string()));
+    args
+}
+
+/// The binary run with `args`.
+fn faze4_bin(args: &[String]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_faze4")).args(args).output().unwrap()
+}
+
+/// The binary says it: the verdict names the servo's trip, stderr says the protection is
+/// assumed, the summary holds the trip's kind, time, torque and duration.
+#[test]
+fn the_binary_names_the_trip_and_the_assumption() {
+    let dir = std::env::temp_dir().join(format!("faze4-servo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let summary = dir.join("lever.json");
+    let summary_path = summary.to_str().unwrap();
+    let out = faze4_bin(&lever_args(&[
+        "--payload-kg",
+        "2",
+        "--trail",
+        "none",
+        "--summary",
+        summary_path,
+    ]));
     let (stdout, stderr) = (
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr),
@@ -332,30 +352,16 @@ fn what_the_servo_drive_cannot_drive_is_refused_naming_the_option() {
 /// trips J1, said on the line and by a single run.
 #[test]
 fn find_payload_kg_works_with_the_servo_drive() {
-    let lever = repo_path("tests/urdf/servo_lever.urdf");
-    let base = [
-        "wave",
-        "--robot",
-        lever.to_str().unwrap(),
-        "--motors",
-        "sts3215",
-        "--drive",
-        "servo",
-        "--amp-deg",
-        "0",
-        "--duration",
-        "3",
-        "--max-error",
-        "0.5",
-        "--no-collisions",
-    ];
-    let faze4 = |args: &[&str]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_faze4")).args(args).output().unwrap();
+    let base = lever_args(&["--max-error", "0.5"]);
+    let faze4 = |args: &[String]| {
+        let out = faze4_bin(args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         String::from_utf8_lossy(&out.stdout).trim().to_string()
     };
-    let mut args = vec!["sweep", "--find", "payload-kg=0:3", "--resolution", "0.01", "--"];
-    args.extend(base);
+    let mut args: Vec<String> = ["sweep", "--find", "payload-kg=0:3", "--resolution", "0.01", "--"]
+        .map(String::from)
+        .to_vec();
+    args.extend(base.iter().cloned());
     let line = faze4(&args);
     let number = |after: &str| -> f64 {
         let rest = &line[line.find(after).unwrap() + after.len()..];
@@ -368,9 +374,14 @@ fn find_payload_kg_works_with_the_servo_drive() {
         "{line}"
     );
     let single = |kg: f64| {
-        let kg = kg.to_string();
-        let mut args: Vec<&str> = base.to_vec();
-        args.extend(["--payload-kg", &kg, "--trail", "none", "-q"]);
+        let mut args = base.clone();
+        args.extend([
+            "--payload-kg".into(),
+            kg.to_string(),
+            "--trail".into(),
+            "none".into(),
+            "-q".into(),
+        ]);
         faze4(&args)
     };
     assert_eq!(single(holds), "verdict: follows");
