@@ -2,9 +2,10 @@
 //! (`pd.rs`) clips the controller's torque to the limits and each motor's envelope; the
 //! open-loop stepper (`stepper.rs`) gives what its torque–angle curve gives at the rotor's lag
 //! behind the driver's microstep; the smart servo (`servo.rs`) what its own position loop gives
-//! on the goal it was sent, within its torque limit and its protection. A drive's options, its state per joint (made once by
-//! [`Drive::joints`], set at the start pose by [`prepare`]), its actuation in the step
-//! ([`JointDrive::actuate`], nothing allocated), what a run records of it ([`DriveRecord`]),
+//! on the goal it was sent, within its torque limit and its protection. A drive's options, its
+//! state per joint (made once by [`Drive::joints`], set at the start pose by [`prepare`]), its
+//! actuation in the step ([`JointDrive::actuate`], nothing allocated; a state that changes over
+//! a run in [`Step`], as the servos' [`Servos`]), what a run records of it ([`DriveRecord`]),
 //! its summary fields ([`DriveRecord::summarize`]) and its warnings are its file's.
 //!
 //! This file is the one registration point: a drive is a [`DriveMode`] word, a [`Drive`] and a
@@ -43,7 +44,7 @@ pub enum Drive {
     Servo(ServoOptions),
 }
 
-/// How the joints with a stepper are driven (`drive`; the summary's `drive` of each motor).
+/// How the joints with a motor are driven (`drive`; the summary's `drive` of each motor).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DriveMode {
     /// The controller's torque clipped to each motor's envelope (the original's).
