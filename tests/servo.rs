@@ -143,7 +143,7 @@ fn faze4_bin(args: &[String]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_faze4")).args(args).output().unwrap()
 }
 
-/// The binary says it: the verdict names the servo's trip, stderr says the protection is
+/// The binary says it: its motor table and the verdict name the servo's trip, stderr says the protection is
 /// assumed, the summary holds the trip's kind, time, torque and duration.
 #[test]
 fn the_binary_names_the_trip_and_the_assumption() {
@@ -164,6 +164,14 @@ fn the_binary_names_the_trip_and_the_assumption() {
         String::from_utf8_lossy(&out.stderr),
     );
     assert!(out.status.success(), "{stderr}");
+    let row = |label: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with(label))
+            .map(|l| l[label.len()..].trim())
+    };
+    assert_eq!(row("servo trips at (s)"), Some("2.087"), "{stdout}");
+    assert_eq!(row("servo max duty"), Some("100.0 %"), "{stdout}");
     let verdict = stdout.lines().last().unwrap();
     assert!(
         verdict.starts_with("verdict: cannot follow — ")
