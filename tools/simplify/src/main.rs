@@ -2,10 +2,11 @@
 //! each with its one-sided distances to the original certified (`simplify.rs`): the tables of
 //! docs/clearance.md, "Simplified meshes". From the repository root:
 //!
-//!     cargo run --release --manifest-path tools/simplify/Cargo.toml [-- [checked] ERROR… [FILE.stl…]]
+//!     cargo run --release --manifest-path tools/simplify/Cargo.toml [-- [checked] ERROR… [FILE.stl…] [--out=DIR]]
 //!
 //! (errors in metres; `checked` uses our simplifier whose every collapse is checked against the
-//! bound, `checked.rs`, else meshoptimizer's). `cargo test --manifest-path
+//! bound, `checked.rs`, else meshoptimizer's; `--out=DIR` writes each simplified mesh as
+//! `DIR/<error in µm>um/<its file name>`, a binary STL). `cargo test --manifest-path
 //! tools/simplify/Cargo.toml` checks the certified bounds against exact distances at many points.
 
 #[allow(dead_code)]
@@ -45,11 +46,29 @@ fn read_stl(path: &std::path::Path) -> (Vec<Point>, Vec<[u32; 3]>) {
     (points, triangles)
 }
 
+/// Writes the mesh as a binary STL at `path` (f32 coordinates: the read ones, unchanged).
+fn write_stl(path: &std::path::Path, points: &[Point], triangles: &[[u32; 3]]) {
+    let mut bytes = vec![0u8; 80];
+    bytes.extend((triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        bytes.extend([0u8; 12]);
+        for v in t {
+            bytes.extend(points[*v as usize].iter().flat_map(|&c| (c as f32).to_le_bytes()));
+        }
+        bytes.extend([0u8; 2]);
+    }
+    std::fs::write(path, bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let checked = args.first().is_some_and(|a| a == "checked");
-    let (mut errors, mut files) = (Vec::new(), Vec::new());
+    let (mut errors, mut files, mut out) = (Vec::new(), Vec::new(), None);
     for a in &args[checked as usize..] {
+        if let Some(dir) = a.strip_prefix("--out=") {
+            out = Some(std::path::PathBuf::from(dir));
+            continue;
+        }
         match a.parse::<f64>() {
             Ok(e) => errors.push(e),
             Err(_) => files.push(std::path::PathBuf::from(a)),
@@ -80,6 +99,11 @@ fn main() {
                 simplify::simplify(&points, &triangles, error)
             };
             let time = start.elapsed().as_secs_f64();
+            if let (Some(dir), Some(s)) = (&out, &s) {
+                let dir = dir.join(format!("{:.0}um", error * 1e6));
+                std::fs::create_dir_all(&dir).unwrap();
+                write_stl(&dir.join(file.file_name().unwrap()), &s.points, &s.triangles);
+            }
             match s {
                 Some(s) => println!(
                     "| {:.0} µm | {name} | {} | {} ({:.0} %) | {:.4} mm | {:.4} mm | {time:.2} s |",
