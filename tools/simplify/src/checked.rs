@@ -12,9 +12,10 @@
 //! `t` is at most that far from every point of the cell.
 //!
 //! * **simplified → original**: each new triangle is cut into cells (split in four up to
-//!   [`MAX_DEPTH`] times) until each cell has an original triangle (the nearest to one of its
-//!   corners or its centroid) within `ε` of its three corners. The triangles it does not change
-//!   were proven when they were made.
+//!   [`MAX_DEPTH`] times, [`MAX_CELLS`] cells at most) until each cell has an original triangle
+//!   (the nearest to one of its corners or its centroid) within `ε` of its three corners, or a
+//!   centroid whose distance to the original plus the cell's radius is within `ε` (distances are
+//!   1-Lipschitz). The triangles it does not change were proven when they were made.
 //! * **original → simplified**: each original triangle keeps a *cover*, a few current triangles
 //!   such that its cells (split likewise) each have one of them within `ε` of their corners. A
 //!   collapse removes the triangles around `u`, so every original triangle whose cover held one

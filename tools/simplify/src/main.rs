@@ -290,7 +290,7 @@ mod tests {
         // a lone triangle has nothing to give: every collapse would uncover it
         let lone = ([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0u32, 1, 2]]);
         assert_eq!(checked::simplify(&lone.0, &lone.1, 0.1), vec![[0, 1, 2]]);
-        // a bound of 0 keeps a bent strip whole; a triangle with no area and a vertex of none
+        // at a bound of 0 a bent strip stays exact; a triangle with no area and a vertex of none
         // do not upset it
         let (mut points, mut triangles) = grid(4, |x, _| (x - 0.5).abs());
         triangles.push([0, 1, 2]);
