@@ -11,14 +11,13 @@ use super::motors::Motors;
 use super::{ArmConfig, Center, Motion, ReplayConfig, RetimeConfig, RunConfig};
 use crate::atomic::Inputs;
 use crate::error::{Error, Result, quoted, shortest};
-use crate::faze4::{BOARD, SHAPE_PERIOD};
 use crate::geometry::CollisionSet;
 use crate::model::{JointKind, Model};
 use crate::retime::{PathSpline, hold};
 use crate::sim::check::{finite, non_negative, positive};
 use crate::sim::{Collisions, Play, Scenario, ScenarioBuilder, SelfContact, TimedCommand, Warning, load_collisions};
 use crate::traj::files::{self, Content, Selection};
-use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap};
+use crate::traj::{Interpolated, ShapeRun, TimedTrajectory, Trajectory, Wave, Wrap, shape};
 
 /// What a replay plays: a `.npy`'s evenly spaced frames (N×dof), or a time-stamped trajectory.
 #[derive(Clone, Debug)]
@@ -177,97 +176,26 @@ impl Loaded {
     }
 
     /// The builder of [`Loaded::scenario`], for a command that builds several runs on it
-    /// (`retime` plays each timing it tries on it).
+    /// (`retime` plays each timing it tries on it): the arm for `config`
+    /// (`arm_for`), its command (`command_of`), then every setting.
     pub fn builder(&self, config: &RunConfig) -> Result<ScenarioBuilder> {
         check(config)?;
-        let arm: Cow<Arm> = match config.arm == self.arm_config {
-            true => Cow::Borrowed(&self.arm),
-            false => {
-                let file = |a: &ArmConfig| {
-                    (
-                        a.robot.clone(),
-                        a.xacro_arg.clone(),
-                        a.package_path.clone(),
-                        a.balance_inertia,
-                        a.tool_link.clone(),
-                    )
-                };
-                if file(&config.arm) != file(&self.arm_config) {
-                    return Err(Error::option(
-                        "robot",
-                        "the arm was loaded from another file or tool link",
-                    ));
-                }
-                Cow::Owned(fitted(&self.bare, &config.arm)?)
-            }
-        };
-        let model = &arm.robot.model;
-        let mut duration = config.duration;
-        let mut command_warnings = Vec::new();
-        let (trajectory, command, shape) = match &config.motion {
-            Motion::Wave(w) => (
-                Trajectory::Wave(Wave {
-                    amplitude: wave_amplitudes(model, w.amp_deg, w.amp_m),
-                    omega: w.freq,
-                    center: wave_center(model, &w.center)?,
-                }),
-                "wave".to_string(),
-                None,
-            ),
-            Motion::Replay(r) => match &self.replay {
-                Some(Replayed::Timed(timed)) => {
-                    let play = Play {
-                        start: r.start.clone(),
-                        interpolation: r.interpolation,
-                    };
-                    let timed =
-                        TimedCommand::new(model, timed, &r.q_traj, &play).map_err(|e| self.with_limit_hint(e))?;
-                    command_warnings.extend(self.read.warnings.iter().cloned());
-                    command_warnings.extend(timed.warning(&r.q_traj));
-                    if duration.is_none() && timed.duration == 0.0 {
-                        return Err(Error::option(
-                            "duration",
-                            format!(
-                                "{} lasts 0 s (one point at t = 0): give how long to hold it",
-                                r.q_traj.display()
-                            ),
-                        ));
-                    }
-                    if duration.is_none() {
-                        own_duration(timed.duration, config.control.dt, &r.q_traj)?;
-                    }
-                    duration = duration.or(Some(timed.duration));
-                    (timed.trajectory, self.command("replay"), None)
-                }
-                Some(Replayed::Samples(frames)) => {
-                    check_samples(model, frames, &r.q_traj)?;
-                    let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
-                    (trajectory, self.command("replay"), None)
-                }
-                None => unreachable!("a replay's trajectory is loaded"),
-            },
-            Motion::Retime(r) => {
-                // retime plays its timings on this scenario; until then it holds the start
-                let path = PathSpline::through(&self.path_points(model, &r.path.q_traj)?)?;
-                (hold(&path), "retime".to_string(), None)
-            }
-            Motion::Shape(s) => {
-                let (trajectory, run) = match &self.plan {
-                    Some((points, planned)) if *points == s.shape_points => planned.clone(),
-                    _ => plan(&arm, s.shape, s.shape_points)?,
-                };
-                let command = format!("shape {} ({} points)", s.shape.name(), s.shape_points);
-                (trajectory, command, Some(run))
-            }
-        };
+        let arm = self.arm_for(config)?;
+        let Command {
+            trajectory,
+            name,
+            shape,
+            duration,
+            warnings,
+        } = self.command_of(config, &arm)?;
         let control = &config.control;
         let clearance = &config.clearance;
-        let mut builder = Scenario::builder(model.clone(), trajectory)
-            .command(command)
+        let mut builder = Scenario::builder(arm.robot.model.clone(), trajectory)
+            .command(name)
             .geometry(arm.robot.geometry.clone())
             .load_warnings(arm.robot.warnings.clone())
             .tool_frame(arm.tool)
-            .command_warnings(command_warnings)
+            .command_warnings(warnings)
             .dt(control.dt)
             .duration(duration.unwrap_or(config.motion.default_duration()))
             .record_period(config.record_period)
@@ -301,6 +229,134 @@ impl Loaded {
         }
         Ok(builder)
     }
+
+    /// The arm a run of `config` uses: the loaded one, or, for other motors, ratios, rotors or
+    /// supply voltage, the bare arm fitted with them; another arm file or tool link is
+    /// refused.
+    fn arm_for(&self, config: &RunConfig) -> Result<Cow<'_, Arm>> {
+        if config.arm == self.arm_config {
+            return Ok(Cow::Borrowed(&self.arm));
+        }
+        let file = |a: &ArmConfig| {
+            (
+                a.robot.clone(),
+                a.xacro_arg.clone(),
+                a.package_path.clone(),
+                a.balance_inertia,
+                a.tool_link.clone(),
+            )
+        };
+        if file(&config.arm) != file(&self.arm_config) {
+            return Err(Error::option(
+                "robot",
+                "the arm was loaded from another file or tool link",
+            ));
+        }
+        Ok(Cow::Owned(fitted(&self.bare, &config.arm)?))
+    }
+
+    /// What `config`'s motion commands on `arm`: a wave, a replay (its frames, or its
+    /// time-stamped trajectory: [`Loaded::timed_replay`]), a retime's held start, or a shape's
+    /// plan (the loaded one when its samples are the same).
+    fn command_of(&self, config: &RunConfig, arm: &Arm) -> Result<Command> {
+        let model = &arm.robot.model;
+        let command = |trajectory, name: &str| Command {
+            trajectory,
+            name: name.to_string(),
+            shape: None,
+            duration: config.duration,
+            warnings: Vec::new(),
+        };
+        Ok(match &config.motion {
+            Motion::Wave(w) => command(
+                Trajectory::Wave(Wave {
+                    amplitude: wave_amplitudes(model, w.amp_deg, w.amp_m),
+                    omega: w.freq,
+                    center: wave_center(model, &w.center)?,
+                }),
+                "wave",
+            ),
+            Motion::Replay(r) => match &self.replay {
+                Some(Replayed::Timed(timed)) => self.timed_replay(config, r, model, timed)?,
+                Some(Replayed::Samples(frames)) => {
+                    check_samples(model, frames, &r.q_traj)?;
+                    let trajectory = Trajectory::Interpolated(Interpolated::new(frames, r.traj_period, Wrap::Repeat));
+                    command(trajectory, &self.command("replay"))
+                }
+                None => unreachable!("a replay's trajectory is loaded"),
+            },
+            Motion::Retime(r) => {
+                // retime plays its timings on this scenario; until then it holds the start
+                let path = PathSpline::through(&self.path_points(model, &r.path.q_traj)?)?;
+                command(hold(&path), "retime")
+            }
+            Motion::Shape(s) => {
+                let (trajectory, run) = match &self.plan {
+                    Some((points, planned)) if *points == s.shape_points => planned.clone(),
+                    _ => plan(arm, s.shape, s.shape_points)?,
+                };
+                Command {
+                    shape: Some(run),
+                    ..command(
+                        trajectory,
+                        &format!("shape {} ({} points)", s.shape.name(), s.shape_points),
+                    )
+                }
+            }
+        })
+    }
+
+    /// A replay of the loaded time-stamped trajectory `timed` (`r`'s file) on `model`, played
+    /// as `r` says, with what reading it said; its duration its own unless `config` gives
+    /// one (a trajectory of 0 s, or one a run cannot take, then refused).
+    fn timed_replay(
+        &self,
+        config: &RunConfig,
+        r: &ReplayConfig,
+        model: &Model,
+        timed: &TimedTrajectory,
+    ) -> Result<Command> {
+        let play = Play {
+            start: r.start.clone(),
+            interpolation: r.interpolation,
+        };
+        let timed = TimedCommand::new(model, timed, &r.q_traj, &play).map_err(|e| self.with_limit_hint(e))?;
+        let mut warnings = self.read.warnings.clone();
+        warnings.extend(timed.warning(&r.q_traj));
+        if config.duration.is_none() && timed.duration == 0.0 {
+            return Err(Error::option(
+                "duration",
+                format!(
+                    "{} lasts 0 s (one point at t = 0): give how long to hold it",
+                    r.q_traj.display()
+                ),
+            ));
+        }
+        if config.duration.is_none() {
+            own_duration(timed.duration, config.control.dt, &r.q_traj)?;
+        }
+        Ok(Command {
+            trajectory: timed.trajectory,
+            name: self.command("replay"),
+            shape: None,
+            duration: config.duration.or(Some(timed.duration)),
+            warnings,
+        })
+    }
+}
+
+/// What a run's motion commands ([`Loaded::command_of`]).
+struct Command {
+    /// The joints' command.
+    trajectory: Trajectory,
+    /// The banner's name of it (`wave`, `replay of a ROS 1 bag, …`, `shape circle (240 points)`).
+    name: String,
+    /// A shape's plan, for its path deviation and views.
+    shape: Option<ShapeRun>,
+    /// How long the run lasts (`None`: the motion's default).
+    duration: Option<f64>,
+    /// What the command said before the run (a replay's reading notes).
+    warnings: Vec<Warning>,
 }
 
 /// What a replay's file holds ([`files::open`]: a time-stamped trajectory, a bag, a rosbag2
@@ -397,10 +453,18 @@ fn fitted(bare: &Arm, config: &ArmConfig) -> Result<Arm> {
     Ok(arm)
 }
 
-/// The shape's plan on the original's board ([`crate::faze4::BOARD`], a loop every
-/// [`crate::faze4::SHAPE_PERIOD`]).
-fn plan(arm: &Arm, shape: crate::traj::shape::Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
-    ShapeRun::plan(&arm.robot.model, arm.tool, shape, points, BOARD, SHAPE_PERIOD)
+/// The shape's plan on the arm's board ([`shape::board`]: its maker's, else one from its
+/// reach), a loop every [`shape::PERIOD`].
+fn plan(arm: &Arm, which: shape::Shape, points: usize) -> Result<(Trajectory, ShapeRun)> {
+    let model = &arm.robot.model;
+    ShapeRun::plan(
+        model,
+        arm.tool,
+        which,
+        points,
+        shape::board(model, arm.tool),
+        shape::PERIOD,
+    )
 }
 
 /// The clearance settings of `config` (`None`: no clearance).

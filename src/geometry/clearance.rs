@@ -99,6 +99,44 @@ struct PairMemory {
     first_intersection: Option<f64>,
 }
 
+/// A pair's sample as [`PairMemory::fold`] judges it: its time `t` (s), the pair's smallest
+/// distance so far `best`, the smallest distance the sample could lower (`least`: `best` or an
+/// actual distance seen, whichever is smaller) and the tolerance (m).
+#[derive(Clone, Copy)]
+struct Bounds {
+    t: f64,
+    best: f64,
+    least: f64,
+    tolerance: f64,
+}
+
+impl Bounds {
+    /// Whether a sample whose distance is at least `lower` is passed over: it cannot intersect
+    /// and cannot be closer than the smallest so far by more than the tolerance.
+    fn skip(self, lower: f64) -> bool {
+        lower > 0.0 && lower >= self.least - self.tolerance
+    }
+
+    /// With a tolerance, each actual distance found (an upper bound of the sample's) is
+    /// recorded at once: the report's minimum is then never above it.
+    fn upper_bound(self, distance: f64) -> Option<PairDistance> {
+        (self.tolerance > 0.0).then_some(PairDistance {
+            distance,
+            intersecting: false,
+        })
+    }
+}
+
+/// What [`PairMemory::mesh_pair`] made of a sample.
+enum Folded {
+    /// The sample's distance, which becomes the pair's carried lower bound.
+    Distance(PairDistance),
+    /// Decided without one, the result [`PairMemory::fold`] gives as it is: passed over
+    /// (`None`), an upper bound recorded at once, or a search's result (which set the carried
+    /// bound itself).
+    Decided(Option<PairDistance>),
+}
+
 /// A sample whose exact distance is left for [`Clearance::finish`].
 #[derive(Clone, Copy)]
 struct Pending {
@@ -410,7 +448,8 @@ impl PairMemory {
     /// Pair `k` at `poses` (time `t`) for [`Clearance::add`]: its distance, unless a
     /// lower bound shows that it is positive (no intersection) and not below the pair's
     /// smallest so far (`best`, or an actual distance seen: no new minimum), or the sample is
-    /// left for [`Clearance::finish`].
+    /// left for [`Clearance::finish`]. The cheap bounds first ([`PairMemory::bounded`]), then
+    /// two convex shapes' distance, or a pair with a mesh's ([`PairMemory::mesh_pair`]).
     fn fold(
         &mut self,
         set: &CollisionSet,
@@ -421,26 +460,48 @@ impl PairMemory {
         tolerance: f64,
     ) -> Option<PairDistance> {
         let (a, b) = set.object_pairs()[k];
-        let least = best.min(self.upper);
-        // a sample is passed over when it cannot intersect and cannot be closer than the
-        // smallest so far by more than the tolerance
-        let skip = |lower: f64| lower > 0.0 && lower >= least - tolerance;
-        // with a tolerance, each actual distance found (an upper bound of the sample's) is
-        // recorded at once: the report's minimum is then never above it
-        let upper_bound = |distance| {
-            (tolerance > 0.0).then_some(PairDistance {
-                distance,
-                intersecting: false,
-            })
+        let bounds = Bounds {
+            t,
+            best,
+            least: best.min(self.upper),
+            tolerance,
         };
-        let (oa, ob) = (set.object(a), set.object(b));
         let (pa, pb) = (&poses[a], &poses[b]);
         let pose_ab = pa.inv_mul(pb);
+        if let Some(decided) = self.bounded(set, (a, b), (pa, pb), pose_ab, near, bounds) {
+            return decided;
+        }
+        let d = match (set.object(a).exact_mesh, set.object(b).exact_mesh) {
+            (false, false) => set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis)),
+            _ => match self.mesh_pair(set, k, (pa, pb), pose_ab, bounds) {
+                Folded::Distance(d) => d,
+                Folded::Decided(result) => return result,
+            },
+        };
+        self.reference = (d.distance, pose_ab);
+        Some(d)
+    }
+
+    /// For [`PairMemory::fold`], the bounds that need no distance of pair `(a, b)` at world
+    /// poses `(pa, pb)` (relative `pose_ab`): the lower bound carried from an earlier sample,
+    /// the followed path's (`near`), the bounding spheres' gap and the convex shapes'
+    /// separation along their last axis. `Some(result)` when one decides the sample (passed
+    /// over, or apart on the path and recorded or left for finish), `None` when none does.
+    fn bounded(
+        &mut self,
+        set: &CollisionSet,
+        (a, b): (usize, usize),
+        (pa, pb): (&PPose, &PPose),
+        pose_ab: PPose,
+        near: Option<PathSample>,
+        bounds: Bounds,
+    ) -> Option<Option<PairDistance>> {
+        let (oa, ob) = (set.object(a), set.object(b));
         // the lower bound found at an earlier sample, less how far any point of b can have
         // moved relative to a since (or a relative to b, whichever bound is smaller)
         let (lower, then) = &self.reference;
-        if skip(*lower - relative_motion(then, &pose_ab, (oa.sphere, ob.sphere))) {
-            return None;
+        if bounds.skip(*lower - relative_motion(then, &pose_ab, (oa.sphere, ob.sphere))) {
+            return Some(None);
         }
         // the followed path's bound less the pair's motion between the path's pose and this
         if let Some(path) = near {
@@ -452,112 +513,135 @@ impl PairMemory {
                 // tolerance of the smallest so far (exactly, a distance found here must be
                 // found again by a search: it is this sample's only if the bound meets it)
                 self.reference = (lower, pose_ab);
-                let upper = (lower < least).then(|| set.part_distance(a, b, (pa, pb), path.bound.parts))?;
+                let Some(upper) = (lower < bounds.least).then(|| set.part_distance(a, b, (pa, pb), path.bound.parts))
+                else {
+                    return Some(None);
+                };
                 self.upper = self.upper.min(upper);
-                if !(tolerance > 0.0 && lower >= best.min(self.upper) - tolerance) {
+                if !(bounds.tolerance > 0.0 && lower >= bounds.best.min(self.upper) - bounds.tolerance) {
                     self.closest = path.bound.parts;
                     self.pending.push(Pending {
-                        t,
+                        t: bounds.t,
                         pose_ab,
                         lower,
                         upper,
                         hulls_apart: true,
                     });
                 }
-                return upper_bound(upper);
+                return Some(bounds.upper_bound(upper));
             }
-            if skip(lower) {
+            if bounds.skip(lower) {
                 self.reference = (lower, pose_ab);
-                return None;
+                return Some(None);
             }
         }
         let gap = (*pa * oa.sphere.0 - *pb * ob.sphere.0).length() - oa.sphere.1 - ob.sphere.1;
-        if skip(gap) {
+        if bounds.skip(gap) {
             self.reference = (gap, pose_ab);
-            return None;
+            return Some(None);
         }
         // the convex shapes' separation along the axis that separated them last time
         if self.axis != PVector::ZERO {
             let gap = set.separation_along(a, b, &pose_ab, self.axis, &mut self.support);
-            if skip(gap) {
+            if bounds.skip(gap) {
                 self.reference = (gap, pose_ab);
-                return None;
+                return Some(None);
             }
         }
-        let d = match (oa.exact_mesh, ob.exact_mesh) {
-            (false, false) => set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis)),
-            _ => {
-                let hull =
-                    (set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis))).distance;
-                self.reference = (hull, pose_ab);
-                if skip(hull) {
-                    return None;
-                }
-                if hull > 0.0 {
-                    match set.proven_by_hulls(a, b, (pa, pb), hull, &mut self.closest, tolerance) {
-                        Ok(distance) if tolerance > 0.0 => {
-                            // within the tolerance of the hulls' distance, which stays the
-                            // lower bound carried on
-                            self.upper = self.upper.min(distance);
-                            return upper_bound(distance);
-                        }
-                        Ok(distance) => {
-                            self.upper = self.upper.min(distance);
-                            PairDistance {
-                                distance,
-                                intersecting: false,
-                            }
-                        }
-                        Err(upper) => {
-                            self.upper = self.upper.min(upper);
-                            self.pending.push(Pending {
-                                t,
-                                pose_ab,
-                                lower: hull,
-                                upper,
-                                hulls_apart: true,
-                            });
-                            return upper_bound(upper);
-                        }
-                    }
-                } else if !(self.search_now && best > 0.0) {
-                    // the hulls overlap: whether two triangles cross (or a triangle and a
-                    // primitive) is tested now (an intersection must be seen at its sample);
-                    // the distance of a sample whose parts are apart waits for finish like
-                    // the others, its hulls bounding it below by 0 (none can lower a smallest
-                    // distance of 0, and then the test goes on whatever it costs)
-                    let budget = if best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
-                    match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("a mesh") {
-                        Touch::Crossing => PairDistance {
-                            distance: 0.0,
-                            intersecting: true,
-                        },
-                        Touch::Apart(upper) => {
-                            self.upper = self.upper.min(upper);
-                            if least > 0.0 {
-                                self.pending.push(Pending {
-                                    t,
-                                    pose_ab,
-                                    lower: 0.0,
-                                    upper,
-                                    hulls_apart: false,
-                                });
-                            }
-                            return upper_bound(upper);
-                        }
-                        Touch::Undecided => {
-                            self.search_now = true;
-                            return self.search_now(set, k, (pa, pb), best, hull, tolerance);
-                        }
-                    }
-                } else {
-                    // a pair too close for a crossing test, whose hulls overlap
-                    return self.search_now(set, k, (pa, pb), best, hull, tolerance);
-                }
+        None
+    }
+
+    /// For [`PairMemory::fold`], pair `k` with a mesh, at world poses `(pa, pb)`: its hulls'
+    /// distance, then where they are apart the distance they prove (or the sample left for
+    /// finish), where they overlap the crossing test ([`PairMemory::hulls_overlap`]).
+    fn mesh_pair(
+        &mut self,
+        set: &CollisionSet,
+        k: usize,
+        (pa, pb): (&PPose, &PPose),
+        pose_ab: PPose,
+        bounds: Bounds,
+    ) -> Folded {
+        let (a, b) = set.object_pairs()[k];
+        let hull = (set.convex_distance(a, b, (pa, pb), Some(&mut self.support), Some(&mut self.axis))).distance;
+        self.reference = (hull, pose_ab);
+        if bounds.skip(hull) {
+            return Folded::Decided(None);
+        }
+        if hull <= 0.0 {
+            return self.hulls_overlap(set, k, (pa, pb), pose_ab, hull, bounds);
+        }
+        match set.proven_by_hulls(a, b, (pa, pb), hull, &mut self.closest, bounds.tolerance) {
+            Ok(distance) if bounds.tolerance > 0.0 => {
+                // within the tolerance of the hulls' distance, which stays the lower bound
+                // carried on
+                self.upper = self.upper.min(distance);
+                Folded::Decided(bounds.upper_bound(distance))
             }
-        };
-        self.reference = (d.distance, pose_ab);
-        Some(d)
+            Ok(distance) => {
+                self.upper = self.upper.min(distance);
+                Folded::Distance(PairDistance {
+                    distance,
+                    intersecting: false,
+                })
+            }
+            Err(upper) => {
+                self.upper = self.upper.min(upper);
+                self.pending.push(Pending {
+                    t: bounds.t,
+                    pose_ab,
+                    lower: hull,
+                    upper,
+                    hulls_apart: true,
+                });
+                Folded::Decided(bounds.upper_bound(upper))
+            }
+        }
+    }
+
+    /// For [`PairMemory::mesh_pair`], pair `k` whose hulls overlap (signed distance `hull`):
+    /// whether two triangles cross (or a triangle and a primitive) is tested now (an
+    /// intersection must be seen at its sample); the distance of a sample whose parts are
+    /// apart waits for finish like the others, its hulls bounding it below by 0 (none can lower
+    /// a smallest distance of 0, and then the test goes on whatever it costs). A pair too
+    /// close for a crossing test is searched now ([`PairMemory::search_now`]).
+    fn hulls_overlap(
+        &mut self,
+        set: &CollisionSet,
+        k: usize,
+        (pa, pb): (&PPose, &PPose),
+        pose_ab: PPose,
+        hull: f64,
+        bounds: Bounds,
+    ) -> Folded {
+        if self.search_now && bounds.best > 0.0 {
+            return Folded::Decided(self.search_now(set, k, (pa, pb), bounds.best, hull, bounds.tolerance));
+        }
+        let (a, b) = set.object_pairs()[k];
+        let budget = if bounds.best > 0.0 { TOUCH_BUDGET } else { usize::MAX };
+        match (set.touch(a, b, &pose_ab, &mut self.closest, budget)).expect("a mesh") {
+            Touch::Crossing => Folded::Distance(PairDistance {
+                distance: 0.0,
+                intersecting: true,
+            }),
+            Touch::Apart(upper) => {
+                self.upper = self.upper.min(upper);
+                if bounds.least > 0.0 {
+                    self.pending.push(Pending {
+                        t: bounds.t,
+                        pose_ab,
+                        lower: 0.0,
+                        upper,
+                        hulls_apart: false,
+                    });
+                }
+                Folded::Decided(bounds.upper_bound(upper))
+            }
+            Touch::Undecided => {
+                self.search_now = true;
+                Folded::Decided(self.search_now(set, k, (pa, pb), bounds.best, hull, bounds.tolerance))
+            }
+        }
     }
 
     /// For [`PairMemory::fold`]: the distance of pair `k`, whose hulls overlap (signed

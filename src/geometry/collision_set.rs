@@ -209,17 +209,19 @@ impl MeshKey {
     }
 }
 
-/// Every distinct mesh (file and scale) of `collisions`, loaded once, in parallel (hulls of
+/// Every distinct mesh (file and scale) of `geometry`'s collision elements, loaded once, in parallel (hulls of
 /// big meshes take a while); a mesh found nowhere maps to `None`.
-fn load_meshes(collisions: &[GeometryObject], kind: ClearanceGeometry) -> Result<HashMap<MeshKey, Option<MeshShape>>> {
+fn load_meshes(geometry: &GeometryModel, kind: ClearanceGeometry) -> Result<HashMap<MeshKey, Option<MeshShape>>> {
     // in document order, so that the error reported is the first mesh's that fails
     let mut keys: Vec<MeshKey> = Vec::new();
-    for key in collisions.iter().filter_map(MeshKey::of) {
+    for key in geometry.collisions.iter().filter_map(MeshKey::of) {
         if !keys.contains(&key) {
             keys.push(key);
         }
     }
-    let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter()).map(|key| MeshShape::load(key, kind)).collect();
+    let shapes: Vec<Result<Option<MeshShape>>> = (keys.par_iter())
+        .map(|key| MeshShape::load(key, kind, geometry.built_in_meshes))
+        .collect();
     let shapes: Vec<Option<MeshShape>> = shapes.into_iter().collect::<Result<_>>()?;
     Ok(keys.into_iter().zip(shapes).collect())
 }
@@ -233,14 +235,15 @@ struct MeshShape {
 }
 
 impl MeshShape {
-    /// The mesh `key` names, read by [`load_shape`] (the file, else the built-in Faze4 copy) and
+    /// The mesh `key` names, read by [`load_shape`] (the file, else the built-in Faze4 copy when
+    /// `built_in`, [`GeometryModel::built_in_meshes`]) and
     /// scaled, with (for [`ClearanceGeometry::Mesh`]) its triangles' hierarchy as made before
     /// (`mesh_cache.rs`), else built now; `None` when it is found nowhere.
     ///
     /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]);
     /// a mesh whose points span no volume (no convex hull).
-    fn load(key: &MeshKey, kind: ClearanceGeometry) -> Result<Option<MeshShape>> {
-        let Some(mesh) = load_shape(&key.uri, key.path.as_deref()) else {
+    fn load(key: &MeshKey, kind: ClearanceGeometry, built_in: bool) -> Result<Option<MeshShape>> {
+        let Some(mesh) = load_shape(&key.uri, key.path.as_deref(), built_in) else {
             return Ok(None);
         };
         let (mesh, contents) = mesh?;
@@ -338,7 +341,7 @@ fn to_parry(p: &Pose) -> PPose {
 
 impl CollisionSet {
     /// Loads the collision objects of `geometry` (on `model`'s frames) and lists the pairs
-    /// `filter` checks. Meshes are loaded through `mesh::load_shape` (the file, else the built-in Faze4 copy); a mesh found nowhere
+    /// `filter` checks. Meshes are loaded through `mesh::load_shape` (the file, else the built-in Faze4 copy for a bundled description); a mesh found nowhere
     /// is left out and reported as a [`Warning`] (and in the report's `unchecked`).
     ///
     /// Errors: a mesh found but unreadable, non-finite or empty (see [`super::mesh::read_mesh`]); a mesh
@@ -350,7 +353,7 @@ impl CollisionSet {
         filter: PairFilter,
     ) -> Result<(CollisionSet, Vec<Warning>)> {
         // each distinct mesh is loaded once, the objects in document order
-        let meshes = load_meshes(&geometry.collisions, kind)?;
+        let meshes = load_meshes(geometry, kind)?;
         let loaded = (geometry.collisions.iter().enumerate()).map(|(source, g)| Object::load(source, g, &meshes));
         let (mut warnings, mut unchecked, mut kept, mut objects) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (g, object) in geometry.collisions.iter().zip(loaded) {

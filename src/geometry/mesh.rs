@@ -146,12 +146,13 @@ fn side_file(mesh: &Path, side: &Path) -> std::io::Result<Vec<u8>> {
 
 /// The mesh a URDF mesh reference stands for, with its colour, for drawing: the file it
 /// resolved to (`path`), read by [`read_mesh_file`], else the copy built into the binary when
-/// `uri` names one of the official Faze4 meshes ([`crate::faze4::meshes::for_uri`]); `None` when
-/// there is neither. Every visual mesh is loaded here.
-pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
-    match origin(uri, path) {
+/// `uri` names one of the official Faze4 meshes ([`crate::faze4::meshes::for_uri`]) and
+/// `built_in` (the geometry's [`super::GeometryModel::built_in_meshes`]); `None` when there is
+/// neither. Every visual mesh is loaded here.
+pub fn load(uri: &str, path: Option<&Path>, built_in: bool) -> Option<Result<MeshFile>> {
+    match origin(uri, path, built_in) {
         Origin::File(path) => Some(read_mesh_file(path)),
-        Origin::BuiltIn => built_in(uri).map(|mesh| Ok(MeshFile { mesh, color: None })),
+        Origin::BuiltIn => built_in_copy(uri).map(|mesh| Ok(MeshFile { mesh, color: None })),
         Origin::NotFound => None,
     }
 }
@@ -159,15 +160,15 @@ pub fn load(uri: &str, path: Option<&Path>) -> Option<Result<MeshFile>> {
 /// [`load`] for collision: the triangles only, so no side file is read ([`read_mesh`]), with
 /// what identifies them for a cache of what is made of them ([`Contents`]). Every collision
 /// mesh is loaded here.
-pub fn load_shape(uri: &str, path: Option<&Path>) -> Option<Result<(Mesh, Contents)>> {
-    match origin(uri, path) {
+pub fn load_shape(uri: &str, path: Option<&Path>, built_in: bool) -> Option<Result<(Mesh, Contents)>> {
+    match origin(uri, path, built_in) {
         Origin::File(path) => Some((|| {
             let bytes = read_file_capped(path, MAX_MESH_BYTES, "a mesh file")?;
             let mesh = parse_mesh(&bytes, path)?;
             Ok((mesh, Contents::File(contents_hash(&bytes))))
         })()),
         Origin::BuiltIn => Some(Ok((
-            built_in(uri)?,
+            built_in_copy(uri)?,
             Contents::BuiltIn(crate::faze4::meshes::name_of(uri)?),
         ))),
         Origin::NotFound => None,
@@ -198,7 +199,7 @@ pub fn contents_hash(bytes: &[u8]) -> [u64; 3] {
 }
 
 /// The built-in copy of the official Faze4 mesh `uri` names, if any.
-fn built_in(uri: &str) -> Option<Mesh> {
+fn built_in_copy(uri: &str) -> Option<Mesh> {
     crate::faze4::meshes::for_uri(uri).map(|mesh| Mesh::from_indexed(&mesh.positions, &mesh.indices))
 }
 
@@ -214,11 +215,12 @@ pub enum Origin<'a> {
 }
 
 /// Where the mesh reference `uri`, resolved to `path` (if a file was found), is loaded from,
-/// without reading it: the file, else the built-in Faze4 copy, else nowhere.
-pub fn origin<'a>(uri: &str, path: Option<&'a Path>) -> Origin<'a> {
+/// without reading it: the file, else the built-in Faze4 copy when `built_in` (a bundled
+/// description's geometry), else nowhere.
+pub fn origin<'a>(uri: &str, path: Option<&'a Path>, built_in: bool) -> Origin<'a> {
     match path {
         Some(path) => Origin::File(path),
-        None if crate::faze4::meshes::is_built_in(uri) => Origin::BuiltIn,
+        None if built_in && crate::faze4::meshes::is_built_in(uri) => Origin::BuiltIn,
         None => Origin::NotFound,
     }
 }

@@ -77,8 +77,34 @@ impl Robot {
 
     /// Reads and validates the robot file at `path` in whichever format it is (URDF, xacro,
     /// MJCF: [`crate::model::robot_file`]), with `read` (packages, xacro arguments) and `options`.
+    /// A file that is a byte-for-byte copy of a description faze4 bundles
+    /// ([`faze4::is_bundled_file`]) gets that arm's facts (its defaults and built-in meshes); one
+    /// that only looks like it is told what it gets instead ([`faze4::not_bundled`]).
     pub fn from_file_with(path: &Path, read: &ReadOptions, options: &LoadOptions) -> Result<Robot> {
-        Robot::from_description_with(&describe_file(path, read)?, options)
+        let robot = Robot::from_description_with(&describe_file(path, read)?, options)?;
+        Ok(robot.with_facts_of(faze4::is_bundled_file(path)))
+    }
+
+    /// This robot with the bundled Faze4's facts when `bundled` (its description is one faze4
+    /// bundles): its defaults ([`faze4::defaults`]) and the built-in meshes; otherwise, when it
+    /// looks like the Faze4, a warning saying what it gets instead.
+    fn with_facts_of(mut self, bundled: bool) -> Robot {
+        match bundled {
+            true => {
+                self.model.defaults = faze4::defaults();
+                self.geometry.built_in_meshes = true;
+            }
+            false => {
+                self.warnings.extend(
+                    faze4::not_bundled(&self.model).map(|(like, gets)| LoadWarning::NotBundled {
+                        file: self.model.source.clone(),
+                        like,
+                        gets: gets.to_string(),
+                    }),
+                )
+            }
+        }
+        self
     }
 
     /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
@@ -115,14 +141,14 @@ impl Robot {
         packages: &PackagePaths,
         options: &LoadOptions,
     ) -> Result<Robot> {
-        Robot::from_description_with(&urdf::describe(text, file, base_dir, packages)?, options)
+        let robot = Robot::from_description_with(&urdf::describe(text, file, base_dir, packages)?, options)?;
+        Ok(robot.with_facts_of(faze4::is_bundled(text.as_bytes())))
     }
 
-    /// The robot `desc` describes, read with `options`.
+    /// The robot `desc` describes, read with `options`: the description's facts alone (no
+    /// arm's defaults, no built-in meshes; [`Robot::from_file_with`] adds a bundled arm's).
     pub fn from_description_with(desc: &RobotDescription, options: &LoadOptions) -> Result<Robot> {
-        let (mut model, warnings) = Model::from_description_with(desc, options)?;
-        // what the arm's maker knows beyond the file, when this is an arm faze4 knows
-        model.defaults = faze4::defaults_for(&model);
+        let (model, warnings) = Model::from_description_with(desc, options)?;
         let geometry = GeometryModel::new(&model, desc);
         Ok(Robot {
             model,
@@ -160,6 +186,9 @@ pub struct GeometryModel {
     /// `[parent, child]` link frames of every moving joint: the links a joint connects
     /// directly, whose pairs [`PairFilter::NonAdjacent`] skips.
     pub joined: Vec<[FrameId; 2]>,
+    /// Whether a mesh reference not found on disk is loaded from the Faze4's meshes built into
+    /// the binary ([`crate::faze4::meshes`]): only for a description faze4 bundles.
+    pub built_in_meshes: bool,
 }
 
 impl GeometryModel {

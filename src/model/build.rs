@@ -58,6 +58,16 @@ pub enum LoadWarning {
         /// The elements that say it (joint names).
         items: Vec<String>,
     },
+    /// A model that looks like an arm faze4 bundles (its name, its joint names) but is not a
+    /// byte-for-byte copy of its description: it gets none of that arm's facts (`defaults`).
+    NotBundled {
+        /// The robot file.
+        file: String,
+        /// What it has of the bundled arm (`robot 'faze4_arm' is named like the Faze4`).
+        like: String,
+        /// What it gets instead.
+        gets: String,
+    },
 }
 
 impl std::fmt::Display for LoadWarning {
@@ -83,6 +93,10 @@ impl std::fmt::Display for LoadWarning {
             LoadWarning::NotSimulated { file, what, why, items } => {
                 write!(f, "{file}: {what} of {}: {why}", items.join(", "))
             }
+            LoadWarning::NotBundled { file, like, gets } => write!(
+                f,
+                "{file}: {like} but is not a byte-for-byte copy of a description faze4 bundles, so it gets none of its facts: {gets}"
+            ),
         }
     }
 }

@@ -27,7 +27,7 @@ pub mod robot_file;
 pub mod urdf;
 pub mod xacro;
 
-pub use defaults::{ArmDefaults, ShapeIk};
+pub use defaults::{ArmDefaults, Board, ShapeIk};
 pub use description::{
     Collision, Geometry, InertialDesc, JointDesc, JointType, LinkDesc, Mapping, MimicDesc, RobotDescription,
     TransmissionDesc, Visual,
@@ -279,8 +279,9 @@ pub struct Model {
     pub gravity: Vec3,
     /// Every URDF link as a frame, root first, in depth-first order.
     pub frames: Vec<Frame>,
-    /// What the arm's maker knows beyond the URDF (default limits, the shapes' IK pose): none
-    /// for a model read from a file, unless its loader knows the arm.
+    /// What the arm's maker knows beyond the URDF (default limits, the shapes' IK pose and
+    /// board): none for a model read from a file, unless the file is a byte-for-byte copy of a
+    /// description faze4 bundles (`crate::geometry::Robot::from_file_with`).
     pub defaults: ArmDefaults,
     /// The format of the file it was read from (`urdf`, `xacro`, `mjcf`; empty for a description built
     /// in memory without one).

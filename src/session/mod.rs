@@ -96,6 +96,72 @@ pub fn run(
     Ok(Finished { summary, recorders })
 }
 
+/// An output file a run can write, as [`OUTPUT_FILES`] lists it for the places that treat
+/// every output alike: its path claimed before the run ([`Recorders`]), its part of the
+/// `[done]` line ([`done_line`]), whether `retime` plays its timing for it.
+pub struct OutputFile {
+    /// Its `RunConfig` field (`plot_motors`), as messages name it.
+    pub field: &'static str,
+    /// What the `[done]` line calls it (`motor plot -> PATH`).
+    pub word: &'static str,
+    /// Its path in a configuration, when it is asked for.
+    pub path: fn(&RunConfig) -> Option<&Path>,
+    /// What the `[done]` line adds after its path, from the run's recorders (the trail's rows).
+    pub detail: fn(&Recorders) -> Option<String>,
+    /// Whether it is made of a run's recorded samples (`retime` then plays the timing it
+    /// writes).
+    pub records: bool,
+}
+
+/// Every output file a run can write, in the order their paths are claimed (two options
+/// naming one file: the later one is refused) and the `[done]` line names them. Each is opened
+/// by [`Recorders`] (a recorder of the run), or written by [`run`] (the joint samples, the
+/// summary).
+pub const OUTPUT_FILES: [OutputFile; 6] = [
+    OutputFile {
+        field: "trail",
+        word: "trail",
+        path: |c| c.outputs.trail.as_deref(),
+        detail: |r| r.trail.as_ref().map(|t| format!(" ({} rows)", t.rows())),
+        records: true,
+    },
+    OutputFile {
+        field: "summary",
+        word: "summary",
+        path: |c| c.outputs.summary.as_deref(),
+        detail: |_| None,
+        records: false,
+    },
+    OutputFile {
+        field: "save_q",
+        word: "joint samples",
+        path: save_q,
+        detail: |_| None,
+        records: false,
+    },
+    OutputFile {
+        field: "html",
+        word: "html",
+        path: |c| c.outputs.html.as_deref(),
+        detail: |_| None,
+        records: true,
+    },
+    OutputFile {
+        field: "plot",
+        word: "plot",
+        path: |c| c.outputs.plot.as_deref(),
+        detail: |_| None,
+        records: true,
+    },
+    OutputFile {
+        field: "plot_motors",
+        word: "motor plot",
+        path: |c| c.outputs.plot_motors.as_deref(),
+        detail: |_| None,
+        records: true,
+    },
+];
+
 /// A shape's `save_q`.
 fn save_q(config: &RunConfig) -> Option<&Path> {
     match &config.motion {
@@ -137,16 +203,9 @@ impl Recorders {
         if out.sizing && scenario.motors.is_none() {
             return Err(Error::option("sizing", "sizes the motors: add `motors`"));
         }
-        for (path, field) in [
-            (&out.trail, "trail"),
-            (&out.summary, "summary"),
-            (&save_q(config).map(Path::to_path_buf), "save_q"),
-            (&out.html, "html"),
-            (&out.plot, "plot"),
-            (&out.plot_motors, "plot_motors"),
-        ] {
-            if let Some(path) = path {
-                files.claim(path, &format!("`{field}`"))?;
+        for output in &OUTPUT_FILES {
+            if let Some(path) = (output.path)(config) {
+                files.claim(path, &format!("`{}`", output.field))?;
             }
         }
         let print_period = out

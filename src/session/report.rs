@@ -2,7 +2,7 @@
 //! why it diverged. Options are named as fields (`` `dt` ``), shown by each front end in its
 //! own words.
 
-use super::{Finished, Recorders, save_q};
+use super::{Finished, OUTPUT_FILES, Recorders};
 use crate::config::RunConfig;
 use crate::error::{quoted, shown_path};
 use crate::output::format::number;
@@ -27,28 +27,16 @@ pub fn report_text(finished: &Finished, config: &RunConfig) -> String {
     text
 }
 
-/// The `[done]` line: the files written and the run's speed.
+/// The `[done]` line: the files written ([`OUTPUT_FILES`], each `word -> PATH` and its
+/// detail) and the run's speed.
 pub fn done_line(outputs: &Recorders, config: &RunConfig, summary: &Summary) -> String {
-    let out = &config.outputs;
-    let mut written = Vec::new();
-    if let (Some(t), Some(path)) = (&outputs.trail, &out.trail) {
-        written.push(format!("trail -> {} ({} rows)", shown_path(path), t.rows()));
-    }
-    if let Some(path) = &out.summary {
-        written.push(format!("summary -> {}", shown_path(path)));
-    }
-    if let Some(path) = save_q(config) {
-        written.push(format!("joint samples -> {}", shown_path(path)));
-    }
-    if let Some(h) = &outputs.html {
-        written.push(format!("html -> {}", shown_path(h.path())));
-    }
-    if let Some(p) = &outputs.plot {
-        written.push(format!("plot -> {}", shown_path(p.path())));
-    }
-    if let Some(path) = out.plot_motors.as_deref().filter(|_| outputs.motor_plot.is_some()) {
-        written.push(format!("motor plot -> {}", shown_path(path)));
-    }
+    let mut written: Vec<String> = (OUTPUT_FILES.iter())
+        .filter_map(|output| {
+            let path = (output.path)(config)?;
+            let detail = (output.detail)(outputs).unwrap_or_default();
+            Some(format!("{} -> {}{detail}", output.word, shown_path(path)))
+        })
+        .collect();
     written.push(speed(summary));
     format!("[done] {}", written.join(" · "))
 }

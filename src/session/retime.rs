@@ -4,7 +4,7 @@
 //! run's other outputs (trail, summary, HTML, the motors' plot, the live view) from the
 //! checked timing played once more as `replay` plays the file.
 
-use super::{Finished, Prepared, write_summary};
+use super::{Finished, OUTPUT_FILES, Prepared, write_summary};
 use crate::atomic::Outputs;
 use crate::config::{Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result};
@@ -64,9 +64,7 @@ pub fn retime(
     // the run's own outputs, opened by session::run (the figure is the phase plane here)
     let mut played_config = config.clone();
     played_config.outputs.plot = None;
-    let records = out.trail.is_some()
-        || out.html.is_some()
-        || out.plot_motors.is_some()
+    let records = (OUTPUT_FILES.iter()).any(|output| output.records && (output.path)(&played_config).is_some())
         || out.view
         || out.hold
         || !extra.is_empty();

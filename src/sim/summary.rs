@@ -122,7 +122,7 @@ impl MeshSource {
                 Geometry::Mesh { uri, path, .. } => Some(MeshSource {
                     link: g.link.clone(),
                     uri: uri.clone(),
-                    source: match origin(uri, path.as_deref()) {
+                    source: match origin(uri, path.as_deref(), geometry.built_in_meshes) {
                         Origin::File(path) => Some(path.to_string_lossy().into_owned()),
                         Origin::BuiltIn => Some("built-in".into()),
                         Origin::NotFound => None,

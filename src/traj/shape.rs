@@ -1,27 +1,70 @@
-//! A drawing board and the three shapes the tool draws on it.
+//! A drawing board, the three shapes the tool draws on it, and an arm's board: its maker's, else
+//! one from its reach.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use crate::choice::Choice;
+use crate::id::FrameId;
+pub use crate::model::Board;
+use crate::model::Model;
 use crate::spatial::Vec3;
 
-/// A vertical drawing board in the world plane `y = center.y`, facing the arm.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Board {
-    /// Centre of the board face (world, m).
-    pub center: Vec3,
-    /// Extent along world x (m).
-    pub width: f64,
-    /// Extent along world z (m).
-    pub height: f64,
+/// Radius of the circle, and of the circle the triangle is inscribed in (m), on a board
+/// [`SHAPES_WIDTH`] wide; on another board the shapes scale with its width.
+pub const CIRCLE_RADIUS: f64 = 0.16;
+/// Half-length L of the sine's sweep (m), on a board [`SHAPES_WIDTH`] wide.
+pub const SINE_HALF_LENGTH: f64 = 0.19;
+/// Amplitude A of the sine (m), on a board [`SHAPES_WIDTH`] wide.
+pub const SINE_AMPLITUDE: f64 = 0.12;
+/// The board width the shapes' sizes are given for (m): the original's board
+/// (`crate::faze4::BOARD`), on which they are drawn at exactly those sizes.
+pub const SHAPES_WIDTH: f64 = 0.50;
+/// Time for one loop of a shape (s), on every arm.
+pub const PERIOD: f64 = 5.0;
+
+/// How far in front of an arm's base (along −y, where the original's board stands) a board
+/// from its reach R ([`board`]) stands, in R.
+pub const REACH_DEPTH: f64 = 0.5;
+/// How high above the arm's base that board's centre is, in R.
+pub const REACH_HEIGHT: f64 = 0.45;
+/// That board's width, in R (the shapes scaled with it).
+pub const REACH_WIDTH: f64 = 0.35;
+/// That board's height for its width: the original's (0.44 m for 0.50 m).
+pub const REACH_ASPECT: f64 = 0.88;
+
+/// The board `model` draws its shapes on with `tool` as the pen: its maker's
+/// ([`crate::model::ArmDefaults::board`]), else one from its reach R ([`reach`]): the vertical
+/// plane [`REACH_DEPTH`]·R in front of its base (along −y), centred [`REACH_HEIGHT`]·R above
+/// it, [`REACH_WIDTH`]·R wide and [`REACH_ASPECT`] times as tall (docs/model.md, 4.3: the ratios with which the shapes' IK reaches on six public arms).
+pub fn board(model: &Model, tool: FrameId) -> Board {
+    if let Some(board) = model.defaults.board {
+        return board;
+    }
+    let (base, r) = reach(model, tool);
+    let width = REACH_WIDTH * r;
+    Board {
+        center: base + Vec3::new(0.0, -REACH_DEPTH * r, REACH_HEIGHT * r),
+        width,
+        height: REACH_ASPECT * width,
+    }
 }
 
-/// Radius of the circle, and of the circle the triangle is inscribed in (m).
-pub const CIRCLE_RADIUS: f64 = 0.16;
-/// Half-length L of the sine's sweep (m).
-pub const SINE_HALF_LENGTH: f64 = 0.19;
-/// Amplitude A of the sine (m).
-pub const SINE_AMPLITUDE: f64 = 0.12;
+/// The reach of the chain that carries `tool`: its base, the world position of the chain's first
+/// moving joint (at the zero pose), and its length from there, the sum of the offsets between
+/// its joints and of the tool's in its body (m). No point the tool reaches is farther than that
+/// from the base. A tool on no moving body has length 0 at its own position.
+pub fn reach(model: &Model, tool: FrameId) -> (Vec3, f64) {
+    let frame = model.frame(tool);
+    let Some(mut body) = frame.body.map(|b| b.0) else {
+        return (frame.placement.pos, 0.0);
+    };
+    let mut length = frame.placement.pos.norm();
+    while let Some(parent) = model.parent[body] {
+        length += model.tree_pose[body].pos.norm();
+        body = parent;
+    }
+    (model.tree_pose[body].pos, length)
+}
 
 /// The three closed paths of the original experiment (docs/model.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,15 +91,18 @@ impl Shape {
         self.word()
     }
 
-    /// The point at path parameter `s` ∈ [0, 1) on `board` (world, m).
+    /// The point at path parameter `s` ∈ [0, 1) on `board` (world, m), the shape's sizes
+    /// scaled by the board's width over [`SHAPES_WIDTH`].
     pub fn point(self, s: f64, board: &Board) -> Vec3 {
+        let scale = board.width / SHAPES_WIDTH;
+        let radius = CIRCLE_RADIUS * scale;
         let (u, w) = match self {
-            Shape::Circle => (CIRCLE_RADIUS * (TAU * s).cos(), CIRCLE_RADIUS * (TAU * s).sin()),
+            Shape::Circle => (radius * (TAU * s).cos(), radius * (TAU * s).sin()),
             Shape::Tri => {
                 // vertices at 90°, 210°, 330°; each edge takes a third of the loop
                 let vertex = |k: usize| {
                     let a = FRAC_PI_2 + k as f64 * TAU / 3.0;
-                    (CIRCLE_RADIUS * a.cos(), CIRCLE_RADIUS * a.sin())
+                    (radius * a.cos(), radius * a.sin())
                 };
                 let edge = ((3.0 * s).floor() as usize).min(2);
                 let f = 3.0 * s - edge as f64;
@@ -64,13 +110,13 @@ impl Shape {
                 (a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1))
             }
             Shape::Sine => {
-                let l = SINE_HALF_LENGTH;
+                let l = SINE_HALF_LENGTH * scale;
                 let u = if s < 0.5 {
                     -l + 4.0 * l * s
                 } else {
                     l - 4.0 * l * (s - 0.5)
                 };
-                (u, SINE_AMPLITUDE * (PI / l * u).sin())
+                (u, SINE_AMPLITUDE * scale * (PI / l * u).sin())
             }
         };
         Vec3::new(board.center.x + u, board.center.y, board.center.z + w)

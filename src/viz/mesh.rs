@@ -287,9 +287,10 @@ pub fn read_trimesh(path: &Path) -> Result<TriMesh> {
 
 /// The mesh a URDF mesh reference stands for, with normals, and the colour of the file's
 /// material if it has one: [`crate::geometry::mesh::load`] (the file, else the built-in Faze4
-/// copy); `None` when there is neither.
-pub fn load_mesh(uri: &str, path: Option<&Path>) -> Option<Result<(TriMesh, Option<Rgba>)>> {
-    crate::geometry::mesh::load(uri, path).map(|file| file.map(|f| (TriMesh::from_soup(&f.mesh.soup()), f.color)))
+/// copy when `built_in`, a bundled description's geometry); `None` when there is neither.
+pub fn load_mesh(uri: &str, path: Option<&Path>, built_in: bool) -> Option<Result<(TriMesh, Option<Rgba>)>> {
+    crate::geometry::mesh::load(uri, path, built_in)
+        .map(|file| file.map(|f| (TriMesh::from_soup(&f.mesh.soup()), f.color)))
 }
 
 /// Vertex indices in the narrowest type that holds them.

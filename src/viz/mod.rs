@@ -33,8 +33,9 @@
 //! Meshes come with the model: load it with the `--package-path` directories
 //! (`Model::from_urdf_file(path, &PackagePaths::with_ros_package_path(dirs))`), which resolves
 //! every `package://` mesh. The official Faze4 meshes are built into the binary
-//! ([`crate::faze4::meshes`]): a reference to one of them that is not found on disk is drawn
-//! from the built-in copy. Any other mesh that was not found (or cannot be read) is drawn as a
+//! ([`crate::faze4::meshes`]): in a description faze4 bundles (or a byte-for-byte copy of
+//! one), a reference to one of them that is not found on disk is drawn from the built-in copy.
+//! Any other mesh that was not found (or cannot be read) is drawn as a
 //! box, and one line on stderr says so.
 //!
 //! | file | what |

@@ -159,7 +159,7 @@ impl Scene {
                         });
                         continue;
                     }
-                    let mesh = match load_mesh(uri, path.as_deref()) {
+                    let mesh = match load_mesh(uri, path.as_deref(), geometry.built_in_meshes) {
                         None => {
                             scene.missing.push(uri.clone());
                             None
