@@ -21,7 +21,9 @@ mkdir -p "$corpus" fuzz/logs
 log=fuzz/logs/$target-$(date +%Y%m%d-%H%M%S).log
 
 extra=(fuzz/seeds/"$target")
-flags=(-timeout=10 -rss_limit_mb=2048 -print_final_stats=1)
+# RSS_LIMIT_MB: libFuzzer's memory limit for the whole fuzzer process (2048 by default); its
+# ASan allocator keeps what it freed, so a campaign over ~45 minutes can need more
+flags=(-timeout=10 -rss_limit_mb="${RSS_LIMIT_MB:-2048}" -print_final_stats=1)
 case $target in
 urdf_model)
     extra+=(urdf tests/urdf)

@@ -28,7 +28,7 @@ fn by_hand(sc: &sim::Scenario, period: f64) -> Capture {
         sim::dynamics(sc, &mut s);
         sim::command(sc, &mut s, t);
         sim::controller(sc, &mut s);
-        sim::actuation(sc, &mut s);
+        sim::actuation(sc, &mut s, t);
         if k % every == 0 || k == sc.steps {
             capture.record(&sim::sample(sc, &mut s, k, t, &[])).unwrap();
         }
@@ -84,7 +84,7 @@ fn step_is_the_five_stages() {
         sim::dynamics(&sc, &mut b);
         sim::command(&sc, &mut b, t);
         sim::controller(&sc, &mut b);
-        sim::actuation(&sc, &mut b);
+        sim::actuation(&sc, &mut b, t);
         sim::integrate(&sc, &mut b, t).unwrap();
     }
     assert_eq!(a.state.q, b.state.q);

@@ -376,3 +376,26 @@ def test_motors_as_a_dict_equal_the_motors_file():
     assert [m["kind"] for m in preset.summary["motors"]] == ["stepper"] * 6
     with pytest.raises(faze4.Error, match="^motors: "):
         faze4.Robot.from_urdf(urdf, motors={"joints": []})
+
+
+def test_the_servo_drive_runs_sweeps_and_finds_from_python():
+    # issue 45: drive="servo" through the option's declaration; SO-ARM100 #134's 10 cm lever
+    lever = faze4.Robot.from_urdf(ROOT / "tests" / "urdf" / "servo_lever.urdf", motors="sts3215")
+    common = dict(drive="servo", amp_deg=0.0, duration=3.0, no_collisions=True)
+    held = faze4.wave(lever, payload_kg=1.0, **common)
+    fell = faze4.wave(lever, payload_kg=2.0, **common)
+    assert held.summary["motors"][0]["drive"] == "servo"
+    assert held.summary["motors"][0]["servo"]["trip"] is None
+    trip = fell.summary["motors"][0]["servo"]["trip"]
+    assert trip["kind"] == "overload" and 2.0 < trip["t"] < 2.2, trip
+    assert "J1's servo trips its overload protection at t = 2.09 s" in fell.verdict_line
+    assert any("protection registers (J1) are assumed" in w for w in fell.warnings), fell.warnings
+    rows = faze4.sweep(lever, "wave", vary={"payload_kg": [1.0, 2.0]}, jobs=2, **common)
+    assert [r["motors"][0]["servo"]["trip"] is None for r in rows] == [True, False]
+    found = faze4.find(lever, "wave", "payload_kg", 0.0, 3.0, resolution=0.01, jobs=2, max_error=0.5, **common)
+    assert found.found == "boundary" and 1.55 < found.value < 1.8, found
+    assert "servo trips its overload protection" in found.reason
+    with pytest.raises(faze4.Error, match="^servo_rate: "):
+        faze4.wave(lever, servo_rate=0.0, **common)
+    with pytest.raises(faze4.Error, match="^drive: "):
+        faze4.wave(faze4.Robot.faze4(motors="faze4"), drive="servo", duration=0.1, no_collisions=True)

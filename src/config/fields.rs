@@ -1171,11 +1171,13 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
-    .value_name("pd|stepper")
+    .value_name("pd|stepper|servo")
     .help(
-        "How the joints with a stepper are driven: 'pd', the controller's torque clipped to the envelope (the \
-         original's; the default), or 'stepper', open loop: the driver's microstep through the torque–angle curve, \
-         slips and all (with `motors`; docs/motors.md).",
+        "How the joints with a motor are driven: 'pd', the controller's torque clipped to the envelope (the \
+         original's; the default); 'stepper', steppers open loop: the driver's microstep through the torque–angle \
+         curve, slips and all; or 'servo', smart servos (the sts3215 and xm540-w270 presets) by their own position \
+         loop on the goal they are sent, within their torque limit, tripping their protection (with `motors`; \
+         docs/motors.md).",
     ),
     per_joint!("microsteps", control.microsteps)
         .value_name("N|N1,N2,…")
@@ -1203,6 +1205,13 @@ pub const FIELDS: &[Field] = &[
         .help(
             "Under `drive` stepper, each reducer's Coulomb friction, N·m at the motor shaft: one value for every joint \
              or one per joint ('auto' keeps the motor's; the presets' 0: not published).",
+        ),
+    optional_number!("servo_rate", Commands::ALL, |c| Some(&mut c.control.servo_rate))
+        .value_name("HZ")
+        .help(
+            "Under `drive` servo, how often each servo is sent its goal, Hz: the command at that time, held until \
+             the next (default: at the trajectory's own sample times, as a replay sends them; 30 for a wave, \
+             LeRobot's frame rate).",
         ),
     flag!("sizing", outputs.sizing).help(
         "Print the motors' sizing report (with `motors`): per joint at the motor peak and RMS torque, peak speed, \

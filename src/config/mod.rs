@@ -25,7 +25,7 @@ use crate::control::FeedForward;
 use crate::error::Words;
 use crate::geometry::{ClearanceGeometry, PairFilter};
 pub use crate::sim::DriveMode;
-use crate::sim::{Drive, StepperOptions, Thresholds};
+use crate::sim::{Drive, ServoOptions, StepperOptions, Thresholds};
 use crate::traj::files::lerobot::Units;
 use crate::traj::shape::Shape;
 
@@ -115,11 +115,15 @@ impl RunConfig {
 
     /// How the `n` joints are driven: `drive` with its `microsteps` (whole numbers ≥ 1; one
     /// value is every joint's), `driver_bandwidth`, `rotor_damping` and `reducer_friction`
-    /// (one value is every joint's). Those without `drive` stepper are an error.
+    /// (one value is every joint's) for stepper, `servo_rate` for servo. Each with another
+    /// `drive` is an error.
     pub fn drive(&self, n: usize) -> crate::Result<Drive> {
         let control = &self.control;
         let given = &control.microsteps;
-        if control.drive == DriveMode::Pd {
+        if control.drive != DriveMode::Servo && control.servo_rate.is_some() {
+            return Err(crate::Error::option("servo_rate", "is for `drive` servo"));
+        }
+        if control.drive != DriveMode::Stepper {
             for (field, set) in [
                 ("microsteps", !given.is_empty()),
                 ("driver_bandwidth", control.driver_bandwidth.is_some()),
@@ -130,7 +134,15 @@ impl RunConfig {
                     return Err(crate::Error::option(field, "is for `drive` stepper"));
                 }
             }
-            return Ok(Drive::Pd);
+        }
+        match control.drive {
+            DriveMode::Pd => return Ok(Drive::Pd),
+            DriveMode::Servo => {
+                return Ok(Drive::Servo(ServoOptions {
+                    rate: control.servo_rate,
+                }));
+            }
+            DriveMode::Stepper => {}
         }
         let every = |values: &[Option<f64>]| match values {
             [one] => vec![*one; n],
@@ -472,6 +484,9 @@ pub struct ControlConfig {
     /// Under [`DriveMode::Stepper`], each reducer's Coulomb friction (N·m at the motor shaft;
     /// as `rotor_damping`).
     pub reducer_friction: Vec<Option<f64>>,
+    /// Under [`DriveMode::Servo`], how often each servo is sent its goal (Hz; `None`: at the
+    /// trajectory's own sample times, else [`crate::sim::DEFAULT_GOAL_RATE`]).
+    pub servo_rate: Option<f64>,
 }
 
 impl Default for ControlConfig {
@@ -489,6 +504,7 @@ impl Default for ControlConfig {
             driver_bandwidth: None,
             rotor_damping: Vec::new(),
             reducer_friction: Vec::new(),
+            servo_rate: None,
         }
     }
 }

@@ -244,6 +244,7 @@ fn entry(mut e: MotorEntry, i: usize) -> std::result::Result<JointMotor, String>
         continuous_torque: e.continuous_torque,
         stepping,
         electrics: None,
+        servo: None,
     };
     motor.check().map_err(|m| what(&m))?;
     for (name, x) in [("gear_ratio", e.gear_ratio), ("rotor_inertia", e.rotor_inertia)] {

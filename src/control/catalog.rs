@@ -2,6 +2,7 @@
 //! the table and the addresses). A figure no source gives is left out, and the doc says so.
 
 use super::motor::{Electrics, Envelope, JointMotor, Motor, StepperLosses, StepperWinding, Stepping};
+use super::servo::{Protection, ServoSpec};
 
 /// Points of a preset's pull-out curve (evenly spaced speeds).
 pub const CURVE_POINTS: usize = 256;
@@ -128,14 +129,23 @@ pub fn stepper(label: String, winding: &StepperWinding, current: f64, supply: f6
             current,
             supply,
         }),
+        servo: None,
     }
 }
 
 /// A servo given at its output (stall torque N·m and no-load speed rad/s at `datasheet_volts`)
 /// through a reducer of `ratio`, at `supply` volts: a DC motor's stall torque and no-load speed
 /// are both proportional to its voltage (τ_s = K V/R, ω₀ = V/K). Efficiency 1: the output
-/// figures already include the gears.
-fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64, supply: f64) -> JointMotor {
+/// figures already include the gears. `spec`: its own loop and protection at that supply.
+fn servo(
+    label: &str,
+    ratio: f64,
+    stall: f64,
+    no_load: f64,
+    datasheet_volts: f64,
+    supply: f64,
+    spec: ServoSpec,
+) -> JointMotor {
     let scale = supply / datasheet_volts;
     JointMotor {
         gear_ratio: Some(ratio),
@@ -151,6 +161,7 @@ fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64
             continuous_torque: None,
             stepping: None,
             electrics: Some(Electrics::Dc { supply }),
+            servo: Some(spec),
         },
     }
 }
@@ -161,7 +172,15 @@ fn servo(label: &str, ratio: f64, stall: f64, no_load: f64, datasheet_volts: f64
 pub fn sts3215(supply: Option<f64>) -> JointMotor {
     let v = supply.unwrap_or(7.4);
     let no_load = (std::f64::consts::PI / 3.0) / 0.192;
-    servo("Feetech STS3215", 345.0, 19.5 * KGF_CM, no_load, 7.4, v)
+    servo(
+        "Feetech STS3215",
+        345.0,
+        19.5 * KGF_CM,
+        no_load,
+        7.4,
+        v,
+        sts3215_servo(supply),
+    )
 }
 
 /// ROBOTIS Dynamixel XM540-W270: 10.6 N·m stall torque and 30 rev/min no-load at 12 V, 272.5:1
@@ -169,7 +188,83 @@ pub fn sts3215(supply: Option<f64>) -> JointMotor {
 pub fn xm540_w270(supply: Option<f64>) -> JointMotor {
     let v = supply.unwrap_or(12.0);
     let no_load = 30.0 * 2.0 * std::f64::consts::PI / 60.0;
-    servo("Dynamixel XM540-W270", 272.5, 10.6, no_load, 12.0, v)
+    servo(
+        "Dynamixel XM540-W270",
+        272.5,
+        10.6,
+        no_load,
+        12.0,
+        v,
+        xm540_w270_servo(supply),
+    )
+}
+
+/// The duty one unit of an STS servo's P register gives per encoder count of error (k): Feetech
+/// publishes no unit, so this is a **stated assumption** (docs/motors.md, "Smart servos"):
+/// 4.2e-4, full duty at 149 counts (13°) of error under LeRobot's P 16, stated over half to
+/// twice that. Whether a servo holds a load or trips its protection does not depend on it (the
+/// steady duty is the load's share of the stall torque; the tests run both ends); its sag does.
+/// The D register is taken at the same scale per count per millisecond.
+pub const FEETECH_DUTY_PER_COUNT: f64 = 4.2e-4;
+
+/// How long a Dynamixel's output may stay at its PWM limit before its Overload Error shuts it
+/// down (s): ROBOTIS' e-Manual (Shutdown(63), bit 5: "persistent load that exceeds maximum
+/// output") gives no duration; 1 s is a **stated assumption**.
+pub const DYNAMIXEL_OVERLOAD_S: f64 = 1.0;
+
+/// The STS3215's own loop and protection at `supply` volts (`None`: 7.4 V; stall torque and
+/// no-load speed as [`sts3215`]'s): the registers as LeRobot's SO-101 follower writes them
+/// (`src/lerobot/robots/so_follower/so_follower.py`, `configure`: P_Coefficient 16,
+/// I_Coefficient 0, D_Coefficient 32; the arm's joints keep Max_Torque_Limit 1000 ‰), 4096
+/// counts a turn; the protection registers at the defaults this model **assumes** for
+/// Feetech's STS memory table (no openable primary source found; docs/motors.md):
+/// Overload_Torque 80 %, Protection_Time 2.0 s, Protective_Torque 20 %, Protection_Current
+/// 500 × 6.5 mA, Over_Current_Protection_Time 2.0 s. The duty scale is
+/// [`FEETECH_DUTY_PER_COUNT`], an assumption.
+pub fn sts3215_servo(supply: Option<f64>) -> ServoSpec {
+    let v = supply.unwrap_or(7.4);
+    ServoSpec {
+        counts_per_rev: 4096.0,
+        p: 16.0,
+        d: 32.0,
+        i: 0.0,
+        duty_per_count: FEETECH_DUTY_PER_COUNT,
+        torque_limit: 1.0,
+        stall_torque: 19.5 * KGF_CM * v / 7.4,
+        no_load_speed: (std::f64::consts::PI / 3.0) / 0.192 * v / 7.4,
+        supply: v,
+        protection: Protection::Feetech {
+            overload: 0.80,
+            time: 2.0,
+            protective: 0.20,
+            current: 500.0 * 6.5e-3,
+            current_time: 2.0,
+        },
+    }
+}
+
+/// The XM540-W270's own loop at `supply` volts (`None`: 12 V; its figures as
+/// [`xm540_w270`]'s): ROBOTIS e-Manual, XM540-W270 control table: Position P Gain 800, I 0,
+/// D 0, K_PP = P/128, the PID's output a PWM value (one unit 0.113 %, PWM Limit 885 = 100 %),
+/// 4096 pulses a turn; its Shutdown register's default sets the Overload Error bit, after
+/// [`DYNAMIXEL_OVERLOAD_S`] (an assumption). That K_PP·e is in PWM units per pulse is this
+/// model's reading of the e-Manual's block diagram.
+pub fn xm540_w270_servo(supply: Option<f64>) -> ServoSpec {
+    let v = supply.unwrap_or(12.0);
+    ServoSpec {
+        counts_per_rev: 4096.0,
+        p: 800.0,
+        d: 0.0,
+        i: 0.0,
+        duty_per_count: 0.113e-2 / 128.0,
+        torque_limit: 1.0,
+        stall_torque: 10.6 * v / 12.0,
+        no_load_speed: 30.0 * std::f64::consts::TAU / 60.0 * v / 12.0,
+        supply: v,
+        protection: Protection::Dynamixel {
+            time: DYNAMIXEL_OVERLOAD_S,
+        },
+    }
 }
 
 #[cfg(test)]

@@ -27,6 +27,9 @@ pub struct Motor {
     pub stepping: Option<Stepping>,
     /// The drive's supply and the winding behind the envelope, where known.
     pub electrics: Option<Electrics>,
+    /// A smart servo's own position loop and protection registers (`--drive servo` needs
+    /// them; the `sts3215` and `xm540-w270` presets have them); `None` for a bare motor.
+    pub servo: Option<super::ServoSpec>,
 }
 
 /// The electrics behind a motor's envelope: enough to turn a shaft torque and speed into the
@@ -127,6 +130,9 @@ impl Motor {
         }
         if let Some(s) = &self.stepping {
             s.losses.check()?;
+        }
+        if let Some(s) = &self.servo {
+            s.check()?;
         }
         self.envelope.check()
     }
@@ -339,6 +345,7 @@ mod tests {
             continuous_torque: None,
             stepping: None,
             electrics: None,
+            servo: None,
         };
         let (lo, hi) = m.joint_bounds(10.0, 15.0); // ω_m = 150
         assert!((hi - 10.0 * 0.8 * 0.25).abs() < 1e-14, "{hi}");

@@ -346,8 +346,9 @@ impl Recorder for Terminal {
 /// The `--motors` table, one column per joint (`-` where a joint has no motor or a figure does
 /// not apply): kind and drive, share of steps beyond the envelope (under `--drive stepper`: past
 /// the torque–angle curve's peak), fastest shaft speed, RMS torque against the continuous
-/// rating, when a stepper first lost steps, and under `--drive stepper` the full steps it ends
-/// off its command. Torques and speeds at the motor shaft.
+/// rating, when a stepper first lost steps, under `--drive stepper` the full steps it ends
+/// off its command and its ringing, under `--drive servo` the largest duty each servo's loop
+/// asked and when its protection first acted. Torques and speeds at the motor shaft.
 pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
     let cell = |f: &dyn Fn(&MotorSummary) -> Option<String>| per_motor(motors, f);
     let mut lines = vec![
@@ -387,6 +388,19 @@ pub fn motor_table(motors: &[Option<MotorSummary>]) -> Vec<String> {
         lines.push(text_row(
             "max lag (full steps)",
             ringing(|r| format!("{:.2}", r.max_lag_steps)),
+        ));
+    }
+    if motors.iter().flatten().any(|m| m.servo.is_some()) {
+        lines.push(text_row(
+            "servo max duty",
+            cell(&|m| m.servo.map(|s| percent(100.0 * s.max_duty))),
+        ));
+        lines.push(text_row(
+            "servo trips at (s)",
+            cell(&|m| {
+                m.servo
+                    .map(|s| s.trip.map_or("never".into(), |t| format!("{:.3}", t.t)))
+            }),
         ));
     }
     lines

@@ -416,6 +416,7 @@ mod tests {
             continuous_torque: None,
             stepping: None,
             electrics: None,
+            servo: None,
         }
     }
 
@@ -431,6 +432,7 @@ mod tests {
             continuous_torque: None,
             stepping: None,
             electrics: None,
+            servo: None,
         }
     }
 

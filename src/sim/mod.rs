@@ -17,7 +17,7 @@ mod verdict;
 mod warning;
 
 pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_STIFFNESS, SelfContact};
-pub use drives::{Drive, DriveMode, JointDrive, StepperOptions};
+pub use drives::{DEFAULT_GOAL_RATE, Drive, DriveMode, JointDrive, ServoDrive, ServoOptions, Servos, StepperOptions};
 pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
@@ -30,8 +30,8 @@ pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};
 pub use stop::{SIGPIPE, StopFlag, exit_status, stdout_closed};
 pub use summary::{
-    ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing, Simulated,
-    StepLoss, Summary, ToolRange, ToolRule,
+    ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing,
+    ServoSummary, Simulated, StepLoss, Summary, ToolRange, ToolRule,
 };
 pub use timed::{Play, TimedCommand};
 pub use verdict::{Intersection, NearSlip, Reason, Thresholds, Verdict, percent};

@@ -106,7 +106,7 @@ fn run_loop<'a, 's>(
             step::dynamics(sc, p);
             step::command(sc, p, t);
             step::controller(sc, p);
-            step::actuation(sc, p);
+            step::actuation(sc, p, t);
         }
         if !last {
             rec.steps.add(sc, &p.state, &p.q_cmd, &p.tau_raw);

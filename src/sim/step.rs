@@ -9,7 +9,7 @@
 //! | [`dynamics`] | (q, v) ⇒ (M, C v + g, g) in [`Step::data`] |
 //! | [`command`] | t ⇒ (q_cmd, v_cmd); under `ff` full also a_cmd and τ_ff |
 //! | [`controller`] | (q, v, q_cmd, v_cmd, g or τ_ff) ⇒ τ_raw |
-//! | [`actuation`] | (τ_raw, q, v, q_cmd, motors) ⇒ (τ, the allowed range) |
+//! | [`actuation`] | (τ_raw, q, v, q_cmd, motors, t) ⇒ (τ, the allowed range; a servo's goal) |
 //! | [`sample`] | (q, v, q_cmd, v_cmd, τ, τ_raw, g) ⇒ the [`Sample`] a recorder gets |
 //! | [`integrate`] | (M, C v + g, τ, q, v) ⇒ (q, v) at t + Δt |
 //!
@@ -38,8 +38,9 @@ use crate::control::FeedForward;
 use crate::error::Result;
 use crate::spatial::Vec3;
 
-use super::drives;
+use super::drives::{self, Servos};
 use super::{ContactStep, Sample, Scenario};
+use crate::control::ServoState;
 
 /// The closed loop's mutable state and workspaces for one [`Scenario`] (n = its model's dof).
 pub struct Step {
@@ -63,6 +64,8 @@ pub struct Step {
     full_ff: Option<(Vec<f64>, Data)>,
     /// `self_collisions`: the step with contact.
     pub(super) contact: Option<ContactStep>,
+    /// Under `drive` servo: each joint's servo state and the goals sent.
+    pub(super) servos: Option<Servos>,
     /// The shape's target and its rate at the sample (world, m and m/s; buffers).
     target: [f64; 3],
     target_rate: [f64; 3],
@@ -89,9 +92,19 @@ impl Step {
             bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
             full_ff: (sc.controller.feedforward == FeedForward::Full).then(|| (vec![0.0; n], Data::new(model))),
             contact,
+            servos: Servos::new(sc),
             target: [0.0; 3],
             target_rate: [0.0; 3],
         }
+    }
+}
+
+impl Step {
+    /// Joint `i`'s smart servo's state under `drive` servo (its goal, its protection's trip),
+    /// `None` for a joint without one.
+    pub fn servo(&self, sc: &Scenario, i: usize) -> Option<&ServoState> {
+        sc.drives.get(i)?.servo()?;
+        self.servos.as_ref().map(|s| &s.states[i])
     }
 }
 
@@ -133,16 +146,19 @@ pub fn controller(sc: &Scenario, s: &mut Step) {
 /// stepper a stepper's joint gets what its torque–angle curve gives at the rotor's lag behind
 /// the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is also its τ_raw (an open-loop
 /// stepper asks for nothing else), and its reducer's Coulomb friction (the viscous losses are
-/// in the joint's damping). Every drive adds the joint's own Coulomb friction
-/// ([`crate::model::Joint::friction`]; a stepper's reducer's and the joint's add).
+/// in the joint's damping); under `drive` servo each servo is sent the goal of the frame at
+/// time `t` (s) when it is new, and its joint gets what the servo's own loop gives on it,
+/// τ_s·u' (its speed drag in the joint's damping). Every drive adds the joint's own Coulomb
+/// friction ([`crate::model::Joint::friction`]; a stepper's reducer's and the joint's add).
 #[inline]
-pub fn actuation(sc: &Scenario, s: &mut Step) {
+pub fn actuation(sc: &Scenario, s: &mut Step, t: f64) {
     let Some(motors) = &sc.motors else {
         drives::actuate_without_motors(sc, s);
         return;
     };
+    drives::send_goals(sc, s, t);
     for (i, (drive, motor)) in sc.drives.iter().zip(motors).enumerate() {
-        drive.actuate(sc, s, i, motor.as_ref());
+        drive.actuate(sc, s, i, motor.as_ref(), t);
     }
 }
 
@@ -188,6 +204,6 @@ pub fn step(sc: &Scenario, s: &mut Step, t: f64) -> Result<()> {
     dynamics(sc, s);
     command(sc, s, t);
     controller(sc, s);
-    actuation(sc, s);
+    actuation(sc, s, t);
     integrate(sc, s, t)
 }

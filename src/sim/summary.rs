@@ -3,7 +3,7 @@
 use serde::Serialize;
 
 use super::{Scenario, Sizing, SlipMargin, Verdict};
-use crate::control::{FeedForward, Gains};
+use crate::control::{FeedForward, Gains, Trip};
 use crate::error::{Words, in_words};
 use crate::geometry::mesh::{Origin, origin};
 use crate::geometry::{ClearanceReport, GeometryModel};
@@ -260,13 +260,15 @@ pub struct MotorSummary {
     pub label: String,
     /// `"dc"` or `"stepper"`.
     pub kind: &'static str,
-    /// What drove the joint: `"pd"` (the controller, clipped to the envelope) or `"stepper"`
-    /// (`--drive stepper`: the stepper open loop).
+    /// What drove the joint: `"pd"` (the controller, clipped to the envelope), `"stepper"`
+    /// (`--drive stepper`: the stepper open loop) or `"servo"` (`--drive servo`: the servo's
+    /// own loop).
     pub drive: &'static str,
     /// Under the PD: the share of the steps where the controller asked for more than the
     /// envelope gave at the joint's speed (beyond it by more than [`ENVELOPE_MARGIN`]). Under
     /// `--drive stepper`: the share of the steps with the rotor's lag past the torque–angle
-    /// curve's peak (%).
+    /// curve's peak; under `--drive servo`: the share with the duty asked at the servo's torque
+    /// limit (%).
     pub envelope_pct: f64,
     /// max over steps of |ω_m| = |ratio · q̇| (rad/s).
     pub max_motor_speed: f64,
@@ -294,8 +296,31 @@ pub struct MotorSummary {
     /// slip survives the damping's uncertainty.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ringing: Option<Ringing>,
+    /// Smart servos under `--drive servo`: whether their protection acted, and what their own
+    /// loop asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub servo: Option<ServoSummary>,
     /// The sizing report (`--sizing` prints it).
     pub sizing: Sizing,
+}
+
+/// A smart servo over a run (`--drive servo`; docs/motors.md, "Smart servos").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct ServoSummary {
+    /// The first time its protection acted: `kind` (`"overload"`, `"over_current"`,
+    /// `"shutdown"`), `t` (s), `torque` (the largest at the output over the time that tripped
+    /// it, N·m) and `duration` (that time, s); `null` when it never did.
+    pub trip: Option<Trip>,
+    /// The largest duty its loop asked for (a share of the supply; its torque limit at most).
+    pub max_duty: f64,
+    /// A Feetech servo's protective torque: the duty it is held to once its overload
+    /// protection acts (share); `null` for a Dynamixel, which shuts down instead.
+    pub protective: Option<f64>,
+    /// How often it was sent its goal (Hz; `servo_rate`); `null`: at the trajectory's own
+    /// sample times, or 30 Hz for a wave.
+    pub goal_rate: Option<f64>,
+    /// That its protection registers are assumed defaults, not published figures.
+    pub note: &'static str,
 }
 
 /// How an open-loop stepper's rotor rang about its microstep (docs/motors.md, "The stepper's

@@ -20,6 +20,7 @@ use serde::{Serialize, Serializer};
 use super::check::non_negative;
 use super::{DriveMode, MotorSummary, ROBUST_DAMPING_RATIO, Ringing, SlipMargin, StepLoss, Summary};
 use crate::choice::Choice;
+use crate::control::{Trip, TripKind};
 use crate::error::quoted;
 use crate::model::JointId;
 
@@ -150,6 +151,15 @@ pub enum Reason {
         /// How its rotor rang, and whether the slip survives more damping.
         ringing: Option<Ringing>,
     },
+    /// A joint's smart servo (`--drive servo`) tripped its protection.
+    ServoTrips {
+        /// The joint.
+        joint: JointId,
+        /// When, which protection, at what torque and for how long.
+        trip: Trip,
+        /// The duty a Feetech servo is held to after its overload protection (share).
+        protective: Option<f64>,
+    },
     /// A joint's motor ran at an RMS torque above its continuous rating.
     Overheats {
         /// The joint.
@@ -270,6 +280,33 @@ impl fmt::Display for Reason {
                     ),
                     None => Ok(()),
                 }
+            }
+            Reason::ServoTrips {
+                joint,
+                trip,
+                protective,
+            } => {
+                match trip.kind {
+                    TripKind::Overload => write!(
+                        f,
+                        "{joint}'s servo trips its overload protection at t = {:.2} s: {:.2} N·m for {:.1} s",
+                        trip.t, trip.torque, trip.duration
+                    )?,
+                    TripKind::OverCurrent => write!(
+                        f,
+                        "{joint}'s servo trips its over-current protection at t = {:.2} s: {:.2} N·m for {:.1} s, its output off",
+                        trip.t, trip.torque, trip.duration
+                    )?,
+                    TripKind::Shutdown => write!(
+                        f,
+                        "{joint}'s servo shuts down on overload at t = {:.2} s: {:.2} N·m at its limit for {:.1} s, its torque off until a reboot",
+                        trip.t, trip.torque, trip.duration
+                    )?,
+                }
+                if let (TripKind::Overload, Some(p)) = (trip.kind, protective) {
+                    write!(f, ", then held to {:.0} % of its stall torque", 100.0 * p)?;
+                }
+                write!(f, " (its protection registers assumed)")
             }
             Reason::Overheats { joint, rms, continuous } => write!(
                 f,
@@ -452,8 +489,8 @@ impl Verdict {
 }
 
 /// The reasons joint `joint`'s motor `m` gives not to follow, appended to `reasons`: a PD's
-/// demand beyond the envelope too often, a stepper's step loss or slip, an RMS torque over the
-/// continuous rating.
+/// demand beyond the envelope too often, a stepper's step loss or slip, a servo's trip, an RMS
+/// torque over the continuous rating.
 fn motor_reasons(
     joint: JointId,
     m: &MotorSummary,
@@ -480,6 +517,13 @@ fn motor_reasons(
             position_lost,
             prismatic: prismatic.get(joint.0).copied().unwrap_or(false),
             ringing: m.ringing,
+        });
+    }
+    if let Some((trip, servo)) = m.servo.and_then(|s| Some((s.trip?, s))) {
+        reasons.push(Reason::ServoTrips {
+            joint,
+            trip,
+            protective: servo.protective,
         });
     }
     if let Some(continuous) = m.continuous_torque.filter(|&c| m.rms_torque > c) {

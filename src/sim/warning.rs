@@ -39,11 +39,23 @@ pub enum Warning {
         /// The joints and the positions they hold.
         joints: Vec<crate::traj::HeldJoint>,
     },
-    /// Under [`super::Drive::Stepper`], `effort` was given: it does not clip the open-loop
-    /// steppers' torque (their torque is the torque–angle curve's), only the PD's joints'.
+    /// Under [`super::Drive::Stepper`] or [`super::Drive::Servo`], `effort` was given: it does
+    /// not clip the torque of the joints that drive themselves (an open-loop stepper's is its
+    /// torque–angle curve's, a servo's its own loop's within its torque limit), only the PD's
+    /// joints'.
     IdleEffort {
-        /// The open-loop steppers' joints, for people (`J1, J2`).
+        /// Those joints, for people (`J1, J2`).
         joints: String,
+        /// The drive.
+        drive: super::DriveMode,
+    },
+    /// Under [`super::Drive::Servo`]: the servos' protection registers are assumed defaults,
+    /// not published figures (docs/motors.md, "Smart servos").
+    AssumedProtection {
+        /// The servos' joints, for people (`J1, J2`).
+        joints: String,
+        /// The figures taken, for people.
+        figures: String,
     },
     /// Reading a trajectory file decided something the user should know (joints left out,
     /// recorded velocities used or not).
@@ -124,9 +136,20 @@ impl fmt::Display for Warning {
                 shortest(fine_dt(*omega)),
                 std::f64::consts::TAU / (omega * fine_dt(*omega)),
             ),
-            Warning::IdleEffort { joints } => write!(
+            Warning::IdleEffort {
+                joints,
+                drive: super::DriveMode::Servo,
+            } => write!(
+                f,
+                "warning: `effort` does not act on the servos ({joints}) under `drive` servo: their torque is their own loop's within its torque limit, and no saturation is counted for them"
+            ),
+            Warning::IdleEffort { joints, .. } => write!(
                 f,
                 "warning: `effort` does not act on the open-loop steppers ({joints}) under `drive` stepper: their torque is their torque–angle curve's, and no saturation is counted for them"
+            ),
+            Warning::AssumedProtection { joints, figures } => write!(
+                f,
+                "warning: the servos' protection registers ({joints}) are assumed defaults, not published figures: {figures}; a trip's time and torque move with them (docs/motors.md, \"Smart servos\")"
             ),
             Warning::Clearance(w) => write!(f, "warning: {w}"),
             Warning::Trajectory(w) => write!(f, "warning: {w}"),

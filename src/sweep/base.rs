@@ -35,10 +35,11 @@ const NOT_VARIED: [&str; 6] = ["port", "print_period", "grid", "margin", "attemp
 /// varies only these and the multipliers ([`Scale`]: gains, limits, masses, motors) follow one
 /// commanded path, whose clearance is computed once and shared ([`PathClearance`];
 /// docs/clearance.md "Sweeps").
-pub const SAME_PATH: [&str; 7] = [
+pub const SAME_PATH: [&str; 8] = [
     "payload_kg",
     "supply_voltage",
     "driver_bandwidth",
+    "servo_rate",
     "friction",
     "max_saturation_pct",
     "max_error",

@@ -55,6 +55,18 @@ impl Interpolated {
         &self.samples[k * self.columns..(k + 1) * self.columns]
     }
 
+    /// The last sample at or before time `t` (s), counted on over the periods, and its time:
+    /// sample k at k·h, h the period over the segments (within 10⁻⁹ of a sample, at it).
+    pub fn frame(&self, t: f64) -> (u64, f64) {
+        let segments = match self.wrap {
+            Wrap::Repeat => self.rows - 1,
+            Wrap::Closed => self.rows,
+        };
+        let h = self.period / segments as f64;
+        let k = (t / h + 1e-9).floor().max(0.0);
+        (k as u64, k * h)
+    }
+
     /// The interpolated value at t into `q` and the segment slope into `v`.
     #[inline]
     pub fn eval(&self, t: f64, q: &mut [f64], v: &mut [f64]) {

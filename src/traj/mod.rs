@@ -58,6 +58,17 @@ impl Trajectory {
         }
     }
 
+    /// The sample a sampled command holds at time `t` (s): the index of the last sample at or
+    /// before `t` and that sample's time (s); `None` for a wave, which has no samples. A smart
+    /// servo is sent its goal at these times (`drive` servo).
+    pub fn frame(&self, t: f64) -> Option<(u64, f64)> {
+        match self {
+            Trajectory::Wave(_) => None,
+            Trajectory::Interpolated(p) => Some(p.frame(t)),
+            Trajectory::Spline(s) => Some(s.frame(t)),
+        }
+    }
+
     /// The state a run of it starts in: the command's at t = 0, or for a message played from
     /// a start, at rest there ([`Spline::start_state`]).
     pub fn start_state(&self, q: &mut [f64], v: &mut [f64]) {

@@ -144,6 +144,13 @@ impl Spline {
         self.times[self.times.len() - 1]
     }
 
+    /// The last point at or before time `t` (s) and its time (the first before it, the last
+    /// after the end).
+    pub fn frame(&self, t: f64) -> (u64, f64) {
+        let i = self.times.partition_point(|&ti| ti <= t).saturating_sub(1);
+        (i as u64, self.times[i])
+    }
+
     /// How the points are joined.
     pub fn interpolation(&self) -> Interpolation {
         self.interpolation

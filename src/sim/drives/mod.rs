@@ -1,9 +1,11 @@
 //! The drives, each in its own file: what turns a joint's command into its torque. The PD
 //! (`pd.rs`) clips the controller's torque to the limits and each motor's envelope; the
 //! open-loop stepper (`stepper.rs`) gives what its torque–angle curve gives at the rotor's lag
-//! behind the driver's microstep. A drive's options, its state per joint (made once by
-//! [`Drive::joints`], set at the start pose by [`prepare`]), its actuation in the step
-//! ([`JointDrive::actuate`], nothing allocated), what a run records of it ([`DriveRecord`]),
+//! behind the driver's microstep; the smart servo (`servo.rs`) what its own position loop gives
+//! on the goal it was sent, within its torque limit and its protection. A drive's options, its
+//! state per joint (made once by [`Drive::joints`], set at the start pose by [`prepare`]), its
+//! actuation in the step ([`JointDrive::actuate`], nothing allocated; a state that changes over
+//! a run in [`Step`], as the servos' [`Servos`]), what a run records of it ([`DriveRecord`]),
 //! its summary fields ([`DriveRecord::summarize`]) and its warnings are its file's.
 //!
 //! This file is the one registration point: a drive is a [`DriveMode`] word, a [`Drive`] and a
@@ -11,9 +13,11 @@
 //! (ARCHITECTURE.md, "How to add a drive").
 
 mod pd;
+mod servo;
 mod stepper;
 
 pub(super) use pd::actuate_without_motors;
+pub use servo::{DEFAULT_GOAL_RATE, ServoDrive, ServoOptions, Servos};
 pub use stepper::StepperOptions;
 
 use super::{MotorSummary, Scenario, Step, Warning};
@@ -34,9 +38,13 @@ pub enum Drive {
     /// current loop, its own losses and its reducer's friction (docs/motors.md); the other
     /// joints stay on the PD.
     Stepper(StepperOptions),
+    /// The joints with a smart servo driven by the servo's own position loop on the goal it
+    /// is sent, within its torque limit, protecting itself (docs/motors.md, "Smart servos");
+    /// the other joints stay on the PD.
+    Servo(ServoOptions),
 }
 
-/// How the joints with a stepper are driven (`drive`; the summary's `drive` of each motor).
+/// How the joints with a motor are driven (`drive`; the summary's `drive` of each motor).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DriveMode {
     /// The controller's torque clipped to each motor's envelope (the original's).
@@ -44,9 +52,11 @@ pub enum DriveMode {
     Pd,
     /// Open loop: the driver's microstep through the stepper's torque–angle curve.
     Stepper,
+    /// A smart servo's own position loop on the goal it is sent.
+    Servo,
 }
 
-crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper" });
+crate::choice::choice_words!(DriveMode { Pd => "pd", Stepper => "stepper", Servo => "servo" });
 
 impl DriveMode {
     /// What the drive does, in a sentence for people (`faze4 list drives`).
@@ -54,6 +64,7 @@ impl DriveMode {
         match self {
             DriveMode::Pd => pd::ABOUT,
             DriveMode::Stepper => stepper::ABOUT,
+            DriveMode::Servo => servo::ABOUT,
         }
     }
 }
@@ -67,6 +78,9 @@ impl Drive {
             Drive::Stepper(options) => Ok((stepper::drives(options, motors, n)?.into_iter())
                 .map(|d| d.map_or(JointDrive::Pd, JointDrive::Stepper))
                 .collect()),
+            Drive::Servo(options) => Ok((servo::drives(options, motors)?.into_iter())
+                .map(|d| d.map_or(JointDrive::Pd, JointDrive::Servo))
+                .collect()),
         }
     }
 }
@@ -79,6 +93,8 @@ pub enum JointDrive {
     Pd,
     /// The joint's stepper, open loop (its motor is a stepper).
     Stepper(OpenLoopStepper),
+    /// The joint's smart servo (its motor has servo registers).
+    Servo(ServoDrive),
 }
 
 impl JointDrive {
@@ -87,6 +103,7 @@ impl JointDrive {
         match self {
             JointDrive::Pd => DriveMode::Pd.word(),
             JointDrive::Stepper(_) => DriveMode::Stepper.word(),
+            JointDrive::Servo(_) => DriveMode::Servo.word(),
         }
     }
 
@@ -101,16 +118,26 @@ impl JointDrive {
     pub fn stepper(&self) -> Option<&OpenLoopStepper> {
         match self {
             JointDrive::Stepper(d) => Some(d),
-            JointDrive::Pd => None,
+            JointDrive::Pd | JointDrive::Servo(_) => None,
         }
     }
 
-    /// (τ_raw, q, v, q_cmd) of joint `i`, driving motor `motor` ⇒ its τ (held over the step),
-    /// its τ_raw where the drive gives it, and `bounds[i]` (docs/model.md, docs/motors.md).
+    /// The smart servo, if the joint has one.
+    pub fn servo(&self) -> Option<&ServoDrive> {
+        match self {
+            JointDrive::Servo(d) => Some(d),
+            JointDrive::Pd | JointDrive::Stepper(_) => None,
+        }
+    }
+
+    /// (τ_raw, q, v, q_cmd) of joint `i` at time `t` (s), driving motor `motor` ⇒ its τ (held
+    /// over the step), its τ_raw where the drive gives it, and `bounds[i]` (docs/model.md,
+    /// docs/motors.md).
     #[inline]
-    pub fn actuate(&self, sc: &Scenario, s: &mut Step, i: usize, motor: Option<&Motor>) {
+    pub fn actuate(&self, sc: &Scenario, s: &mut Step, i: usize, motor: Option<&Motor>, t: f64) {
         match (self, motor) {
             (JointDrive::Stepper(drive), Some(m)) => stepper::actuate(drive, m, sc, s, i),
+            (JointDrive::Servo(drive), Some(m)) => servo::actuate(drive, m, sc, s, i, t),
             _ => pd::actuate(motor, sc, s, i),
         }
     }
@@ -120,14 +147,15 @@ impl JointDrive {
         match self {
             JointDrive::Pd => DriveRecord::Pd(pd::Record::default()),
             JointDrive::Stepper(_) => DriveRecord::Stepper(Default::default()),
+            JointDrive::Servo(_) => DriveRecord::Servo(servo::Record::default()),
         }
     }
 }
 
 /// Sets each joint's drive at the start pose `q_start` of `model` (the simulated model:
-/// payload and rotors on it), and what the model takes of it (the open-loop steppers' damping
-/// on the joints' damping); the warnings of a drive that `effort` (`effort_given`) does not act
-/// on.
+/// payload and rotors on it), and what the model takes of it (the open-loop steppers' damping,
+/// the servos' speed drag on the joints' damping); the warnings of a drive that `effort`
+/// (`effort_given`) does not act on, and of the servos' assumed protection.
 pub(super) fn prepare(
     model: &mut Model,
     motors: Option<&[Option<Motor>]>,
@@ -141,11 +169,41 @@ pub(super) fn prepare(
         stepper::damp(model, motors, drives, q_start);
         if effort_given {
             warnings.push(Warning::IdleEffort {
-                joints: stepper::idle_effort(drives),
+                joints: idle_effort(drives),
+                drive: DriveMode::Stepper,
             });
         }
     }
+    if drives.iter().any(|d| d.servo().is_some()) {
+        servo::damp(model, drives);
+        if effort_given {
+            warnings.push(Warning::IdleEffort {
+                joints: idle_effort(drives),
+                drive: DriveMode::Servo,
+            });
+        }
+        warnings.extend(servo::assumed(drives));
+    }
     warnings
+}
+
+/// The joints that drive themselves, for people (`J4, J6`), whose torque `effort` does not
+/// clip.
+fn idle_effort(drives: &[JointDrive]) -> String {
+    let joints: Vec<String> = (drives.iter().enumerate())
+        .filter(|(_, d)| d.open_loop())
+        .map(|(i, _)| format!("J{}", i + 1))
+        .collect();
+    joints.join(", ")
+}
+
+/// Sends each servo of `sc` the goal of the frame at time `t` (s) when that frame is new (the
+/// trajectory's sample times, else `servo_rate`'s).
+#[inline]
+pub(super) fn send_goals(sc: &Scenario, s: &mut Step, t: f64) {
+    if let Some(servos) = s.servos.as_mut() {
+        servo::send(sc, servos, t);
+    }
 }
 
 /// What the drives of a scenario of `model` at Δt = `dt` (s) warn of once its gains are
@@ -170,6 +228,8 @@ pub(in crate::sim) enum DriveRecord {
     Pd(pd::Record),
     /// The open-loop stepper: its slips.
     Stepper(crate::control::Slips),
+    /// The smart servo: its trip, its duty.
+    Servo(servo::Record),
 }
 
 impl DriveRecord {
@@ -179,6 +239,7 @@ impl DriveRecord {
     pub(in crate::sim) fn add(&mut self, drive: &JointDrive, m: &Motor, sc: &Scenario, p: &Step, i: usize, t: f64) {
         match (self, drive) {
             (DriveRecord::Stepper(slips), JointDrive::Stepper(d)) => stepper::record(slips, d, sc, p, i, t),
+            (DriveRecord::Servo(record), JointDrive::Servo(d)) => record.add(d, p, i),
             (DriveRecord::Pd(record), _) => record.add(m, sc, p, i, t),
             _ => {}
         }
@@ -186,7 +247,7 @@ impl DriveRecord {
 
     /// The drive's fields of joint `joint`'s motor summary (`m` its motor) over `steps` steps:
     /// `drive`, `envelope_pct`, a stepper's `loses_steps_at`, `step_loss`, `steps_lost`,
-    /// `position_lost`, `ringing`.
+    /// `position_lost`, `ringing`, a servo's `servo`.
     pub(in crate::sim) fn summarize(
         &self,
         drive: &JointDrive,
@@ -200,6 +261,7 @@ impl DriveRecord {
             (DriveRecord::Stepper(slips), JointDrive::Stepper(d)) => {
                 stepper::summarize(slips, d, joint, steps, summary)
             }
+            (DriveRecord::Servo(record), JointDrive::Servo(d)) => record.summarize(d, steps, summary),
             (DriveRecord::Pd(record), _) => record.summarize(m, steps, summary),
             _ => {}
         }
@@ -249,9 +311,12 @@ mod tests {
     #[test]
     fn each_drive_is_registered_once() {
         let words: Vec<&str> = DriveMode::VALUES.iter().map(|d| d.word()).collect();
-        assert_eq!(words, ["pd", "stepper"]);
+        assert_eq!(words, ["pd", "stepper", "servo"]);
         let about: Vec<&str> = DriveMode::VALUES.iter().map(|d| d.about()).collect();
-        assert!(about[0] != about[1] && about.iter().all(|a| a.len() > 40), "{about:?}");
+        assert!(
+            about[0] != about[1] && about[1] != about[2] && about.iter().all(|a| a.len() > 40),
+            "{about:?}"
+        );
 
         let pd = Drive::Pd.joints(None, 3).unwrap();
         assert_eq!(pd, [JointDrive::Pd; 3]);
@@ -272,6 +337,32 @@ mod tests {
         for motors in [None, Some(&[None, Some(motor(false))][..])] {
             let e = stepper.joints(motors, 2).unwrap_err().to_string();
             assert!(e.contains("`drive`"), "{e}");
+        }
+    }
+
+    /// `drive` servo drives the joints whose motor has servo registers (the presets') by their
+    /// servo and the rest by the PD, and refuses an arm without motors or without any servo,
+    /// naming `drive`, and a goal rate not > 0, naming `servo_rate`.
+    #[test]
+    fn the_servo_drive_takes_the_joints_with_servo_registers() {
+        let servo = Drive::Servo(ServoOptions::default());
+        let sts = crate::control::catalog::sts3215(None).motor;
+        let motors = [Some(motor(true)), Some(sts.clone()), None, Some(motor(false))];
+        let drives = servo.joints(Some(&motors), 4).unwrap();
+        assert_eq!(drives[0], JointDrive::Pd);
+        assert!(drives[1].servo().is_some() && drives[1].open_loop() && drives[1].stepper().is_none());
+        assert_eq!(drives[1].word(), "servo");
+        assert_eq!(drives[1].servo().unwrap().spec, sts.servo.unwrap());
+        assert_eq!(drives[2..], [JointDrive::Pd, JointDrive::Pd]);
+        assert!(matches!(drives[1].record(), DriveRecord::Servo(_)));
+        for motors in [None, Some(&[Some(motor(true)), Some(motor(false))][..])] {
+            let e = servo.joints(motors, 2).unwrap_err().to_string();
+            assert!(e.contains("`drive`"), "{e}");
+        }
+        for rate in [0.0, -30.0, f64::NAN] {
+            let bad = Drive::Servo(ServoOptions { rate: Some(rate) });
+            let e = bad.joints(Some(&motors), 4).unwrap_err().to_string();
+            assert!(e.contains("`servo_rate`"), "{e}");
         }
     }
 }

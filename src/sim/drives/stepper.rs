@@ -160,15 +160,6 @@ pub fn coarse_step(model: &Model, drives: &[JointDrive], dt: f64) -> Option<Warn
     })
 }
 
-/// The open-loop steppers' joints, for people (`J4, J6`), whose torque `effort` does not clip.
-pub fn idle_effort(drives: &[JointDrive]) -> String {
-    let joints: Vec<String> = (drives.iter().enumerate())
-        .filter(|(_, d)| d.stepper().is_some())
-        .map(|(i, _)| format!("J{}", i + 1))
-        .collect();
-    joints.join(", ")
-}
-
 /// Joint `i`'s τ under its open-loop stepper `drive` (motor `m`): what its torque–angle curve
 /// gives at the rotor's lag behind the driver's microstep, r·η·T(r·q, r·q̇, θ_cmd), which is
 /// also its τ_raw (an open-loop stepper asks for nothing else), with its reducer's and the

@@ -3,10 +3,11 @@
 //! on the simplified meshes bounds the original meshes' distance both ways (docs/clearance.md,
 //! "Simplified meshes").
 //!
-//! The simplifier is meshoptimizer's (the `meshopt` crate: edge collapses ordered by a quadric
-//! error, stopped at an absolute error bound). It keeps a subset of the original vertices, at
-//! their exact coordinates, and its error is an estimate, not a bound; the bounds are ours
-//! ([`one_sided`]): for every point `p` of one surface, `dist(p, other) ≤ bound`.
+//! Two simplifiers are judged: meshoptimizer's ([`simplify`], the `meshopt` crate: edge collapses
+//! ordered by a quadric error, stopped at an absolute error target, an estimate and not a bound)
+//! and our own whose every collapse is checked against the bound (`checked.rs`). Both keep a
+//! subset of the original vertices, at their exact coordinates; the certified bounds are
+//! [`one_sided`]'s ([`certify`]): for every point `p` of one surface, `dist(p, other) ≤ bound`.
 //!
 //! It uses `std`, `meshopt` and faze4's `src/geometry/bvh.rs` (included by `main.rs`) alone.
 
@@ -18,7 +19,7 @@ pub const MOST_KEPT: f64 = 0.8;
 
 /// How much a certified bound may exceed the largest distance actually found (m): cells of a
 /// triangle are split until their bound is within it (or [`MAX_DEPTH`] is reached).
-const SLACK: f64 = 1e-6;
+pub const SLACK: f64 = 1e-6;
 
 /// How many times a triangle's cells are split at most (4 cells per split).
 const MAX_DEPTH: u32 = 14;
@@ -58,14 +59,20 @@ pub fn simplify(points: &[Point], triangles: &[[u32; 3]], error: f64) -> Option<
     if kept.is_empty() || kept.len() as f64 > MOST_KEPT * indices.len() as f64 {
         return None;
     }
-    // only the vertices it keeps, in their order of first use
+    let kept: Vec<[u32; 3]> = kept.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+    Some(certify(points, triangles, &kept))
+}
+
+/// The simplification `kept` (triangles of the original vertices `points`) of the mesh of
+/// `points` and `triangles`, with its own vertices (those it uses, in their order of first use),
+/// its hierarchy and both one-sided distances to the original certified by [`one_sided`].
+pub fn certify(points: &[Point], triangles: &[[u32; 3]], kept: &[[u32; 3]]) -> Simplified {
     let mut index = vec![u32::MAX; points.len()];
     let mut kept_points = Vec::new();
-    let kept_triangles: Vec<[u32; 3]> = kept
-        .chunks_exact(3)
+    let kept_triangles: Vec<[u32; 3]> = (kept.iter())
         .map(|t| {
-            [0, 1, 2].map(|k| {
-                let v = t[k] as usize;
+            t.map(|v| {
+                let v = v as usize;
                 if index[v] == u32::MAX {
                     index[v] = kept_points.len() as u32;
                     kept_points.push(points[v]);
@@ -78,13 +85,13 @@ pub fn simplify(points: &[Point], triangles: &[[u32; 3]], error: f64) -> Option<
     let original = Bvh::build(points, triangles);
     let to_original = one_sided((&kept_points, &kept_triangles), (points, triangles, &original));
     let from_original = one_sided((points, triangles), (&kept_points, &kept_triangles, &bvh));
-    Some(Simplified {
+    Simplified {
         points: kept_points,
         triangles: kept_triangles,
         bvh,
         to_original,
         from_original,
-    })
+    }
 }
 
 /// The nearest triangle of a mesh to a point, and its distance.
@@ -107,11 +114,16 @@ pub fn one_sided((points, triangles): (&[Point], &[[u32; 3]]), to: (&[Point], &[
         bvh.nearest(p, start, |t| point_triangle_squared(p, corners(t)))
             .unwrap_or((0, f64::INFINITY))
     };
-    // the largest distance found at a point: every vertex, every centroid
+    // the largest distance found at a point: every vertex of a triangle (a vertex of none is
+    // not on the surface), every centroid
+    let mut used = vec![false; points.len()];
+    triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
     let mut start = 0;
-    let vertices: Vec<Near> = points
-        .iter()
-        .map(|&p| {
+    let vertices: Vec<Near> = (points.iter().zip(used))
+        .map(|(&p, used)| {
+            if !used {
+                return (0, 0.0);
+            }
             let n = near(p, start);
             start = n.0;
             n
