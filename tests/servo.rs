@@ -143,8 +143,9 @@ fn faze4_bin(args: &[String]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_faze4")).args(args).output().unwrap()
 }
 
-/// The binary says it: its motor table and the verdict name the servo's trip, stderr says the protection is
-/// assumed, the summary holds the trip's kind, time, torque and duration.
+/// The binary says it: its motor table and the verdict name the servo's trip, the banner that
+/// the PD does not drive the joint, stderr that the protection is assumed, the summary holds
+/// the trip's kind, time, torque and duration.
 #[test]
 fn the_binary_names_the_trip_and_the_assumption() {
     let dir = std::env::temp_dir().join(format!("faze4-servo-{}", std::process::id()));
@@ -178,6 +179,17 @@ fn the_binary_names_the_trip_and_the_assumption() {
             && verdict.contains("J1's servo trips its overload protection at t = 2.09 s: "),
         "{verdict}"
     );
+    // the banner says the PD's gains printed above it do not act on the servo's joint
+    assert_eq!(
+        row("own drive"),
+        Some("J1 driven by the servo, not the PD: its kp, kd and feed-forward above do not act on them"),
+        "{stdout}"
+    );
+    let pd_args: Vec<String> = (lever_args(&["--trail", "none"]).into_iter())
+        .map(|a| if a == "servo" { "pd".into() } else { a })
+        .collect();
+    let pd = String::from_utf8_lossy(&faze4_bin(&pd_args).stdout).into_owned();
+    assert!(pd.contains("coupled loop") && !pd.contains("own drive"), "{pd}");
     assert!(
         stderr.contains("warning: the servos' protection registers (J1) are assumed defaults, not published figures: Feetech's overload above 80 % for 2 s, then held to 20 %"),
         "{stderr}"

@@ -185,6 +185,32 @@ fn out(line: &str) -> crate::Result<()> {
     Ok(())
 }
 
+/// The banner's line naming the joints a drive of their own moves (a stepper, a servo), on
+/// which the PD's gains and feed-forward printed above do not act; `None` when the PD drives
+/// every joint.
+fn drives_line(drives: &[crate::sim::JointDrive]) -> Option<String> {
+    let mut by_drive: Vec<(&str, Vec<String>)> = Vec::new();
+    for (i, drive) in drives.iter().enumerate() {
+        let word = drive.word();
+        if word == crate::sim::DriveMode::Pd.word() {
+            continue;
+        }
+        match by_drive.iter_mut().find(|(w, _)| *w == word) {
+            Some((_, joints)) => joints.push(format!("J{}", i + 1)),
+            None => by_drive.push((word, vec![format!("J{}", i + 1)])),
+        }
+    }
+    (!by_drive.is_empty()).then(|| {
+        let named: Vec<String> = (by_drive.iter())
+            .map(|(word, joints)| format!("{} driven by the {word}", joints.join(", ")))
+            .collect();
+        format!(
+            "own drive             {}, not the PD: its kp, kd and feed-forward above do not act on them",
+            named.join("; ")
+        )
+    })
+}
+
 impl Recorder for Terminal {
     fn period(&self) -> f64 {
         self.print_period
@@ -261,6 +287,9 @@ impl Recorder for Terminal {
                     ""
                 }
             ))?;
+        }
+        if let Some(line) = drives_line(run.drives) {
+            out(&line)?;
         }
         if self.prismatic.is_empty() {
             // degrees to 0.01: a −8e-15 from sin(π) is 0

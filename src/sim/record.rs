@@ -42,6 +42,9 @@ pub struct RunInfo<'a> {
     pub motors: Option<&'a [Option<crate::control::Motor>]>,
     /// A time-stamped trajectory's playback: its start and approach.
     pub playback: Option<&'a crate::traj::Playback>,
+    /// Per joint, what drives it (size dof): the PD, or a drive of its own that the PD's
+    /// gains and feed-forward do not act on.
+    pub drives: &'a [super::JointDrive],
 }
 
 /// The state of the run after `step` steps (t = step·Δt), with the torque computed from it.

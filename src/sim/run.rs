@@ -70,6 +70,7 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
             Trajectory::Spline(s) => s.playback(),
             _ => None,
         },
+        drives: &sc.drives,
     };
     // the loop looks at the flag: a signal now stops the run, not the process
     stop.watch();
