@@ -10,7 +10,7 @@
 //! smooth timing (`smooth.rs`) has no such step.
 
 use super::limits::Limits;
-use crate::algo::{Data, rnea};
+use crate::algo::{Data, gravity, rnea};
 use crate::model::Model;
 use crate::traj::Trajectory;
 
@@ -54,7 +54,7 @@ struct Asked {
 /// What one played sample asks of joint `j`: its speed, acceleration and jerk `[v, a, jerk]`,
 /// the torque `tau` the motion needs (inverse dynamics), `gravity` the torque at rest at that
 /// pose (computed only where `tau` is beyond its range).
-fn asked(limits: &Limits, j: usize, [v, a, jerk]: [f64; 3], tau: f64, gravity: impl Fn() -> f64) -> Asked {
+fn asked(limits: &Limits, j: usize, [v, a, jerk]: [f64; 3], tau: f64, gravity: impl FnOnce() -> f64) -> Asked {
     let speed = v.abs() / limits.speed[j];
     let acceleration = a.abs() / limits.acceleration[j];
     let jerk = jerk.abs() / limits.jerk[j];
@@ -115,11 +115,13 @@ pub(crate) fn sample(
     keep: &mut [f64],
 ) -> (Played, f64) {
     let dof = model.dof();
-    let mut data = Data::new(model);
+    // workspaces, made once: the motion's torque at a sample, and the torque at rest at its
+    // pose (computed at most once a sample, where a joint's torque is beyond its range)
+    let (mut data, mut still) = (Data::new(model), Data::new(model));
+    let (mut tau, mut at_rest) = (vec![0.0; dof], vec![0.0; dof]);
     let (mut q, mut v, mut a) = (vec![0.0; dof], vec![0.0; dof], vec![0.0; dof]);
     let (mut a_plus, mut a_minus) = (vec![0.0; dof], vec![0.0; dof]);
     let (mut q_near, mut v_near) = (vec![0.0; dof], vec![0.0; dof]);
-    let zero = vec![0.0; dof];
     let jerk_limited = limits.jerk.iter().any(|j| j.is_finite());
     let mut worst = Played {
         worst: 0.0,
@@ -141,14 +143,21 @@ pub(crate) fn sample(
                 command.eval_with_acceleration(at + h, &mut q_near, &mut v_near, &mut a_plus);
                 command.eval_with_acceleration(at - h, &mut q_near, &mut v_near, &mut a_minus);
             }
-            let tau = rnea(model, &mut data, &q, &v, &a).clone();
+            tau.copy_from_slice(rnea(model, &mut data, &q, &v, &a).as_slice());
+            let mut at_rest_known = false;
             for j in 0..dof {
-                let gravity = || rnea(model, &mut Data::new(model), &q, &zero, &zero)[j];
+                let resting = || {
+                    if !at_rest_known {
+                        at_rest.copy_from_slice(gravity(model, &mut still, &q).as_slice());
+                        at_rest_known = true;
+                    }
+                    at_rest[j]
+                };
                 let jerk = match jerk_limited {
                     true => (a_plus[j] - a_minus[j]) / (2.0 * JERK_STEP * dt),
                     false => 0.0,
                 };
-                let asked = asked(limits, j, [v[j], a[j], jerk], tau[j], gravity);
+                let asked = asked(limits, j, [v[j], a[j], jerk], tau[j], resting);
                 most_jerk = most_jerk.max(asked.shares[3].0);
                 for (share, limit) in asked.shares {
                     if share > worst.worst {
