@@ -82,6 +82,9 @@ pub fn drives(options: &ServoOptions, motors: Option<&[Option<Motor>]>) -> Resul
 pub struct Servos {
     /// Each joint's servo state.
     pub states: Vec<ServoState>,
+    /// Their goal rate (Hz; `None`: the trajectory's sample times, else
+    /// [`DEFAULT_GOAL_RATE`]), one option for every servo.
+    rate: Option<f64>,
     /// The frame whose goal the servos hold.
     frame: Option<u64>,
     /// The command at that frame's time: positions (n, rad or m) and velocities (n).
@@ -93,15 +96,14 @@ impl Servos {
     /// The servos' workspace of a scenario with any servo, allocated once.
     pub fn new(sc: &Scenario) -> Option<Servos> {
         let n = sc.model.dof();
-        sc.drives
-            .iter()
-            .any(|d| matches!(d, JointDrive::Servo(_)))
-            .then(|| Servos {
-                states: vec![ServoState::default(); n],
-                frame: None,
-                q: vec![0.0; n],
-                v: vec![0.0; n],
-            })
+        let rate = sc.drives.iter().find_map(|d| Some(d.servo()?.rate))?;
+        Some(Servos {
+            states: vec![ServoState::default(); n],
+            rate,
+            frame: None,
+            q: vec![0.0; n],
+            v: vec![0.0; n],
+        })
     }
 }
 
@@ -122,10 +124,7 @@ fn frame(sc: &Scenario, rate: Option<f64>, t: f64) -> (u64, f64) {
 /// at the frame's time, held until the next.
 #[inline]
 pub fn send(sc: &Scenario, servos: &mut Servos, t: f64) {
-    let Some(rate) = sc.drives.iter().find_map(|d| d.servo().map(|s| s.rate)) else {
-        return;
-    };
-    let (k, at) = frame(sc, rate, t);
+    let (k, at) = frame(sc, servos.rate, t);
     if servos.frame == Some(k) {
         return;
     }
