@@ -571,7 +571,14 @@ impl PairMemory {
         if hull <= 0.0 {
             return self.hulls_overlap(set, k, (pa, pb), pose_ab, hull, bounds);
         }
-        match set.proven_by_hulls(a, b, (pa, pb), hull, &mut self.closest, bounds.tolerance) {
+        match set.proven_by_hulls(
+            a,
+            b,
+            (pa, pb),
+            hull,
+            (&mut self.closest, self.support),
+            bounds.tolerance,
+        ) {
             Ok(distance) if bounds.tolerance > 0.0 => {
                 // within the tolerance of the hulls' distance, which stays the lower bound
                 // carried on
