@@ -4,11 +4,13 @@
 //! Per joint: the speed limit, the lowest of the scenario's (`--max-speed`, else the URDF's
 //! `velocity`; see [`crate::sim::ScenarioBuilder::max_speed`]) and the motor's top speed over
 //! its ratio; the torque range at a speed ([`JointTorque`]): the motor's envelope within the
-//! constant limit E, shrunk by the margin, less the joint's damping.
+//! constant limit E, shrunk by the margin, less the joint's damping. Per run: the shortest
+//! smoothing window the drives need (an open-loop stepper's ringing; docs/retime.md, "The
+//! drive's own limits").
 
 use super::RetimeOptions;
 use super::envelope::JointTorque;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::JointKind;
 use crate::sim::Scenario;
 use crate::sim::check::override_per_joint;
@@ -38,6 +40,9 @@ pub(crate) struct Limits {
     pub speed_source: Vec<SpeedSource>,
     /// The unit of each joint's torque: `N·m` (revolute) or `N` (prismatic).
     pub torque_unit: Vec<&'static str>,
+    /// The shortest smoothing window the drives need (s; 0 for none): the torque a timing asks
+    /// changes over at least this, so that each open-loop stepper's ringing fits in the margin.
+    pub window: f64,
 }
 
 impl Limits {
@@ -83,6 +88,7 @@ impl Limits {
             "> 0",
         )?;
         override_per_joint("max_jerk", &mut jerk, &options.max_jerk, positive, "> 0")?;
+        let window = least_window(scenario, margin)?;
         Ok(Limits {
             torque,
             speed,
@@ -90,6 +96,28 @@ impl Limits {
             jerk,
             speed_source,
             torque_unit,
+            window,
         })
     }
+}
+
+/// The shortest smoothing window `scenario`'s drives need at `margin` (s; 0 when none does), or
+/// the error naming `margin` where no window is enough (an open-loop stepper at margin 0).
+fn least_window(scenario: &Scenario, margin: f64) -> Result<f64> {
+    let mut least = 0.0;
+    for (j, drive) in scenario.drives.iter().enumerate() {
+        let w = drive.least_window(margin);
+        if w.is_infinite() {
+            let ring = drive.stepper().map_or(0.0, |d| d.damping.ring_hz());
+            return Err(Error::option(
+                "margin",
+                format!(
+                    "0 leaves J{}'s open-loop stepper no torque for its ringing (at {ring:.0} Hz): a timing at its pull-out torque slips at the first change of load; give a margin > 0 (0.1 keeps a 0.1 share for it)",
+                    j + 1
+                ),
+            ));
+        }
+        least = f64::max(least, w);
+    }
+    Ok(least)
 }

@@ -448,7 +448,7 @@ impl AsPlayed<'_> {
                 uncapped = Some(solved.profile.clone());
             }
             let raw = &solved.profile;
-            *window = window.max(WINDOW * raw.duration());
+            *window = window.max(WINDOW * raw.duration()).max(self.limits.window);
             let mut widened = 0;
             let (profile, trajectory, played) = loop {
                 let profile = smooth::Averaged::new(raw, *window).profile();

@@ -130,6 +130,17 @@ impl JointDrive {
         }
     }
 
+    /// The shortest window (s) over which a timing that keeps `1 − margin` of the joint's
+    /// torque may change it, for the drive to follow (retime's limits beyond the envelope): an
+    /// open-loop stepper's ringing (docs/retime.md, "The drive's own limits"); 0 for the drives that close
+    /// their own loop.
+    pub fn least_window(&self, margin: f64) -> f64 {
+        match self {
+            JointDrive::Stepper(d) => stepper::least_window(d, margin),
+            JointDrive::Pd | JointDrive::Servo(_) => 0.0,
+        }
+    }
+
     /// (τ_raw, q, v, q_cmd) of joint `i` at time `t` (s), driving motor `motor` ⇒ its τ (held
     /// over the step), its τ_raw where the drive gives it, and `bounds[i]` (docs/model.md,
     /// docs/motors.md).
