@@ -10,7 +10,9 @@
 
 use super::RetimeOptions;
 use super::envelope::JointTorque;
+use super::grid::PathGrid;
 use crate::error::{Error, Result};
+use crate::id::JointId;
 use crate::model::JointKind;
 use crate::sim::Scenario;
 use crate::sim::check::override_per_joint;
@@ -99,6 +101,51 @@ impl Limits {
             window,
         })
     }
+}
+
+/// Each smart servo of `scenario` holding the arm at rest at both ends of the path (`grid`'s
+/// first and last points, where the arm stands before and after any timing): its loop's sag
+/// under the load within the verdict's `max_error`, and the load within what its protection
+/// holds for longer than its time (the arm stays there); else the error saying which, at that
+/// end (docs/retime.md, "The drive's own limits"). No timing changes either.
+pub(crate) fn held_at_ends(scenario: &Scenario, grid: &PathGrid) -> Result<()> {
+    let (dof, last) = (grid.dof, grid.points() - 1);
+    let max_error = scenario.thresholds.max_error;
+    for i in [0, last] {
+        for (j, drive) in scenario.drives.iter().enumerate() {
+            let Some(hold) = drive.holding() else { continue };
+            let load = grid.c[i * dof + j].abs();
+            let sag = hold.sag_per_torque * load;
+            let end = match i {
+                0 => "start",
+                _ => "end",
+            };
+            let message = if load > hold.sustained {
+                format!(
+                    "J{}'s servo holds {load:.4} N·m to keep the arm at the path's {end}, above the {:.4} N·m its {} allows for {} s (assumed registers: docs/motors.md, \"Smart servos\"): it trips while the arm stands there, whatever the timing",
+                    j + 1,
+                    hold.sustained,
+                    hold.protection,
+                    hold.time
+                )
+            } else if sag > max_error {
+                format!(
+                    "J{}'s servo sags {sag:.4} rad under the {load:.4} N·m that keeps the arm at the path's {end} (its own loop's error at rest: a P register without I, at the catalog's duty per count), beyond `max_error` {max_error} rad, whatever the timing",
+                    j + 1
+                )
+            } else {
+                continue;
+            };
+            return Err(Error::NothingFollows {
+                s: grid.s[i],
+                length: grid.s[last],
+                point: 0,
+                joint: Some(JointId(j)),
+                message,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The shortest smoothing window `scenario`'s drives need at `margin` (s; 0 when none does), or

@@ -346,6 +346,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         },
         e => e,
     };
+    limits::held_at_ends(&start, &grid).map_err(located)?;
     let names = joint_names(model);
     let as_played = AsPlayed {
         model,

@@ -17,7 +17,7 @@ mod servo;
 mod stepper;
 
 pub(super) use pd::actuate_without_motors;
-pub use servo::{DEFAULT_GOAL_RATE, ServoDrive, ServoOptions, Servos};
+pub use servo::{DEFAULT_GOAL_RATE, Holding, ServoDrive, ServoOptions, Servos};
 pub use stepper::StepperOptions;
 
 use super::{MotorSummary, Scenario, Step, Warning};
@@ -139,6 +139,12 @@ impl JointDrive {
             JointDrive::Stepper(d) => stepper::least_window(d, margin),
             JointDrive::Pd | JointDrive::Servo(_) => 0.0,
         }
+    }
+
+    /// What the drive's own loop makes of a load held at rest (a smart servo's sag and
+    /// protection), if it closes one; `None` for the PD and the open-loop stepper.
+    pub fn holding(&self) -> Option<Holding> {
+        self.servo().map(servo::holding)
     }
 
     /// (τ_raw, q, v, q_cmd) of joint `i` at time `t` (s), driving motor `motor` ⇒ its τ (held
