@@ -346,6 +346,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         },
         e => e,
     };
+    limits::held_at_ends(&start, &grid).map_err(located)?;
     let names = joint_names(model);
     let as_played = AsPlayed {
         model,
@@ -448,7 +449,7 @@ impl AsPlayed<'_> {
                 uncapped = Some(solved.profile.clone());
             }
             let raw = &solved.profile;
-            *window = window.max(WINDOW * raw.duration());
+            *window = window.max(WINDOW * raw.duration()).max(self.limits.window);
             let mut widened = 0;
             let (profile, trajectory, played) = loop {
                 let profile = smooth::Averaged::new(raw, *window).profile();

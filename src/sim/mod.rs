@@ -17,7 +17,9 @@ mod verdict;
 mod warning;
 
 pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_STIFFNESS, SelfContact};
-pub use drives::{DEFAULT_GOAL_RATE, Drive, DriveMode, JointDrive, ServoDrive, ServoOptions, Servos, StepperOptions};
+pub use drives::{
+    DEFAULT_GOAL_RATE, Drive, DriveMode, Holding, JointDrive, ServoDrive, ServoOptions, Servos, StepperOptions,
+};
 pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
