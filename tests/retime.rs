@@ -497,7 +497,8 @@ fn a_line_under_a_constant_acceleration_is_bang_bang() {
 
 /// The walk-through on the real binary: `retime` of the circle's samples under the
 /// Faze4's steppers writes a timing that `replay` plays to "follows", as the same run as retime's
-/// check (the summaries agree); every output format plays back alike; a bad path is one line
+/// check (the summaries agree, and the trails byte for byte: retime's is its check's last run,
+/// taped); every output format plays back alike; a bad path is one line
 /// with status 2; a path nothing follows is its reason, status 3 with or without `--strict`.
 #[test]
 fn retime_then_replay_follows_on_the_binary() {
@@ -517,7 +518,7 @@ fn retime_then_replay_follows_on_the_binary() {
             "--summary",
             "retimed.json",
             "--trail",
-            "none",
+            "retimed.csv",
             "--plot",
             "phase.svg",
         ],
@@ -525,7 +526,9 @@ fn retime_then_replay_follows_on_the_binary() {
     assert!(run.status.success(), "{}{}", run.stdout, run.stderr);
     let last = run.stdout.lines().last().unwrap();
     assert_eq!(last, "verdict: follows", "{}", run.stdout);
-    assert!(run.stdout.starts_with("retime: "), "{}", run.stdout);
+    // the run's own lines (a trail is asked for: its run is shown), then retime's
+    assert!(run.stdout.starts_with("[faze4] replay (retimed)"), "{}", run.stdout);
+    assert!(run.stdout.lines().any(|l| l.starts_with("retime: ")), "{}", run.stdout);
     // the timing, played as ros2_control plays it, keeps every limit between the points too
     // (docs/retime.md, "Between the grid points"), and says so
     let played_line = (run.stdout.lines())
@@ -550,7 +553,7 @@ fn retime_then_replay_follows_on_the_binary() {
             "--summary",
             "replayed.json",
             "--trail",
-            "none",
+            "replayed.csv",
             "--quiet",
         ],
     );
@@ -559,6 +562,13 @@ fn retime_then_replay_follows_on_the_binary() {
     let replayed = common::summary(&dir, "replayed.json");
     assert_eq!(retimed["verdict"], replayed["verdict"]);
     assert_eq!(retimed["joints"], replayed["joints"], "the check is the replay's run");
+    // retime's trail is its check's run, taped: the replay's, byte for byte
+    let trail = std::fs::read(dir.join("retimed.csv")).unwrap();
+    assert!(trail.len() > 5_000, "{} bytes", trail.len());
+    assert!(
+        trail == std::fs::read(dir.join("replayed.csv")).unwrap(),
+        "the trails differ"
+    );
     // the other formats hold the same timing
     let timed = faze4::traj::files::read(&dir.join("circle.yaml"), &Default::default()).unwrap();
     for out in ["circle.json", "circle.csv", "circle.mcap"] {
