@@ -181,6 +181,9 @@ pub struct Field {
     pub conflicts: &'static [&'static str],
     /// The options it needs.
     pub requires: &'static [&'static str],
+    /// What a sweep does with it (`None` for a field that is not a number, which no sweep
+    /// varies; every numeric field says, a test checks).
+    pub swept: Option<Swept>,
     set: fn(&mut RunConfig, Value) -> Result<()>,
     number: Option<NumberSlot>,
 }
@@ -192,6 +195,21 @@ impl std::fmt::Debug for Field {
             .field("kind", &self.kind)
             .finish()
     }
+}
+
+/// What a sweep (`--vary`, `--find`) does with a numeric field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Swept {
+    /// Varied, and its values leave a run's commanded path q_cmd(t) and the times of its
+    /// clearance's samples as they are (the arm's dynamics, the motors, the verdict's
+    /// thresholds): the runs share the path's clearance (docs/clearance.md "Sweeps").
+    KeepsPath,
+    /// Varied, and its values move the command or the samples' times: each run has its own
+    /// clearance.
+    MovesPath,
+    /// Not varied: how a run is shown (`port`), another command's (retime's `grid`), or read
+    /// once for every run (a dataset's `episode`).
+    Never,
 }
 
 impl Field {
@@ -216,6 +234,7 @@ impl Field {
             most: None,
             conflicts: &[],
             requires: &[],
+            swept: None,
             set,
             number,
         }
@@ -263,6 +282,11 @@ impl Field {
 
     const fn requires(mut self, names: &'static [&'static str]) -> Field {
         self.requires = names;
+        self
+    }
+
+    const fn swept(mut self, swept: Swept) -> Field {
+        self.swept = Some(swept);
         self
     }
 
@@ -646,7 +670,7 @@ fn shape(c: &mut RunConfig) -> Option<&mut super::ShapeConfig> {
 
 /// `duration` of the commands in `commands`.
 const fn duration(commands: Commands) -> Field {
-    optional_number!("duration", commands, |c| Some(&mut c.duration))
+    optional_number!("duration", commands, |c| Some(&mut c.duration)).swept(Swept::MovesPath)
 }
 
 /// Every option of a run, by name, in the order of `faze4 COMMAND --help`: each command's own,
@@ -658,15 +682,19 @@ pub const FIELDS: &[Field] = &[
         .default(DefaultValue::Computed(super::DEFAULT_DURATION))
         .help("Simulated time (s)."),
     number!("freq", Commands::WAVE, |c| wave(c).map(|w| &mut w.freq))
+        .swept(Swept::MovesPath)
         .default(DefaultValue::Number(super::DEFAULT_FREQ))
         .help("Angular frequency ω of the wave (rad/s, as the original)."),
     number!("amp_deg", Commands::WAVE, |c| wave(c).map(|w| &mut w.amp_deg))
+        .swept(Swept::MovesPath)
         .default(DefaultValue::Number(super::DEFAULT_AMP_DEG))
         .help("Amplitude A of the revolute and continuous joints (degrees)."),
-    optional_number!("amp_m", Commands::WAVE, |c| wave(c).map(|w| &mut w.amp_m)).help(
-        "Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it has limits, else \
+    optional_number!("amp_m", Commands::WAVE, |c| wave(c).map(|w| &mut w.amp_m))
+        .swept(Swept::MovesPath)
+        .help(
+            "Amplitude A of the prismatic joints (m). Default: a quarter of each one's range where it has limits, else \
          0.05 m.",
-    ),
+        ),
     Field::new(
         "center",
         Kind::Center,
@@ -717,6 +745,7 @@ pub const FIELDS: &[Field] = &[
     ),
     number!("traj_period", Commands::TRAJECTORY, |c| replay(c)
         .map(|r| &mut r.traj_period))
+    .swept(Swept::MovesPath)
     .default(DefaultValue::Number(super::DEFAULT_TRAJ_PERIOD))
     .help(
         ".npy: the time the N frames span (s); frame k is at k·T/(N−1), then the trajectory repeats (retime: \
@@ -735,6 +764,7 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
+    .swept(Swept::MovesPath)
     .value_name("K")
     .help(
         "Which JointTrajectory message of a .yaml, .json or .mcap file to play, counted from 1 (default: the \
@@ -797,6 +827,7 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
+    .swept(Swept::Never)
     .value_name("N")
     .help("A LeRobot dataset's episode, counted from 0 (default: 0)."),
     Field::new(
@@ -928,10 +959,12 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
+    .swept(Swept::Never)
     .default(DefaultValue::Count(super::DEFAULT_GRID as u64))
     .value_name("N")
     .help("Grid intervals in s (at most 100,000): the limits are kept at the grid's points."),
     number!("margin", Commands::RETIME, |c| retime(c).map(|r| &mut r.margin))
+        .swept(Swept::Never)
         .default(DefaultValue::Number(super::DEFAULT_MARGIN))
         .value_name("SHARE")
         .help(
@@ -950,6 +983,7 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
+    .swept(Swept::Never)
     .default(DefaultValue::Count(super::DEFAULT_ATTEMPTS as u64))
     .value_name("N")
     .help("Most closed-loop checks: the first timing's, then one per slowed timing."),
@@ -1027,6 +1061,7 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
+    .swept(Swept::MovesPath)
     .default(DefaultValue::Count(super::DEFAULT_SHAPE_POINTS as u64))
     .value_name("N")
     .help("Samples along the path (IK targets), played one loop every 5 s."),
@@ -1176,6 +1211,7 @@ pub const FIELDS: &[Field] = &[
          (docs/motors.md).",
     ),
     optional_number!("supply_voltage", Commands::ALL, |c| Some(&mut c.arm.supply_voltage))
+        .swept(Swept::KeepsPath)
         .value_name("V")
         .help(
             "Supply voltage of the `motors` presets' drives, V (default: the preset's, 24 V for the Faze4's steppers).",
@@ -1207,6 +1243,7 @@ pub const FIELDS: &[Field] = &[
     optional_number!("driver_bandwidth", Commands::ALL, |c| Some(
         &mut c.control.driver_bandwidth
     ))
+    .swept(Swept::KeepsPath)
     .value_name("HZ")
     .help(
         "Under `drive` stepper, every stepper driver's current-loop bandwidth, Hz (default: the motor's; 5000 for \
@@ -1226,6 +1263,7 @@ pub const FIELDS: &[Field] = &[
              or one per joint ('auto' keeps the motor's; the presets' 0: not published).",
         ),
     optional_number!("servo_rate", Commands::ALL, |c| Some(&mut c.control.servo_rate))
+        .swept(Swept::KeepsPath)
         .value_name("HZ")
         .help(
             "Under `drive` servo, how often each servo is sent its goal, Hz: the command at that time, held until \
@@ -1270,10 +1308,12 @@ pub const FIELDS: &[Field] = &[
     ),
     flag!("no_gravity", arm.no_gravity).help("No gravity field."),
     number!("payload_kg", Commands::ALL, |c| Some(&mut c.arm.payload_kg))
+        .swept(Swept::KeepsPath)
         .default(DefaultValue::Number(0.0))
         .value_name("M")
         .help("A point mass at the tool link (kg)."),
     number!("dt", Commands::ALL, |c| Some(&mut c.control.dt))
+        .swept(Swept::MovesPath)
         .default(DefaultValue::Number(super::DEFAULT_DT))
         .help("Control and integration period (s); 2e-4 is 5 kHz."),
     // what a run prints
@@ -1284,6 +1324,7 @@ pub const FIELDS: &[Field] = &[
          transmission skipped, an inertia balanced).",
     ),
     optional_number!("print_period", Commands::ALL, |c| Some(&mut c.outputs.print_period))
+        .swept(Swept::Never)
         .value_name("S")
         .help(
             "Simulated time between progress lines (s); default 0.5 s, or longer so that a long run prints at most \
@@ -1293,18 +1334,21 @@ pub const FIELDS: &[Field] = &[
     number!("max_saturation_pct", Commands::ALL, |c| Some(
         &mut c.verdict.thresholds.max_saturation_pct
     ))
+    .swept(Swept::KeepsPath)
     .default(DefaultValue::Number(crate::sim::Thresholds::DEFAULT.max_saturation_pct))
     .value_name("PCT")
     .help("The verdict \"follows\" allows each joint to saturate at most this share of the steps (%)."),
     number!("max_error", Commands::ALL, |c| Some(
         &mut c.verdict.thresholds.max_error
     ))
+    .swept(Swept::KeepsPath)
     .default(DefaultValue::Number(crate::sim::Thresholds::DEFAULT.max_error))
     .value_name("RAD")
     .help("The verdict \"follows\" allows tracking errors up to this (rad, or m for a prismatic joint)."),
     number!("max_deviation_mm", Commands::ALL, |c| Some(
         &mut c.verdict.thresholds.max_deviation_mm
     ))
+    .swept(Swept::KeepsPath)
     .default(DefaultValue::Number(crate::sim::Thresholds::DEFAULT.max_deviation_mm))
     .value_name("MM")
     .help("The verdict \"follows\" allows a shape's path deviation up to this (mm)."),
@@ -1320,6 +1364,7 @@ pub const FIELDS: &[Field] = &[
         .value_name("F.json")
         .help("Summary JSON (the machine-readable result)."),
     number!("record_period", Commands::ALL, |c| Some(&mut c.record_period))
+        .swept(Swept::MovesPath)
         .default(DefaultValue::Number(super::DEFAULT_RECORD_PERIOD))
         .value_name("S")
         .help("Time between trail rows (s)."),
@@ -1358,6 +1403,7 @@ pub const FIELDS: &[Field] = &[
     number!("clearance_tolerance", Commands::ALL, |c| Some(
         &mut c.clearance.clearance_tolerance
     ))
+    .swept(Swept::MovesPath)
     .default(DefaultValue::Number(super::DEFAULT_CLEARANCE_TOLERANCE_MM))
     .value_name("MM")
     .help(
@@ -1376,6 +1422,7 @@ pub const FIELDS: &[Field] = &[
              meshes that intersect stop the run).",
         ),
     number!("friction", Commands::ALL, |c| Some(&mut c.clearance.friction))
+        .swept(Swept::KeepsPath)
         .default(DefaultValue::Number(super::DEFAULT_FRICTION))
         .value_name("MU")
         .requires(&["self_collisions"])
@@ -1397,6 +1444,7 @@ pub const FIELDS: &[Field] = &[
         },
         None,
     )
+    .swept(Swept::Never)
     .default(DefaultValue::Count(super::DEFAULT_PORT as u64))
     .most(u16::MAX as u64)
     .value_name("P")

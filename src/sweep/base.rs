@@ -1,14 +1,14 @@
 //! A sweep's family of runs: a base configuration, what it reads once ([`Loaded`]: the arm, a
 //! replay's frames, a shape's plan, the collision meshes), and the options its points vary,
 //! each a field of the configuration or a multiplier of the built scenario ([`Knob`]). When
-//! the options varied leave the commanded path as it is ([`SAME_PATH`]), the runs share its
+//! the options varied leave the commanded path as it is ([`Swept::KeepsPath`]), the runs share its
 //! clearance, computed once ([`PathClearance`]).
 
 use std::ops::Range;
 use std::sync::Arc;
 
 use super::{Found, Grid, Outcome, Row, Runner, Scale, Seek, find};
-use crate::config::fields::{self, Field, any_field, field};
+use crate::config::fields::{self, Field, Swept, any_field, field};
 use crate::config::{Command, Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result, one_line};
 use crate::geometry::PathClearance;
@@ -24,31 +24,9 @@ pub enum Knob {
     Scale(Scale),
 }
 
-/// Numeric fields a sweep does not vary: how a run is shown, not what it does (`port`,
-/// `print_period`), and retime's (`grid`, `margin`, `attempts`: a sweep runs wave, replay and
-/// shape), and a LeRobot dataset's `episode` (the dataset is read once, for every run).
-const NOT_VARIED: [&str; 6] = ["port", "print_period", "grid", "margin", "attempts", "episode"];
-
-/// The numeric fields whose values leave a run's commanded path q_cmd(t) and the times of its
-/// clearance's samples as they are: the arm's dynamics (`payload_kg`), the motors' supply, the
-/// self-contact's friction and the verdict's thresholds. The runs of a sweep or a search that
-/// varies only these and the multipliers ([`Scale`]: gains, limits, masses, motors) follow one
-/// commanded path, whose clearance is computed once and shared ([`PathClearance`];
-/// docs/clearance.md "Sweeps").
-pub const SAME_PATH: [&str; 8] = [
-    "payload_kg",
-    "supply_voltage",
-    "driver_bandwidth",
-    "servo_rate",
-    "friction",
-    "max_saturation_pct",
-    "max_error",
-    "max_deviation_mm",
-];
-
 /// Whether a sweep varies field `f`.
 fn varies(f: &Field) -> bool {
-    f.is_numeric() && !NOT_VARIED.contains(&f.name)
+    matches!(f.swept, Some(Swept::KeepsPath | Swept::MovesPath))
 }
 
 impl Knob {
@@ -66,11 +44,11 @@ impl Knob {
         }
     }
 
-    /// Whether it leaves the commanded path and the clearance's samples as they are
-    /// ([`SAME_PATH`], and every multiplier).
+    /// Whether it leaves the commanded path and the clearance's samples as they are (a field
+    /// declared [`Swept::KeepsPath`], and every multiplier).
     pub fn keeps_path(&self) -> bool {
         match self {
-            Knob::Field(f) => SAME_PATH.contains(&f.name),
+            Knob::Field(f) => f.swept == Some(Swept::KeepsPath),
             Knob::Scale(_) => true,
         }
     }
@@ -417,40 +395,12 @@ mod tests {
     use crate::config::fields::FIELDS;
     use crate::config::{Motion, WaveConfig};
 
-    fn field(name: &str) -> Option<&'static Field> {
-        any_field(name)
-    }
-
-    /// The numeric fields that move the commanded path or its samples: a sweep varying any of them
-    /// lets each run compute its own clearance.
-    /// * `freq`, `amp_deg`, `amp_m`, `traj_period`, `message`, `shape_points`: the command itself;
-    /// * `dt`, `record_period`: the sample times, every round(record_period / dt) steps of dt;
-    /// * `duration`: the samples (the last step is one); a path over the longest run would keep
-    ///   the shorter ones waiting for its bounds over the whole of it;
-    /// * `clearance_tolerance`: a path's bounds are made for the runs' one tolerance.
-    const OWN_PATH: [&str; 10] = [
-        "freq",
-        "amp_deg",
-        "amp_m",
-        "traj_period",
-        "message",
-        "shape_points",
-        "dt",
-        "record_period",
-        "duration",
-        "clearance_tolerance",
-    ];
-
-    /// Every numeric field a sweep varies is said to keep the commanded path or to move it
-    /// (a new field must be decided), never both.
+    /// Every numeric field says what a sweep does with it (a new one must be decided), and
+    /// no other field does.
     #[test]
-    fn every_varied_field_keeps_the_path_or_moves_it() {
-        for f in FIELDS.iter().filter(|f| varies(f)) {
-            let (keeps, moves) = (SAME_PATH.contains(&f.name), OWN_PATH.contains(&f.name));
-            assert!(keeps != moves, "{}: keeps the path {keeps}, moves it {moves}", f.name);
-        }
-        for name in SAME_PATH.iter().chain(&OWN_PATH) {
-            assert!(field(name).is_some_and(varies), "{name} is not a varied field");
+    fn every_numeric_field_says_what_a_sweep_does_with_it() {
+        for f in FIELDS {
+            assert_eq!(f.swept.is_some(), f.is_numeric(), "{}", f.name);
         }
     }
 

@@ -148,14 +148,38 @@ pub fn damp(model: &mut Model, drives: &[JointDrive]) {
 }
 
 /// The warning that the servos' protection registers are assumed (their joints, and the
-/// figures taken).
+/// figures taken: each preset's, by joint, where an arm mixes them).
 pub fn assumed(drives: &[JointDrive]) -> Option<Warning> {
     let servos: Vec<(usize, &ServoDrive)> = (drives.iter().enumerate())
         .filter_map(|(i, d)| Some((i, d.servo()?)))
         .collect();
-    let (_, first) = servos.first()?;
+    servos.first()?;
     let joints: Vec<String> = servos.iter().map(|(i, _)| format!("J{}", i + 1)).collect();
-    let figures = match first.spec.protection {
+    // each servo's own registers: an arm mixing presets is told each preset's figures, by joint
+    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
+    for ((_, servo), joint) in servos.iter().zip(&joints) {
+        let figures = protection_figures(&servo.spec.protection);
+        match groups.iter_mut().find(|(f, _)| *f == figures) {
+            Some((_, js)) => js.push(joint),
+            None => groups.push((figures, vec![joint])),
+        }
+    }
+    let figures = match groups.as_slice() {
+        [(figures, _)] => figures.clone(),
+        _ => (groups.iter())
+            .map(|(figures, js)| format!("{}: {figures}", js.join(", ")))
+            .collect::<Vec<_>>()
+            .join("; "),
+    };
+    Some(Warning::AssumedProtection {
+        joints: joints.join(", "),
+        figures,
+    })
+}
+
+/// A servo's assumed protection registers, for people.
+fn protection_figures(protection: &Protection) -> String {
+    match *protection {
         Protection::Feetech {
             overload,
             time,
@@ -167,11 +191,7 @@ pub fn assumed(drives: &[JointDrive]) -> Option<Warning> {
             100.0 * protective
         ),
         Protection::Dynamixel { time } => format!("Dynamixel's shutdown after {time} s at its limit"),
-    };
-    Some(Warning::AssumedProtection {
-        joints: joints.join(", "),
-        figures,
-    })
+    }
 }
 
 /// Joint `i`'s τ under its servo `drive` (motor `m`) at time `t` (s): its loop's duty on the
@@ -225,5 +245,36 @@ impl Record {
             goal_rate: drive.rate,
             note: ASSUMED,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::catalog::{sts3215_servo, xm540_w270_servo};
+
+    fn servo(spec: ServoSpec) -> JointDrive {
+        JointDrive::Servo(ServoDrive { spec, rate: None })
+    }
+
+    /// The warning gives each joint its own preset's assumed registers, one line for one kind.
+    #[test]
+    fn an_arm_mixing_presets_is_told_each_presets_assumed_registers() {
+        let (feetech, dynamixel) = (sts3215_servo(None), xm540_w270_servo(None));
+        let mixed = [servo(feetech), JointDrive::Pd, servo(dynamixel), servo(feetech)];
+        let Some(Warning::AssumedProtection { joints, figures }) = assumed(&mixed) else {
+            panic!("no warning");
+        };
+        assert_eq!(joints, "J1, J3, J4");
+        assert_eq!(
+            figures,
+            "J1, J4: Feetech's overload above 80 % for 2 s, then held to 20 %; \
+             J3: Dynamixel's shutdown after 1 s at its limit"
+        );
+        let Some(Warning::AssumedProtection { figures, .. }) = assumed(&mixed[..2]) else {
+            panic!("no warning");
+        };
+        assert_eq!(figures, "Feetech's overload above 80 % for 2 s, then held to 20 %");
+        assert!(assumed(&[JointDrive::Pd]).is_none());
     }
 }
