@@ -112,10 +112,11 @@ impl<const C: usize> Args for Declared<C> {
 fn own_conventions(run: Run, field: &Field, arg: Arg) -> Arg {
     match (run, field.name) {
         // retime unchecked plays no run: no trail
-        (Run::Retime, "trail") => {
-            arg.default_value(DEFAULT_TRAIL)
-                .default_value_if("no_check", clap::builder::ArgPredicate::IsPresent, None)
-        }
+        (Run::Retime, "trail") => arg.default_value(DEFAULT_TRAIL).default_value_if(
+            "no_check",
+            clap::builder::ArgPredicate::Equals("true".into()),
+            None,
+        ),
         (_, "trail") => arg.default_value(DEFAULT_TRAIL),
         (Run::Retime, "out") => arg.required(true),
         _ => arg,
