@@ -12,6 +12,7 @@ mod sizing;
 pub mod step;
 mod stop;
 mod summary;
+mod tape;
 mod timed;
 mod verdict;
 mod warning;
@@ -35,6 +36,7 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing,
     ServoSummary, Simulated, StepLoss, Summary, ToolRange, ToolRule,
 };
+pub use tape::Tape;
 pub use timed::{Play, TimedCommand};
 pub use verdict::{Intersection, NearSlip, Reason, Thresholds, Verdict, percent};
 pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};
