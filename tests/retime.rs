@@ -282,6 +282,10 @@ fn the_outputs_are_the_last_check_run_bit_for_bit() {
     let scenario = faze4::retime::replay_scenario(&base, &timed.trajectory).unwrap();
     assert!(scenario.collision_set.is_some());
     assert_eq!(tape.len(), scenario.steps + 1);
+    // taped because it fits the budget; an hour of the same arm would not, and is played again
+    let duration = scenario.steps as f64 * scenario.dt;
+    assert!(faze4::sim::Tape::fits(&scenario, duration));
+    assert!(!faze4::sim::Tape::fits(&scenario, 3600.0));
     let periods = [0.01, 0.013, 0.0];
     let mut taped = periods.map(Handed::new);
     let mut played = periods.map(Handed::new);

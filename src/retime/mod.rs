@@ -370,11 +370,15 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     let toppra = timed.uncapped.clone();
     let mut check = None;
     let mut tape = options.tape.map(Tape::new);
+    let mut taped = false;
     if options.check {
         for attempt in 1..=options.attempts {
             let (command, duration) = command(model, &timed.trajectory)?;
             let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
-            let (summary, failed_at) = check::run_check(&scenario, tape.as_mut(), &options.stop)?;
+            // taped only when it fits the budget: else the outputs play the timing again
+            taped = Tape::fits(&scenario, duration);
+            let recording = tape.as_mut().filter(|_| taped);
+            let (summary, failed_at) = check::run_check(&scenario, recording, &options.stop)?;
             let done = summary.verdict.follows || attempt == options.attempts || summary.interrupted_at_s.is_some();
             let slowed_now = match done {
                 true => 0,
@@ -400,7 +404,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         }
     }
     if let Some(check) = check.as_mut() {
-        check.tape = tape;
+        check.tape = tape.filter(|_| taped);
     }
     let bindings = solver.bindings(&timed.solved.profile, &slowed);
     let controllable = solver.controllable().to_vec();

@@ -103,20 +103,25 @@ pub fn retime(
     // the outputs are written from here on: a signal stops the run, not the process
     stop.watch();
     let interrupted = summary.as_ref().is_some_and(|s| s.interrupted_at_s.is_some());
+    // the run `replay` makes of the written file, which the outputs are handed
+    let prepared = || -> Result<Prepared> {
+        Ok(Prepared {
+            config: played_config,
+            scenario: replay_scenario(&base, &retimed.trajectory)?,
+            warnings: warnings.clone(),
+            inputs: loaded.inputs().clone(),
+        })
+    };
     let replayed = match (records && !interrupted, tape, &summary) {
         (true, Some(tape), Some(summary)) => {
-            let prepared = Prepared {
-                config: played_config,
-                scenario: replay_scenario(&base, &retimed.trajectory)?,
-                warnings,
-                inputs: loaded.inputs().clone(),
-            };
-            let finished = super::run_with(&prepared, files, extra, stop, warn, |scenario, recorders| {
+            let finished = super::run_with(&prepared()?, files, extra, stop, warn, |scenario, recorders| {
                 tape.play(scenario, recorders, summary)?;
                 Ok(summary.clone())
             })?;
             Some(finished)
         }
+        // a check run too long to tape (`Tape::fits`): the timing played again, as deterministic
+        (true, None, Some(_)) => Some(super::run(&prepared()?, files, extra, stop, warn)?),
         _ => {
             warn(&warnings);
             if let (Some(path), Some(summary)) = (&out.summary, &summary) {

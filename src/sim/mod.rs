@@ -36,7 +36,7 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing,
     ServoSummary, Simulated, StepLoss, Summary, ToolRange, ToolRule,
 };
-pub use tape::Tape;
+pub use tape::{TAPE_BUDGET, Tape};
 pub use timed::{Play, TimedCommand};
 pub use verdict::{Intersection, NearSlip, Reason, Thresholds, Verdict, percent};
 pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};

@@ -37,6 +37,11 @@ pub struct Tape {
 /// The joint vectors of a sample, in the order of [`Tape::values`].
 const VECTORS: usize = 7;
 
+/// The most a tape may hold (bytes): 64 MiB, about 27 s of a six-joint run at 5 kHz. A longer
+/// run is not taped ([`Tape::fits`]), and its outputs come from the run played again, so that
+/// memory does not grow with the motion's length.
+pub const TAPE_BUDGET: usize = 64 << 20;
+
 impl Tape {
     /// An empty tape; `reads_intersections` when a recorder it will be played to reads
     /// [`Sample::intersecting`] (the run then measures its clearance inline).
@@ -45,6 +50,19 @@ impl Tape {
             reads_intersections,
             ..Tape::default()
         }
+    }
+
+    /// Whether a run of `sc` lasting `duration` seconds fits in [`TAPE_BUDGET`] (every step's
+    /// sample, with a flag per checked pair).
+    pub fn fits(sc: &Scenario, duration: f64) -> bool {
+        let pairs = sc.collision_set.as_ref().map_or(0, |set| set.pairs().count());
+        let per_step = size_of::<usize>()
+            + size_of::<f64>() * (1 + VECTORS * sc.model.dof())
+            + size_of::<Vec3>()
+            + size_of::<Option<Vec3>>()
+            + pairs;
+        let steps = (duration / sc.dt).ceil() + 2.0;
+        steps * per_step as f64 <= TAPE_BUDGET as f64
     }
 
     /// Samples recorded (the run's steps, and its last).
