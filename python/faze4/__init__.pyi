@@ -443,6 +443,7 @@ def retime(
     margin: float = 0.3,
     attempts: int = 8,
     force: bool = False,
+    no_check: bool = False,
     max_accel: str | Sequence[float | None] | np.ndarray | None = None,
     max_jerk: str | Sequence[float | None] | np.ndarray | None = None,
     xacro_arg: Sequence[str] | None = None,

@@ -102,3 +102,10 @@ def test_documented_as_the_binarys_retime():
     assert list(parameters)[:2] == ["robot", "q_path"] and "q_traj" not in parameters
     assert parameters["margin"].default == float(next(o.default for o in faze4.options("retime") if o.name == "margin"))
     assert "Retimed" in faze4.retime.__doc__
+
+
+def test_no_check_is_refused_here():
+    """`no_check` (the binary's `--no-check`) plays no run, and Python's retime returns the
+    checked run: it is refused, naming the keyword."""
+    with pytest.raises(faze4.Error, match="no_check"):
+        faze4.retime(faze4.Robot.faze4(), path(), no_collisions=True, no_check=True)

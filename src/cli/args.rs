@@ -107,9 +107,16 @@ impl<const C: usize> Args for Declared<C> {
 }
 
 /// `arg` with the command line's own conventions for `field` of `run`: a trail unless told
-/// otherwise, and retime's timing written somewhere (the library writes neither unless asked).
+/// otherwise (or retime told `--no-check`), and retime's timing written somewhere (the library
+/// writes neither unless asked).
 fn own_conventions(run: Run, field: &Field, arg: Arg) -> Arg {
     match (run, field.name) {
+        // retime unchecked plays no run: no trail
+        (Run::Retime, "trail") => arg.default_value(DEFAULT_TRAIL).default_value_if(
+            "no_check",
+            clap::builder::ArgPredicate::Equals("true".into()),
+            None,
+        ),
         (_, "trail") => arg.default_value(DEFAULT_TRAIL),
         (Run::Retime, "out") => arg.required(true),
         _ => arg,

@@ -159,6 +159,8 @@ fn execute(cli: &Cli) -> Result<ExitCode> {
 /// error, saturates), with or without `--strict`, the timing then written only under
 /// `--force`; a path that no timing follows, or whose poses collide (refused before it is
 /// timed), is the reason on stderr, status 3 (nothing is written).
+/// Under `--no-check` there is no verdict: status 0 when the timing keeps every limit as a
+/// controller plays it (it is then written, unchecked, and says so), else 3.
 fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     let stop = StopFlag::ctrl_c();
     let files = Outputs::new();
@@ -170,7 +172,6 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
         }
         other => other?,
     };
-    let summary = &finished.summary;
     let out = match &config.motion {
         faze4::config::Motion::Retime(r) => r.out.as_deref(),
         _ => None,
@@ -179,6 +180,19 @@ fn retime_and_report(config: &faze4::config::RunConfig) -> Result<ExitCode> {
     if !quiet {
         stdout = flags(&faze4::session::retime_lines(&finished, out));
     }
+    // unchecked (`--no-check`): no verdict; the answer is a timing that keeps every limit as played
+    let Some(summary) = &finished.summary else {
+        print_stdout(&stdout)?;
+        files.commit()?;
+        if stop.signal().is_some() {
+            tell_stop(&stop, "after the timing; its outputs are complete");
+            return Ok(ExitCode::from(interrupted_status(&stop)));
+        }
+        return Ok(ExitCode::from(match finished.follows() {
+            true => 0,
+            false => EXIT_CANNOT_FOLLOW,
+        }));
+    };
     // a stopped check has no verdict: it did not play the whole timing
     if let Some(t) = summary.interrupted_at_s {
         print_stdout(&stdout)?;

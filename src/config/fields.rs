@@ -1004,6 +1004,25 @@ pub const FIELDS: &[Field] = &[
         "Write the timing (`out`) even when the checked timing does not follow; without it nothing is written then. \
          The exit status is 3 either way.",
     ),
+    Field::new(
+        "no_check",
+        Kind::Flag,
+        Commands::RETIME,
+        |c, v| {
+            let on = flag_value("no_check", v)?;
+            if let Some(r) = retime(c) {
+                r.no_check = on;
+            }
+            Ok(())
+        },
+        None,
+    )
+    .conflicts(&["summary", "trail", "html", "plot_motors", "view", "hold", "attempts"])
+    .help(
+        "No closed-loop check: the timing (kept within every limit as a controller plays it) is written unchecked, \
+         faster; whether the loop follows it is not known (`faze4 replay` of `out` tells). Exit status 0 when it \
+         keeps every limit as played.",
+    ),
     retime_per_joint!("max_accel", max_accel).value_name("A1,A2,…").help(
         "Acceleration limits per joint, rad/s² or m/s² ('auto' or none: no limit), kept along the written trajectory \
          as a controller plays it.",

@@ -357,6 +357,10 @@ pub struct RetimeConfig {
     /// Whether `out` is written when the checked timing does not follow (it is not
     /// otherwise).
     pub force: bool,
+    /// Whether to skip the closed-loop check: the timing is written unchecked (it keeps every
+    /// limit as a controller plays it, but whether the loop follows it is not known), and no
+    /// output of a run (summary, trail, …) can be asked for.
+    pub no_check: bool,
     /// Acceleration limits per joint (rad/s² or m/s²; empty or `None`: none).
     pub max_accel: Vec<Option<f64>>,
     /// Jerk limits per joint (rad/s³ or m/s³; empty or `None`: none).
@@ -374,6 +378,7 @@ impl RetimeConfig {
             margin: DEFAULT_MARGIN,
             attempts: DEFAULT_ATTEMPTS,
             force: false,
+            no_check: false,
             max_accel: Vec::new(),
             max_jerk: Vec::new(),
         }
@@ -384,10 +389,11 @@ impl RetimeConfig {
         crate::retime::RetimeOptions {
             intervals: self.grid,
             margin: self.margin,
-            check: true,
+            check: !self.no_check,
             attempts: self.attempts,
             max_acceleration: self.max_accel.clone(),
             max_jerk: self.max_jerk.clone(),
+            tape: None,
             stop,
         }
     }

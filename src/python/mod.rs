@@ -624,8 +624,8 @@ fn timing_arrays<'py>(py: Python<'py>, timing: &TimedTrajectory) -> PyResult<Tim
 /// A retime of the path `q_traj` (frames given as an array, or read from the path the
 /// keywords' `q_traj` names) with the keywords `options`: (the checked timing's run as
 /// [`_run`] gives it, with the lines the binary prints before its verdict; the timing's
-/// arrays; its duration; the input's own duration, if any). The checked timing is played once
-/// more with the trail kept (a run as deterministic as the check's: the same summary).
+/// arrays; its duration; the input's own duration, if any). The trail is the check's last run,
+/// taped ([`crate::sim::Tape`]); `no_check` is refused (there is no run to return).
 #[pyfunction]
 #[pyo3(signature = (options, q_traj=None))]
 #[allow(clippy::type_complexity)]
@@ -681,7 +681,8 @@ fn _retime<'py>(
         }
         e => error(e),
     })?;
-    let summary = &finished.summary;
+    // a trail is captured, so `no_check` was refused: the summary is the checked run's
+    let summary = finished.summary.as_ref().expect("a retime with a trail is checked");
     let (t, q, q_cmd, tool_xyz) = trail_arrays(py, trail)?;
     Ok((
         (

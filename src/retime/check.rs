@@ -14,7 +14,7 @@ use crate::control::Motor;
 use crate::error::Result;
 use crate::geometry::CollisionSet;
 use crate::model::Model;
-use crate::sim::{Play, Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, TimedCommand, run};
+use crate::sim::{Play, Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, Tape, TimedCommand, run};
 use crate::traj::{TimedTrajectory, Trajectory};
 
 /// The command `faze4 replay` makes of `trajectory` (the file retime writes) on `model`: the
@@ -66,10 +66,17 @@ pub(crate) struct Failure {
 /// Runs `scenario` and returns its summary and where it failed to follow: where a torque was
 /// clipped at its limit or its motor's envelope, a tracking error passed half its threshold
 /// or a speed passed its limit (looked at every [`LOOK_PERIOD`]), and each stepper's first
-/// lost step and the divergence, if any.
-pub(crate) fn run_check(scenario: &Scenario, stop: &StopFlag) -> Result<(Summary, Vec<Failure>)> {
+/// lost step and the divergence, if any. `tape`, if given, records the run.
+pub(crate) fn run_check(
+    scenario: &Scenario,
+    tape: Option<&mut Tape>,
+    stop: &StopFlag,
+) -> Result<(Summary, Vec<Failure>)> {
     let mut failures = Failures::new(scenario);
-    let summary = run(scenario, &mut [&mut failures], stop)?;
+    let summary = match tape {
+        Some(tape) => run(scenario, &mut [&mut failures, tape], stop)?,
+        None => run(scenario, &mut [&mut failures], stop)?,
+    };
     let mut found = failures.found;
     let lost = summary
         .motors

@@ -4,11 +4,15 @@
 //! Per joint: the speed limit, the lowest of the scenario's (`--max-speed`, else the URDF's
 //! `velocity`; see [`crate::sim::ScenarioBuilder::max_speed`]) and the motor's top speed over
 //! its ratio; the torque range at a speed ([`JointTorque`]): the motor's envelope within the
-//! constant limit E, shrunk by the margin, less the joint's damping.
+//! constant limit E, shrunk by the margin, less the joint's damping. Per run: the shortest
+//! smoothing window the drives need (an open-loop stepper's ringing; docs/retime.md, "The
+//! drive's own limits").
 
 use super::RetimeOptions;
 use super::envelope::JointTorque;
-use crate::error::Result;
+use super::grid::PathGrid;
+use crate::error::{Error, Result};
+use crate::id::JointId;
 use crate::model::JointKind;
 use crate::sim::Scenario;
 use crate::sim::check::override_per_joint;
@@ -38,6 +42,9 @@ pub(crate) struct Limits {
     pub speed_source: Vec<SpeedSource>,
     /// The unit of each joint's torque: `N·m` (revolute) or `N` (prismatic).
     pub torque_unit: Vec<&'static str>,
+    /// The shortest smoothing window the drives need (s; 0 for none): the torque a timing asks
+    /// changes over at least this, so that each open-loop stepper's ringing fits in the margin.
+    pub window: f64,
 }
 
 impl Limits {
@@ -83,6 +90,7 @@ impl Limits {
             "> 0",
         )?;
         override_per_joint("max_jerk", &mut jerk, &options.max_jerk, positive, "> 0")?;
+        let window = least_window(scenario, margin)?;
         Ok(Limits {
             torque,
             speed,
@@ -90,6 +98,73 @@ impl Limits {
             jerk,
             speed_source,
             torque_unit,
+            window,
         })
     }
+}
+
+/// Each smart servo of `scenario` holding the arm at rest at both ends of the path (`grid`'s
+/// first and last points, where the arm stands before and after any timing): its loop's sag
+/// under the load within the verdict's `max_error`, and the load within what its protection
+/// holds for longer than its time (the arm stays there); else the error saying which, at that
+/// end (docs/retime.md, "The drive's own limits"). No timing changes either.
+pub(crate) fn held_at_ends(scenario: &Scenario, grid: &PathGrid) -> Result<()> {
+    let (dof, last) = (grid.dof, grid.points() - 1);
+    let max_error = scenario.thresholds.max_error;
+    for i in [0, last] {
+        for (j, drive) in scenario.drives.iter().enumerate() {
+            let Some(hold) = drive.holding() else { continue };
+            let load = grid.c[i * dof + j].abs();
+            let sag = hold.sag_per_torque * load;
+            let end = match i {
+                0 => "start",
+                _ => "end",
+            };
+            let message = if load > hold.sustained {
+                format!(
+                    "J{}'s servo holds {load:.4} N·m to keep the arm at the path's {end}, above the {:.4} N·m its {} allows for {} s (assumed registers: docs/motors.md, \"Smart servos\"): it trips while the arm stands there, whatever the timing",
+                    j + 1,
+                    hold.sustained,
+                    hold.protection,
+                    hold.time
+                )
+            } else if sag > max_error {
+                format!(
+                    "J{}'s servo sags {sag:.4} rad under the {load:.4} N·m that keeps the arm at the path's {end} (its own loop's error at rest: a P register without I, at the catalog's duty per count), beyond `max_error` {max_error} rad, whatever the timing",
+                    j + 1
+                )
+            } else {
+                continue;
+            };
+            return Err(Error::NothingFollows {
+                s: grid.s[i],
+                length: grid.s[last],
+                point: 0,
+                joint: Some(JointId(j)),
+                message,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The shortest smoothing window `scenario`'s drives need at `margin` (s; 0 when none does), or
+/// the error naming `margin` where no window is enough (an open-loop stepper at margin 0).
+fn least_window(scenario: &Scenario, margin: f64) -> Result<f64> {
+    let mut least = 0.0;
+    for (j, drive) in scenario.drives.iter().enumerate() {
+        let w = drive.least_window(margin);
+        if w.is_infinite() {
+            let ring = drive.stepper().map_or(0.0, |d| d.damping.ring_hz());
+            return Err(Error::option(
+                "margin",
+                format!(
+                    "0 leaves J{}'s open-loop stepper no torque for its ringing (at {ring:.0} Hz): a timing at its pull-out torque slips at the first change of load; give a margin > 0 (0.1 keeps a 0.1 share for it)",
+                    j + 1
+                ),
+            ));
+        }
+        least = f64::max(least, w);
+    }
+    Ok(least)
 }

@@ -52,7 +52,7 @@ pub use timing::timed_trajectory;
 use crate::error::{Error, Result};
 use crate::id::JointId;
 use crate::input::MAX_RETIME_INTERVALS;
-use crate::sim::{ScenarioBuilder, StopFlag, Summary};
+use crate::sim::{ScenarioBuilder, StopFlag, Summary, Tape};
 use crate::traj::{Interpolated, TimedTrajectory, Trajectory, Wrap};
 
 /// Default number of grid intervals in s.
@@ -89,6 +89,10 @@ pub struct RetimeOptions {
     /// played trajectory by widening the smoothing window (docs/retime.md, "Smooth ends and
     /// jerk").
     pub max_jerk: Vec<Option<f64>>,
+    /// Whether the last check run is kept ([`Check::tape`]) to be handed to recorders
+    /// afterwards, instead of playing the timing again for them; `Some(reads_intersections)`
+    /// (see [`Tape::new`]).
+    pub tape: Option<bool>,
     /// Stops a check run early (Ctrl-C); the check then reports what ran.
     pub stop: StopFlag,
 }
@@ -102,6 +106,7 @@ impl Default for RetimeOptions {
             attempts: DEFAULT_ATTEMPTS,
             max_acceleration: Vec::new(),
             max_jerk: Vec::new(),
+            tape: None,
             stop: StopFlag::new(),
         }
     }
@@ -223,6 +228,10 @@ pub struct Check {
     pub attempts: usize,
     /// Grid points whose speed the checks capped.
     pub slowed_points: usize,
+    /// The last check run's samples, with [`RetimeOptions::tape`]: [`Tape::play`] hands them to
+    /// recorders as a run of [`replay_scenario`] would (the same run: the summary is
+    /// [`Check::summary`]).
+    pub tape: Option<Tape>,
 }
 
 /// What retime found.
@@ -284,7 +293,7 @@ pub fn play(base: &ScenarioBuilder, path: &PathSpline, profile: &Profile, stop: 
     let trajectory = timed_trajectory(profile, path, joint_names(&start.model));
     let (command, duration) = command(&start.model, &trajectory)?;
     let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
-    Ok(check::run_check(&scenario, stop)?.0)
+    Ok(check::run_check(&scenario, None, stop)?.0)
 }
 
 /// The scenario that plays `trajectory` (a timing of [`retime`]) on `base` as `faze4 replay`
@@ -346,6 +355,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         },
         e => e,
     };
+    limits::held_at_ends(&start, &grid).map_err(located)?;
     let names = joint_names(model);
     let as_played = AsPlayed {
         model,
@@ -359,11 +369,16 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     let relaxed_duration = timed.solved.relaxed_duration;
     let toppra = timed.uncapped.clone();
     let mut check = None;
+    let mut tape = options.tape.map(Tape::new);
+    let mut taped = false;
     if options.check {
         for attempt in 1..=options.attempts {
             let (command, duration) = command(model, &timed.trajectory)?;
             let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
-            let (summary, failed_at) = check::run_check(&scenario, &options.stop)?;
+            // taped only when it fits the budget: else the outputs play the timing again
+            taped = Tape::fits(&scenario, duration);
+            let recording = tape.as_mut().filter(|_| taped);
+            let (summary, failed_at) = check::run_check(&scenario, recording, &options.stop)?;
             let done = summary.verdict.follows || attempt == options.attempts || summary.interrupted_at_s.is_some();
             let slowed_now = match done {
                 true => 0,
@@ -380,12 +395,16 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
                 summary,
                 attempts: attempt,
                 slowed_points: slowed.iter().filter(|&&s| s).count(),
+                tape: None,
             });
             if done || slowed_now == 0 {
                 break;
             }
             timed = as_played.solve(&mut solver, &mut cap, &mut window).map_err(located)?;
         }
+    }
+    if let Some(check) = check.as_mut() {
+        check.tape = tape.filter(|_| taped);
     }
     let bindings = solver.bindings(&timed.solved.profile, &slowed);
     let controllable = solver.controllable().to_vec();
@@ -448,7 +467,7 @@ impl AsPlayed<'_> {
                 uncapped = Some(solved.profile.clone());
             }
             let raw = &solved.profile;
-            *window = window.max(WINDOW * raw.duration());
+            *window = window.max(WINDOW * raw.duration()).max(self.limits.window);
             let mut widened = 0;
             let (profile, trajectory, played) = loop {
                 let profile = smooth::Averaged::new(raw, *window).profile();

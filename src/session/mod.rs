@@ -71,6 +71,21 @@ pub fn run(
     stop: &StopFlag,
     warn: impl FnOnce(&[Warning]),
 ) -> Result<Finished> {
+    run_with(prepared, files, extra, stop, warn, |scenario, recorders| {
+        sim::run(scenario, recorders, stop)
+    })
+}
+
+/// [`run`] with the run made by `play` (given the scenario and every recorder): the run
+/// itself, or one already made handed over from its tape ([`crate::sim::Tape::play`]).
+fn run_with(
+    prepared: &Prepared,
+    files: &Outputs,
+    extra: &mut [&mut dyn Recorder],
+    stop: &StopFlag,
+    warn: impl FnOnce(&[Warning]),
+    play: impl FnOnce(&Scenario, &mut [&mut dyn Recorder]) -> Result<Summary>,
+) -> Result<Finished> {
     let Prepared {
         config,
         scenario,
@@ -89,7 +104,7 @@ pub fn run(
     }
     let mut all = recorders.recorders();
     all.extend(extra.iter_mut().map(|r| &mut **r as &mut dyn Recorder));
-    let summary = sim::run(scenario, &mut all, stop)?;
+    let summary = play(scenario, &mut all)?;
     if let Some(path) = &config.outputs.summary {
         write_summary(files, path, &summary)?;
     }
@@ -193,6 +208,13 @@ pub struct Recorders {
 }
 
 impl Recorders {
+    /// Whether a recorder `config` asks for reads each sample's intersections (the 3D views:
+    /// the HTML export, the live view; [`Recorder::reads_intersections`]).
+    fn read_intersections(config: &RunConfig) -> bool {
+        let out = &config.outputs;
+        out.html.is_some() || out.view || out.hold
+    }
+
     /// Claims every output path in `files` (two options naming one file are refused) and
     /// opens the recorders, their files in `files`.
     fn open(scenario: &Scenario, config: &RunConfig, files: &Outputs) -> Result<Recorders> {

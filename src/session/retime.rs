@@ -2,9 +2,10 @@
 //! timing the motors follow ([`crate::retime::retime`], its closed-loop check included), the
 //! timing written as a time-stamped trajectory file (`out`), the phase plane (`plot`), and the
 //! run's other outputs (trail, summary, HTML, the motors' plot, the live view) from the
-//! checked timing played once more as `replay` plays the file.
+//! check's last run, taped ([`crate::sim::Tape`]): the run `replay` makes of the file, not
+//! played again.
 
-use super::{Finished, OUTPUT_FILES, Prepared, write_summary};
+use super::{Finished, OUTPUT_FILES, Prepared, Recorders, write_summary};
 use crate::atomic::Outputs;
 use crate::config::{Loaded, Motion, Replayed, RunConfig};
 use crate::error::{Error, Result};
@@ -17,24 +18,36 @@ use crate::viz::PhasePlot;
 pub struct RetimeFinished {
     /// The timing, its bindings and its check.
     pub retimed: Retimed,
-    /// The summary of the checked timing's run (the check's last run, or the same run played
-    /// again with the outputs).
-    pub summary: Summary,
+    /// The summary of the checked timing's run (the check's last); `None` under `no_check`.
+    pub summary: Option<Summary>,
     /// The input's own timing (s): a time-stamped file's last time, a `.npy`'s `traj_period`.
     pub own_duration: Option<f64>,
-    /// The replay with the outputs, when any was asked for (trail, HTML, motors' plot, view).
+    /// The outputs' recorders, handed the check's last run, when any was asked for (trail,
+    /// HTML, motors' plot, view).
     pub replayed: Option<Finished>,
-    /// Whether the timing was written to `out`: asked for, and the checked timing follows or
-    /// `force` writes it anyway.
+    /// Whether the timing was written to `out`: asked for, and the checked timing follows (or
+    /// under `no_check`, keeps every limit as played), or `force` writes it anyway.
     pub written: bool,
+}
+
+impl RetimeFinished {
+    /// Whether the answer is a timing to use: the checked timing follows, or, unchecked
+    /// (`no_check`), it keeps every limit as a controller plays it.
+    pub fn follows(&self) -> bool {
+        match &self.summary {
+            Some(summary) => summary.verdict.follows,
+            None => self.retimed.played.worst <= KEPT,
+        }
+    }
 }
 
 /// Retimes the path `config` (a [`Motion::Retime`]) names, or `replayed`, into `files` (the
 /// caller commits them): every output path claimed first, `warn` told the warnings, then the
-/// timing found and checked, `out` written when the checked timing follows or `force` asks,
+/// timing found and checked (unless `no_check`, which refuses a run's outputs), `out` written
+/// when the checked timing follows (unchecked: keeps every limit as played) or `force` asks,
 /// `plot` written, and, when the trail, HTML, the
-/// motors' plot, the live view or `extra` recorders are asked for, the timing played once more
-/// with them (a run as deterministic as the check's: the same summary).
+/// motors' plot, the live view or `extra` recorders are asked for, the check's last run handed
+/// to them from its tape, as the run of the written file (`replay`'s scenario) would hand it.
 pub fn retime(
     config: &RunConfig,
     replayed: Option<Replayed>,
@@ -72,58 +85,79 @@ pub fn retime(
     warnings.extend(loaded.warnings.iter().cloned());
     let model = &start.model;
     let path = PathSpline::through(&loaded.path_points(model, &r.path.q_traj)?)?;
-    let retimed = crate::retime::retime(&base, &path, &r.options(stop.clone()))?;
-    let mut summary = retimed
-        .check
-        .as_ref()
-        .map(|c| c.summary.clone())
-        .expect("retime's command checks its timing");
+    if r.no_check && records {
+        return Err(Error::option(
+            "no_check",
+            "plays no run: a run's outputs (summary, trail, HTML, the motors' plot, the view, a returned run) need the check",
+        ));
+    }
+    // the outputs are handed the last check run, taped, rather than a run played again
+    let mut options = r.options(stop.clone());
+    if records {
+        let reads = Recorders::read_intersections(&played_config) || extra.iter().any(|r| r.reads_intersections());
+        options.tape = Some(reads);
+    }
+    let mut retimed = crate::retime::retime(&base, &path, &options)?;
+    let summary = retimed.check.as_ref().map(|c| c.summary.clone());
+    let tape = retimed.check.as_mut().and_then(|c| c.tape.take());
     // the outputs are written from here on: a signal stops the run, not the process
     stop.watch();
-    let replayed = match records && summary.interrupted_at_s.is_none() {
-        true => {
-            let prepared = Prepared {
-                config: played_config,
-                scenario: replay_scenario(&base, &retimed.trajectory)?,
-                warnings,
-                inputs: loaded.inputs().clone(),
-            };
-            let finished = super::run(&prepared, files, extra, stop, warn)?;
-            summary = finished.summary.clone();
+    let interrupted = summary.as_ref().is_some_and(|s| s.interrupted_at_s.is_some());
+    // the run `replay` makes of the written file, which the outputs are handed
+    let prepared = || -> Result<Prepared> {
+        Ok(Prepared {
+            config: played_config,
+            scenario: replay_scenario(&base, &retimed.trajectory)?,
+            warnings: warnings.clone(),
+            inputs: loaded.inputs().clone(),
+        })
+    };
+    let replayed = match (records && !interrupted, tape, &summary) {
+        (true, Some(tape), Some(summary)) => {
+            let finished = super::run_with(&prepared()?, files, extra, stop, warn, |scenario, recorders| {
+                tape.play(scenario, recorders, summary)?;
+                Ok(summary.clone())
+            })?;
             Some(finished)
         }
-        false => {
+        // a check run too long to tape (`Tape::fits`): the timing played again, as deterministic
+        (true, None, Some(_)) => Some(super::run(&prepared()?, files, extra, stop, warn)?),
+        _ => {
             warn(&warnings);
-            if let Some(path) = &out.summary {
-                write_summary(files, path, &summary)?;
+            if let (Some(path), Some(summary)) = (&out.summary, &summary) {
+                write_summary(files, path, summary)?;
             }
             None
         }
     };
-    // a timing that does not follow is written only when asked to (`force`)
-    let written = r.out.is_some() && (summary.verdict.follows || r.force);
-    if let (Some(path), true) = (&r.out, written) {
-        files::write_within(files, path, &retimed.trajectory)?;
-    }
-    if let Some(plot) = plot {
-        let names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
-        plot.within(files).write(&retimed, &model.name, &names, r.margin)?;
-    }
-    Ok(RetimeFinished {
+    let mut finished = RetimeFinished {
         own_duration: loaded.own_duration(r.path.traj_period),
         retimed,
         summary,
         replayed,
-        written,
-    })
+        written: false,
+    };
+    // a timing that does not follow is written only when asked to (`force`)
+    finished.written = r.out.is_some() && (finished.follows() || r.force);
+    if let (Some(path), true) = (&r.out, finished.written) {
+        files::write_within(files, path, &finished.retimed.trajectory)?;
+    }
+    if let Some(plot) = plot {
+        let names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
+        plot.within(files)
+            .write(&finished.retimed, &model.name, &names, r.margin)?;
+    }
+    Ok(finished)
 }
+
+/// A share of a limit this close to 1 is the limit itself (round-off of the profile's own
+/// bounds).
+const KEPT: f64 = 1.0 + 1e-6;
 
 /// What the written trajectory asks of the limits as a controller plays it (a quintic between
 /// its points, checked every 1/[`crate::retime::SAMPLES`] of an interval), beyond the grid points where
 /// the timing keeps them.
 fn played_line(played: &crate::retime::Played) -> String {
-    // round-off of the profile's own bounds: a share this close to 1 is the limit itself
-    const KEPT: f64 = 1.0 + 1e-6;
     let how = format!(
         "as played (quintic between the written points, checked every 1/{} of an interval)",
         crate::retime::SAMPLES
@@ -184,17 +218,27 @@ pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) ->
             if c.attempts == 1 { "" } else { "s" },
             c.slowed_points,
             if c.slowed_points == 1 { "" } else { "s" },
-            match (out, finished.written) {
-                (None, _) => String::new(),
-                (Some(p), true) => format!("; wrote {}", crate::error::shown_path(p)),
-                (Some(p), false) => format!(
-                    "; it does not follow: nothing is written to {} (`force` writes it)",
-                    crate::error::shown_path(p)
-                ),
-            }
+            written(out, finished.written, "it does not follow")
+        ));
+    } else {
+        text.push_str(&format!(
+            "not checked in the closed loop (`no_check`): whether the loop follows it is not known (replay it to know){}\n",
+            written(out, finished.written, "it passes a limit as played")
         ));
     }
     text
+}
+
+/// What the check's line says of `out`: written, or not and `why`.
+fn written(out: Option<&std::path::Path>, written: bool, why: &str) -> String {
+    match (out, written) {
+        (None, _) => String::new(),
+        (Some(p), true) => format!("; wrote {}", crate::error::shown_path(p)),
+        (Some(p), false) => format!(
+            "; {why}: nothing is written to {} (`force` writes it)",
+            crate::error::shown_path(p)
+        ),
+    }
 }
 
 /// Consecutive segments that the same limit shapes, as (first, last, binding).

@@ -12,12 +12,15 @@ mod sizing;
 pub mod step;
 mod stop;
 mod summary;
+mod tape;
 mod timed;
 mod verdict;
 mod warning;
 
 pub use contact::{ContactStep, HUNT_CROSSLEY_DISSIPATION, MAX_FRICTION, POINT_STIFFNESS, SelfContact};
-pub use drives::{DEFAULT_GOAL_RATE, Drive, DriveMode, JointDrive, ServoDrive, ServoOptions, Servos, StepperOptions};
+pub use drives::{
+    DEFAULT_GOAL_RATE, Drive, DriveMode, Holding, JointDrive, ServoDrive, ServoOptions, Servos, StepperOptions,
+};
 pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
@@ -33,6 +36,7 @@ pub use summary::{
     ContactSummary, Diverged, DofJoint, ENVELOPE_MARGIN, MeshSource, MotorSummary, PathDeviation, Ringing,
     ServoSummary, Simulated, StepLoss, Summary, ToolRange, ToolRule,
 };
+pub use tape::{TAPE_BUDGET, Tape};
 pub use timed::{Play, TimedCommand};
 pub use verdict::{Intersection, NearSlip, Reason, Thresholds, Verdict, percent};
 pub use warning::{STEPPER_STEPS_PER_RADIAN, Warning};

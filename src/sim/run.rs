@@ -44,34 +44,10 @@ pub const RUNAWAY_SPEED: f64 = 1e3;
 /// completed. A raised `stop` flag ends the run at the next poll the same way, as if that step
 /// were the last (`interrupted_at_s` in the summary).
 pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) -> Result<Summary> {
-    let model = &sc.model;
-    let dt = sc.dt;
     let mut p = Step::new(sc);
     let start_q = p.state.q.clone();
-    let collision_pairs: Vec<[FrameId; 2]> = (sc.collision_set.iter())
-        .flat_map(|set| set.pairs())
-        .map(|(a, b)| [sc.geometry.collisions[a].frame, sc.geometry.collisions[b].frame])
-        .collect();
-    let info = RunInfo {
-        command: &sc.command,
-        model,
-        geometry: &sc.geometry,
-        tool_frame: sc.tool_frame,
-        dt,
-        steps: sc.steps,
-        gains: &sc.controller.gains,
-        feedforward: sc.controller.feedforward,
-        start_q: &start_q,
-        board: sc.shape.as_ref().map(|s| &s.board),
-        reference_path: sc.shape.as_ref().map(|s| s.reference.as_slice()),
-        collision_pairs: &collision_pairs,
-        motors: sc.motors.as_deref(),
-        playback: match &sc.trajectory {
-            Trajectory::Spline(s) => s.playback(),
-            _ => None,
-        },
-        drives: &sc.drives,
-    };
+    let collision_pairs = collision_pairs(sc);
+    let info = run_info(sc, &start_q, &collision_pairs);
     // the loop looks at the flag: a signal now stops the run, not the process
     stop.watch();
     for r in recorders.iter_mut() {
@@ -80,6 +56,39 @@ pub fn run(sc: &Scenario, recorders: &mut [&mut dyn Recorder], stop: &StopFlag) 
     // the clearance's worker thread (when no recorder reads each sample's intersections)
     // borrows the scenario for the run's loop
     std::thread::scope(|scope| run_loop(sc, recorders, stop, &mut p, scope))
+}
+
+/// The link frames of each pair whose self-clearance `sc` checks (see [`RunInfo::collision_pairs`]).
+pub(super) fn collision_pairs(sc: &Scenario) -> Vec<[FrameId; 2]> {
+    (sc.collision_set.iter())
+        .flat_map(|set| set.pairs())
+        .map(|(a, b)| [sc.geometry.collisions[a].frame, sc.geometry.collisions[b].frame])
+        .collect()
+}
+
+/// What a run of `sc` tells its recorders before the first sample, from its start state q
+/// and its checked pairs ([`collision_pairs`]).
+pub(super) fn run_info<'a>(sc: &'a Scenario, start_q: &'a [f64], collision_pairs: &'a [[FrameId; 2]]) -> RunInfo<'a> {
+    RunInfo {
+        command: &sc.command,
+        model: &sc.model,
+        geometry: &sc.geometry,
+        tool_frame: sc.tool_frame,
+        dt: sc.dt,
+        steps: sc.steps,
+        gains: &sc.controller.gains,
+        feedforward: sc.controller.feedforward,
+        start_q,
+        board: sc.shape.as_ref().map(|s| &s.board),
+        reference_path: sc.shape.as_ref().map(|s| s.reference.as_slice()),
+        collision_pairs,
+        motors: sc.motors.as_deref(),
+        playback: match &sc.trajectory {
+            Trajectory::Spline(s) => s.playback(),
+            _ => None,
+        },
+        drives: &sc.drives,
+    }
 }
 
 /// [`run`]'s loop and summary, the self-clearance's worker thread (if any) spawned in `scope`.

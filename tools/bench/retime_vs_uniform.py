@@ -81,7 +81,7 @@ def write(timing, k, path):
 
 
 def follows(path):
-    out = subprocess.run([FAZE4, "replay", "--q-traj", path, "--motors", "faze4", "--quiet"],
+    out = subprocess.run([FAZE4, "replay", "--q-traj", path, "--motors", "faze4", "--trail", "none", "--quiet"],
                          capture_output=True, text=True, cwd=ROOT)
     verdict = [line for line in out.stdout.splitlines() if line.startswith("verdict:")]
     if not verdict:
@@ -113,7 +113,8 @@ def smallest_scale(timing, tmp, name):
 def main():
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "retimed.json")
-        subprocess.run([FAZE4, "retime", "--q-traj", PATH, "--motors", "faze4", "--out", out, "--quiet"],
+        subprocess.run([FAZE4, "retime", "--q-traj", PATH, "--motors", "faze4", "--out", out, "--trail", "none",
+                        "--quiet"],
                        check=True, capture_output=True, cwd=ROOT)
         with open(out) as f:
             last = json.load(f)["points"][-1]["time_from_start"]

@@ -17,7 +17,7 @@ mod servo;
 mod stepper;
 
 pub(super) use pd::actuate_without_motors;
-pub use servo::{DEFAULT_GOAL_RATE, ServoDrive, ServoOptions, Servos};
+pub use servo::{DEFAULT_GOAL_RATE, Holding, ServoDrive, ServoOptions, Servos};
 pub use stepper::StepperOptions;
 
 use super::{MotorSummary, Scenario, Step, Warning};
@@ -128,6 +128,23 @@ impl JointDrive {
             JointDrive::Servo(d) => Some(d),
             JointDrive::Pd | JointDrive::Stepper(_) => None,
         }
+    }
+
+    /// The shortest window (s) over which a timing that keeps `1 − margin` of the joint's
+    /// torque may change it, for the drive to follow (retime's limits beyond the envelope): an
+    /// open-loop stepper's ringing (docs/retime.md, "The drive's own limits"); 0 for the drives that close
+    /// their own loop.
+    pub fn least_window(&self, margin: f64) -> f64 {
+        match self {
+            JointDrive::Stepper(d) => stepper::least_window(d, margin),
+            JointDrive::Pd | JointDrive::Servo(_) => 0.0,
+        }
+    }
+
+    /// What the drive's own loop makes of a load held at rest (a smart servo's sag and
+    /// protection), if it closes one; `None` for the PD and the open-loop stepper.
+    pub fn holding(&self) -> Option<Holding> {
+        self.servo().map(servo::holding)
     }
 
     /// (τ_raw, q, v, q_cmd) of joint `i` at time `t` (s), driving motor `motor` ⇒ its τ (held

@@ -45,6 +45,48 @@ pub struct ServoDrive {
     pub rate: Option<f64>,
 }
 
+/// What a servo's own loop makes of a load it holds at rest (retime's limits at the path's
+/// ends; docs/retime.md, "The drive's own limits").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Holding {
+    /// The error its loop holds a load at, per N·m of it (rad/(N·m) at the output): the duty
+    /// τ/τ_s needs τ/(τ_s·k·P) counts of error, 2π/counts_per_rev rad each; 0 with an I
+    /// register (its integral takes the error out).
+    pub sag_per_torque: f64,
+    /// The most torque it holds at rest for longer than [`Holding::time`] without its
+    /// protection acting (N·m at the output; +∞ where the torque limit keeps the duty below
+    /// it): Feetech's overload duty, Dynamixel's PWM limit, times the stall torque.
+    pub sustained: f64,
+    /// How long above [`Holding::sustained`] trips the protection (s).
+    pub time: f64,
+    /// The protection in words, for a message (`Feetech's overload protection (80 % of its
+    /// stall for 2 s)`).
+    pub protection: &'static str,
+}
+
+/// `drive`'s [`Holding`].
+pub fn holding(drive: &ServoDrive) -> Holding {
+    let spec = &drive.spec;
+    let sag_per_torque = match spec.i > 0.0 {
+        true => 0.0,
+        false => std::f64::consts::TAU / (spec.counts_per_rev * spec.duty_per_count * spec.p * spec.stall_torque),
+    };
+    let (duty, time, protection) = match spec.protection {
+        Protection::Feetech { overload, time, .. } => (
+            (overload < spec.torque_limit).then_some(overload),
+            time,
+            "Feetech's overload protection",
+        ),
+        Protection::Dynamixel { time } => (Some(spec.torque_limit), time, "Dynamixel's overload shutdown"),
+    };
+    Holding {
+        sag_per_torque,
+        sustained: duty.map_or(f64::INFINITY, |u| u * spec.stall_torque),
+        time,
+        protection,
+    }
+}
+
 /// The servo of each joint whose motor has servo registers (`None`: the PD drives it), or the
 /// error naming the option at fault: no `motors`, none of them a servo, a rate not > 0.
 pub fn drives(options: &ServoOptions, motors: Option<&[Option<Motor>]>) -> Result<Vec<Option<ServoDrive>>> {

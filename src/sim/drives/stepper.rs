@@ -146,6 +146,23 @@ pub fn damp(model: &mut Model, motors: &[Option<Motor>], drives: &mut [JointDriv
     }
 }
 
+/// The shortest window (s) over which a timing may move the torque it asks of `drive`'s joint
+/// so that the rotor's ringing fits in `margin` of the pull-out torque (docs/retime.md, "The
+/// drive's own limits"): a change of the load spread over a ramp of w seconds leaves an undamped
+/// rotor ringing about its lag with |sin(ω_n w/2)| / (ω_n w/2) ≤ 2/(ω_n w) of the change; a
+/// change from one side of the (1 − margin) share the timing uses to the other (accelerating,
+/// then braking), 2(1 − margin), fits in the margin where 2/(ω_n w)·2(1 − margin) ≤ margin,
+/// w ≥ 4(1 − margin)/(margin·ω_n). +∞ at margin 0 (no room for any ringing); 0 before the
+/// drive's damping figures are known. The damping is left out (the rotors' ratios are
+/// 0.002–0.05: a ringing decays over tens of periods).
+pub fn least_window(drive: &OpenLoopStepper, margin: f64) -> f64 {
+    let omega = drive.damping.natural_frequency;
+    match omega > 0.0 {
+        true => 4.0 * (1.0 - margin) / (margin * omega),
+        false => 0.0,
+    }
+}
+
 /// The fastest-ringing open-loop stepper's [`Warning::CoarseStepperStep`], if its natural
 /// frequency ω_n (its [`StepperDamping::natural_frequency`]) times Δt is above
 /// [`STEPPER_STEPS_PER_RADIAN`].
