@@ -728,6 +728,56 @@ fn a_tolerance_reports_actual_distances_within_it_and_the_exact_intersections() 
     }
 }
 
+/// The waiting samples' searches take a looser share of the tolerance where no later waiting
+/// sample is near enough to gain from a tighter one, and a tighter share where one is: on the
+/// Faze4's real meshes (whose closest pairs are nearly concentric shells), over samples in an
+/// odd order, a sample repeated (the same pose twice and thrice: no motion between them), jumps
+/// of tens of samples along the circle both ways (motions far above the tolerance) and a stretch
+/// a tenth of a circle sample apart (motions below it), every pair's minimum is still an actual
+/// distance within the tolerance of the smallest of the full query at every sample, exactly it
+/// at 0, and no sample's intersections change; with the waiting samples searched all at the end
+/// and in batches of 3.
+#[test]
+fn waiting_samples_in_any_order_keep_the_tolerance() {
+    let fixture = fixture("clearance_faze4_real.json");
+    let circle: Vec<Vec<f64>> = fixture["poses"].as_array().unwrap()[..]
+        .iter()
+        .map(|p| vec_f64(&p["q"]))
+        .collect();
+    let n = circle.len();
+    assert!(n > 200, "{n} circle samples");
+    let mut qs: Vec<Vec<f64>> = Vec::new();
+    for &k in &[100, 100, 101, 160, 102, 102, 102, 40, 103, 200, 104, 10, 105] {
+        qs.push(circle[k].clone());
+    }
+    // a tenth of a sample apart: the pair moves less than the tolerance from one to the next
+    for step in 0..=20 {
+        let f = step as f64 / 10.0;
+        let (k, f) = (120 + f.floor() as usize, f.fract());
+        qs.push(
+            (circle[k].iter().zip(&circle[k + 1]))
+                .map(|(a, b)| a + (b - a) * f)
+                .collect(),
+        );
+    }
+    for &k in &[0, n - 1, 0, 150, 149, 151, 150] {
+        qs.push(circle[k].clone());
+    }
+    let robot = real();
+    for (tolerance, batch) in [(1e-3, 1024), (1e-3, 3), (3e-4, 1024), (0.0, 1024)] {
+        let crossings = tolerance_matches_exact(
+            &robot,
+            ClearanceGeometry::Mesh,
+            PairFilter::NonAdjacent,
+            &qs,
+            tolerance,
+            batch,
+        );
+        // the circle's first and last fixture poses (the arm folding into its start) intersect
+        assert!(crossings <= 2, "{crossings} intersections");
+    }
+}
+
 /// Samples queued and folded in together (the pairs in parallel, as a run's clearance worker
 /// does when samples wait for it) give the report of the same samples added one by one, bit
 /// for bit: each pair's minimum and time, and the closest pair overall when several pairs tie

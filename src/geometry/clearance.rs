@@ -155,6 +155,22 @@ struct Pending {
     hulls_apart: bool,
 }
 
+/// The share of the `tolerance` (m, > 0) a search of a waiting sample in
+/// [`PairMemory::finish`] may use. The search's result bounds its own sample within the share
+/// `s` (which needs only `s ≤ tolerance`), and each later waiting sample (`others`, whose
+/// relative motions from it are `moves`) by that bound less the motion, which passes one over
+/// only when it reaches `reach` (the smallest distance so far less the tolerance), so only when
+/// `s + moved ≤ tolerance`. The share is [`SEARCH_SHARE`] of the tolerance while a later
+/// sample still below `reach` is near enough to be passed over so, else the whole tolerance: a
+/// looser search opens fewer nodes on nearly concentric shells, and when the pair moves more
+/// than the rest of the tolerance from this sample to every other one still to be settled, a
+/// tighter search settles no other.
+fn search_share(tolerance: f64, others: &[Pending], moves: &[f64], reach: f64) -> f64 {
+    let share = tolerance * SEARCH_SHARE;
+    let near = (others.iter().zip(moves)).any(|(other, &moved)| other.lower < reach && share + moved <= tolerance);
+    if near { share } else { tolerance }
+}
+
 impl<'a> Clearance<'a> {
     /// An empty accumulator for a run measured with `set`, exactly.
     pub fn new(set: &'a CollisionSet) -> Clearance<'a> {
@@ -397,6 +413,8 @@ impl PairMemory {
         pending.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.t.total_cmp(&y.t)));
         let spheres = (set.object(a).sphere, set.object(b).sphere);
         let mut found = None;
+        // the pair's relative motion from the sample searched to each one after it
+        let mut moves: Vec<f64> = Vec::new();
         for j in 0..pending.len() {
             let p = pending[j];
             if best <= 0.0 {
@@ -411,15 +429,17 @@ impl PairMemory {
             if p.lower >= reach {
                 continue;
             }
+            moves.clear();
+            moves.extend((pending[j + 1..].iter()).map(|other| relative_motion(&p.pose_ab, &other.pose_ab, spheres)));
             // distances depend on the relative pose alone; overlapping hulls (0 stands for
             // their distance) prove nothing
             let hull = if p.hulls_apart { p.lower } else { 0.0 };
             let pose = (&PPose::IDENTITY, &p.pose_ab);
             // a lower bound of the sample's distance, from its search
             let lower = if tolerance > 0.0 {
-                // an actual distance within the tolerance of the sample's, or none closer
-                // than best − tolerance
-                let search = tolerance * SEARCH_SHARE;
+                // an actual distance within the share of the tolerance of the sample's, or
+                // none closer than best − share
+                let search = search_share(tolerance, &pending[j + 1..], &moves, reach);
                 match set.pair_distance(k, pose, &mut self.closest, best, Some(hull), search) {
                     Some(d) => {
                         (best, found) = (d.distance, Some((d, p.t)));
@@ -435,9 +455,8 @@ impl PairMemory {
                 }
                 d.distance
             };
-            for other in &mut pending[j + 1..] {
-                let bound = lower - relative_motion(&p.pose_ab, &other.pose_ab, spheres);
-                other.lower = other.lower.max(bound);
+            for (other, moved) in pending[j + 1..].iter_mut().zip(&moves) {
+                other.lower = other.lower.max(lower - moved);
             }
         }
         pending.clear();
@@ -571,7 +590,14 @@ impl PairMemory {
         if hull <= 0.0 {
             return self.hulls_overlap(set, k, (pa, pb), pose_ab, hull, bounds);
         }
-        match set.proven_by_hulls(a, b, (pa, pb), hull, &mut self.closest, bounds.tolerance) {
+        match set.proven_by_hulls(
+            a,
+            b,
+            (pa, pb),
+            hull,
+            (&mut self.closest, self.support),
+            bounds.tolerance,
+        ) {
             Ok(distance) if bounds.tolerance > 0.0 => {
                 // within the tolerance of the hulls' distance, which stays the lower bound
                 // carried on
@@ -678,5 +704,39 @@ impl PairMemory {
         let lower = found.map_or(bound, |d| d.distance) - slack;
         self.reference = (lower, pa.inv_mul(pb));
         found
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn waiting(lower: f64) -> Pending {
+        Pending {
+            t: 0.0,
+            pose_ab: PPose::IDENTITY,
+            lower,
+            upper: 1.0,
+            hulls_apart: true,
+        }
+    }
+
+    /// The least share while a later sample still to be settled is near enough for it to
+    /// settle it; else (none waiting, all settled already, or all moved further than the
+    /// tolerance less the least share) the whole tolerance.
+    #[test]
+    fn a_search_takes_the_whole_tolerance_when_no_later_sample_can_gain() {
+        let (tolerance, reach) = (1e-3, 0.02);
+        let least = tolerance * SEARCH_SHARE;
+        let share = |others: &[Pending], moves: &[f64]| search_share(tolerance, others, moves, reach);
+        assert_eq!(share(&[], &[]), tolerance);
+        // settled already (its bound reaches `reach`): it does not count
+        assert_eq!(share(&[waiting(reach), waiting(0.0)], &[0.0, 5e-3]), tolerance);
+        // one of those below `reach` near enough, or a repeated pose (no motion)
+        assert_eq!(share(&[waiting(0.0), waiting(0.0)], &[4e-3, 1e-4]), least);
+        assert_eq!(share(&[waiting(0.0)], &[0.0]), least);
+        // just within the least share's reach, and just beyond it
+        assert_eq!(share(&[waiting(0.0)], &[tolerance - least]), least);
+        assert_eq!(share(&[waiting(0.0)], &[tolerance - least + 1e-9]), tolerance);
     }
 }

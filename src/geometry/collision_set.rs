@@ -38,6 +38,7 @@
 //! ([`super::ContactGeometry`]) use the same queries.
 
 use parry3d_f64::math::{Mat3 as PMat3, Pose as PPose, Rot3 as PRot3, Vector as PVector};
+use parry3d_f64::query::details::closest_points_support_map_support_map_with_params;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints, details};
 use parry3d_f64::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, Shape, SupportMap};
@@ -47,7 +48,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::hull::{Adjacency, Climber};
+use super::hull::{Adjacency, Climber, hull_candidates};
 use super::mesh::load_shape;
 use super::mesh_cache;
 use super::pairs::{PairFilter, checked_pairs};
@@ -276,7 +277,7 @@ impl MeshShape {
             path: path.clone(),
             message: "the mesh spans no volume (no convex hull)".into(),
         };
-        let (corners, faces) = try_convex_hull(&points).map_err(|_| no_hull())?;
+        let (corners, faces) = try_convex_hull(&hull_candidates(&points)).map_err(|_| no_hull())?;
         let climb = Adjacency::of(corners.len(), &faces);
         let hull = ConvexPolyhedron::from_convex_mesh(corners, &faces).ok_or_else(no_hull)?;
         let triangles = match kind {
@@ -486,7 +487,7 @@ impl CollisionSet {
         if hull >= bound - tolerance {
             return None;
         }
-        if let Ok(distance) = self.proven_by_hulls(a, b, (pa, pb), hull, closest, tolerance) {
+        if let Ok(distance) = self.proven_by_hulls(a, b, (pa, pb), hull, (closest, (0, 0)), tolerance) {
             return (distance < bound).then_some(PairDistance {
                 distance,
                 intersecting: false,
@@ -523,14 +524,15 @@ impl CollisionSet {
     /// the parts under the hulls' closest points; `closest` receives the closer. Not proven:
     /// `Err` with the smallest actual distance found, an upper bound of the objects'. With a
     /// `tolerance` above the certificate, a pair of parts within it of the hulls' distance
-    /// proves the distance to within the tolerance.
+    /// proves the distance to within the tolerance. `at`: where the hulls' support maps start
+    /// climbing ([`CollisionSet::convex_closest_points`]).
     pub(super) fn proven_by_hulls(
         &self,
         a: usize,
         b: usize,
         (pa, pb): (&PPose, &PPose),
         hull: f64,
-        closest: &mut (u32, u32),
+        (closest, at): (&mut (u32, u32), (u32, u32)),
         tolerance: f64,
     ) -> std::result::Result<f64, f64> {
         let seeded = self.part_distance(a, b, (pa, pb), *closest);
@@ -539,8 +541,7 @@ impl CollisionSet {
         }
         let certificate = HULL_CERTIFICATE.max(tolerance);
         let (oa, ob) = (&self.objects[a], &self.objects[b]);
-        let Ok(ClosestPoints::WithinMargin(ca, cb)) = query::closest_points(pa, &*oa.convex, pb, &*ob.convex, f64::MAX)
-        else {
+        let Some((ca, cb)) = self.convex_closest_points(a, b, (pa, pb), at) else {
             return Err(seeded);
         };
         // GJK's distance may stop above the hulls' (by 7.6e-8 m on the SO-101, against coal):
@@ -584,6 +585,38 @@ impl CollisionSet {
             (None, None) => query::distance(pa, &*oa.convex, pb, &*ob.convex),
         };
         gap.expect("parry supports triangles and convex shapes").distance
+    }
+
+    /// The closest points (world frame) of the convex shapes of objects `a` and `b` at world
+    /// poses `pa`, `pb`; `None` when they touch. parry's `query::closest_points` (GJK from the
+    /// same direction), with a hull's support map climbing from `at` ([`Climber`]) instead of
+    /// scanning every vertex: the same points up to ties, for a fraction of the work (parry's
+    /// scans of the Faze4's hulls were 7.5 % of the default wave's instructions).
+    fn convex_closest_points(
+        &self,
+        a: usize,
+        b: usize,
+        (pa, pb): (&PPose, &PPose),
+        at: (u32, u32),
+    ) -> Option<(PVector, PVector)> {
+        let (oa, ob) = (&self.objects[a], &self.objects[b]);
+        // parry answers a ball against a convex shape otherwise than by GJK
+        let balls = oa.convex.as_ball().is_some() || ob.convex.as_ball().is_some();
+        match self.supports(a, b, at).filter(|_| !balls) {
+            Some((sa, sb)) => {
+                let pos12 = pa.inv_mul(pb);
+                let mut simplex = VoronoiSimplex::new();
+                match closest_points_support_map_support_map_with_params(&pos12, &sa, &sb, f64::MAX, &mut simplex, None)
+                {
+                    GJKResult::ClosestPoints(p1, p2, _) => Some((*pa * p1, *pb * pos12.inverse_transform_point(p2))),
+                    _ => None,
+                }
+            }
+            None => match query::closest_points(pa, &*oa.convex, pb, &*ob.convex, f64::MAX) {
+                Ok(ClosestPoints::WithinMargin(ca, cb)) => Some((ca, cb)),
+                _ => None,
+            },
+        }
     }
 
     /// The signed distance of the convex shapes of `a` and `b` (negative: penetration depth),

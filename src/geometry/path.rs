@@ -322,7 +322,7 @@ fn pair_bounds(
             continue;
         }
         if hull > 0.0 {
-            match set.proven_by_hulls(a, b, (pa, pb), hull, &mut closest, share) {
+            match set.proven_by_hulls(a, b, (pa, pb), hull, (&mut closest, support), share) {
                 Ok(distance) => {
                     least = least.min(distance);
                     bounds[j].parts = closest;
