@@ -24,15 +24,19 @@
 //! How `L` is found: as a run's clearance folds its samples (bounds carried between samples,
 //! bounding spheres, the hulls' gap along their last axis, the hulls' distance and their
 //! certificate, and searches of the samples left waiting, each raising the others' bounds by
-//! its distance less the motion between them), with a quarter of the runs' tolerance `τ` as
-//! the path's own: a sample is left as soon as its lower bound reaches the pair's smallest
-//! distance so far less `τ/4`, and the waiting samples below that are searched to within
-//! `τ/4` (exactly at tolerance 0). So at every sample `L ≥ min(D − τ/4, u − τ/4)`, with `D`
-//! the smallest actual distance found along the path and `u` the sample's own. A run with
-//! minimum `R` settles a sample when `L − moved ≥ R − τ`; as `R ≤ D + moved*` (the path's
-//! parts at the path's minimum, at the run's pose there), a run whose pair moves relative to
-//! the path by `moved` at the sample and `moved*` at the path's minimum settles every sample
-//! when `moved + moved* ≤ 3τ/4` (the Faze4 circle's runs: about 0.1 to 0.3 mm each at 1 mm).
+//! its distance less the motion between them): a sample is left as soon as its lower bound
+//! reaches the pair's smallest distance so far less `τ/2` (the margin, half the runs'
+//! tolerance `τ`), and the waiting samples below that are searched to within `τ/4` while a
+//! later waiting sample below it is within `τ/4` of relative motion (near enough for the
+//! search's bound less the motion to leave it), else to within the margin `τ/2` (exactly at
+//! tolerance 0). A search to within `s` bounds its sample by its result less `s`, or, finding
+//! nothing closer than the smallest so far less `s`, by that; so with `s ≤ τ/2` at every
+//! sample `L ≥ D − τ/2`, with `D` the smallest actual distance found along the path, as for a
+//! sample left unsearched. A run with minimum `R` settles a sample when `L − moved ≥ R − τ`;
+//! as `R ≤ D + moved*` (the path's parts at the path's minimum, at the run's pose there), a
+//! run whose pair moves relative to the path by `moved` at the sample and `moved*` at the
+//! path's minimum settles every sample when `moved + moved* ≤ τ/2` (the Faze4 circle's runs:
+//! about 0.1 to 0.3 mm each at 1 mm).
 //! Beyond, it searches those samples itself; at tolerance 0, those near its minimum.
 //!
 //! Memory: 8 bytes a sample for its time, 56 per object for its pose and 16 per pair for its
@@ -82,7 +86,8 @@ pub(super) struct PathSample {
 /// waited for when first needed, so a sweep's runs start their dynamics meanwhile.
 pub struct PathClearance {
     set: Arc<CollisionSet>,
-    /// The tolerance (m) of the runs it serves: its bounds are tight to a quarter of it.
+    /// The tolerance (m) of the runs it serves: its bounds are at most half of it below the
+    /// path's smallest distance.
     tolerance: f64,
     /// Each sample's time (s).
     times: Vec<f64>,
@@ -358,8 +363,8 @@ fn pair_bounds(
 }
 
 /// Pair `k`'s `waiting` samples searched, the smallest upper bound first, each only while its
-/// lower bound is below `least` (the smallest actual distance so far) less `share`, to
-/// within `share` (m; 0: exactly) and bounded by `least`; each search raises the other
+/// lower bound is below `least` (the smallest actual distance so far) less `margin`, to
+/// within `share` or `margin` ([`search_share`]; m, 0: exactly) and bounded by `least`; each search raises the other
 /// samples' bounds by its own less the motion between them. Their bounds go into `bounds`;
 /// returns the smallest actual distance found.
 fn search_waiting(
@@ -374,12 +379,17 @@ fn search_waiting(
     let (a, b) = set.object_pairs()[k];
     let spheres = (set.object(a).sphere, set.object(b).sphere);
     waiting.sort_by(|x, y| x.upper.total_cmp(&y.upper).then(x.j.cmp(&y.j)));
+    // the pair's relative motion from the sample searched to each one after it
+    let mut moves: Vec<f64> = Vec::new();
     for i in 0..waiting.len() {
         let w = waiting[i];
         if w.lower >= least - margin {
             bounds[w.j].lower = bounds[w.j].lower.max(w.lower);
             continue;
         }
+        moves.clear();
+        moves.extend((waiting[i + 1..].iter()).map(|other| relative_motion(&w.pose_ab, &other.pose_ab, spheres)));
+        let share = search_share((share, margin), &waiting[i + 1..], &moves, least - margin);
         let hull = if w.hulls_apart { w.lower } else { 0.0 };
         let pose = (&PPose::IDENTITY, &w.pose_ab);
         let lower = match set.pair_distance(k, pose, closest, least, Some(hull), share) {
@@ -393,12 +403,23 @@ fn search_waiting(
         };
         let lower = lower.max(w.lower);
         bounds[w.j].lower = bounds[w.j].lower.max(lower);
-        for other in &mut waiting[i + 1..] {
-            other.lower = other
-                .lower
-                .max(lower - relative_motion(&w.pose_ab, &other.pose_ab, spheres));
+        for (other, moved) in waiting[i + 1..].iter_mut().zip(&moves) {
+            other.lower = other.lower.max(lower - moved);
         }
     }
     waiting.clear();
     least
+}
+
+/// The share (m) of the runs' tolerance a search of a waiting sample in [`search_waiting`] may
+/// use: `share` (a quarter of the tolerance) while a later waiting sample (`others`, whose
+/// relative motions from it are `moves`) still below `reach` (the smallest distance so far
+/// less the `margin`) is near enough for the search's bound, less the motion, to reach it
+/// (`share + moved ≤ margin`), else the whole `margin` (half the tolerance). Either keeps the
+/// path's bound at every sample at least its smallest distance less the margin, as a sample
+/// left unsearched has it (see the module doc); the looser search opens fewer nodes, and when
+/// no other waiting sample can be settled by a tighter one, the tighter one settles none.
+fn search_share((share, margin): (f64, f64), others: &[Waiting], moves: &[f64], reach: f64) -> f64 {
+    let near = (others.iter().zip(moves)).any(|(other, &moved)| other.lower < reach && share + moved <= margin);
+    if near { share } else { margin }
 }
