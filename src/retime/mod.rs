@@ -86,8 +86,8 @@ pub struct RetimeOptions {
     /// along the played trajectory.
     pub max_acceleration: Vec<Option<f64>>,
     /// Jerk limits per joint (rad/s³ or m/s³; `None` or an empty list: none), kept along the
-    /// played trajectory by widening the smoothing window (docs/retime.md, "Smooth ends and
-    /// jerk").
+    /// played trajectory by widening the smoothing window, the joint's acceleration rows
+    /// lowered to the jerk times a searched window (docs/retime.md, "Smooth ends and jerk").
     pub max_jerk: Vec<Option<f64>>,
     /// Whether the last check run is kept ([`Check::tape`]) to be handed to recorders
     /// afterwards, instead of playing the timing again for them; `Some(reads_intersections)`
@@ -335,6 +335,8 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         clearance::check_path(model, set, start.clearance_tolerance, path, &grid)?;
     }
     let limits = limits::Limits::of(&start, options)?;
+    let names = joint_names(model);
+    let limits = jerk_bound(limits, model, path, &grid, &names)?;
     let mut solver = solve::Solver::new(&grid, &limits);
     let n = grid.points();
     let mut cap = vec![f64::INFINITY; n];
@@ -356,7 +358,6 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         e => e,
     };
     limits::held_at_ends(&start, &grid).map_err(located)?;
-    let names = joint_names(model);
     let as_played = AsPlayed {
         model,
         path,
@@ -422,6 +423,74 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         limits,
         grid,
     })
+}
+
+/// `limits` with each jerk-limited joint's acceleration lowered to J̄·w, w searched (a log
+/// grid, then golden sections) for the shortest played timing that keeps every limit; `limits`
+/// unchanged without a jerk limit or where none is shorter (docs/retime.md, "Smooth ends and
+/// jerk").
+fn jerk_bound(
+    limits: limits::Limits,
+    model: &crate::model::Model,
+    path: &PathSpline,
+    grid: &grid::PathGrid,
+    names: &[String],
+) -> Result<limits::Limits> {
+    if limits.jerk.iter().all(|j| j.is_infinite()) {
+        return Ok(limits);
+    }
+    let timed = |limits: &limits::Limits| -> Result<(f64, f64)> {
+        let mut solver = solve::Solver::new(grid, limits);
+        let mut cap = vec![f64::INFINITY; grid.points()];
+        let mut window = 0.0;
+        let as_played = AsPlayed {
+            model,
+            path,
+            limits,
+            names,
+        };
+        let timed = as_played.solve(&mut solver, &mut cap, &mut window)?;
+        let duration = match timed.played.worst <= 1.0 {
+            true => timed.profile.duration(),
+            false => f64::INFINITY,
+        };
+        Ok((duration, window))
+    };
+    let lowered = |w: f64| {
+        let mut l = limits.clone();
+        for (a, j) in l.acceleration.iter_mut().zip(&limits.jerk) {
+            *a = a.min(j * w);
+        }
+        l
+    };
+    let (full, widest) = timed(&limits)?;
+    let duration = |w: f64| timed(&lowered(w)).map_or(f64::INFINITY, |(d, _)| d);
+    // a log grid over [widest/50, widest], then golden sections around its best
+    let at = |k: usize| widest * 50f64.powf(k as f64 / 15.0 - 1.0);
+    let tried: Vec<(f64, f64)> = (0..=15).map(|k| (at(k), duration(at(k)))).collect();
+    let best = (0..tried.len())
+        .min_by(|&a, &b| tried[a].1.total_cmp(&tried[b].1))
+        .unwrap_or(0);
+    let (mut lo, mut hi) = (at(best.saturating_sub(1)), at((best + 1).min(15)));
+    let (mut best_w, mut best_d) = tried[best];
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..10 {
+        let (a, b) = (hi - phi * (hi - lo), lo + phi * (hi - lo));
+        let (da, db) = (duration(a), duration(b));
+        for (w, d) in [(a, da), (b, db)] {
+            if d < best_d {
+                (best_w, best_d) = (w, d);
+            }
+        }
+        match da < db {
+            true => hi = b,
+            false => lo = a,
+        }
+    }
+    match best_d < full {
+        true => Ok(lowered(best_w)),
+        false => Ok(limits),
+    }
 }
 
 /// What [`retime`] needs to time the path as a controller plays it.
