@@ -136,7 +136,7 @@ pub(super) fn hull_candidates(points: &[PVector]) -> Vec<PVector> {
     let (lo, hi) = (points.iter()).fold((points[0], points[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
     let margin = INSIDE_MARGIN * (hi - lo).length();
     let centre = corners.iter().sum::<PVector>() / corners.len() as f64;
-    // each face's outward unit normal and offset; a face without area leaves every point in
+    // each face's outward unit normal and offset
     let planes: Vec<(PVector, f64)> = (faces.iter())
         .map(|f| {
             let [a, b, c] = f.map(|v| corners[v as usize]);
@@ -145,11 +145,11 @@ pub(super) fn hull_candidates(points: &[PVector]) -> Vec<PVector> {
             (n, n.dot(a))
         })
         .collect();
-    let inside = |p: &PVector| {
-        planes
-            .iter()
-            .all(|&(n, offset)| n != PVector::ZERO && n.dot(*p) - offset < -margin)
-    };
+    // a face without area bounds nothing: every point is kept
+    if planes.iter().any(|&(n, _)| n == PVector::ZERO) {
+        return points.to_vec();
+    }
+    let inside = |p: &PVector| planes.iter().all(|&(n, offset)| n.dot(*p) - offset < -margin);
     points.iter().filter(|p| !inside(p)).copied().collect()
 }
 

@@ -501,18 +501,31 @@ fn jerk_bound(
         .unwrap_or(0);
     let (mut lo, mut hi) = (at(best.saturating_sub(1)), at((best + 1).min(15)));
     let (mut best_w, mut best_d) = tried[best];
+    // each section keeps one of its two inner points as an inner point of the next (φ² = 1 − φ),
+    // so each of the 10 sections times one new window
     let phi = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..10 {
-        let (a, b) = (hi - phi * (hi - lo), lo + phi * (hi - lo));
-        let (da, db) = (duration(a), duration(b));
+    let (mut a, mut b) = (hi - phi * (hi - lo), lo + phi * (hi - lo));
+    let (mut da, mut db) = (duration(a), duration(b));
+    for section in 0..=10 {
         for (w, d) in [(a, da), (b, db)] {
             if d < best_d {
                 (best_w, best_d) = (w, d);
             }
         }
+        if section == 10 {
+            break;
+        }
         match da < db {
-            true => hi = b,
-            false => lo = a,
+            true => {
+                (hi, b, db) = (b, a, da);
+                a = hi - phi * (hi - lo);
+                da = duration(a);
+            }
+            false => {
+                (lo, a, da) = (a, b, db);
+                b = lo + phi * (hi - lo);
+                db = duration(b);
+            }
         }
     }
     match best_d < full {
