@@ -13,7 +13,7 @@ use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
 use faze4::sim::Scenario;
 
 /// The most retime's duration may exceed Ruckig's (the speed limit not reached: the window
-/// averages a triangle in ṡ, 1.264×; the chained jerk-bound move from 0.5 rad/s, 1.237×, the
+/// averages a triangle in ṡ, 1.261×; the chained jerk-bound move from 0.5 rad/s, 1.235×, the
 /// start's speed held over half a window: measured, docs/retime.md).
 const FACTOR: f64 = 1.3;
 
