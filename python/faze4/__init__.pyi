@@ -446,6 +446,8 @@ def retime(
     no_check: bool = False,
     max_accel: str | Sequence[float | None] | np.ndarray | None = None,
     max_jerk: str | Sequence[float | None] | np.ndarray | None = None,
+    start_velocity: str | Sequence[float | None] | np.ndarray | None = None,
+    end_velocity: str | Sequence[float | None] | np.ndarray | None = None,
     xacro_arg: Sequence[str] | None = None,
     package_path: Sequence[str | os.PathLike[str]] | None = None,
     balance_inertia: bool = False,

@@ -109,3 +109,21 @@ def test_no_check_is_refused_here():
     checked run: it is refused, naming the keyword."""
     with pytest.raises(faze4.Error, match="no_check"):
         faze4.retime(faze4.Robot.faze4(), path(), no_collisions=True, no_check=True)
+
+
+def test_start_and_end_velocities_chain_segments():
+    """`start_velocity`, `end_velocity` (the binary's `--start-velocity`, `--end-velocity`): the
+    timing starts and ends at them with zero acceleration; off the path's tangent, refused naming
+    the keyword (docs/retime.md, "Chaining segments")."""
+    a = np.array([0.0, 0.3, -0.4, 0.0, 0.3, 0.0])
+    d = np.array([0.25, -0.2, 0.3, 0.15, -0.2, 0.25])
+    line = np.array([a, a + d])
+    tangent = d / np.linalg.norm(d)
+    robot = faze4.Robot.faze4()
+    r = faze4.retime(robot, line, no_collisions=True, start_velocity=0.5 * tangent, end_velocity=0.2 * tangent)
+    assert np.allclose(r.qd[0], 0.5 * tangent, atol=1e-9) and np.allclose(r.qd[-1], 0.2 * tangent, atol=1e-9)
+    assert np.allclose(r.qdd[0], 0.0, atol=1e-9) and np.allclose(r.qdd[-1], 0.0, atol=1e-9)
+    assert r.follows and "starts moving at" in r.lines and "start_velocity" in r.lines
+    off = 0.5 * tangent + np.array([0.0, 0.01, 0.0, 0.0, 0.0, 0.0])
+    with pytest.raises(faze4.Error, match="start_velocity.*not along the path.s tangent"):
+        faze4.retime(robot, line, no_collisions=True, start_velocity=off)

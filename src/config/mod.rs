@@ -365,6 +365,11 @@ pub struct RetimeConfig {
     pub max_accel: Vec<Option<f64>>,
     /// Jerk limits per joint (rad/s³ or m/s³; empty or `None`: none).
     pub max_jerk: Vec<Option<f64>>,
+    /// The joint velocity the timing starts at (rad/s or m/s per joint; empty or `None`: 0),
+    /// along the path's tangent (docs/retime.md, "Chaining segments").
+    pub start_velocity: Vec<Option<f64>>,
+    /// The joint velocity the timing ends at, likewise.
+    pub end_velocity: Vec<Option<f64>>,
 }
 
 impl RetimeConfig {
@@ -381,6 +386,8 @@ impl RetimeConfig {
             no_check: false,
             max_accel: Vec::new(),
             max_jerk: Vec::new(),
+            start_velocity: Vec::new(),
+            end_velocity: Vec::new(),
         }
     }
 
@@ -393,6 +400,8 @@ impl RetimeConfig {
             attempts: self.attempts,
             max_acceleration: self.max_accel.clone(),
             max_jerk: self.max_jerk.clone(),
+            start_velocity: self.start_velocity.clone(),
+            end_velocity: self.end_velocity.clone(),
             tape: None,
             stop,
         }

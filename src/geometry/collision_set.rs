@@ -20,7 +20,9 @@
 //! distance wins whatever the order of the search). That distance is bounded below twice,
 //! the second box re-boxed in the first mesh's frame and the first box in the second's (each a
 //! lower bound of the distance of any triangles inside; a rotated box grows when re-boxed, so
-//! the two differ), and the larger is used; the relative pose's rotation matrix and its
+//! the two differ), and the larger is used, then a third time by the gap of the two boxes'
+//! projections on the line through their centres (tighter when they lie apart along a
+//! diagonal of the axes); the relative pose's rotation matrix and its
 //! absolute values are computed once per query for that. Each pair of
 //! leaves is one triangle–triangle distance (parry's GJK), unless a cheaper lower bound (exact
 //! boxes of the two triangles, their projections on the line through their centroids) already

@@ -43,7 +43,9 @@ pub(super) fn mesh_distance(
     let seeded = triangles(*closest);
     let best = Cell::new(if seeded < bound { seeded } else { bound });
     let found = Cell::new((seeded < bound).then_some(*closest));
-    // each box re-boxed in the other's frame bounds the distance; the larger bound is used
+    // each box re-boxed in the other's frame bounds the distance, and so does the gap of the
+    // two boxes' projections on the line through their centres ([`Rebox::axis_gap`]): a pair
+    // of nodes is opened only when all three are below the reach
     let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
     // what could be closer, or tie with the best to round-off, is looked at (with a
     // tolerance: what could be closer by more than it)
@@ -58,6 +60,7 @@ pub(super) fn mesh_distance(
             return true;
         }
         nodes_within(&two_in_one, &one_in_two, n1, n2, reach() * reach())
+            && two_in_one.axis_gap(&one_in_two, node_box(n1), node_box(n2)) < reach()
     };
     m1.bvh().leaf_pairs(m2.bvh(), boxes_closer, |i, j| {
         if triangle_gap(&m1.triangle(i), &m2.triangle(j), &two_in_one) >= reach() {
@@ -116,6 +119,24 @@ impl Rebox {
     /// Point `p` of b (b's frame) in a's frame.
     fn point(&self, p: PVector) -> PVector {
         self.rotation * p + self.translation
+    }
+
+    /// The gap between the box `(lo_a, hi_a)` of a (a's frame) and the box of b (b's frame)
+    /// along the line through their centres: with `u` its direction (a's frame) and `c_a`,
+    /// `c_b` the centres in a's frame, `|c_b − c_a| − |u|·h_a − |Rᵀu|·h_b` (each box's
+    /// projection on `u` reaches `|u|·h` from its centre's, `h` its half extents in its own
+    /// frame). Any direction separates two sets by the gap of their projections on it; along
+    /// the centres' line, a box's reach is smaller than the re-boxed box's when the two are
+    /// apart along a diagonal (`inverse` holds `Rᵀ`).
+    fn axis_gap(&self, inverse: &Rebox, (lo_a, hi_a): (PVector, PVector), (lo_b, hi_b): (PVector, PVector)) -> f64 {
+        let centre_a = (lo_a + hi_a) * 0.5;
+        let between = self.point((lo_b + hi_b) * 0.5) - centre_a;
+        let length = between.length();
+        if length <= 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        let u = between / length;
+        length - u.abs().dot((hi_a - lo_a) * 0.5) - (inverse.rotation * u).abs().dot((hi_b - lo_b) * 0.5)
     }
 
     /// The squared distance (m²) between the box `(mins, maxs)` of a (in a's frame) and the
@@ -394,6 +415,32 @@ pub(super) mod tests {
                 PPose::from_parts(centre + PVector::new(next(), next(), next()) * reach, rotation)
             })
             .collect()
+    }
+
+    /// The gaps that pass a pair of nodes over are lower bounds of their boxes' distance (parry's
+    /// cuboid–cuboid distance) at any relative pose, and the gap along the centres' line is
+    /// the tighter one on some of them (boxes apart along a diagonal).
+    #[test]
+    fn the_gaps_between_two_boxes_are_below_their_distance() {
+        let (lo_a, hi_a) = (PVector::new(-0.01, 0.0, -0.02), PVector::new(0.03, 0.004, 0.01));
+        let (lo_b, hi_b) = (PVector::new(0.0, -0.015, 0.002), PVector::new(0.002, 0.025, 0.03));
+        let cuboid =
+            |lo: PVector, hi: PVector| (Cuboid::new((hi - lo) * 0.5), PPose::from_translation((lo + hi) * 0.5));
+        let ((box_a, at_a), (box_b, at_b)) = (cuboid(lo_a, hi_a), cuboid(lo_b, hi_b));
+        let mut tighter = 0;
+        for pose in poses(200, PVector::ZERO, 0.08) {
+            let (two_in_one, one_in_two) = (Rebox::new(&pose), Rebox::new(&pose.inverse()));
+            let distance = query::distance(&at_a, &box_a, &(pose * at_b), &box_b).unwrap().distance;
+            let axis = two_in_one.axis_gap(&one_in_two, (lo_a, hi_a), (lo_b, hi_b));
+            let reboxed = two_in_one.squared_gap((lo_a, hi_a), (lo_b, hi_b)).sqrt();
+            assert!(axis <= distance + 1e-12, "{axis} above {distance} at {pose:?}");
+            assert!(reboxed <= distance + 1e-12, "{reboxed} above {distance} at {pose:?}");
+            tighter += usize::from(axis > reboxed + 1e-4);
+        }
+        assert!(
+            tighter > 20,
+            "the centres' line is the tighter bound {tighter} times of 200"
+        );
     }
 
     #[test]

@@ -9,6 +9,7 @@
 //! drive's own limits").
 
 use super::RetimeOptions;
+use super::ends::Ends;
 use super::envelope::JointTorque;
 use super::grid::PathGrid;
 use crate::error::{Error, Result};
@@ -104,14 +105,16 @@ impl Limits {
 }
 
 /// Each smart servo of `scenario` holding the arm at rest at both ends of the path (`grid`'s
-/// first and last points, where the arm stands before and after any timing): its loop's sag
+/// first and last points, where the arm stands before and after any timing; an end the timing
+/// passes moving, `ends`, is not stood at): its loop's sag
 /// under the load within the verdict's `max_error`, and the load within what its protection
 /// holds for longer than its time (the arm stays there); else the error saying which, at that
 /// end (docs/retime.md, "The drive's own limits"). No timing changes either.
-pub(crate) fn held_at_ends(scenario: &Scenario, grid: &PathGrid) -> Result<()> {
+pub(crate) fn held_at_ends(scenario: &Scenario, grid: &PathGrid, ends: Ends) -> Result<()> {
     let (dof, last) = (grid.dof, grid.points() - 1);
     let max_error = scenario.thresholds.max_error;
-    for i in [0, last] {
+    let rests = [(0, ends.start), (last, ends.end)];
+    for i in rests.iter().filter(|(_, speed)| *speed == 0.0).map(|&(i, _)| i) {
         for (j, drive) in scenario.drives.iter().enumerate() {
             let Some(hold) = drive.holding() else { continue };
             let load = grid.c[i * dof + j].abs();

@@ -27,6 +27,7 @@
 
 mod check;
 mod clearance;
+mod ends;
 mod envelope;
 mod grid;
 mod limits;
@@ -42,6 +43,7 @@ use std::fmt;
 
 pub use check::command;
 pub use clearance::CLEARANCE_STEP;
+pub use ends::TANGENT;
 pub use limits::SpeedSource;
 pub use phase::PhasePlane;
 pub use played::{Played, SAMPLES};
@@ -89,6 +91,13 @@ pub struct RetimeOptions {
     /// played trajectory by widening the smoothing window, the joint's acceleration rows
     /// lowered to the jerk times a searched window (docs/retime.md, "Smooth ends and jerk").
     pub max_jerk: Vec<Option<f64>>,
+    /// The joint velocity the timing starts at (rad/s or m/s per joint; empty, or `None` for a
+    /// joint: 0, so all empty starts at rest): along the path's tangent there, q̇ = q′ ṡ₀ with
+    /// ṡ₀ ≥ 0, within [`TANGENT`] of its norm; the check's arm arrives at the path's start
+    /// with it (docs/retime.md, "Chaining segments").
+    pub start_velocity: Vec<Option<f64>>,
+    /// The joint velocity the timing ends at, likewise (empty: at rest).
+    pub end_velocity: Vec<Option<f64>>,
     /// Whether the last check run is kept ([`Check::tape`]) to be handed to recorders
     /// afterwards, instead of playing the timing again for them; `Some(reads_intersections)`
     /// (see [`Tape::new`]).
@@ -106,6 +115,8 @@ impl Default for RetimeOptions {
             attempts: DEFAULT_ATTEMPTS,
             max_acceleration: Vec::new(),
             max_jerk: Vec::new(),
+            start_velocity: Vec::new(),
+            end_velocity: Vec::new(),
             tape: None,
             stop: StopFlag::new(),
         }
@@ -147,7 +158,8 @@ impl RetimeOptions {
 pub struct Profile {
     /// s_i (rad or m of path length), N + 1.
     pub s: Vec<f64>,
-    /// x_i = ṡ² ((path units/s)²), N + 1; 0 at both ends.
+    /// x_i = ṡ² ((path units/s)²), N + 1; 0 at an end at rest, the given path speed's square
+    /// at a moving one.
     pub x: Vec<f64>,
     /// u_i = s̈ on [s_i, s_i+1] (path units/s²), N.
     pub u: Vec<f64>,
@@ -175,6 +187,9 @@ pub enum Limit {
     /// A cap set where the played trajectory (a quintic between the written points) passed a
     /// limit between grid points.
     Played,
+    /// Held at the path speed of a given start or end velocity (the first or last ṡ·w/2 of
+    /// path: docs/retime.md, "Chaining segments").
+    Held,
     /// No constraint of the segment's own (none given).
     None,
 }
@@ -213,6 +228,7 @@ impl fmt::Display for Binding {
             Limit::Acceleration => "acceleration limit",
             Limit::Slowed => "slowed by the check",
             Limit::Played => "slowed to keep the limits between the points",
+            Limit::Held => "held at the given start or end velocity (half the smoothing window)",
             Limit::None => "none",
         };
         write!(f, "{joint}{limit}")
@@ -238,12 +254,13 @@ pub struct Check {
 #[derive(Clone, Debug)]
 pub struct Retimed {
     /// The timing on the grid: TOPP-RA's averaged over [`Retimed::window`], s̈ continuous,
-    /// starting and ending at rest with s̈ = 0.
+    /// starting and ending at rest (or at the given velocities) with s̈ = 0.
     pub profile: Profile,
     /// TOPP-RA's time-optimal profile on the grid under the limits (s̈ bang-bang, the limits
     /// kept at the grid points only), before any cap or averaging: what toppra gives.
     pub toppra: Profile,
-    /// The averaging window (s): the timing is this much longer than TOPP-RA's.
+    /// The averaging window (s): the timing is this much longer than TOPP-RA's (half of it
+    /// with one end moving, as long with both).
     pub window: f64,
     /// The timing at the grid points as a joint trajectory (positions, velocities,
     /// accelerations, times to the nanosecond; [`timed_trajectory`]): what the check played
@@ -335,9 +352,10 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         clearance::check_path(model, set, start.clearance_tolerance, path, &grid)?;
     }
     let limits = limits::Limits::of(&start, options)?;
+    let ends = ends::Ends::of(model, path, options)?;
     let names = joint_names(model);
-    let limits = jerk_bound(limits, model, path, &grid, &names)?;
-    let mut solver = solve::Solver::new(&grid, &limits);
+    let limits = jerk_bound(limits, model, path, &grid, &names, ends)?;
+    let mut solver = solve::Solver::new(&grid, &limits, ends);
     let n = grid.points();
     let mut cap = vec![f64::INFINITY; n];
     let mut slowed = vec![false; n];
@@ -357,7 +375,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         },
         e => e,
     };
-    limits::held_at_ends(&start, &grid).map_err(located)?;
+    limits::held_at_ends(&start, &grid, ends).map_err(located)?;
     let as_played = AsPlayed {
         model,
         path,
@@ -388,6 +406,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
                         raw: &timed.solved.profile,
                         smooth: &timed.profile,
                         window,
+                        offset: timed.offset,
                     };
                     slow_down(&at, &grid, &limits, &failed_at, &mut cap, &mut slowed)
                 }
@@ -435,12 +454,13 @@ fn jerk_bound(
     path: &PathSpline,
     grid: &grid::PathGrid,
     names: &[String],
+    ends: ends::Ends,
 ) -> Result<limits::Limits> {
     if limits.jerk.iter().all(|j| j.is_infinite()) {
         return Ok(limits);
     }
-    let timed = |limits: &limits::Limits| -> Result<(f64, f64)> {
-        let mut solver = solve::Solver::new(grid, limits);
+    let timed = |limits: &limits::Limits, ends: ends::Ends| -> Result<(f64, f64)> {
+        let mut solver = solve::Solver::new(grid, limits, ends);
         let mut cap = vec![f64::INFINITY; grid.points()];
         let mut window = 0.0;
         let as_played = AsPlayed {
@@ -463,8 +483,16 @@ fn jerk_bound(
         }
         l
     };
-    let (full, widest) = timed(&limits)?;
-    let duration = |w: f64| timed(&lowered(w)).map_or(f64::INFINITY, |(d, _)| d);
+    let (full, widest) = match timed(&limits, ends) {
+        Ok(timed) => timed,
+        // a moving end's held stretch may not fit the window the full acceleration needs
+        // (the jerk over it): searched on the scale of that window with the ends at rest
+        Err(e) if ends != ends::Ends::default() => {
+            (f64::INFINITY, timed(&limits, ends::Ends::default()).map_err(|_| e)?.1)
+        }
+        Err(e) => return Err(e),
+    };
+    let duration = |w: f64| timed(&lowered(w), ends).map_or(f64::INFINITY, |(d, _)| d);
     // a log grid over [widest/50, widest], then golden sections around its best
     let at = |k: usize| widest * 50f64.powf(k as f64 / 15.0 - 1.0);
     let tried: Vec<(f64, f64)> = (0..=15).map(|k| (at(k), duration(at(k)))).collect();
@@ -520,6 +548,8 @@ struct Timed {
     solved: solve::Solved,
     /// It averaged over the window: the timing written.
     profile: Profile,
+    /// Where the written timing starts on the raw profile's clock (s): 0 from rest.
+    offset: f64,
     /// The written trajectory.
     trajectory: TimedTrajectory,
     /// The most it asks of a limit as played.
@@ -533,6 +563,9 @@ struct Timed {
 pub const WINDOW: f64 = 0.05;
 /// Most widenings of the window for a jerk limit in one round.
 const WIDENINGS: usize = 12;
+/// Most rounds of holding a moving end's speed over half the window, which lengthens the
+/// timing and so the window (a fixed point; docs/retime.md, "Chaining segments").
+pub const HOLD_ROUNDS: usize = 30;
 
 impl AsPlayed<'_> {
     /// TOPP-RA's profile under `cap`, averaged over the window (`window`, s; at least
@@ -540,10 +573,13 @@ impl AsPlayed<'_> {
     /// then, while its trajectory played (a quintic between points) passes a limit, `cap`
     /// lowered where the raw profile fed the failing interval and all found again (at most
     /// [`played::ROUNDS`] rounds).
+    /// With a moving end, its speed is held over the path's first (last) ṡ·w/2 and all found
+    /// again while the window outgrows what is held (at most [`HOLD_ROUNDS`] rounds).
     fn solve(&self, solver: &mut solve::Solver, cap: &mut [f64], window: &mut f64) -> Result<Timed> {
         let mut keep = vec![1.0; cap.len().saturating_sub(1)];
         let mut uncapped = None;
-        for round in 0.. {
+        let (mut round, mut holds) = (0, 0);
+        loop {
             let solved = solver.solve(cap)?;
             if uncapped.is_none() {
                 uncapped = Some(solved.profile.clone());
@@ -551,47 +587,64 @@ impl AsPlayed<'_> {
             let raw = &solved.profile;
             *window = window.max(WINDOW * raw.duration()).max(self.limits.window);
             let mut widened = 0;
-            let (profile, trajectory, played) = loop {
-                let profile = smooth::Averaged::new(raw, *window).profile();
+            let (profile, offset, trajectory, played) = loop {
+                let averaged = smooth::Averaged::new(raw, *window);
+                let (profile, offset) = (averaged.profile(), averaged.offset());
                 let trajectory = timed_trajectory(&profile, self.path, self.names.to_vec());
                 let (command, _) = command(self.model, &trajectory)?;
                 let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();
                 let (played, jerk) = played::sample(self.model, self.limits, &command, &times, &mut keep);
                 if jerk <= 1.0 || widened == WIDENINGS {
-                    break (profile, trajectory, played);
+                    break (profile, offset, trajectory, played);
                 }
                 // the path's jerk falls about as 1/w
                 *window *= jerk * 1.02;
                 widened += 1;
             };
+            if solver.hold(*window)? {
+                holds += 1;
+                if holds > HOLD_ROUNDS {
+                    return Err(Error::option(
+                        solver.moving_end(),
+                        format!(
+                            "the smoothing window ({:.4} s) and the stretch of path held at the given speed (half a window) did not settle in {HOLD_ROUNDS} rounds",
+                            *window
+                        ),
+                    ));
+                }
+                // TOPP-RA's own profile is the one under the held stretches
+                uncapped = None;
+                continue;
+            }
             let capped = match round < played::ROUNDS {
-                true => cap_raw(raw, &profile, *window, &keep, cap),
+                true => cap_raw(raw, &profile, *window, offset, &keep, cap),
                 false => 0,
             };
+            round += 1;
             if capped == 0 {
                 let uncapped = uncapped.take().unwrap_or_else(|| solved.profile.clone());
                 return Ok(Timed {
                     solved,
                     profile,
+                    offset,
                     trajectory,
                     played,
                     uncapped,
                 });
             }
         }
-        unreachable!("the rounds end")
     }
 }
 
 /// Caps x at each raw grid point that fed an interval of the smooth profile whose played
 /// samples passed a limit (the raw timing over [t_i − w, t_{i+1}], the smooth one's
-/// interval and its window before it), at that interval's `keep` share of the raw x. Returns
-/// how many points it capped lower.
-fn cap_raw(raw: &Profile, smooth: &Profile, window: f64, keep: &[f64], cap: &mut [f64]) -> usize {
+/// interval and its window before it, its times `offset` later on the raw clock), at that
+/// interval's `keep` share of the raw x. Returns how many points it capped lower.
+fn cap_raw(raw: &Profile, smooth: &Profile, window: f64, offset: f64, keep: &[f64], cap: &mut [f64]) -> usize {
     let mut capped = 0;
     for (i, &k) in keep.iter().enumerate().filter(|&(_, &k)| k < 1.0) {
-        let first = raw.interval_at(smooth.t[i] - window);
-        let last = raw.interval_at(smooth.t[i + 1]);
+        let first = raw.interval_at(smooth.t[i] + offset - window);
+        let last = raw.interval_at(smooth.t[i + 1] + offset);
         for p in first..=last + 1 {
             let limit = k * raw.x[p];
             if limit < cap[p] && raw.x[p] > 0.0 {
@@ -609,6 +662,8 @@ struct Slowing<'a> {
     raw: &'a Profile,
     smooth: &'a Profile,
     window: f64,
+    /// Where the smooth timing starts on the raw profile's clock (s).
+    offset: f64,
 }
 
 /// Caps x at the failure's share of the profile's at the ends of every segment the timing
@@ -636,9 +691,9 @@ fn slow_down(
         }
     };
     for f in failures {
-        // the raw timing's [t − w, t] fed the smooth one's state at t
-        let last = profile.interval_at(f.t.min(at.smooth.duration()));
-        let first = profile.interval_at(f.t - LOOKBACK_S - at.window);
+        // the raw timing's [t − w, t] fed the smooth one's state at t (on the raw clock)
+        let last = profile.interval_at(f.t.min(at.smooth.duration()) + at.offset);
+        let first = profile.interval_at(f.t + at.offset - LOOKBACK_S - at.window);
         for i in first..=last + 1 {
             lower(i, f.keep);
         }

@@ -137,9 +137,14 @@ pub(crate) fn sample(
             let t = w[0] + dt * k as f64 / SAMPLES as f64;
             command.eval_with_acceleration(t, &mut q, &mut v, &mut a);
             if jerk_limited {
-                // within the interval's own quintic
+                // within the interval's own quintic (the last one's end excluded: from there the
+                // command holds the last point, its acceleration 0, which a moving end's is not)
                 let h = JERK_STEP * dt;
-                let at = t.clamp(w[0] + h, w[1] - h);
+                let end = match i + 2 == times.len() {
+                    true => 2.0 * h,
+                    false => h,
+                };
+                let at = t.clamp(w[0] + h, w[1] - end);
                 command.eval_with_acceleration(at + h, &mut q_near, &mut v_near, &mut a_plus);
                 command.eval_with_acceleration(at - h, &mut q_near, &mut v_near, &mut a_minus);
             }

@@ -5,17 +5,20 @@
 //! x_{i+1} = x_i + 2Δ_i u_i (s̈ constant on each interval). Stage i's constraints are rows
 //! linear in (u, x), `α u + β x ≤ γ`, and a cap `0 ≤ x ≤ x̄_i`.
 //!
-//! * **Backward pass (controllable sets).** K_N = [0, 0] (rest at the end);
+//! * **Backward pass (controllable sets).** K_N = {x_end} (0: rest at the end);
 //!   K_i = { x : ∃u, stage i's rows hold and x + 2Δ_i u ∈ K_{i+1} }. Each K_i is an interval,
 //!   the projection on x of a polygon in (u, x): its ends are two linear programs in two
 //!   variables, solved exactly here by eliminating u (Fourier–Motzkin): every pair of a row
 //!   bounding u from below (α < 0) and one from above (α > 0) gives
 //!   `(α⁺β⁻ − α⁻β⁺) x ≤ α⁺γ⁻ − α⁻γ⁺`, and rows without u bound x directly.
-//! * **Forward pass (greedy).** x_0 = 0; at each stage the largest u the rows and K_{i+1}
+//! * **Forward pass (greedy).** x_0 = x_start (0: from rest); at each stage the largest u the rows and K_{i+1}
 //!   allow at x_i, then x_{i+1} = x_i + 2Δ_i u_i. Pham & Pham prove this profile time-optimal
 //!   on the grid (their Theorem 2).
 //!
-//! Nothing here allocates; the stages are given by a closure that writes stage i's rows.
+//! A point may also have a floor, x_i ≥ x̲_i: the points where a timing that starts or ends
+//! moving holds its boundary speed (docs/retime.md, "Chaining segments").
+//!
+//! Nothing here allocates.
 
 /// A row `α u + β x ≤ γ` of a stage.
 pub(crate) type Row = [f64; 3];
@@ -29,6 +32,12 @@ pub(crate) struct Stages {
     pub per_stage: usize,
     /// x̄_i: the cap on x at each grid point (may be +∞).
     pub cap: Vec<f64>,
+    /// x̲_i: the floor on x at each grid point (0 where none).
+    pub floor: Vec<f64>,
+    /// x at the first point (0: from rest).
+    pub start: f64,
+    /// x at the last point (0: to rest).
+    pub end: f64,
     /// Δ_i = s_{i+1} − s_i, N entries.
     pub delta: Vec<f64>,
 }
@@ -50,27 +59,43 @@ impl Stages {
         &self.rows[i * self.per_stage..(i + 1) * self.per_stage]
     }
 
-    /// The controllable sets K_i = [lo, hi] into `k` (N + 1 entries), ending at rest.
+    /// The controllable sets K_i = [lo, hi] into `k` (N + 1 entries), ending at `end`; the
+    /// start within K_0. On an error, `k` holds the sets found before it (the start's
+    /// included when it is outside K_0).
     pub fn controllable_sets(&self, k: &mut [[f64; 2]]) -> Result<(), Stuck> {
         let n = self.points() - 1;
-        k[n] = match x_range(self.rows(n), None, self.cap[n]) {
-            Some([lo, _]) if lo <= 0.0 => [0.0, 0.0],
+        k[n] = match x_range(self.rows(n), None, self.floor[n], self.cap[n]) {
+            Some(r) if within(self.end, [r.lo, r.hi]) => [self.end, self.end],
             _ => return Err(Stuck(n)),
         };
         for i in (0..n).rev() {
             let reach = (2.0 * self.delta[i], k[i + 1]);
-            k[i] = x_range(self.rows(i), Some(reach), self.cap[i]).ok_or(Stuck(i))?;
+            let r = x_range(self.rows(i), Some(reach), self.floor[i], self.cap[i]).ok_or(Stuck(i))?;
+            k[i] = [r.lo, r.hi];
         }
-        if k[0][0] > 0.0 {
+        if !within(self.start, k[0]) {
             return Err(Stuck(0));
         }
         Ok(())
     }
 
-    /// The greedy forward pass from rest through the controllable sets `k`: x (N + 1) and u (N).
+    /// The top of stage `i`'s admissible x under `cap` (its rows, and with `next` (K_{i+1})
+    /// reaching it; no floor), and which of the stage's rows set it (indices into its rows,
+    /// none for the cap or the reach alone): the limits that bind there, for a message. `None`
+    /// when the stage admits no x at all.
+    pub fn top(&self, i: usize, next: Option<[f64; 2]>, cap: f64) -> Option<(f64, Vec<usize>)> {
+        let reach = next.map(|k| (2.0 * self.delta[i], k));
+        x_range(self.rows(i), reach, 0.0, cap).map(|r| {
+            let per = self.per_stage;
+            (r.hi, r.hi_by.into_iter().flatten().filter(|&p| p < per).collect())
+        })
+    }
+
+    /// The greedy forward pass from the start through the controllable sets `k`: x (N + 1) and
+    /// u (N).
     pub fn forward(&self, k: &[[f64; 2]], x: &mut [f64], u: &mut [f64]) {
         let n = self.points() - 1;
-        x[0] = 0.0;
+        x[0] = self.start;
         for i in 0..n {
             let two_delta = 2.0 * self.delta[i];
             let [lo_next, hi_next] = k[i + 1];
@@ -92,25 +117,42 @@ impl Stages {
     }
 }
 
-/// The range of x over the polygon of `rows`, 0 ≤ x ≤ `cap`, and (with `reach` = (2Δ, K))
+/// `x` within `range` up to round-off.
+fn within(x: f64, [lo, hi]: [f64; 2]) -> bool {
+    let round_off = ROUND_OFF * x.abs().max(1.0);
+    x >= lo - round_off && x <= hi + round_off
+}
+
+/// A stage's admissible x, and the rows (indices, the reach's after the stage's) that set its
+/// top.
+struct Range {
+    lo: f64,
+    hi: f64,
+    hi_by: [Option<usize>; 2],
+}
+
+/// The range of x over the polygon of `rows`, `floor` ≤ x ≤ `cap`, and (with `reach` = (2Δ, K))
 /// x + 2Δu ∈ K: eliminate u pairwise (see the module doc). `None` when empty beyond round-off.
-fn x_range(rows: &[Row], reach: Option<(f64, [f64; 2])>, cap: f64) -> Option<[f64; 2]> {
-    let mut lo = 0.0_f64;
+fn x_range(rows: &[Row], reach: Option<(f64, [f64; 2])>, floor: f64, cap: f64) -> Option<Range> {
+    let mut lo = floor;
     let mut hi = cap;
+    let mut hi_by = [None; 2];
     // the reach rows: 2Δ u + x ≤ K_hi and −2Δ u − x ≤ −K_lo
     let extra: [Row; 2] = match reach {
         Some((two_delta, [k_lo, k_hi])) => [[two_delta, 1.0, k_hi], [-two_delta, -1.0, -k_lo]],
         None => [[0.0, 0.0, 0.0]; 2],
     };
-    let all = || rows.iter().chain(&extra);
-    for &[alpha, beta, gamma] in all() {
-        if alpha == 0.0 {
-            bound(beta, gamma, &mut lo, &mut hi)?;
+    let all = || rows.iter().chain(&extra).enumerate();
+    for (p, &[alpha, beta, gamma]) in all() {
+        if alpha == 0.0 && bound(beta, gamma, &mut lo, &mut hi)? {
+            hi_by = [Some(p), None];
         }
     }
-    for &[a_up, b_up, g_up] in all().filter(|r| r[0] > 0.0) {
-        for &[a_dn, b_dn, g_dn] in all().filter(|r| r[0] < 0.0) {
-            bound(a_up * b_dn - a_dn * b_up, a_up * g_dn - a_dn * g_up, &mut lo, &mut hi)?;
+    for (p, &[a_up, b_up, g_up]) in all().filter(|(_, r)| r[0] > 0.0) {
+        for (q, &[a_dn, b_dn, g_dn]) in all().filter(|(_, r)| r[0] < 0.0) {
+            if bound(a_up * b_dn - a_dn * b_up, a_up * g_dn - a_dn * g_up, &mut lo, &mut hi)? {
+                hi_by = [Some(p), Some(q)];
+            }
         }
     }
     if lo > hi {
@@ -119,20 +161,24 @@ fn x_range(rows: &[Row], reach: Option<(f64, [f64; 2])>, cap: f64) -> Option<[f6
         }
         lo = hi;
     }
-    Some([lo, hi])
+    Some(Range { lo, hi, hi_by })
 }
 
-/// Narrows [lo, hi] by `coefficient · x ≤ rhs`; `None` when a row without x fails.
+/// Narrows [lo, hi] by `coefficient · x ≤ rhs`; `None` when a row without x fails, else
+/// whether it lowered `hi`.
 #[inline]
-fn bound(coefficient: f64, rhs: f64, lo: &mut f64, hi: &mut f64) -> Option<()> {
+fn bound(coefficient: f64, rhs: f64, lo: &mut f64, hi: &mut f64) -> Option<bool> {
     if coefficient > 0.0 {
-        *hi = hi.min(rhs / coefficient);
+        if rhs / coefficient < *hi {
+            *hi = rhs / coefficient;
+            return Some(true);
+        }
     } else if coefficient < 0.0 {
         *lo = lo.max(rhs / coefficient);
     } else if rhs < -ROUND_OFF * rhs.abs().max(1.0) {
         return None;
     }
-    Some(())
+    Some(false)
 }
 
 #[cfg(test)]
@@ -152,6 +198,9 @@ mod tests {
             rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
             per_stage: 2,
             cap: vec![speed * speed; n + 1],
+            floor: vec![0.0; n + 1],
+            start: 0.0,
+            end: 0.0,
             delta,
         };
         let mut k = vec![[0.0; 2]; n + 1];
@@ -164,6 +213,50 @@ mod tests {
             assert!((xi - want).abs() < 1e-12, "x at s = {s}: {xi} vs {want}");
         }
         assert!(u.iter().all(|&u| u.abs() <= accel + 1e-12));
+    }
+
+    /// The double integrator from a moving start to a moving end: x = min(x₀ + 2As, V²,
+    /// x_N + 2A(L − s)); a start beyond what braking to x_N allows is outside K_0, and the
+    /// top of stage 0 names the deceleration row that sets it.
+    #[test]
+    fn a_double_integrator_from_and_to_a_speed() {
+        let (length, accel, speed) = (2.0, 3.0, 1.5);
+        let n = 400;
+        let mut stages = Stages {
+            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
+            per_stage: 2,
+            cap: vec![speed * speed; n + 1],
+            floor: vec![0.0; n + 1],
+            start: 0.5,
+            end: 1.0,
+            delta: vec![length / n as f64; n],
+        };
+        let mut k = vec![[0.0; 2]; n + 1];
+        stages.controllable_sets(&mut k).unwrap();
+        let (mut x, mut u) = (vec![0.0; n + 1], vec![0.0; n]);
+        stages.forward(&k, &mut x, &mut u);
+        for (i, &xi) in x.iter().enumerate() {
+            let s = length * i as f64 / n as f64;
+            let want = (0.5 + 2.0 * accel * s)
+                .min(speed * speed)
+                .min(1.0 + 2.0 * accel * (length - s));
+            assert!((xi - want).abs() < 1e-12, "x at s = {s}: {xi} vs {want}");
+        }
+        // a short path: from x = 2 the most braking reaches 2 − 2·3·0.1 = 1.4 > 1 at the end
+        let short = Stages {
+            cap: vec![4.0; 11],
+            start: 2.0,
+            floor: vec![0.0; 11],
+            rows: stages.rows[..22].to_vec(),
+            delta: vec![0.01; 10],
+            ..stages.clone()
+        };
+        stages = short;
+        let mut k = vec![[0.0; 2]; 11];
+        assert_eq!(stages.controllable_sets(&mut k), Err(Stuck(0)));
+        let (top, rows) = stages.top(0, Some(k[1]), 4.0).unwrap();
+        assert!((top - (1.0 + 2.0 * 3.0 * 0.1)).abs() < 1e-12, "{top}");
+        assert_eq!(rows, vec![1]);
     }
 
     /// A constraint coupling u and x (the torque rows' shape): |u + x| ≤ 1 on a short path.
@@ -181,6 +274,9 @@ mod tests {
                 .collect(),
             per_stage: 2,
             cap: vec![f64::INFINITY; n + 1],
+            floor: vec![0.0; n + 1],
+            start: 0.0,
+            end: 0.0,
             delta: vec![0.01; n],
         };
         let mut k = vec![[0.0; 2]; n + 1];
@@ -208,6 +304,9 @@ mod tests {
             rows,
             per_stage: 2,
             cap: vec![1.0; n + 1],
+            floor: vec![0.0; n + 1],
+            start: 0.0,
+            end: 0.0,
             delta: vec![0.1; n],
         };
         let mut k = vec![[0.0; 2]; n + 1];

@@ -6,6 +6,12 @@
 //!   ṡ_w(t) = (s(t) − s(t−w)) / w,   s̈_w(t) = (ṡ(t) − ṡ(t−w)) / w,   s⃛_w(t) = (s̈(t) − s̈(t−w)) / w
 //! ```
 //!
+//! Where the profile starts (ends) at a path speed ṡ₀ > 0 (ṡ_N), s(t) is continued before 0
+//! (after T) at that speed, s = ṡ₀ t (L + ṡ_N (t − T)), and the timing written is s_w from
+//! where it reaches 0 to where it reaches L; when the profile holds ṡ₀ over its first ṡ₀·w/2
+//! of path (the solver's `hold`), that is t = w/2, where s_w = 0, ṡ_w = ṡ₀ and s̈_w = 0 exactly
+//! (likewise T + w/2 at the end: docs/retime.md, "Chaining segments").
+//!
 //! s_w runs from rest with s̈ = 0 at t = 0 to rest with s̈ = 0 at T + w; its ṡ and s̈ are
 //! averages of TOPP-RA's over the window (so within their ranges), s̈ is continuous (ṡ is), and
 //! |s⃛| ≤ (max s̈ − min s̈)/w. On a rest-to-rest move at a speed and acceleration limit (a
@@ -43,23 +49,26 @@ impl<'a> Averaged<'a> {
         Averaged { raw, integral, w }
     }
 
-    /// The raw profile's state at `t` (any real: at rest before 0 and after its end).
+    /// The raw profile's state at `t` (any real: before 0 and after its end at its first and
+    /// last path speed, 0 when it starts or ends at rest).
     fn raw_at(&self, t: f64) -> State {
         let p = self.raw;
         let end = p.duration();
         let length = *p.s.last().unwrap_or(&0.0);
         if t <= 0.0 {
+            let sd = p.x[0].sqrt();
             return State {
-                integral: 0.0,
-                s: 0.0,
-                sd: 0.0,
+                integral: sd * t * t / 2.0,
+                s: sd * t,
+                sd,
             };
         }
         if t >= end {
+            let (sd, tau) = (p.x[p.x.len() - 1].sqrt(), t - end);
             return State {
-                integral: self.integral[p.t.len() - 1] + length * (t - end),
-                s: length,
-                sd: 0.0,
+                integral: self.integral[p.t.len() - 1] + length * tau + sd * tau * tau / 2.0,
+                s: length + sd * tau,
+                sd,
             };
         }
         let i = p.interval_at(t);
@@ -82,31 +91,57 @@ impl<'a> Averaged<'a> {
         )
     }
 
-    /// The averaged timing on the raw profile's grid: each grid point's time (s_w(t_i) = s_i,
-    /// by bisection: s_w increases), x = ṡ_w² and s̈_w there.
+    /// The time (s, on the raw profile's clock) where s_w reaches `s`, searched from `*lo` (by
+    /// bisection: s_w increases), which is left at the bracket's last lower end (where the next
+    /// point's search starts).
+    fn reaching(&self, s: f64, lo: &mut f64) -> f64 {
+        let mut hi = self.raw.duration() + self.w;
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (*lo + hi);
+            match self.at(mid).0 < s {
+                true => *lo = mid,
+                false => hi = mid,
+            }
+        }
+        0.5 * (*lo + hi)
+    }
+
+    /// Where the timing written starts on the raw profile's clock (s): 0 from rest, else
+    /// where s_w reaches 0 (w/2 when the start's speed is held over ṡ₀·w/2 of path).
+    pub fn offset(&self) -> f64 {
+        match self.raw.x[0] > 0.0 {
+            true => self.reaching(0.0, &mut 0.0),
+            false => 0.0,
+        }
+    }
+
+    /// The averaged timing on the raw profile's grid, from [`Averaged::offset`] on (its
+    /// clock's 0): each grid point's time (s_w(t_i) = s_i, by bisection: s_w increases),
+    /// x = ṡ_w² and s̈_w there; at an end at rest, 0 and 0.
     pub fn profile(&self) -> Profile {
         let p = self.raw;
         let n = p.s.len();
-        let end = p.duration() + self.w;
+        let last = n - 1;
         let mut t = vec![0.0; n];
-        t[n - 1] = end;
-        let mut lo = 0.0;
-        for i in 1..n - 1 {
-            let mut hi = end;
-            for _ in 0..BISECTIONS {
-                let mid = 0.5 * (lo + hi);
-                match self.at(mid).0 < p.s[i] {
-                    true => lo = mid,
-                    false => hi = mid,
-                }
-            }
-            t[i] = 0.5 * (lo + hi);
+        t[0] = self.offset();
+        t[last] = match p.x[last] > 0.0 {
+            true => self.reaching(p.s[last], &mut t[0].clone()),
+            false => p.duration() + self.w,
+        };
+        let mut lo = t[0];
+        for i in 1..last {
+            t[i] = self.reaching(p.s[i], &mut lo);
         }
         let (mut x, mut sdd) = (vec![0.0; n], vec![0.0; n]);
-        for i in 1..n - 1 {
+        for i in 0..n {
+            if (i == 0 && p.x[0] == 0.0) || (i == last && p.x[last] == 0.0) {
+                continue;
+            }
             let (_, sd, a) = self.at(t[i]);
             (x[i], sdd[i]) = (sd * sd, a);
         }
+        let start = t[0];
+        t.iter_mut().for_each(|t| *t -= start);
         let u = (0..n - 1)
             .map(|i| (x[i + 1] - x[i]) / (2.0 * (p.s[i + 1] - p.s[i])))
             .collect();

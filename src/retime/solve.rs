@@ -20,6 +20,7 @@
 //!    range is kept, so the result keeps the true envelope at every grid point as step 2's
 //!    does (the circle: 0.8163 s sound, 0.7920 s after 5 tangent rounds).
 
+use super::ends::Ends;
 use super::envelope::{Line, Side};
 use super::grid::PathGrid;
 use super::limits::Limits;
@@ -53,6 +54,11 @@ pub(crate) struct Solver<'a> {
     /// Per point: the largest x any timing under the limits can have there (the relaxed
     /// controllable set's top, within the cap), over which a sound line holds.
     reach: Vec<f64>,
+    /// The path speeds at the ends.
+    ends: Ends,
+    /// The last point held at the start's speed and the first held at the end's (0 and N when
+    /// neither end moves): see [`Solver::hold`].
+    held: [usize; 2],
 }
 
 /// A profile and how it was found.
@@ -66,8 +72,8 @@ pub(crate) struct Solved {
 }
 
 impl<'a> Solver<'a> {
-    /// The solver of `grid` under `limits`.
-    pub fn new(grid: &'a PathGrid, limits: &'a Limits) -> Self {
+    /// The solver of `grid` under `limits`, starting and ending at the path speeds `ends`.
+    pub fn new(grid: &'a PathGrid, limits: &'a Limits, ends: Ends) -> Self {
         let (n, dof) = (grid.points(), grid.dof);
         let speed_cap = (0..n)
             .map(|i| {
@@ -91,6 +97,9 @@ impl<'a> Solver<'a> {
                 rows: vec![[0.0; 3]; n * 4 * dof],
                 per_stage: 4 * dof,
                 cap: vec![0.0; n],
+                floor: vec![0.0; n],
+                start: ends.start * ends.start,
+                end: ends.end * ends.end,
                 delta: grid.s.windows(2).map(|w| w[1] - w[0]).collect(),
             },
             lines: vec![
@@ -103,6 +112,71 @@ impl<'a> Solver<'a> {
             speed_cap,
             k: vec![[0.0; 2]; n],
             reach: vec![f64::INFINITY; n],
+            ends,
+            held: [0, n - 1],
+        }
+    }
+
+    /// Holds the start's path speed over its first ṡ₀·w/2 of path and the end's over its last
+    /// ṡ_N·w/2 (each rounded out to a grid point), for a window of `w` seconds: the average over
+    /// the window then starts and ends at exactly those speeds with s̈ = 0 (docs/retime.md,
+    /// "Chaining segments"). The held stretches only grow. Returns whether they grew; an error
+    /// naming the option when the two would overlap.
+    pub fn hold(&mut self, w: f64) -> Result<bool> {
+        let s = &self.grid.s;
+        let (n, length) = (s.len(), s[s.len() - 1]);
+        let mut held = self.held;
+        if self.ends.start > 0.0 {
+            let reach = self.ends.start * w / 2.0;
+            held[0] = held[0].max(s.partition_point(|&si| si < reach).min(n - 1));
+        }
+        if self.ends.end > 0.0 {
+            let reach = length - self.ends.end * w / 2.0;
+            held[1] = held[1].min(s.partition_point(|&si| si <= reach).saturating_sub(1));
+        }
+        if held[0] >= held[1] {
+            return Err(Error::option(
+                self.moving_end(),
+                format!(
+                    "the path ({length:.4} long) is too short to hold the start's path speed {:.4} and the end's {:.4} over half the {w:.4} s smoothing window each (ṡ·w/2 of path at each end: docs/retime.md, \"Chaining segments\")",
+                    self.ends.start, self.ends.end
+                ),
+            ));
+        }
+        let grew = held != self.held;
+        self.held = held;
+        Ok(grew)
+    }
+
+    /// The option of a moving end, for a message: `start_velocity` when the start moves.
+    pub fn moving_end(&self) -> &'static str {
+        match self.ends.start > 0.0 {
+            true => "start_velocity",
+            false => "end_velocity",
+        }
+    }
+
+    /// The points held at a boundary speed, `Some(x)` with its x = ṡ², at `i`.
+    fn held_at(&self, i: usize) -> Option<f64> {
+        let (start, end) = (self.stages.start, self.stages.end);
+        match i {
+            _ if start > 0.0 && i <= self.held[0] => Some(start),
+            _ if end > 0.0 && i >= self.held[1] => Some(end),
+            _ => None,
+        }
+    }
+
+    /// The caps of every point (the speeds' and `extra_cap`, a held point's at its x, which
+    /// no slowdown lowers) and the floors (a held point's x).
+    fn set_caps(&mut self, extra_cap: &[f64]) {
+        for i in 0..self.grid.points() {
+            let floor = self.held_at(i).unwrap_or(0.0);
+            let cap = self.speed_cap[i].0.min(extra_cap[i].max(floor));
+            self.stages.floor[i] = floor;
+            self.stages.cap[i] = match self.held_at(i) {
+                Some(x) => cap.min(x),
+                None => cap,
+            };
         }
     }
 
@@ -110,9 +184,7 @@ impl<'a> Solver<'a> {
     /// where none: the closed-loop check's slowdowns).
     pub fn solve(&mut self, extra_cap: &[f64]) -> Result<Solved> {
         let n = self.grid.points();
-        for i in 0..n {
-            self.stages.cap[i] = self.speed_cap[i].0.min(extra_cap[i]);
-        }
+        self.set_caps(extra_cap);
         // 1. relaxed: every range at standstill
         for i in 0..n {
             for j in 0..self.grid.dof {
@@ -127,8 +199,21 @@ impl<'a> Solver<'a> {
                 ];
             }
         }
+        // the bound holds no stretch at a moving end's speed (only its first or last point):
+        // a timing need not hold it, the average over the window does
+        let unheld = match self.held != [0, n - 1] {
+            true => {
+                let held = std::mem::replace(&mut self.held, [0, n - 1]);
+                self.set_caps(extra_cap);
+                let unheld = self.pass().map(|p| p.duration());
+                self.held = held;
+                self.set_caps(extra_cap);
+                unheld.ok()
+            }
+            false => None,
+        };
         let relaxed = self.pass()?;
-        let relaxed_duration = relaxed.duration();
+        let relaxed_duration = unheld.unwrap_or(relaxed.duration());
         if self.limits.torque.iter().all(|t| !t.varies()) {
             return Ok(Solved {
                 profile: relaxed,
@@ -185,9 +270,7 @@ impl<'a> Solver<'a> {
         self.k = k;
         self.fill_rows();
         // the caps the bindings name: the speeds' and the check's, not the reach
-        for i in 0..n {
-            self.stages.cap[i] = self.speed_cap[i].0.min(extra_cap[i]);
-        }
+        self.set_caps(extra_cap);
         Ok(Solved {
             profile,
             relaxed_duration,
@@ -261,7 +344,7 @@ impl<'a> Solver<'a> {
         self.fill_rows();
         let n = self.grid.points();
         if let Err(Stuck(i)) = self.stages.controllable_sets(&mut self.k) {
-            return Err(self.nothing_follows(i));
+            return Err(self.stuck(i));
         }
         let (mut x, mut u) = (vec![0.0; n], vec![0.0; n - 1]);
         self.stages.forward(&self.k, &mut x, &mut u);
@@ -310,6 +393,13 @@ impl<'a> Solver<'a> {
                     limit: Limit::None,
                     slack: f64::INFINITY,
                 };
+                if self.held_at(i).is_some() && self.held_at(i + 1).is_some() {
+                    return Binding {
+                        joint: None,
+                        limit: Limit::Held,
+                        slack: 0.0,
+                    };
+                }
                 if cap.is_finite() && cap > 0.0 {
                     let slack = (cap - x) / cap;
                     best = match (slowed[i], self.speed_cap[i]) {
@@ -369,6 +459,75 @@ impl<'a> Solver<'a> {
     /// The controllable sets of the last pass, [lo, hi] of x per point.
     pub fn controllable(&self) -> &[[f64; 2]] {
         &self.k
+    }
+
+    /// The error for stage `i`, where no x is admissible: at a point held at a boundary speed,
+    /// or the start outside K_0, or the end outside the last stage's range, an error naming the
+    /// option and the limits that bind there; else [`Solver::nothing_follows`].
+    fn stuck(&self, i: usize) -> Error {
+        let n = self.grid.points();
+        let (start, end) = (self.stages.start, self.stages.end);
+        let field = match i {
+            0 if start > 0.0 => "start_velocity",
+            _ if i == n - 1 && end > 0.0 => "end_velocity",
+            _ if self.held_at(i).is_some() => match start > 0.0 && i <= self.held[0] {
+                true => "start_velocity",
+                false => "end_velocity",
+            },
+            _ => return self.nothing_follows(i),
+        };
+        let next = (i + 1 < n).then(|| self.k[i + 1]);
+        let Some((top, rows)) = self.stages.top(i, next, self.speed_cap[i].0) else {
+            return self.nothing_follows(i);
+        };
+        let x = match field {
+            "start_velocity" => start,
+            _ => end,
+        };
+        let mut binds: Vec<String> = rows
+            .iter()
+            .map(|&r| {
+                let what = [
+                    "torque (upper)",
+                    "torque (lower)",
+                    "acceleration limit",
+                    "acceleration limit",
+                ][r % 4];
+                format!("J{}'s {what}", r / 4 + 1)
+            })
+            .collect();
+        binds.dedup();
+        if binds.is_empty() {
+            binds.push(match self.speed_cap[i] {
+                (cap, Some(j)) if cap <= top * (1.0 + 1e-9) => format!(
+                    "J{}'s {}",
+                    j + 1,
+                    match self.limits.speed_source[j] {
+                        super::SpeedSource::Given => "speed limit",
+                        super::SpeedSource::Motor => "motor top speed",
+                    }
+                ),
+                _ => "a cap that keeps the limits as played or the check's slowdown".to_string(),
+            });
+        }
+        let held = match i == 0 || i == n - 1 {
+            true => "",
+            false => " (held there: the path's first or last ṡ·w/2, half the smoothing window, keeps the given speed)",
+        };
+        let way = match (i, next) {
+            (0, Some(_)) => " with the rest of the path timed within them",
+            _ => "",
+        };
+        Error::option(
+            field,
+            format!(
+                "its path speed ṡ = {:.6} at s = {:.4}{held} is beyond what the limits (less the margin) allow there{way}: at most ṡ = {:.6}, where {} binds",
+                x.sqrt(),
+                self.grid.s[i],
+                top.max(0.0).sqrt(),
+                binds.join(" and ")
+            ),
+        )
     }
 
     /// The error for a stage where no x is admissible: the joint whose standstill torque

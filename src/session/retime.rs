@@ -197,6 +197,17 @@ pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) ->
         "; none is faster than {:.4} s (the relaxed bound: every torque limit at its standstill value)\n",
         retimed.relaxed_duration
     ));
+    let (start, end) = (p.x[0].sqrt(), p.x[p.x.len() - 1].sqrt());
+    if start > 0.0 {
+        text.push_str(&format!(
+            "starts moving at ṡ = {start:.4} (`start_velocity`): the check's arm arrives at the path's start at that velocity, on the path, without tracking error\n"
+        ));
+    }
+    if end > 0.0 {
+        text.push_str(&format!(
+            "ends moving at ṡ = {end:.4} (`end_velocity`): the check stops at the last point; what follows it (the next segment) is not checked here\n"
+        ));
+    }
     for (first, last, binding) in ranges(&retimed.bindings) {
         let what = match binding.binds() {
             true => binding.to_string(),

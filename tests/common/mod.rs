@@ -374,3 +374,51 @@ pub fn curved(model: &Model, n: usize, seed: u64) -> PathSpline {
         .collect();
     PathSpline::through(&points).unwrap()
 }
+
+/// Samples per interval of the written trajectory (`most_asked_as_played`).
+pub const SAMPLES: usize = 20;
+
+/// The most the played trajectory asks of a limit: the largest of |q̇|/v̄ and τ/bound over
+/// joints and samples, τ the inverse dynamics plus damping, bound the torque limit (and the
+/// motor's envelope at the joint's speed) times 1 − margin. Returns (share, joint, time,
+/// "speed" or "torque").
+pub fn most_asked_as_played(
+    scenario: &faze4::sim::Scenario,
+    trajectory: &faze4::traj::TimedTrajectory,
+) -> (f64, usize, f64, &'static str) {
+    let model = &scenario.model;
+    let (played, _) = faze4::retime::command(model, trajectory).unwrap();
+    let n = model.dof();
+    let keep = 1.0 - faze4::retime::DEFAULT_MARGIN;
+    let mut data = Data::new(model);
+    let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut most = (0.0, 0, 0.0, "");
+    let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();
+    for w in times.windows(2) {
+        for k in 0..=SAMPLES {
+            let t = w[0] + (w[1] - w[0]) * k as f64 / SAMPLES as f64;
+            played.eval_with_acceleration(t, &mut q, &mut v, &mut a);
+            let tau = rnea(model, &mut data, &q, &v, &a).as_slice().to_vec();
+            for j in 0..n {
+                let effort = scenario.controller.gains.effort[j];
+                let (mut lo, mut hi) = (-effort, effort);
+                if let Some(Some(m)) = scenario.motors.as_ref().map(|m| &m[j]) {
+                    let (mlo, mhi) = m.joint_bounds(model.joints[j].gear_ratio, v[j]);
+                    (lo, hi) = (lo.max(mlo), hi.min(mhi));
+                }
+                let needed = tau[j] + model.joints[j].damping * v[j];
+                let torque = match needed >= 0.0 {
+                    true => needed / (keep * hi),
+                    false => needed / (keep * lo),
+                };
+                let speed = v[j].abs() / scenario.speed_limit[j];
+                for (share, what) in [(torque, "torque"), (speed, "speed")] {
+                    if share > most.0 {
+                        most = (share, j, t, what);
+                    }
+                }
+            }
+        }
+    }
+    most
+}

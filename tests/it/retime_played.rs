@@ -7,57 +7,9 @@
 
 use crate::common;
 
-use faze4::algo::{Data, rnea};
-use faze4::retime::{DEFAULT_MARGIN, PathSpline, RetimeOptions, command, hold, retime};
+use common::most_asked_as_played;
+use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
 use faze4::sim::Scenario;
-
-/// Samples per interval of the written trajectory.
-const SAMPLES: usize = 20;
-
-/// The most the played trajectory asks of a limit: the largest of |q̇|/v̄ and τ/bound over
-/// joints and samples, τ the inverse dynamics plus damping, bound the torque limit (and the
-/// motor's envelope at the joint's speed) times 1 − margin. Returns (share, joint, time,
-/// "speed" or "torque").
-fn most_asked_as_played(
-    scenario: &Scenario,
-    trajectory: &faze4::traj::TimedTrajectory,
-) -> (f64, usize, f64, &'static str) {
-    let model = &scenario.model;
-    let (played, _) = command(model, trajectory).unwrap();
-    let n = model.dof();
-    let keep = 1.0 - DEFAULT_MARGIN;
-    let mut data = Data::new(model);
-    let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut most = (0.0, 0, 0.0, "");
-    let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();
-    for w in times.windows(2) {
-        for k in 0..=SAMPLES {
-            let t = w[0] + (w[1] - w[0]) * k as f64 / SAMPLES as f64;
-            played.eval_with_acceleration(t, &mut q, &mut v, &mut a);
-            let tau = rnea(model, &mut data, &q, &v, &a).as_slice().to_vec();
-            for j in 0..n {
-                let effort = scenario.controller.gains.effort[j];
-                let (mut lo, mut hi) = (-effort, effort);
-                if let Some(Some(m)) = scenario.motors.as_ref().map(|m| &m[j]) {
-                    let (mlo, mhi) = m.joint_bounds(model.joints[j].gear_ratio, v[j]);
-                    (lo, hi) = (lo.max(mlo), hi.min(mhi));
-                }
-                let needed = tau[j] + model.joints[j].damping * v[j];
-                let torque = match needed >= 0.0 {
-                    true => needed / (keep * hi),
-                    false => needed / (keep * lo),
-                };
-                let speed = v[j].abs() / scenario.speed_limit[j];
-                for (share, what) in [(torque, "torque"), (speed, "speed")] {
-                    if share > most.0 {
-                        most = (share, j, t, what);
-                    }
-                }
-            }
-        }
-    }
-    most
-}
 
 #[test]
 fn the_played_trajectory_keeps_every_limit_between_its_points() {
