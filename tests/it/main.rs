@@ -38,6 +38,7 @@ mod motors_pairing;
 mod properties;
 mod real_model;
 mod retime;
+mod retime_chain;
 mod retime_drive;
 mod retime_played;
 mod retime_vs_ruckig;

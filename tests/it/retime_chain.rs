@@ -5,7 +5,7 @@
 //! limits are refused naming the option; two timings chained at a velocity join continuously and
 //! play as one; given zeros change nothing.
 
-mod common;
+use crate::common;
 
 use common::most_asked_as_played;
 use faze4::model::Model;
