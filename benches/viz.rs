@@ -2,6 +2,8 @@
 //! 0.02 s (601 samples) with the official meshes (reading the STL files included):
 //! `cargo bench --bench viz`. Also the plot of the same run, as SVG and PNG.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
 #[path = "../tests/viz_support/mod.rs"]
 mod viz_support;
 

@@ -1,5 +1,5 @@
 //! The fuzz targets' code (`fuzz/fuzz_targets/`), kept in the library so that the regression
-//! tests (`tests/fuzz_regressions.rs`) run exactly the same path on every stored input.
+//! tests (`tests/it/fuzz_regressions.rs`) run exactly the same path on every stored input.
 //!
 //! Each entry point takes arbitrary bytes. Bad input must come back as an error; anything else
 //! (a panic in faze4 or a dependency, a broken invariant, asserted here) is a bug.

@@ -23,7 +23,7 @@ pub const MAX_LINKS: usize = 4096;
 /// joints a step took about 3 ms, and the cost grows as n³ (256 joints: about 8× that, so a
 /// default 8 s run about a quarter of an hour; a 1,000-joint chain took 107 s for 250 steps;
 /// 10,000 joints asked for 800 MB matrices and aborted). A humanoid with its fingers has about
-/// 60; the 200-link chain of tests/coupled_stability.rs is the longest the tests run.
+/// 60; the 200-link chain of tests/it/coupled_stability.rs is the longest the tests run.
 pub const MAX_MOVING_JOINTS: usize = 256;
 /// Most points a ROS trajectory may have (1 million: 16 minutes at 1 kHz), a `JointTrajectory`'s
 /// `points` in any file or bag, or the messages of a `JointState` topic, counted as they are

@@ -6,7 +6,7 @@ and velocities (cubic Hermite), or positions, velocities and accelerations (quin
 Linear interpolation steps the commanded velocity at every point; the PD's kd term turns each step
 into a torque spike. The torques and velocities are faze4's trail (`--debug`, a row every 2 ms);
 the commanded velocity is drawn from the same interpolation (tools/oracle/pin_closed_loop.py's
-spline_command, which equals faze4's, tests/trajectories.rs).
+spline_command, which equals faze4's, tests/it/trajectories.rs).
 
 Run from the repository root with the oracle venv (numpy, matplotlib), after `cargo build --release`:
 

@@ -1,5 +1,5 @@
 //! Arbitrary bytes as a COLLADA (.dae) mesh: its claims checked, parse, weld, check. The code is
-//! `faze4::fuzzing::dae_mesh`, shared with `tests/fuzz_regressions.rs`.
+//! `faze4::fuzzing::dae_mesh`, shared with `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -1,6 +1,6 @@
 //! Arbitrary bytes as a mesh file: the first byte picks STL, COLLADA or OBJ, the rest is the
 //! file; parse (mesh-loader), weld, check. The code is `faze4::fuzzing::mesh_file`, shared with
-//! `tests/fuzz_regressions.rs`.
+//! `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

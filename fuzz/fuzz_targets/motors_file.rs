@@ -1,5 +1,5 @@
 //! Arbitrary bytes as a `--motors FILE.toml`: parse and check against the bundled Faze4. The code is
-//! `faze4::fuzzing::motors_file`, shared with `tests/fuzz_regressions.rs`.
+//! `faze4::fuzzing::motors_file`, shared with `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

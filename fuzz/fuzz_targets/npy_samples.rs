@@ -1,5 +1,5 @@
 //! Arbitrary bytes as a `.npy` trajectory. The code is `faze4::fuzzing::npy_samples`, shared
-//! with `tests/fuzz_regressions.rs`.
+//! with `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

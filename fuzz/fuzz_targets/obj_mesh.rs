@@ -1,5 +1,5 @@
 //! Arbitrary bytes as a Wavefront OBJ mesh: its face references checked, parse, weld, check. The code is
-//! `faze4::fuzzing::obj_mesh`, shared with `tests/fuzz_regressions.rs`.
+//! `faze4::fuzzing::obj_mesh`, shared with `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

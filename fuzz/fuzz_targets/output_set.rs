@@ -1,6 +1,6 @@
 //! Arbitrary bytes as a script of outputs written through one `Outputs` set (the command line's
 //! output layer). The code is `faze4::fuzzing::output_set`, shared with
-//! `tests/fuzz_regressions.rs`.
+//! `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -1,5 +1,5 @@
 //! Arbitrary bytes as a URDF: parse, validate, then run every algorithm on what was accepted.
-//! The code is `faze4::fuzzing::urdf_model`, shared with `tests/fuzz_regressions.rs`.
+//! The code is `faze4::fuzzing::urdf_model`, shared with `tests/it/fuzz_regressions.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

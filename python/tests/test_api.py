@@ -150,7 +150,7 @@ def test_an_mjcf_model_runs_from_its_home_keyframe():
 
 def test_an_mjcf_models_frictionloss_is_simulated(tmp_path):
     # TheRobotStudio's SO-101 by robot=: its frictionloss is the joints' Coulomb friction, and the
-    # fixture's wave equals MuJoCo's M, C v and g stepped with faze4's friction (tests/mjcf.rs)
+    # fixture's wave equals MuJoCo's M, C v and g stepped with faze4's friction (tests/it/mjcf.rs)
     fx = fixture("mjcf_so101.json")
     cl = fx["closed_loop"]
     a = cl["args"]

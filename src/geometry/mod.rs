@@ -109,7 +109,7 @@ impl Robot {
 
     /// The bundled Faze4 with its geometry: the model of `urdf/faze4_arm.urdf`
     /// ([`faze4::model`]), and the visuals and collision geometry of `urdf/faze4_real.urdf` (the
-    /// same links in the same order, with the same frames and dynamics: `tests/real_model.rs`),
+    /// same links in the same order, with the same frames and dynamics: `tests/it/real_model.rs`),
     /// so the real arm is drawn and its real meshes are checked for clearance. The meshes are
     /// the built-in copies unless found on disk.
     pub fn faze4() -> Robot {

@@ -106,9 +106,13 @@ pub fn max_abs(a: &[f64]) -> f64 {
     a.iter().map(|x| x.abs()).fold(0.0, f64::max)
 }
 
-/// A fresh empty directory for one test's output files.
+/// A fresh empty directory for one test's output files, named after the test file that asks
+/// (`tests/it/` is one process: two files may use the same `name`).
+#[track_caller]
 pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("faze4-test-{}-{name}", std::process::id()));
+    let file = Path::new(std::panic::Location::caller().file());
+    let module = file.file_stem().unwrap_or_default().to_string_lossy();
+    let dir = std::env::temp_dir().join(format!("faze4-test-{}-{module}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -12,9 +12,8 @@ use faze4::spatial::Vec3;
 use faze4::traj::shape::Shape;
 use faze4::traj::{ShapeRun, Trajectory, Wave};
 
-#[path = "../common/mod.rs"]
-mod common;
-pub use common::{repo, shared_description as description};
+// `common` is declared by the crate that includes this file (tests/it/main.rs, benches/viz.rs)
+pub use crate::common::{repo, shared_description as description};
 
 /// `urdf/faze4_real.urdf` with the official meshes resolved.
 pub fn real_model() -> Robot {

@@ -4,7 +4,7 @@ tests/urdf/ that loads only since faze4 reads URDFs as Drake and Pinocchio do (z
 a massless dummy leaf, a transmission on a fixed joint, an inertia balanced by
 --balance-inertia, COLLADA and OBJ meshes, a prismatic joint) runs `faze4 wave --center mid`
 for 2 s, and pin_closed_loop.py runs the same closed loop with faze4's gains (--gains, from
-faze4's --summary). The fixture holds Pinocchio's trail; tests/any_arm.rs reruns faze4 with
+faze4's --summary). The fixture holds Pinocchio's trail; tests/it/any_arm.rs reruns faze4 with
 the fixture's arguments and compares the trails to 1e-9 (m, rad).
 
 Run from the repository root with the oracle venv (tools/oracle/setup.sh), after `cargo build`:

@@ -61,7 +61,7 @@ the order they first do, from the same sample (the first three by name and time,
 counted). Without --erd the arms are the Faze4 wave and the Faze4 folding into itself
 (`--amp-deg 90 --freq 2`, intersecting pairs).
 
---fixtures writes tests/fixtures/clearance_run_*.json for tests/clearance_run_oracle.rs: the
+--fixtures writes tests/fixtures/clearance_run_*.json for tests/it/clearance_run_oracle.rs: the
 faze4 arguments, the trail's q rows, and per pair its links, kind, coal's exact minimum and
 whether it intersects (the Rust test reruns the binary and checks the same inequalities at
 the default tolerance and at 0).

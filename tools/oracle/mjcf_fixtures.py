@@ -28,7 +28,7 @@ the feature arm and the friction arm: wave --center mid, 2 deg (the slides 2 mm)
 gains by faze4's tuning rule from the efforts above; `rounding_sensitivity`, how far the trail moves
 when M changes by one rounding. For the SO-101 and the friction arm also `mujoco_step`: the same
 loop on MuJoCo's own mj_step (frictionloss solved by its constraint solver), as the file writes it
-and made hard, with the differences to docs/model.md's step that explain tests/mjcf.rs's tolerance.
+and made hard, with the differences to docs/model.md's step that explain tests/it/mjcf.rs's tolerance.
 
 Deterministic: fixed seeds; the same mujoco/numpy versions write the same bytes.
 """

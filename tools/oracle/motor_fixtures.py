@@ -4,7 +4,7 @@ tests/urdf/motor_arm.urdf with the torque-speed envelopes of tests/motors/{dc,st
 (pin_closed_loop.py's loop with --motors; docs/motors.md), fast enough that the envelopes clip.
 
 The gains are pin_closed_loop.py's auto_tune with E = ratio x efficiency x the motor's largest
-torque; tests/motors.rs runs faze4 with the same --kp, --kd and --effort, so both sides run the
+torque; tests/it/motors.rs runs faze4 with the same --kp, --kd and --effort, so both sides run the
 same controller, and compares the trail (t, tool xyz, q) to 1e-9 and the share of steps beyond
 the envelope.
 

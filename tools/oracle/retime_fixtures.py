@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """TOPP-RA's timings (toppra, hungpham2511/toppra; Pham & Pham 2018) of the paths faze4's retime
-times, on the same spline and grid, for tests/retime_vs_toppra.rs and docs/retime.md.
+times, on the same spline and grid, for tests/it/retime_vs_toppra.rs and docs/retime.md.
 
 The path is the not-a-knot cubic spline through the waypoints over their cumulative chord length
 in joint space (toppra.SplineInterpolator, i.e. SciPy's CubicSpline), the grid 200 equal

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Ruckig's time-optimal jerk-limited single segments (pantor/ruckig; Berscheid & Kröger 2021,
 "Jerk-limited Real-time Trajectory Generation with Arbitrary Target States", RSS), for
-tests/retime_vs_ruckig.rs and docs/retime.md's Ruckig column.
+tests/it/retime_vs_ruckig.rs and docs/retime.md's Ruckig column.
 
 Each case moves one joint by `distance` under a speed, acceleration and jerk limit, from rest
 to rest, or (the chaining cases) from a `start_velocity` and/or to an `end_velocity`, with zero

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes tests/fixtures/stepper_rotor.json: an independent single-rotor simulation of the
 Faze4's steppers driven open loop, integrated at 1 us from the winding and rotor equations, to
-check faze4's `--drive stepper` (tests/stepper_oracle.rs; docs/motors.md, "The stepper's
+check faze4's `--drive stepper` (tests/it/stepper_oracle.rs; docs/motors.md, "The stepper's
 damping").
 
 It shares no code and no formula with faze4's drive beyond the equations themselves. faze4

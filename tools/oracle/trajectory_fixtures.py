@@ -43,7 +43,7 @@ Writes:
 * tests/fixtures/trajectories/written/ur5_toppra.{yaml,json,mcap,csv}: the quintic UR5
   trajectory as faze4 writes it (examples/convert_trajectory.rs from the MCAP), each read back
   here with PyYAML, json, csv and mcap_ros2's reader (the rosbag2 profile, the ros2msg schema)
-  and checked equal to the trajectory to the last bit; tests/trajectories.rs checks that faze4
+  and checked equal to the trajectory to the last bit; tests/it/trajectories.rs checks that faze4
   still writes those bytes.
 
 Times are whole nanoseconds (as ROS stores them) from the start: t = ns / 1e9. The URDFs are the

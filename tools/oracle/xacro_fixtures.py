@@ -11,7 +11,7 @@ Franka's (`franka_description`, `robots/fr3/fr3.urdf.xacro`, with and without th
 `$(find PKG)` asks ament's index, which needs ROS; here it is the folder under tests/xacro whose
 package.xml names PKG (what xacrodoc does too: it replaces `substitution_args._eval_find`). The
 arguments of each case are in CASES and written into each fixture's first line as a comment, so
-`tests/xacro.rs` expands the same file with the same arguments and compares the documents
+`tests/it/xacro.rs` expands the same file with the same arguments and compares the documents
 (every element, attribute and text), the models (every link, joint, inertia, limit and mesh
 reference) and the runs. Deterministic: the same xacro
 writes the same bytes.
