@@ -351,6 +351,13 @@ pub fn most_asked(
     most
 }
 
+/// The Faze4's circle as a path: the 240 joint samples `faze4 shape --shape circle --save-q`
+/// wrote (tests/fixtures/shape_circle_q.npy).
+pub fn circle_path() -> PathSpline {
+    let points = faze4::traj::npy::read_samples(&repo_path("tests/fixtures/shape_circle_q.npy")).unwrap();
+    PathSpline::through(&points).unwrap()
+}
+
 /// `n` points of a curved path inside `model`'s limits (a fixed pseudo-random walk from the
 /// middle of each joint's range, each point within the middle 30 %).
 pub fn curved(model: &Model, n: usize, seed: u64) -> PathSpline {

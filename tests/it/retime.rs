@@ -12,11 +12,6 @@ use faze4::retime::{DEFAULT_MARGIN, PathSpline, RetimeOptions, Retimed, hold, re
 use faze4::sim::{Scenario, ScenarioBuilder};
 use faze4::viz::PhasePlot;
 
-fn circle() -> PathSpline {
-    let points = faze4::traj::npy::read_samples(&repo_path("tests/fixtures/shape_circle_q.npy")).unwrap();
-    PathSpline::through(&points).unwrap()
-}
-
 /// `model` behind the Faze4's steppers (`--motors faze4`): their ratios and rotors fitted to it.
 fn with_motors(model: &Model, path: &PathSpline) -> ScenarioBuilder {
     let mut motored = model.clone();
@@ -38,7 +33,7 @@ fn no_check() -> RetimeOptions {
 #[test]
 fn the_timing_keeps_every_envelope_at_every_grid_point() {
     let model = faze4::faze4::model();
-    let path = circle();
+    let path = common::circle_path();
     let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
     let motors = faze4::faze4::motors::faze4(None);
     let mut motored = model.clone();
@@ -69,7 +64,7 @@ fn the_timing_keeps_every_envelope_at_every_grid_point() {
 #[test]
 fn the_relaxed_duration_bounds_the_timing_from_below() {
     let model = faze4::faze4::model();
-    let path = circle();
+    let path = common::circle_path();
     let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
     assert!(timed.iterations >= 2);
     assert!(timed.relaxed_duration < timed.profile.duration());
@@ -90,7 +85,7 @@ fn the_relaxed_duration_bounds_the_timing_from_below() {
 #[test]
 fn the_phase_plane_holds_the_profile_under_its_limits() {
     let model = faze4::faze4::model();
-    let path = circle();
+    let path = common::circle_path();
     let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
     let plane = timed.phase_plane();
     assert_eq!(plane.s.len(), timed.profile.s.len());
@@ -123,7 +118,7 @@ fn the_phase_plane_holds_the_profile_under_its_limits() {
 #[test]
 fn the_trajectory_is_the_timing_at_the_grid_points() {
     let model = faze4::faze4::model();
-    let path = circle();
+    let path = common::circle_path();
     let timed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
     let t = &timed.trajectory;
     let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
@@ -163,7 +158,7 @@ fn the_trajectory_is_the_timing_at_the_grid_points() {
 #[test]
 fn the_check_slows_what_fails_until_it_follows() {
     let model = faze4::faze4::model();
-    let path = circle();
+    let path = common::circle_path();
     let base = with_motors(&model, &path);
     let bare = RetimeOptions {
         margin: 0.0,
@@ -268,7 +263,7 @@ fn the_outputs_are_the_last_check_run_bit_for_bit() {
         &faze4::model::PackagePaths::new(vec![common::shared_description()]),
     )
     .unwrap();
-    let path = circle();
+    let path = common::circle_path();
     let base = with_motors(&robot.model, &path).geometry(robot.geometry);
     let options = RetimeOptions {
         margin: 0.0,
@@ -307,7 +302,7 @@ fn the_outputs_are_the_last_check_run_bit_for_bit() {
 #[test]
 fn the_phase_plane_figure_is_written() {
     let model = faze4::faze4::model();
-    let path = circle();
+    let path = common::circle_path();
     let timed: Retimed = retime(&with_motors(&model, &path), &path, &no_check()).unwrap();
     let dir = common::temp_dir("retime_plot");
     let names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();

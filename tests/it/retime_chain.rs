@@ -82,10 +82,7 @@ fn assert_ends(arm: &str, timed: &Retimed, path: &PathSpline, start: &[Option<f6
 fn a_timing_starts_and_ends_at_the_given_velocities_and_keeps_the_limits() {
     let faze4_arm = faze4::faze4::model();
     let ur5 = common::load("tests/urdf/example_robot_data/ur5_robot.urdf");
-    let circle = {
-        let points = faze4::traj::npy::read_samples(&common::repo_path("tests/fixtures/shape_circle_q.npy")).unwrap();
-        PathSpline::through(&points).unwrap()
-    };
+    let circle = common::circle_path();
     let cases = [
         (
             "Faze4 circle, steppers",

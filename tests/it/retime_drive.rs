@@ -7,7 +7,6 @@
 
 use crate::common;
 
-use common::repo_path;
 use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
 use faze4::sim::{Drive, Scenario, ScenarioBuilder};
 
@@ -37,10 +36,7 @@ fn least_window(base: &ScenarioBuilder, margin: f64) -> f64 {
 #[test]
 fn the_first_timing_under_the_stepper_drive_loses_no_step() {
     let j2 = PathSpline::through(&[vec![0.0; 6], vec![0.0, 0.5, 0.0, 0.0, 0.0, 0.0]]).unwrap();
-    let circle = {
-        let points = faze4::traj::npy::read_samples(&repo_path("tests/fixtures/shape_circle_q.npy")).unwrap();
-        PathSpline::through(&points).unwrap()
-    };
+    let circle = common::circle_path();
     let margin = 0.1;
     let options = RetimeOptions {
         margin,

@@ -8,7 +8,7 @@
 use crate::common;
 
 use common::most_asked_as_played;
-use faze4::retime::{PathSpline, RetimeOptions, hold, retime};
+use faze4::retime::{RetimeOptions, hold, retime};
 use faze4::sim::Scenario;
 
 #[test]
@@ -18,10 +18,7 @@ fn the_played_trajectory_keeps_every_limit_between_its_points() {
     let ur5 = common::load("tests/urdf/example_robot_data/ur5_robot.urdf");
     let panda = common::load("tests/urdf/example_robot_data/panda.urdf");
     let so101 = common::load("tests/urdf/example_robot_data/so101.urdf");
-    let circle = {
-        let points = faze4::traj::npy::read_samples(&common::repo_path("tests/fixtures/shape_circle_q.npy")).unwrap();
-        PathSpline::through(&points).unwrap()
-    };
+    let circle = common::circle_path();
     let cases = [
         (
             "Faze4 circle, steppers",
