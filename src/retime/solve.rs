@@ -467,22 +467,19 @@ impl<'a> Solver<'a> {
     fn stuck(&self, i: usize) -> Error {
         let n = self.grid.points();
         let (start, end) = (self.stages.start, self.stages.end);
-        let field = match i {
-            0 if start > 0.0 => "start_velocity",
-            _ if i == n - 1 && end > 0.0 => "end_velocity",
+        // the option of the end held at i, and that end's x
+        let (field, x) = match i {
+            0 if start > 0.0 => ("start_velocity", start),
+            _ if i == n - 1 && end > 0.0 => ("end_velocity", end),
             _ if self.held_at(i).is_some() => match start > 0.0 && i <= self.held[0] {
-                true => "start_velocity",
-                false => "end_velocity",
+                true => ("start_velocity", start),
+                false => ("end_velocity", end),
             },
             _ => return self.nothing_follows(i),
         };
         let next = (i + 1 < n).then(|| self.k[i + 1]);
         let Some((top, rows)) = self.stages.top(i, next, self.speed_cap[i].0) else {
             return self.nothing_follows(i);
-        };
-        let x = match field {
-            "start_velocity" => start,
-            _ => end,
         };
         let mut binds: Vec<String> = rows
             .iter()
