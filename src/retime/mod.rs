@@ -504,27 +504,26 @@ fn jerk_bound(
     // each section keeps one of its two inner points as an inner point of the next (φ² = 1 − φ),
     // so each of the 10 sections times one new window
     let phi = 0.5 * (5f64.sqrt() - 1.0);
+    let mut timed_and_kept = |w: f64| {
+        let d = duration(w);
+        if d < best_d {
+            (best_w, best_d) = (w, d);
+        }
+        d
+    };
     let (mut a, mut b) = (hi - phi * (hi - lo), lo + phi * (hi - lo));
-    let (mut da, mut db) = (duration(a), duration(b));
-    for section in 0..=10 {
-        for (w, d) in [(a, da), (b, db)] {
-            if d < best_d {
-                (best_w, best_d) = (w, d);
-            }
-        }
-        if section == 10 {
-            break;
-        }
+    let (mut da, mut db) = (timed_and_kept(a), timed_and_kept(b));
+    for _ in 0..10 {
         match da < db {
             true => {
                 (hi, b, db) = (b, a, da);
                 a = hi - phi * (hi - lo);
-                da = duration(a);
+                da = timed_and_kept(a);
             }
             false => {
                 (lo, a, da) = (a, b, db);
                 b = lo + phi * (hi - lo);
-                db = duration(b);
+                db = timed_and_kept(b);
             }
         }
     }
