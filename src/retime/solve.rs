@@ -26,7 +26,7 @@ use super::grid::PathGrid;
 use super::limits::Limits;
 use super::reach::{Row, Stages, Stuck};
 use super::{Binding, Limit, Profile};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, six_digits};
 use crate::id::JointId;
 
 /// Relative change of duration below which the iteration has settled (0.01 %).
@@ -518,8 +518,8 @@ impl<'a> Solver<'a> {
         Error::option(
             field,
             format!(
-                "its path speed ṡ = {:.6} at s = {:.4}{held} is beyond what the limits (less the margin) allow there{way}: at most ṡ = {:.6}, where {} binds",
-                x.sqrt(),
+                "its path speed ṡ = {} at s = {:.4}{held} is beyond what the limits (less the margin) allow there{way}: at most ṡ = {:.6}, where {} binds",
+                six_digits(x.sqrt()),
                 self.grid.s[i],
                 top.max(0.0).sqrt(),
                 binds.join(" and ")

@@ -215,6 +215,7 @@ fn velocities_off_the_tangent_backwards_or_beyond_the_limits_are_refused_naming_
             ..options
         };
         let e = retime(&base, path, &options).expect_err("refused").to_string();
+        assert!(e.len() < 600, "a long message: {e}");
         for p in parts {
             assert!(e.contains(p), "{e:?} should mention {p:?}");
         }
@@ -267,6 +268,30 @@ fn velocities_off_the_tangent_backwards_or_beyond_the_limits_are_refused_naming_
             ..RetimeOptions::default()
         },
         &["`end_velocity`"],
+    );
+    // velocities near f64's largest: their norm and ṡ must not overflow past the tangent's check
+    // (a norm of inf let any velocity through it), and a figure is not printed in 155 digits
+    for scale in [1e308, -1e308, f64::MAX, -f64::MAX] {
+        let mut v = vec![Some(0.0); model.dof()];
+        v[0] = Some(scale);
+        refused(
+            &model,
+            &path,
+            RetimeOptions {
+                start_velocity: v,
+                ..RetimeOptions::default()
+            },
+            &["`start_velocity`", "not along the path's tangent at its start"],
+        );
+    }
+    refused(
+        &model,
+        &path,
+        RetimeOptions {
+            end_velocity: along(&path, length, 1e200),
+            ..RetimeOptions::default()
+        },
+        &["`end_velocity`", "is beyond any limit (ṡ² is not a finite number)"],
     );
 }
 
