@@ -587,16 +587,19 @@ pub const HOLD_ROUNDS: usize = 30;
 impl AsPlayed<'_> {
     /// An error when the timing (`duration` s, of which TOPP-RA's `raw`) is longer than
     /// [`longest`], naming the limit it comes from: the jerk's where the window made it so,
-    /// else the acceleration's if one is given, else the speeds'.
+    /// else the acceleration's if one is given, else the speeds' if one is given, else the
+    /// torques'.
     fn within_longest(&self, raw: f64, duration: f64) -> Result<()> {
         if duration <= self.longest {
             return Ok(());
         }
-        let given = |limits: &[Option<f64>]| limits.iter().any(Option::is_some);
+        let speed_given = (self.limits.speed.iter().zip(&self.limits.speed_source))
+            .any(|(v, source)| v.is_finite() && *source == limits::SpeedSource::Given);
         let field = match raw <= self.longest {
             true => "max_jerk",
-            false if given(&self.options.max_acceleration) => "max_accel",
-            false => "max_speed",
+            false if self.options.max_acceleration.iter().any(Option::is_some) => "max_accel",
+            false if speed_given => "max_speed",
+            false => "effort",
         };
         Err(Error::option(
             field,
