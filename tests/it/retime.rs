@@ -454,6 +454,46 @@ fn bad_paths_and_limits_give_one_line() {
         let text = one_line(retime(&base, &path, &options).unwrap_err());
         assert!(text.starts_with(option), "{text}");
     }
+    // limits so small the timing outlasts what can be written (whole nanoseconds in an i64,
+    // about 292 years) or checked (10^12 steps of dt): refused naming the limit, not as the
+    // written file's times (they saturated and read "times must increase")
+    let tiny = |v: f64| vec![Some(v); 6];
+    for (options, option, words) in [
+        (
+            RetimeOptions {
+                max_acceleration: tiny(1e-21),
+                ..no_check()
+            },
+            "`max_accel`",
+            "(times in whole nanoseconds)",
+        ),
+        (
+            RetimeOptions {
+                max_acceleration: tiny(1e-17),
+                ..RetimeOptions::default()
+            },
+            "`max_accel`",
+            "10^12 steps of `dt`",
+        ),
+        (
+            RetimeOptions {
+                max_jerk: tiny(1e-15),
+                ..no_check()
+            },
+            "`max_jerk`",
+            "(times in whole nanoseconds)",
+        ),
+    ] {
+        let Err(e) = retime(&base, &path, &options) else {
+            panic!("{option} timed");
+        };
+        let text = one_line(e);
+        assert!(text.starts_with(option) && text.contains(words), "{text}");
+        assert!(
+            text.contains("the timing would take ") && !text.contains("times must increase"),
+            "{text}"
+        );
+    }
 }
 
 /// A straight line between two points (the spline is the line, q'' = 0) under a constant torque
