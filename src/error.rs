@@ -318,6 +318,15 @@ pub fn shortest(x: f64) -> String {
     }
 }
 
+/// A computed figure for a message: six decimals (`6.538822`), or, from 10⁹ up, as short as
+/// it reads back exactly (`1.3e154`, not 155 digits).
+pub fn six_digits(x: f64) -> String {
+    match x.abs() < 1e9 {
+        true => format!("{x:.6}"),
+        false => shortest(x),
+    }
+}
+
 /// A link's or joint's `name` in quotes, its control and bidirectional characters escaped
 /// (`'a\\nb'`): a name read from a URDF never breaks the one line it is printed on, nor
 /// reorders what a reader sees.

@@ -1032,11 +1032,12 @@ pub const FIELDS: &[Field] = &[
          controller plays it (the smoothing window widens for them).",
     ),
     retime_per_joint!("start_velocity", start_velocity).value_name("V1,V2,…").help(
-        "The joint velocities the timing starts at, rad/s or m/s per joint (none: at rest), to chain it after \
-         another: along the path's tangent at its start and within its limits; the check's arm arrives moving.",
+        "The joint velocities the timing starts at, rad/s or m/s per joint ('auto' or none: 0; none \
+         given: at rest), to chain it after another: along the path's tangent at its start and within its limits; the check's arm arrives moving.",
     ),
     retime_per_joint!("end_velocity", end_velocity).value_name("V1,V2,…").help(
-        "The joint velocities the timing ends at, rad/s or m/s per joint (none: at rest), to chain another after it: \
+        "The joint velocities the timing ends at, rad/s or m/s per joint ('auto' or none: 0; none given: \
+         at rest), to chain another after it: \
          along the path's tangent at its end and within its limits.",
     ),
     // shape

@@ -4,7 +4,7 @@
 
 use super::RetimeOptions;
 use super::spline::PathSpline;
-use crate::error::{Error, Result, shortest};
+use crate::error::{Error, Result, shortest, six_digits};
 use crate::model::Model;
 use crate::sim::check::override_per_joint;
 
@@ -39,13 +39,18 @@ fn path_speed(model: &Model, path: &PathSpline, s: f64, field: &str, given: &[Op
     let dof = model.dof();
     let mut velocity = vec![0.0; dof];
     override_per_joint(field, &mut velocity, given, f64::is_finite, "a finite number")?;
-    let norm = velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if norm == 0.0 {
+    // the norm and ṡ of the velocity scaled by its largest entry, so that neither overflows
+    // (a velocity of 1e200 rad/s would otherwise have an infinite norm and pass any share of it)
+    let largest = velocity.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if largest == 0.0 {
         return Ok(0.0);
     }
+    let scaled: Vec<f64> = velocity.iter().map(|v| v / largest).collect();
+    let norm = largest * scaled.iter().map(|v| v * v).sum::<f64>().sqrt();
     let (mut q, mut dq, mut ddq) = (vec![0.0; dof], vec![0.0; dof], vec![0.0; dof]);
     path.eval(s, &mut q, &mut dq, &mut ddq);
-    let along = dq.iter().zip(&velocity).map(|(d, v)| d * v).sum::<f64>() / dq.iter().map(|d| d * d).sum::<f64>();
+    let along =
+        largest * (dq.iter().zip(&scaled).map(|(d, v)| d * v).sum::<f64>() / dq.iter().map(|d| d * d).sum::<f64>());
     let end = match s == 0.0 {
         true => "start",
         false => "end",
@@ -57,15 +62,16 @@ fn path_speed(model: &Model, path: &PathSpline, s: f64, field: &str, given: &[Op
             return Err(Error::option(
                 field,
                 format!(
-                    "J{} {} {}/s is not along the path's tangent at its {end}: the nearest velocity along it (q′ ṡ, ṡ = {along:.6}) gives J{} {:.6} {}/s, {:.3e} off, more than {TANGENT:e} of the velocity's norm {:.6}; the path's tangent there is ({})",
+                    "J{} {} {}/s is not along the path's tangent at its {end}: the nearest velocity along it (q′ ṡ, ṡ = {}) gives J{} {} {}/s, {:.3e} off, more than {TANGENT:e} of the velocity's norm {}; the path's tangent there is ({})",
                     j + 1,
                     shortest(velocity[j]),
                     unit(j),
+                    six_digits(along),
                     j + 1,
-                    dq[j] * along,
+                    six_digits(dq[j] * along),
                     unit(j),
                     residual,
-                    norm,
+                    six_digits(norm),
                     dq.iter().map(|d| format!("{d:.6}")).collect::<Vec<_>>().join(", ")
                 ),
             ));
@@ -75,7 +81,18 @@ fn path_speed(model: &Model, path: &PathSpline, s: f64, field: &str, given: &[Op
         return Err(Error::option(
             field,
             format!(
-                "points back along the path at its {end} (ṡ = {along:.6} < 0): a timing moves forwards along the path; reverse the velocity or the path"
+                "points back along the path at its {end} (ṡ = {} < 0): a timing moves forwards along the path; reverse the velocity or the path",
+                six_digits(along)
+            ),
+        ));
+    }
+    // TOPP-RA works in x = ṡ²
+    if !(along * along).is_finite() {
+        return Err(Error::option(
+            field,
+            format!(
+                "its path speed at the path's {end}, ṡ = {}, is beyond any limit (ṡ² is not a finite number)",
+                six_digits(along)
             ),
         ));
     }

@@ -51,7 +51,7 @@ pub use solve::{MAX_ITERATIONS, SETTLED};
 pub use spline::PathSpline;
 pub use timing::timed_trajectory;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, shortest};
 use crate::id::JointId;
 use crate::input::MAX_RETIME_INTERVALS;
 use crate::sim::{ScenarioBuilder, StopFlag, Summary, Tape};
@@ -306,7 +306,7 @@ pub fn hold(path: &PathSpline) -> Trajectory {
 /// `faze4 replay` plays a file, [`command`]), and returns the run's summary: how a timing
 /// found elsewhere (another retimer) fares in faze4's loop.
 pub fn play(base: &ScenarioBuilder, path: &PathSpline, profile: &Profile, stop: &StopFlag) -> Result<Summary> {
-    let start = check::scenario(base, hold(path), 1.0, None)?;
+    let start = at_start(base, path)?;
     let trajectory = timed_trajectory(profile, path, joint_names(&start.model));
     let (command, duration) = command(&start.model, &trajectory)?;
     let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
@@ -322,6 +322,13 @@ pub fn replay_scenario(base: &ScenarioBuilder, trajectory: &TimedTrajectory) -> 
         .duration(duration)
         .command("replay (retimed)")
         .build()
+}
+
+/// The scenario `base` builds holding the path's first point: its model, limits and
+/// collision set (never run; its duration 1 s, or one step of a longer `dt`, which the check
+/// refuses naming `dt` if the timing is shorter).
+fn at_start(base: &ScenarioBuilder, path: &PathSpline) -> Result<crate::sim::Scenario> {
+    check::scenario(base, hold(path), base.time_step().max(1.0), None)
 }
 
 /// The model's joint names, in its order (the trajectory's columns).
@@ -344,7 +351,7 @@ fn joint_names(model: &crate::model::Model) -> Vec<String> {
 pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions) -> Result<Retimed> {
     options.check()?;
     check_points(base.model(), path)?;
-    let start = check::scenario(base, hold(path), 1.0, None)?;
+    let start = at_start(base, path)?;
     let model = &start.model;
     let grid = grid::PathGrid::new(model, path, options.intervals);
     check_between(model, path, &grid)?;
@@ -354,7 +361,19 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     let limits = limits::Limits::of(&start, options)?;
     let ends = ends::Ends::of(model, path, options)?;
     let names = joint_names(model);
-    let limits = jerk_bound(limits, model, path, &grid, &names, ends)?;
+    let longest = longest(start.dt, options.check);
+    let limits = jerk_bound(
+        AsPlayed {
+            model,
+            path,
+            limits: &limits,
+            names: &names,
+            longest,
+            options,
+        },
+        &grid,
+        ends,
+    )?;
     let mut solver = solve::Solver::new(&grid, &limits, ends);
     let n = grid.points();
     let mut cap = vec![f64::INFINITY; n];
@@ -381,6 +400,8 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
         path,
         limits: &limits,
         names: &names,
+        longest,
+        options,
     };
     let mut window = 0.0;
     let mut timed = as_played.solve(&mut solver, &mut cap, &mut window).map_err(located)?;
@@ -448,27 +469,16 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
 /// grid, then golden sections) for the shortest played timing that keeps every limit; `limits`
 /// unchanged without a jerk limit or where none is shorter (docs/retime.md, "Smooth ends and
 /// jerk").
-fn jerk_bound(
-    limits: limits::Limits,
-    model: &crate::model::Model,
-    path: &PathSpline,
-    grid: &grid::PathGrid,
-    names: &[String],
-    ends: ends::Ends,
-) -> Result<limits::Limits> {
+fn jerk_bound(as_played: AsPlayed, grid: &grid::PathGrid, ends: ends::Ends) -> Result<limits::Limits> {
+    let limits = as_played.limits;
     if limits.jerk.iter().all(|j| j.is_infinite()) {
-        return Ok(limits);
+        return Ok(limits.clone());
     }
     let timed = |limits: &limits::Limits, ends: ends::Ends| -> Result<(f64, f64)> {
         let mut solver = solve::Solver::new(grid, limits, ends);
         let mut cap = vec![f64::INFINITY; grid.points()];
         let mut window = 0.0;
-        let as_played = AsPlayed {
-            model,
-            path,
-            limits,
-            names,
-        };
+        let as_played = AsPlayed { limits, ..as_played };
         let timed = as_played.solve(&mut solver, &mut cap, &mut window)?;
         let duration = match timed.played.worst <= 1.0 {
             true => timed.profile.duration(),
@@ -483,12 +493,12 @@ fn jerk_bound(
         }
         l
     };
-    let (full, widest) = match timed(&limits, ends) {
+    let (full, widest) = match timed(limits, ends) {
         Ok(timed) => timed,
         // a moving end's held stretch may not fit the window the full acceleration needs
         // (the jerk over it): searched on the scale of that window with the ends at rest
         Err(e) if ends != ends::Ends::default() => {
-            (f64::INFINITY, timed(&limits, ends::Ends::default()).map_err(|_| e)?.1)
+            (f64::INFINITY, timed(limits, ends::Ends::default()).map_err(|_| e)?.1)
         }
         Err(e) => return Err(e),
     };
@@ -529,16 +539,31 @@ fn jerk_bound(
     }
     match best_d < full {
         true => Ok(lowered(best_w)),
-        false => Ok(limits),
+        false => Ok(limits.clone()),
     }
 }
 
 /// What [`retime`] needs to time the path as a controller plays it.
+#[derive(Clone, Copy)]
 struct AsPlayed<'a> {
     model: &'a crate::model::Model,
     path: &'a PathSpline,
     limits: &'a limits::Limits,
     names: &'a [String],
+    /// The longest timing that can be written and checked (s, [`longest`]).
+    longest: f64,
+    /// The options, to name the limit a timing too long comes from.
+    options: &'a RetimeOptions,
+}
+
+/// The longest timing (s) retime writes: its times are whole nanoseconds in an `i64` (about
+/// 292 years), and with the check, at most the 10^12 steps of `dt` a run may take.
+fn longest(dt: f64, check: bool) -> f64 {
+    let nanoseconds = crate::traj::timed::seconds_from_nanoseconds(i64::MAX);
+    match check {
+        true => nanoseconds.min(1e12 * dt),
+        false => nanoseconds,
+    }
 }
 
 /// A timing as [`AsPlayed::solve`] finds it.
@@ -567,6 +592,36 @@ const WIDENINGS: usize = 12;
 pub const HOLD_ROUNDS: usize = 30;
 
 impl AsPlayed<'_> {
+    /// An error when the timing (`duration` s, of which TOPP-RA's `raw`) is longer than
+    /// [`longest`], naming the limit it comes from: the jerk's where the window made it so,
+    /// else the acceleration's if one is given, else the speeds' if one is given, else the
+    /// torques'.
+    fn within_longest(&self, raw: f64, duration: f64) -> Result<()> {
+        if duration <= self.longest {
+            return Ok(());
+        }
+        let speed_given = (self.limits.speed.iter().zip(&self.limits.speed_source))
+            .any(|(v, source)| v.is_finite() && *source == limits::SpeedSource::Given);
+        let field = match raw <= self.longest {
+            true => "max_jerk",
+            false if self.options.max_acceleration.iter().any(Option::is_some) => "max_accel",
+            false if speed_given => "max_speed",
+            false => "effort",
+        };
+        Err(Error::option(
+            field,
+            format!(
+                "the timing would take {} s, more than the {} s retime writes{}: is a limit given in the wrong unit?",
+                shortest(duration),
+                shortest(self.longest),
+                match self.options.check {
+                    true => " and checks (10^12 steps of `dt`, or times in whole nanoseconds)",
+                    false => " (times in whole nanoseconds)",
+                }
+            ),
+        ))
+    }
+
     /// TOPP-RA's profile under `cap`, averaged over the window (`window`, s; at least
     /// [`WINDOW`] of the profile's duration, widened until the played jerk keeps its limits),
     /// then, while its trajectory played (a quintic between points) passes a limit, `cap`
@@ -589,6 +644,7 @@ impl AsPlayed<'_> {
             let (profile, offset, trajectory, played) = loop {
                 let averaged = smooth::Averaged::new(raw, *window);
                 let (profile, offset) = (averaged.profile(), averaged.offset());
+                self.within_longest(raw.duration(), profile.duration())?;
                 let trajectory = timed_trajectory(&profile, self.path, self.names.to_vec());
                 let (command, _) = command(self.model, &trajectory)?;
                 let times: Vec<f64> = trajectory.points.iter().map(|p| p.time_from_start).collect();

@@ -79,16 +79,50 @@ impl Stages {
         Ok(())
     }
 
-    /// The top of stage `i`'s admissible x under `cap` (its rows, and with `next` (K_{i+1})
-    /// reaching it; no floor), and which of the stage's rows set it (indices into its rows,
-    /// none for the cap or the reach alone): the limits that bind there, for a message. `None`
-    /// when the stage admits no x at all.
-    pub fn top(&self, i: usize, next: Option<[f64; 2]>, cap: f64) -> Option<(f64, Vec<usize>)> {
+    /// Stage `i`'s admissible x under `cap` (its rows, and with `next` (K_{i+1}) reaching it;
+    /// no floor) as [bottom, top], and which of the stage's rows set its top (indices into its
+    /// rows, none for the cap or the reach alone): the limits that bind there, for a message.
+    /// `None` when the stage admits no x at all.
+    pub fn top(&self, i: usize, next: Option<[f64; 2]>, cap: f64) -> Option<([f64; 2], Vec<usize>)> {
         let reach = next.map(|k| (2.0 * self.delta[i], k));
         x_range(self.rows(i), reach, 0.0, cap).map(|r| {
             let per = self.per_stage;
-            (r.hi, r.hi_by.into_iter().flatten().filter(|&p| p < per).collect())
+            (
+                [r.lo, r.hi],
+                r.hi_by.into_iter().flatten().filter(|&p| p < per).collect(),
+            )
         })
+    }
+
+    /// The top of the set of x reachable at point `at` from the start, without the floors
+    /// (Pham & Pham's reachable sets): R_0 = {x_start}, R_{i+1} = {x + 2Δ_i u : stage i's rows
+    /// hold at (u, x), x ∈ R_i} within stage i + 1's own range. With y = x + 2Δu, a row
+    /// `α u + β x ≤ γ` reads `(β − α/2Δ) x + (α/2Δ) y ≤ γ`, and y's range is found as stage
+    /// ranges are, eliminating x. Without the floors the sets only grow, so no speed above the
+    /// top is reachable with them. `None` when a set is empty on the way. For messages only
+    /// (it allocates one stage's rows).
+    pub fn reachable_top(&self, at: usize) -> Option<f64> {
+        let mut reached = [self.start, self.start];
+        let mut shifted: Vec<Row> = Vec::with_capacity(self.per_stage + 2);
+        for i in 0..at {
+            let two_delta = 2.0 * self.delta[i];
+            shifted.clear();
+            shifted.extend(
+                self.rows(i)
+                    .iter()
+                    .map(|&[alpha, beta, gamma]| [beta - alpha / two_delta, alpha / two_delta, gamma]),
+            );
+            // x ∈ R_i
+            shifted.extend([[1.0, 0.0, reached[1]], [-1.0, 0.0, -reached[0]]]);
+            let next = x_range(&shifted, None, 0.0, f64::INFINITY)?;
+            let own = x_range(self.rows(i + 1), None, 0.0, self.cap[i + 1])?;
+            let (lo, hi) = (next.lo.max(own.lo), next.hi.min(own.hi));
+            if lo > hi + ROUND_OFF * hi.abs().max(1.0) {
+                return None;
+            }
+            reached = [lo.min(hi), hi];
+        }
+        Some(reached[1])
     }
 
     /// The greedy forward pass from the start through the controllable sets `k`: x (N + 1) and
@@ -254,9 +288,39 @@ mod tests {
         stages = short;
         let mut k = vec![[0.0; 2]; 11];
         assert_eq!(stages.controllable_sets(&mut k), Err(Stuck(0)));
-        let (top, rows) = stages.top(0, Some(k[1]), 4.0).unwrap();
+        let ([_, top], rows) = stages.top(0, Some(k[1]), 4.0).unwrap();
         assert!((top - (1.0 + 2.0 * 3.0 * 0.1)).abs() < 1e-12, "{top}");
         assert_eq!(rows, vec![1]);
+    }
+
+    /// The reachable sets' top of the double integrator from x₀: min(x₀ + 2As, V²) at every
+    /// point, whatever the end (the sets look forward only); a cap below what a stage's rows
+    /// need empties them.
+    #[test]
+    fn a_double_integrator_reaches_at_most_its_acceleration_allows() {
+        let (length, accel, speed) = (2.0, 3.0, 1.5);
+        let n = 400;
+        let mut stages = Stages {
+            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
+            per_stage: 2,
+            cap: vec![speed * speed; n + 1],
+            floor: vec![0.0; n + 1],
+            start: 0.5,
+            end: 2.0,
+            delta: vec![length / n as f64; n],
+        };
+        for i in [0, 1, 10, 57, 200, 400] {
+            let s = length * i as f64 / n as f64;
+            let want = (0.5 + 2.0 * accel * s).min(speed * speed);
+            let top = stages.reachable_top(i).unwrap();
+            assert!((top - want).abs() < 1e-12, "top at s = {s}: {top} vs {want}");
+        }
+        // x ≥ 1 at point 3 (a row without u), which a cap of 0.9 before it cannot reach
+        stages.rows[3 * 2] = [0.0, -1.0, -1.0];
+        stages.cap[2] = 0.9;
+        stages.cap[3] = 0.9;
+        assert_eq!(stages.reachable_top(3), None);
+        assert!(stages.reachable_top(2).is_some());
     }
 
     /// A constraint coupling u and x (the torque rows' shape): |u + x| ≤ 1 on a short path.

@@ -26,7 +26,7 @@ use super::grid::PathGrid;
 use super::limits::Limits;
 use super::reach::{Row, Stages, Stuck};
 use super::{Binding, Limit, Profile};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, six_digits};
 use crate::id::JointId;
 
 /// Relative change of duration below which the iteration has settled (0.01 %).
@@ -475,10 +475,10 @@ impl<'a> Solver<'a> {
                 true => ("start_velocity", start),
                 false => ("end_velocity", end),
             },
-            _ => return self.nothing_follows(i),
+            _ => return self.end_unreachable().unwrap_or_else(|| self.nothing_follows(i)),
         };
         let next = (i + 1 < n).then(|| self.k[i + 1]);
-        let Some((top, rows)) = self.stages.top(i, next, self.speed_cap[i].0) else {
+        let Some(([bottom, top], rows)) = self.stages.top(i, next, self.speed_cap[i].0) else {
             return self.nothing_follows(i);
         };
         let mut binds: Vec<String> = rows
@@ -515,16 +515,62 @@ impl<'a> Solver<'a> {
             (0, Some(_)) => " with the rest of the path timed within them",
             _ => "",
         };
+        // within the top, the speed is below the stage's range: a slower speed there cannot
+        // go on to the next point's (held at a steady speed, a joint's torque leaves its range)
+        if x <= top * (1.0 + 1e-9) {
+            return Error::option(
+                field,
+                format!(
+                    "its path speed ṡ = {} at s = {:.4}{held} is outside what the limits (less the margin) allow there{way}: ṡ from {:.6} to {:.6}",
+                    six_digits(x.sqrt()),
+                    self.grid.s[i],
+                    bottom.max(0.0).sqrt(),
+                    top.max(0.0).sqrt(),
+                ),
+            );
+        }
         Error::option(
             field,
             format!(
-                "its path speed ṡ = {:.6} at s = {:.4}{held} is beyond what the limits (less the margin) allow there{way}: at most ṡ = {:.6}, where {} binds",
-                x.sqrt(),
+                "its path speed ṡ = {} at s = {:.4}{held} is beyond what the limits (less the margin) allow there{way}: at most ṡ = {:.6}, where {} binds",
+                six_digits(x.sqrt()),
                 self.grid.s[i],
                 top.max(0.0).sqrt(),
                 binds.join(" and ")
             ),
         )
+    }
+
+    /// The error for a moving end that no timing from the start reaches (the backward pass
+    /// stuck before the end's held stretch, though each stage alone admits some x): the
+    /// largest speed reachable where the stretch begins. `None` when the end is at rest or
+    /// reachable, or when the path cannot be timed at all.
+    fn end_unreachable(&self) -> Option<Error> {
+        let end = self.stages.end;
+        let h = self.held[1];
+        let top = self.stages.reachable_top(h)?;
+        if end == 0.0 || top >= end * (1.0 - 1e-9) {
+            return None;
+        }
+        let at = match h == self.grid.points() - 1 {
+            true => "at the end".to_string(),
+            false => format!(
+                "by s = {:.4}, where the end's speed is held (the path's last ṡ·w/2, half the smoothing window)",
+                self.grid.s[h]
+            ),
+        };
+        Some(Error::option(
+            "end_velocity",
+            format!(
+                "its path speed ṡ = {} cannot be reached from the {} within the limits (less the margin): at most ṡ = {:.6} {at}",
+                six_digits(end.sqrt()),
+                match self.stages.start > 0.0 {
+                    true => "start's speed",
+                    false => "start at rest",
+                },
+                top.max(0.0).sqrt(),
+            ),
+        ))
     }
 
     /// The error for a stage where no x is admissible: the joint whose standstill torque
@@ -554,10 +600,7 @@ impl<'a> Solver<'a> {
                     ),
                 )
             }
-            None => (
-                None,
-                "the joints' torque ranges (less the margin) leave no path acceleration that all of them allow, at any path speed".to_string(),
-            ),
+            None => (None, self.no_speed_here(i)),
         };
         Error::NothingFollows {
             s: self.grid.s[i],
@@ -565,6 +608,37 @@ impl<'a> Solver<'a> {
             point: 0,
             joint,
             message,
+        }
+    }
+
+    /// Why stage `i` admits no x though no joint's standstill torque is beyond its range:
+    /// its rows alone admit none (at any path speed), or the speeds they admit (under the caps
+    /// that keep the limits as played) cannot reach the next point's controllable set.
+    fn no_speed_here(&self, i: usize) -> String {
+        let n = self.grid.points();
+        let Some(([lo, hi], _)) = self.stages.top(i, None, f64::INFINITY) else {
+            return "the joints' torque ranges (less the margin) leave no path acceleration that all of them allow, at any path speed".to_string();
+        };
+        let cap = self.stages.cap[i];
+        let capped = match cap < hi {
+            true => format!(
+                ", at most {:.6} under the caps that keep the limits as played between the grid's points",
+                cap.max(0.0).sqrt()
+            ),
+            false => String::new(),
+        };
+        let speeds = |[lo, hi]: [f64; 2]| format!("ṡ from {:.6} to {:.6}", lo.max(0.0).sqrt(), hi.max(0.0).sqrt());
+        match i + 1 < n {
+            true => format!(
+                "the path speeds the limits (less the margin) allow here ({}{capped}) cannot reach those the next grid point at s = {:.4} allows on to the end ({}): a finer `grid` may time it",
+                speeds([lo, hi]),
+                self.grid.s[i + 1],
+                speeds(self.k[i + 1]),
+            ),
+            false => format!(
+                "the path speeds the limits (less the margin) allow here ({}{capped}) leave none to end at",
+                speeds([lo, hi])
+            ),
         }
     }
 }

@@ -215,6 +215,7 @@ fn velocities_off_the_tangent_backwards_or_beyond_the_limits_are_refused_naming_
             ..options
         };
         let e = retime(&base, path, &options).expect_err("refused").to_string();
+        assert!(e.len() < 600, "a long message: {e}");
         for p in parts {
             assert!(e.contains(p), "{e:?} should mention {p:?}");
         }
@@ -267,6 +268,73 @@ fn velocities_off_the_tangent_backwards_or_beyond_the_limits_are_refused_naming_
             ..RetimeOptions::default()
         },
         &["`end_velocity`"],
+    );
+    // velocities near f64's largest: their norm and ṡ must not overflow past the tangent's check
+    // (a norm of inf let any velocity through it), and a figure is not printed in 155 digits
+    for scale in [1e308, -1e308, f64::MAX, -f64::MAX] {
+        let mut v = vec![Some(0.0); model.dof()];
+        v[0] = Some(scale);
+        refused(
+            &model,
+            &path,
+            RetimeOptions {
+                start_velocity: v,
+                ..RetimeOptions::default()
+            },
+            &["`start_velocity`", "not along the path's tangent at its start"],
+        );
+    }
+    refused(
+        &model,
+        &path,
+        RetimeOptions {
+            end_velocity: along(&path, length, 1e200),
+            ..RetimeOptions::default()
+        },
+        &["`end_velocity`", "is beyond any limit (ṡ² is not a finite number)"],
+    );
+}
+
+#[test]
+fn an_end_speed_no_timing_reaches_is_refused_as_such_not_as_a_path_nothing_follows() {
+    // a speed within the last point's own limits that the path cannot accelerate to from rest:
+    // the backward pass is stuck mid-path, which read "nothing follows … at any path speed"
+    let model = faze4::faze4::model();
+    let path = common::curved(&model, 5, 3);
+    let base = base(&model, &path, None);
+    let top = top_speed(&base, &path);
+    let length = path.length();
+    let mut unreachable = 0;
+    for fiftieths in 10..=50 {
+        let options = RetimeOptions {
+            check: false,
+            end_velocity: along(&path, length, top * fiftieths as f64 / 50.0),
+            ..RetimeOptions::default()
+        };
+        let Err(e) = retime(&base, &path, &options) else {
+            continue;
+        };
+        let e = e.to_string();
+        assert!(e.contains("`end_velocity`") && !e.contains("nothing follows"), "{e}");
+        unreachable += e.contains("cannot be reached from the start at rest") as usize;
+        // the figures agree with the claim: a speed refused as above the top is above it, one
+        // refused as outside a range is outside it
+        let number = |after: &str| -> f64 {
+            let rest = &e[e.find(after).unwrap_or_else(|| panic!("{e}")) + after.len()..];
+            rest.split([' ', ',']).next().unwrap().parse().unwrap()
+        };
+        let asked = number("its path speed ṡ = ");
+        if e.contains("at most ṡ = ") {
+            assert!(asked > number("at most ṡ = "), "{e}");
+        }
+        if e.contains("ṡ from ") {
+            let (from, to) = (number("ṡ from "), number(" to "));
+            assert!(asked < from || asked > to, "{e}");
+        }
+    }
+    assert!(
+        unreachable > 0,
+        "no end speed between 0.2 and 1 times the top was unreachable"
     );
 }
 
