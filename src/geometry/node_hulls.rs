@@ -6,13 +6,15 @@
 //! at most the distance between any triangle of one and any triangle of the other. Any
 //! direction `u` separates two convex sets by the gap of their projections on it,
 //! `min_{y∈H₂} u·y − max_{x∈H₁} u·x`: GJK probes such directions (its lower bound at each
-//! iteration is that gap, from the two support points), and [`NodeHulls::apart`] stops it as
+//! iteration is that gap, from the two support points), and [`apart`] stops it as
 //! soon as one gap exceeds the reach, so what passes a pair of nodes over is the gap of two
 //! support points, not GJK's converged distance.
 //!
-//! Hulls are made for the inner nodes of at least [`MIN_TRIANGLES`] triangles, from the leaves
-//! up: a node's hull is the hull of its children's hull vertices (or of its triangles' corners
-//! where a child has none), so each level costs the hulls of few points.
+//! Hulls are made for the inner nodes of at least [`MIN_TRIANGLES`] triangles, each at its first
+//! use: a node's hull is the hull of its children's hull vertices (or of its triangles' corners
+//! where a child has none). Making them costs about 0.5 G instructions on the Faze4's meshes
+//! (parry's hull), once per process; smaller nodes' hulls cut the searches further but cost
+//! more to make than they save (docs/clearance.md, "Speed").
 
 use std::sync::OnceLock;
 
@@ -25,7 +27,7 @@ use super::bvh::Bvh;
 use super::hull::{Adjacency, Climber, hull_candidates};
 
 /// The fewest triangles a node must hold to be given a hull.
-pub(super) const MIN_TRIANGLES: u32 = 2048;
+const MIN_TRIANGLES: u32 = 2048;
 
 /// No hull for a node.
 const NONE: u32 = u32::MAX;
