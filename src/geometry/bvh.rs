@@ -127,6 +127,17 @@ impl Bvh {
         self.nodes.is_empty()
     }
 
+    /// How many nodes it has (node 0 the root).
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Node `i`'s triangle (a leaf) or its two children (an inner node).
+    pub fn below(&self, i: u32) -> Result<u32, [u32; 2]> {
+        let n = &self.nodes[i as usize];
+        if n.leaf { Ok(n.item) } else { Err(self.children(n)) }
+    }
+
     /// The two children of inner node `n`.
     fn children(&self, n: &Node) -> [u32; 2] {
         [n.item, n.item + 1]
@@ -139,7 +150,7 @@ impl Bvh {
     pub fn leaf_pairs(
         &self,
         other: &Bvh,
-        mut open: impl FnMut(&Node, &Node) -> bool,
+        mut open: impl FnMut((u32, &Node), (u32, &Node)) -> bool,
         mut leaf: impl FnMut(u32, u32) -> bool,
     ) {
         if self.is_empty() || other.is_empty() {
@@ -149,7 +160,7 @@ impl Bvh {
         stack.push((0, 0));
         while let Some((i, j)) = stack.pop() {
             let (n1, n2) = (&self.nodes[i as usize], &other.nodes[j as usize]);
-            if !open(n1, n2) {
+            if !open((i, n1), (j, n2)) {
                 continue;
             }
             match (n1.leaf, n2.leaf) {
@@ -537,10 +548,14 @@ mod tests {
         // the pairs whose boxes overlap, against every pair
         let overlap = |a: &Node, b: &Node| (0..3).all(|k| a.lo[k] <= b.hi[k] && b.lo[k] <= a.hi[k]);
         let mut found = Vec::new();
-        bvh.leaf_pairs(&bvh, overlap, |i, j| {
-            found.push((i, j));
-            true
-        });
+        bvh.leaf_pairs(
+            &bvh,
+            |(_, a), (_, b)| overlap(a, b),
+            |i, j| {
+                found.push((i, j));
+                true
+            },
+        );
         found.sort();
         let leaf = |t: u32| {
             let c = corners(t);

@@ -57,8 +57,14 @@ pub(super) struct Climber<'a> {
 impl<'a> Climber<'a> {
     /// The support map of `hull` (edges `adjacency`), starting at vertex `start`.
     pub(super) fn new(hull: &'a ConvexPolyhedron, adjacency: &'a Adjacency, start: u32) -> Climber<'a> {
+        Climber::over(hull.points(), adjacency, start)
+    }
+
+    /// The support map of the hull of vertices `points` (edges `adjacency`), starting at vertex
+    /// `start`.
+    pub(super) fn over(points: &'a [PVector], adjacency: &'a Adjacency, start: u32) -> Climber<'a> {
         Climber {
-            points: hull.points(),
+            points,
             adjacency,
             at: Cell::new(start),
         }

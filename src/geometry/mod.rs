@@ -27,6 +27,7 @@ mod hull;
 pub mod mesh;
 mod mesh_cache;
 mod motion_bound;
+mod node_hulls;
 mod pairs;
 mod path;
 mod report;

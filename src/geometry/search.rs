@@ -11,6 +11,7 @@ use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
 use parry3d_f64::shape::{Shape, Triangle};
 
 use super::bvh::Node;
+use super::node_hulls::apart;
 use super::triangles::{Triangles, node_box};
 /// A margin (m) far above the round-off of distances and their lower bounds (~1e-15 m) and far
 /// below any distance that matters: a pair of boxes or triangles, or a sample, is passed over
@@ -51,7 +52,7 @@ pub(super) fn mesh_distance(
     // tolerance: what could be closer by more than it)
     let slack = if tolerance > 0.0 { -tolerance } else { ROUND_OFF };
     let reach = || best.get() + slack;
-    let boxes_closer = |n1: &Node, n2: &Node| {
+    let boxes_closer = |(i, n1): (u32, &Node), (j, n2): (u32, &Node)| {
         if best.get() <= 0.0 || reach() <= 0.0 {
             return false;
         }
@@ -59,8 +60,21 @@ pub(super) fn mesh_distance(
             // triangle_gap's exact boxes of the two triangles do better
             return true;
         }
-        nodes_within(&two_in_one, &one_in_two, n1, n2, reach() * reach())
-            && two_in_one.axis_gap(&one_in_two, node_box(n1), node_box(n2)) < reach()
+        let (box1, box2) = (node_box(n1), node_box(n2));
+        if !(nodes_within(&two_in_one, &one_in_two, n1, n2, reach() * reach())
+            && two_in_one.axis_gap(&one_in_two, box1, box2) < reach())
+        {
+            return false;
+        }
+        // two upper nodes: their hulls' gap
+        if m1.may_have_hull(i)
+            && m2.may_have_hull(j)
+            && let (Some(h1), Some(h2)) = (m1.node_hull(i), m2.node_hull(j))
+        {
+            let start = (box1.0 + box1.1) * 0.5 - two_in_one.point((box2.0 + box2.1) * 0.5);
+            return !apart(h1, h2, pos12, start, reach());
+        }
+        true
     };
     m1.bvh().leaf_pairs(m2.bvh(), boxes_closer, |i, j| {
         if triangle_gap(&m1.triangle(i), &m2.triangle(j), &two_in_one) >= reach() {
@@ -190,7 +204,7 @@ pub(super) fn meshes_touch(
     let (two_in_one, one_in_two) = (Rebox::new(pos12), Rebox::new(&pos12.inverse()));
     let slack = ROUND_OFF * ROUND_OFF;
     let opened = Cell::new(0);
-    let boxes_touch = |n1: &Node, n2: &Node| {
+    let boxes_touch = |(_, n1): (u32, &Node), (_, n2): (u32, &Node)| {
         opened.set(opened.get() + 1);
         opened.get() <= budget && nodes_within(&two_in_one, &one_in_two, n1, n2, slack)
     };

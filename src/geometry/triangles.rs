@@ -7,12 +7,15 @@ use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::Triangle;
 
 use super::bvh::{Bvh, Node, point_triangle_squared};
+use super::node_hulls::{NodeHull, NodeHulls};
 
 /// A triangle mesh with its hierarchy (see the module documentation).
 pub(super) struct Triangles {
     points: Vec<PVector>,
     indices: Vec<[u32; 3]>,
     bvh: Bvh,
+    /// The hulls of its upper nodes.
+    hulls: NodeHulls,
 }
 
 impl Triangles {
@@ -21,7 +24,13 @@ impl Triangles {
     /// built now.
     pub(super) fn new(points: Vec<PVector>, indices: Vec<[u32; 3]>, bvh: Option<Bvh>) -> Triangles {
         let bvh = bvh.unwrap_or_else(|| Bvh::build(&arrays(&points), &indices));
-        Triangles { points, indices, bvh }
+        let hulls = NodeHulls::new(&bvh);
+        Triangles {
+            points,
+            indices,
+            bvh,
+            hulls,
+        }
     }
 
     /// Triangle `i` (m, the mesh's frame); an index past the end reads as the last triangle
@@ -38,6 +47,16 @@ impl Triangles {
     /// Its hierarchy.
     pub(super) fn bvh(&self) -> &Bvh {
         &self.bvh
+    }
+
+    /// Whether node `i` of its hierarchy may have a hull (it holds enough triangles).
+    pub(super) fn may_have_hull(&self, i: u32) -> bool {
+        self.hulls.has(i)
+    }
+
+    /// The hull of node `i`'s triangles' corners, if it has one (made at its first use).
+    pub(super) fn node_hull(&self, i: u32) -> Option<&NodeHull> {
+        self.hulls.get(i, &self.bvh, &self.points, &self.indices)
     }
 
     /// How many triangles it has.

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use super::SLOWDOWN;
 use crate::control::Motor;
-use crate::error::Result;
+use crate::error::{Error, Result, shortest};
 use crate::geometry::CollisionSet;
 use crate::model::Model;
 use crate::sim::{Play, Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, Tape, TimedCommand, run};
@@ -42,7 +42,25 @@ pub(crate) fn scenario(
     if let Some(set) = collision_set {
         builder = builder.collision_set(set);
     }
-    builder.build()
+    // retime has no `duration`: the timing's steps are `dt`'s
+    builder.build().map_err(|e| match e {
+        Error::InvalidArgument { option, .. } if option == "`duration`" => {
+            let dt = base.time_step();
+            Error::option(
+                "dt",
+                format!(
+                    "{} s: the check plays the timing's {} s in steps of it, {}",
+                    shortest(dt),
+                    shortest(duration),
+                    match duration / dt < 1.0 {
+                        true => "less than one step",
+                        false => "more than the 10^12 steps a run may take",
+                    }
+                ),
+            )
+        }
+        e => e,
+    })
 }
 
 /// How often the check looks for a failure (s of simulated time): saturation, step loss,

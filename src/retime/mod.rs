@@ -306,7 +306,7 @@ pub fn hold(path: &PathSpline) -> Trajectory {
 /// `faze4 replay` plays a file, [`command`]), and returns the run's summary: how a timing
 /// found elsewhere (another retimer) fares in faze4's loop.
 pub fn play(base: &ScenarioBuilder, path: &PathSpline, profile: &Profile, stop: &StopFlag) -> Result<Summary> {
-    let start = check::scenario(base, hold(path), 1.0, None)?;
+    let start = at_start(base, path)?;
     let trajectory = timed_trajectory(profile, path, joint_names(&start.model));
     let (command, duration) = command(&start.model, &trajectory)?;
     let scenario = check::scenario(base, command, duration, start.collision_set.clone())?;
@@ -322,6 +322,13 @@ pub fn replay_scenario(base: &ScenarioBuilder, trajectory: &TimedTrajectory) -> 
         .duration(duration)
         .command("replay (retimed)")
         .build()
+}
+
+/// The scenario `base` builds holding the path's first point: its model, limits and
+/// collision set (never run; its duration 1 s, or one step of a longer `dt`, which the check
+/// refuses naming `dt` if the timing is shorter).
+fn at_start(base: &ScenarioBuilder, path: &PathSpline) -> Result<crate::sim::Scenario> {
+    check::scenario(base, hold(path), base.time_step().max(1.0), None)
 }
 
 /// The model's joint names, in its order (the trajectory's columns).
@@ -344,7 +351,7 @@ fn joint_names(model: &crate::model::Model) -> Vec<String> {
 pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions) -> Result<Retimed> {
     options.check()?;
     check_points(base.model(), path)?;
-    let start = check::scenario(base, hold(path), 1.0, None)?;
+    let start = at_start(base, path)?;
     let model = &start.model;
     let grid = grid::PathGrid::new(model, path, options.intervals);
     check_between(model, path, &grid)?;

@@ -600,10 +600,7 @@ impl<'a> Solver<'a> {
                     ),
                 )
             }
-            None => (
-                None,
-                "the joints' torque ranges (less the margin) leave no path acceleration that all of them allow, at any path speed".to_string(),
-            ),
+            None => (None, self.no_speed_here(i)),
         };
         Error::NothingFollows {
             s: self.grid.s[i],
@@ -611,6 +608,37 @@ impl<'a> Solver<'a> {
             point: 0,
             joint,
             message,
+        }
+    }
+
+    /// Why stage `i` admits no x though no joint's standstill torque is beyond its range:
+    /// its rows alone admit none (at any path speed), or the speeds they admit (under the caps
+    /// that keep the limits as played) cannot reach the next point's controllable set.
+    fn no_speed_here(&self, i: usize) -> String {
+        let n = self.grid.points();
+        let Some(([lo, hi], _)) = self.stages.top(i, None, f64::INFINITY) else {
+            return "the joints' torque ranges (less the margin) leave no path acceleration that all of them allow, at any path speed".to_string();
+        };
+        let cap = self.stages.cap[i];
+        let capped = match cap < hi {
+            true => format!(
+                ", at most {:.6} under the caps that keep the limits as played between the grid's points",
+                cap.max(0.0).sqrt()
+            ),
+            false => String::new(),
+        };
+        let speeds = |[lo, hi]: [f64; 2]| format!("ṡ from {:.6} to {:.6}", lo.max(0.0).sqrt(), hi.max(0.0).sqrt());
+        match i + 1 < n {
+            true => format!(
+                "the path speeds the limits (less the margin) allow here ({}{capped}) cannot reach those the next grid point at s = {:.4} allows on to the end ({}): a finer `grid` may time it",
+                speeds([lo, hi]),
+                self.grid.s[i + 1],
+                speeds(self.k[i + 1]),
+            ),
+            false => format!(
+                "the path speeds the limits (less the margin) allow here ({}{capped}) leave none to end at",
+                speeds([lo, hi])
+            ),
         }
     }
 }

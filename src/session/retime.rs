@@ -64,7 +64,8 @@ pub fn retime(
     };
     let loaded = Loaded::load(config, replayed)?;
     let base = loaded.builder(config)?;
-    let start = base.clone().build()?;
+    // retime has no `duration` (the timing's is found): one second, or one step of a longer `dt`
+    let start = base.clone().duration(base.time_step().max(1.0)).build()?;
     let out = &config.outputs;
     // the timing and the figure never replace what was read (the path, the URDF, …)
     files.reading(loaded.inputs().clone())?;

@@ -188,6 +188,11 @@ impl ScenarioBuilder {
         &self.model
     }
 
+    /// The time step `dt` as given (s; checked when the scenario is built).
+    pub fn time_step(&self) -> f64 {
+        self.dt
+    }
+
     /// The joint command, replacing the one given to [`Scenario::builder`] (retime's check
     /// plays each timing it tries on the same builder).
     pub fn trajectory(mut self, trajectory: Trajectory) -> Self {
@@ -548,12 +553,25 @@ impl ScenarioBuilder {
 }
 
 /// The error of a scenario whose arithmetic overflows: the payload's (`payload_kg`) when the
-/// arm without it (`bare`) holds, else the model's joint of largest inertia.
+/// arm without it (`bare`) holds, else `dt`'s when a time step shorter than the default
+/// overflows (the tuned gains grow as 1/dt²) and the default's holds, else the model's joint
+/// of largest inertia.
 fn overflow(model: &Model, bare: Option<&Model>, payload_kg: f64, q_start: &[f64], effort: &[f64], dt: f64) -> Error {
-    let holds = |m: &Model| {
+    let holds_at = |m: &Model, dt: f64| {
         let (gains, mass) = tune(m, q_start, effort, dt);
         arithmetic_holds(&mass, &gains)
     };
+    let holds = |m: &Model| holds_at(m, dt);
+    if dt < DEFAULT_DT && holds_at(model, DEFAULT_DT) {
+        return Error::option(
+            "dt",
+            format!(
+                "{} s: too short to simulate this arm (the gains tuned for it grow as 1/dt² and overflow; {} s holds)",
+                shortest(dt),
+                shortest(DEFAULT_DT)
+            ),
+        );
+    }
     if bare.is_some_and(holds) {
         return Error::option(
             "payload_kg",

@@ -927,3 +927,81 @@ fn no_check_writes_the_timing_unchecked() {
         assert!(!dir.join("x.yaml").exists());
     }
 }
+
+/// A grid too coarse for the path (the circle on 10 intervals): its speeds at one point cannot
+/// reach the next point's. Said so, with the speeds and a finer `--grid`; not "at any path
+/// speed", which the point's own limits contradict (issue 49: messages name the real cause).
+#[test]
+fn a_grid_too_coarse_is_named_not_a_path_nothing_follows() {
+    let dir = common::temp_dir("retime_coarse_grid");
+    let circle = common::repo_path("tests/fixtures/shape_circle_q.npy");
+    let out = dir.join("c.yaml");
+    let run = common::faze4(
+        &dir,
+        &[
+            "retime",
+            "--q-traj",
+            circle.to_str().unwrap(),
+            "--motors",
+            "faze4",
+            "--grid",
+            "10",
+            "--no-check",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(run.status.code(), Some(3), "{}", run.stderr);
+    assert!(
+        run.stderr.contains("cannot reach those the next grid point at s = ")
+            && run.stderr.contains("a finer --grid may time it")
+            && !run.stderr.contains("at any path speed"),
+        "{}",
+        run.stderr
+    );
+    assert!(!out.exists());
+}
+
+/// retime has no `--duration`: a `--dt` that the check cannot play the timing in, or that the
+/// arm cannot be simulated at, is refused naming `--dt` (the check's and the start's scenarios
+/// blamed `--duration`, a tiny `dt` the arm's masses); `--no-check` times it all the same.
+#[test]
+fn a_dt_retime_cannot_play_names_dt() {
+    let dir = common::temp_dir("retime_dt");
+    let circle = common::repo_path("tests/fixtures/shape_circle_q.npy");
+    let out = dir.join("c.yaml");
+    let args = |dt: &'static str| {
+        vec![
+            "retime".to_string(),
+            "--q-traj".into(),
+            circle.to_str().unwrap().into(),
+            "--motors".into(),
+            "faze4".into(),
+            "--dt".into(),
+            dt.into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+        ]
+    };
+    for (dt, words) in [
+        ("10", "less than one step"),
+        ("1e-12", "too short to simulate this arm"),
+    ] {
+        let args = args(dt);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        common::refuses(&dir, &args, &["--dt: ", words]);
+    }
+    let mut unchecked = args("10");
+    unchecked.push("--no-check".into());
+    let unchecked: Vec<&str> = unchecked.iter().map(String::as_str).collect();
+    let run = common::faze4(&dir, &unchecked);
+    assert_eq!(run.status.code(), Some(0), "{}", run.stderr);
+    assert!(out.exists());
+    std::fs::remove_file(&out).unwrap();
+    // the same rule for a run
+    common::refuses(
+        &dir,
+        &["wave", "--dt", "1e-12", "--duration", "1e-9"],
+        &["--dt: 1e-12 s: too short to simulate this arm"],
+    );
+}
