@@ -37,9 +37,6 @@ npy_samples)
 dae_mesh)
     flags+=(-dict=fuzz/dae.dict)
     ;;
-trajectory_file)
-    # the seeds are the fixtures with their format's byte in front (0 YAML, 1 JSON, 2 MCAP, 3 CSV)
-    ;;
 motors_file)
     extra+=(tests/motors)
     flags+=(-dict=fuzz/motors.dict)

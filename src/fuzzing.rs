@@ -207,23 +207,75 @@ fn check_mesh(result: Result<Mesh>, label: &str) -> Result<Mesh> {
     result
 }
 
-/// The names the fuzzed trajectory file goes by in `trajectory_file`, which give its format.
-pub const TRAJECTORY_LABELS: [&str; 4] = ["fuzz.yaml", "fuzz.json", "fuzz.mcap", "fuzz.csv"];
+/// A time-stamped trajectory format, one fuzz target each (`trajectory_yaml`, …): the three
+/// text formats and MCAP as [`crate::traj::files::parse`] reads a file's bytes, and the two
+/// bags MCAP's slot reaches only through their magic, from their own readers' entries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrajectoryFormat {
+    /// `trajectory_yaml`: [`crate::traj::files::parse`] as YAML.
+    Yaml,
+    /// `trajectory_json`: [`crate::traj::files::parse`] as JSON.
+    Json,
+    /// `trajectory_csv`: [`crate::traj::files::parse`] as CSV.
+    Csv,
+    /// `trajectory_mcap`: [`crate::traj::files::parse`] as MCAP (which reads any bag its bytes
+    /// say: a ROS 1 bag, a rosbag2 SQLite database, zstd).
+    Mcap,
+    /// `trajectory_db3`: a rosbag2 SQLite database from bytes
+    /// ([`crate::traj::files::bag::db3::collect_bytes`]), read without touching the disk.
+    Db3,
+    /// `trajectory_ros1`: a ROS 1 bag from a slice ([`crate::traj::files::bag::ros1::collect`]).
+    Ros1,
+}
 
-/// `trajectory_file`: the first byte picks the format (its value mod 4: YAML, JSON, MCAP, CSV),
-/// the rest is the file → [`crate::traj::files::parse`] (the first message, the one topic); the
-/// MCAP slot reads any bag its bytes say (a ROS 1 bag, a rosbag2 SQLite database, zstd).
-/// Checks: an error is one line naming the file first; an accepted trajectory passes
-/// [`crate::traj::TimedTrajectory::check`] (at most [`crate::input::MAX_MOVING_JOINTS`] joints,
-/// one point or more, times increasing from 0 or later, every point as long as the names).
-/// `None` for no bytes.
-pub fn trajectory_file(data: &[u8]) -> Option<Result<crate::traj::TimedTrajectory>> {
+impl TrajectoryFormat {
+    /// The name the fuzzed file goes by in error messages.
+    pub fn label(self) -> &'static str {
+        match self {
+            TrajectoryFormat::Yaml => "fuzz.yaml",
+            TrajectoryFormat::Json => "fuzz.json",
+            TrajectoryFormat::Csv => "fuzz.csv",
+            TrajectoryFormat::Mcap => "fuzz.mcap",
+            TrajectoryFormat::Db3 => "fuzz.db3",
+            TrajectoryFormat::Ros1 => "fuzz.bag",
+        }
+    }
+}
+
+/// `trajectory_yaml`, `trajectory_json`, `trajectory_csv`, `trajectory_mcap`, `trajectory_db3`,
+/// `trajectory_ros1`: bytes → the file of `format` (the first message, the one topic), checked
+/// as [`crate::traj::files::parse`] checks it. Checks: an error is one line naming the file
+/// first; an accepted trajectory passes [`crate::traj::TimedTrajectory::check`] (at most
+/// [`crate::input::MAX_MOVING_JOINTS`] joints, one point or more, times increasing from 0 or
+/// later, every point as long as the names); a `.db3` read from bytes writes nothing (Linux:
+/// the calling thread's write calls in `/proc/thread-self/io`, where a temporary file of
+/// SQLite's, a journal or a WAL would show).
+pub fn trajectory(format: TrajectoryFormat, bytes: &[u8]) -> Result<crate::traj::TimedTrajectory> {
+    use crate::traj::files::bag::{Collected, db3, ros1};
     use crate::traj::files::{Format, Selection, parse};
-    let (&first, bytes) = data.split_first()?;
-    let label = TRAJECTORY_LABELS[first as usize % 4];
+    let label = format.label();
     let path = Path::new(label);
-    let format = Format::of(path).expect("a trajectory extension");
-    let result = parse(bytes, format, &Selection::default(), path).map(|read| read.trajectory);
+    let selection = Selection::default();
+    let bag = |collect: &dyn Fn(&mut Collected) -> Result<()>| {
+        let mut found = Collected::default();
+        collect(&mut found)?;
+        let read = found.trajectory(&selection, path)?.0;
+        read.trajectory.check(path)?;
+        Ok(read.trajectory)
+    };
+    let result = match format {
+        TrajectoryFormat::Yaml => parse(bytes, Format::Yaml, &selection, path).map(|read| read.trajectory),
+        TrajectoryFormat::Json => parse(bytes, Format::Json, &selection, path).map(|read| read.trajectory),
+        TrajectoryFormat::Csv => parse(bytes, Format::Csv, &selection, path).map(|read| read.trajectory),
+        TrajectoryFormat::Mcap => parse(bytes, Format::Mcap, &selection, path).map(|read| read.trajectory),
+        TrajectoryFormat::Db3 => {
+            let before = writes();
+            let result = bag(&|found| db3::collect_bytes(bytes, found, path));
+            assert_eq!(before, writes(), "a .db3 read from bytes wrote a file");
+            result
+        }
+        TrajectoryFormat::Ros1 => bag(&|found| ros1::collect(&mut &bytes[..], found, path)),
+    };
     match &result {
         Ok(t) => {
             if let Err(e) = t.check(path) {
@@ -239,7 +291,18 @@ pub fn trajectory_file(data: &[u8]) -> Option<Result<crate::traj::TimedTrajector
         }
         Err(e) => check_error(e, label),
     }
-    Some(result)
+    result
+}
+
+/// The calling thread's write system calls so far (`syscw` of `/proc/thread-self/io`, read in
+/// one call); `None` where there is no such file.
+fn writes() -> Option<u64> {
+    use std::io::Read;
+    let mut buf = [0u8; 512];
+    let n = std::fs::File::open("/proc/thread-self/io").ok()?.read(&mut buf).ok()?;
+    let io = std::str::from_utf8(&buf[..n]).ok()?;
+    io.lines()
+        .find_map(|line| line.strip_prefix("syscw:")?.trim().parse().ok())
 }
 
 /// The name the fuzzed motors file goes by in error messages.

@@ -6,7 +6,7 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
-use faze4::fuzzing;
+use faze4::fuzzing::{self, TrajectoryFormat};
 
 /// What each stored regression input must give: a fragment of its error message, or `None`
 /// for "accepted". Every file under tests/fuzz_regressions/ needs an entry.
@@ -57,11 +57,12 @@ const EXPECTED: &[(&str, &str, Option<&str>)] = &[
         "xml-namespace-panic-min",
         Some("urdf-rs panicked: No namespace prefix bound"),
     ),
-    // trajectory_file in CI's smoke run: an MCAP header record claiming a 4 GB profile string;
+    // trajectory_file (the four formats behind a first byte, split into a target per format
+    // since; these inputs are stored without that byte) in CI's smoke run: an MCAP header record claiming a 4 GB profile string;
     // the mcap crate's decoding reserved it (an out-of-memory under libFuzzer). The header is
     // not decoded any more, and the reader stops at the first record over the length cap.
     (
-        "trajectory_file",
+        "trajectory_mcap",
         "oom-mcap-header-string",
         Some("not a readable MCAP file: record with opcode 13 length exceeds limit"),
     ),
@@ -70,7 +71,7 @@ const EXPECTED: &[(&str, &str, Option<&str>)] = &[
     // the process allocated and cleared 254 MB (24 s under the sanitizer); now read a piece
     // at a time (bag/mcap.rs `READ_PIECE`): 10 MB, the same refusal
     (
-        "trajectory_file",
+        "trajectory_mcap",
         "slow-mcap-record-claim",
         Some("not a readable MCAP file: MCAP file ended in the middle of a record"),
     ),
@@ -79,13 +80,13 @@ const EXPECTED: &[(&str, &str, Option<&str>)] = &[
     // a panic in a debug build, records read past the chunk in a release one). Each chunk is
     // now read whole (this one is cut short) and checked before the reader walks it ...
     (
-        "trajectory_file",
+        "trajectory_mcap",
         "panic-mcap-chunk-record-underflow",
         Some("not a readable MCAP file: MCAP file ended in the middle of a record"),
     ),
     // ... (hand-made) and a whole chunk whose record claims 1000 bytes of its 20 is refused
     (
-        "trajectory_file",
+        "trajectory_mcap",
         "chunk-record-past-its-chunk",
         Some("not a readable MCAP file: a record inside a chunk claims 1000 bytes where the chunk has 20 left"),
     ),
@@ -219,11 +220,43 @@ fn obj_mesh_inputs() {
     });
 }
 
+/// One trajectory format's target on `bytes`, as `check_all` takes it.
+fn trajectory(format: TrajectoryFormat, bytes: &[u8]) -> Option<Result<(), String>> {
+    Some(
+        fuzzing::trajectory(format, bytes)
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
+    )
+}
+
 #[test]
-fn trajectory_file_inputs() {
-    check_all("trajectory_file", |bytes| {
-        fuzzing::trajectory_file(bytes).map(|r| r.map(|_| ()).map_err(|e| e.to_string()))
-    });
+fn trajectory_yaml_inputs() {
+    check_all("trajectory_yaml", |bytes| trajectory(TrajectoryFormat::Yaml, bytes));
+}
+
+#[test]
+fn trajectory_json_inputs() {
+    check_all("trajectory_json", |bytes| trajectory(TrajectoryFormat::Json, bytes));
+}
+
+#[test]
+fn trajectory_csv_inputs() {
+    check_all("trajectory_csv", |bytes| trajectory(TrajectoryFormat::Csv, bytes));
+}
+
+#[test]
+fn trajectory_mcap_inputs() {
+    check_all("trajectory_mcap", |bytes| trajectory(TrajectoryFormat::Mcap, bytes));
+}
+
+#[test]
+fn trajectory_db3_inputs() {
+    check_all("trajectory_db3", |bytes| trajectory(TrajectoryFormat::Db3, bytes));
+}
+
+#[test]
+fn trajectory_ros1_inputs() {
+    check_all("trajectory_ros1", |bytes| trajectory(TrajectoryFormat::Ros1, bytes));
 }
 
 #[test]
@@ -307,5 +340,23 @@ fn every_expectation_has_its_input() {
     for (target, name, _) in EXPECTED {
         let path = root.join("tests/fuzz_regressions").join(target).join(name);
         assert!(path.is_file(), "{} is missing", path.display());
+    }
+}
+
+/// The bag targets' seeds are real bags that read (the SQLite ones vacuumed to 512-byte pages):
+/// the fuzzer starts from accepted inputs, and a `.db3` read from bytes passes the target's
+/// check that it wrote nothing.
+#[test]
+fn the_bag_seeds_read() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (target, format) in [
+        ("trajectory_db3", TrajectoryFormat::Db3),
+        ("trajectory_ros1", TrajectoryFormat::Ros1),
+    ] {
+        for (path, _) in inputs(target) {
+            let bytes = std::fs::read(&path).unwrap();
+            let read = fuzzing::trajectory(format, &bytes);
+            assert!(read.is_ok(), "{}: {read:?}", path.strip_prefix(root).unwrap().display());
+        }
     }
 }
