@@ -561,7 +561,7 @@ struct AsPlayed<'a> {
 fn longest(dt: f64, check: bool) -> f64 {
     let nanoseconds = crate::traj::timed::seconds_from_nanoseconds(i64::MAX);
     match check {
-        true => nanoseconds.min(1e12 * dt),
+        true => nanoseconds.min(crate::sim::MAX_STEPS * dt),
         false => nanoseconds,
     }
 }
