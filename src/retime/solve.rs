@@ -463,7 +463,9 @@ impl<'a> Solver<'a> {
 
     /// The error for stage `i`, where no x is admissible: at a point held at a boundary speed,
     /// or the start outside K_0, or the end outside the last stage's range, an error naming the
-    /// option and the limits that bind there; else [`Solver::nothing_follows`].
+    /// option and the limits that bind there (or the range a held speed is below); elsewhere a
+    /// moving end no timing reaches ([`Solver::end_unreachable`]); else
+    /// [`Solver::nothing_follows`].
     fn stuck(&self, i: usize) -> Error {
         let n = self.grid.points();
         let (start, end) = (self.stages.start, self.stages.end);
@@ -574,7 +576,8 @@ impl<'a> Solver<'a> {
     }
 
     /// The error for a stage where no x is admissible: the joint whose standstill torque
-    /// (gravity) is furthest beyond its range there, if any is; else the ranges together.
+    /// (gravity) is furthest beyond its range there, if any is; else why no speed is left
+    /// there ([`Solver::no_speed_here`]).
     fn nothing_follows(&self, i: usize) -> Error {
         let dof = self.grid.dof;
         let length = *self.grid.s.last().unwrap_or(&0.0);
