@@ -361,19 +361,15 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     let limits = limits::Limits::of(&start, options)?;
     let ends = ends::Ends::of(model, path, options)?;
     let names = joint_names(model);
-    let longest = longest(start.dt, options.check);
-    let limits = jerk_bound(
-        AsPlayed {
-            model,
-            path,
-            limits: &limits,
-            names: &names,
-            longest,
-            options,
-        },
-        &grid,
-        ends,
-    )?;
+    let given = AsPlayed {
+        model,
+        path,
+        limits: &limits,
+        names: &names,
+        longest: longest(start.dt, options.check),
+        options,
+    };
+    let limits = jerk_bound(given, &grid, ends)?;
     let mut solver = solve::Solver::new(&grid, &limits, ends);
     let n = grid.points();
     let mut cap = vec![f64::INFINITY; n];
@@ -396,12 +392,8 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     };
     limits::held_at_ends(&start, &grid, ends).map_err(located)?;
     let as_played = AsPlayed {
-        model,
-        path,
         limits: &limits,
-        names: &names,
-        longest,
-        options,
+        ..given
     };
     let mut window = 0.0;
     let mut timed = as_played.solve(&mut solver, &mut cap, &mut window).map_err(located)?;

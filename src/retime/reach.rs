@@ -219,24 +219,30 @@ fn bound(coefficient: f64, rhs: f64, lo: &mut f64, hi: &mut f64) -> Option<bool>
 mod tests {
     use super::*;
 
+    /// The double integrator's length L, acceleration limit A, speed limit V and intervals N.
+    const DOUBLE_INTEGRATOR: (f64, f64, f64, usize) = (2.0, 3.0, 1.5, 400);
+
+    /// The double integrator's stages from x = `start` to x = `end`: u ≤ A, −u ≤ A, x ≤ V².
+    fn double_integrator(start: f64, end: f64) -> Stages {
+        let (length, accel, speed, n) = DOUBLE_INTEGRATOR;
+        Stages {
+            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
+            per_stage: 2,
+            cap: vec![speed * speed; n + 1],
+            floor: vec![0.0; n + 1],
+            start,
+            end,
+            delta: vec![length / n as f64; n],
+        }
+    }
+
     /// A point mass on a line of length L with |s̈| ≤ A and ṡ ≤ V: the time-optimal profile is
     /// bang-coast-bang, x = min(2As, V², 2A(L − s)), and TOPP-RA's grid profile equals it at
     /// the grid points (s̈ is constant on each interval, so the collocation is exact).
     #[test]
     fn a_double_integrator_gets_bang_coast_bang() {
-        let (length, accel, speed) = (2.0, 3.0, 1.5);
-        let n = 400;
-        let delta = vec![length / n as f64; n];
-        let stages = Stages {
-            // u ≤ A, −u ≤ A
-            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
-            per_stage: 2,
-            cap: vec![speed * speed; n + 1],
-            floor: vec![0.0; n + 1],
-            start: 0.0,
-            end: 0.0,
-            delta,
-        };
+        let (length, accel, speed, n) = DOUBLE_INTEGRATOR;
+        let stages = double_integrator(0.0, 0.0);
         let mut k = vec![[0.0; 2]; n + 1];
         stages.controllable_sets(&mut k).unwrap();
         let (mut x, mut u) = (vec![0.0; n + 1], vec![0.0; n]);
@@ -254,17 +260,8 @@ mod tests {
     /// top of stage 0 names the deceleration row that sets it.
     #[test]
     fn a_double_integrator_from_and_to_a_speed() {
-        let (length, accel, speed) = (2.0, 3.0, 1.5);
-        let n = 400;
-        let mut stages = Stages {
-            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
-            per_stage: 2,
-            cap: vec![speed * speed; n + 1],
-            floor: vec![0.0; n + 1],
-            start: 0.5,
-            end: 1.0,
-            delta: vec![length / n as f64; n],
-        };
+        let (length, accel, speed, n) = DOUBLE_INTEGRATOR;
+        let mut stages = double_integrator(0.5, 1.0);
         let mut k = vec![[0.0; 2]; n + 1];
         stages.controllable_sets(&mut k).unwrap();
         let (mut x, mut u) = (vec![0.0; n + 1], vec![0.0; n]);
@@ -298,17 +295,8 @@ mod tests {
     /// need empties them.
     #[test]
     fn a_double_integrator_reaches_at_most_its_acceleration_allows() {
-        let (length, accel, speed) = (2.0, 3.0, 1.5);
-        let n = 400;
-        let mut stages = Stages {
-            rows: (0..=n).flat_map(|_| [[1.0, 0.0, accel], [-1.0, 0.0, accel]]).collect(),
-            per_stage: 2,
-            cap: vec![speed * speed; n + 1],
-            floor: vec![0.0; n + 1],
-            start: 0.5,
-            end: 2.0,
-            delta: vec![length / n as f64; n],
-        };
+        let (length, accel, speed, n) = DOUBLE_INTEGRATOR;
+        let mut stages = double_integrator(0.5, 2.0);
         for i in [0, 1, 10, 57, 200, 400] {
             let s = length * i as f64 / n as f64;
             let want = (0.5 + 2.0 * accel * s).min(speed * speed);
