@@ -180,3 +180,24 @@ def test_arrays_have_the_caps_of_the_same_data_as_a_file():
             call()
         message = _one_line(caught.value)
         assert part in message, message
+
+
+def test_complex_numbers_are_refused_not_cast_to_their_real_part():
+    """numpy's complex scalars convert to float with only a ComplexWarning, dropping the imaginary
+    part: a complex array, a numpy complex scalar or a Python complex is refused by name (issue 49)."""
+    import warnings
+
+    robot = faze4.Robot.faze4()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for kw, value, words in [
+            ("kp", np.array([1 + 1j] * 6), "not ndarray of complex128"),
+            ("kp", np.array([1 + 0j] * 6, dtype=np.complex64), "not ndarray of complex64"),
+            ("kp", [np.complex128(1 + 1j)] * 6, "one value per joint"),
+            ("payload_kg", np.complex128(1 + 1j), "not complex128"),
+            ("payload_kg", np.complex64(1), "not complex64"),
+            ("payload_kg", 1 + 1j, "not complex"),
+        ]:
+            with pytest.raises(TypeError, match=words) as refused:
+                faze4.wave(robot, duration=0.01, **{kw: value})
+            assert _one_line(refused.value).startswith(kw), refused.value

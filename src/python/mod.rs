@@ -114,9 +114,18 @@ fn read(obj: &Bound<'_, PyAny>, depth: usize, reading: &mut Reading) -> PyResult
         }
         return Ok(Object::Dict(entries));
     }
+    // a complex number is not a real one: numpy's complex scalars convert to float, dropping
+    // the imaginary part with only a warning
+    let type_name = obj.get_type().name()?.to_string();
+    if type_name.starts_with("complex") || type_name == "clongdouble" {
+        return Ok(Object::Other(type_name));
+    }
     if let Ok(array) = obj.cast::<PyUntypedArray>()
         && array.ndim() > 0
     {
+        if array.dtype().kind() == b'c' {
+            return Ok(Object::Other(format!("ndarray of {}", array.dtype())));
+        }
         return Ok(Object::Array {
             shape: array.shape().to_vec(),
             items: read_items(obj.try_iter()?, depth, reading)?,
@@ -163,8 +172,13 @@ fn run_config(command: &str, options: &Bound<'_, PyDict>) -> PyResult<RunConfig>
     for (key, obj) in options.iter() {
         let name: String = key.extract()?;
         let kind = any_field(&name).map_or(Kind::Flag, |f| f.kind);
+        // an array by its dtype too ("ndarray of complex128"): its type alone names no fault
+        let type_name = match obj.cast::<PyUntypedArray>() {
+            Ok(array) => format!("ndarray of {}", array.dtype()),
+            Err(_) => obj.get_type().name()?.to_string(),
+        };
         keywords.push(Keyword {
-            type_name: obj.get_type().name()?.to_string(),
+            type_name,
             value: read(&obj, 0, &mut Reading::new(kind))?,
             name,
         });
