@@ -479,15 +479,15 @@ fn collisions(config: &RunConfig) -> Option<Collisions> {
 /// A time-stamped trajectory's last time as a run's duration (no `duration` given): one a run
 /// cannot take is refused naming the file and its time, not `duration`, which was not given.
 fn own_duration(last: f64, dt: f64, path: &Path) -> Result<()> {
-    let Err(_) = crate::sim::steps(last, dt) else {
+    let Err(bad) = crate::sim::step_count(last, dt) else {
         return Ok(());
     };
-    let why = match last / dt < 1.0 {
-        true => format!(
+    let why = match bad {
+        crate::sim::BadSteps::TooFew => format!(
             "shorter than one step of `dt` ({} s): give `duration` to hold its last point longer",
             shortest(dt)
         ),
-        false => format!(
+        crate::sim::BadSteps::TooMany => format!(
             "more than the 10^12 steps of `dt` ({} s) a run may take: are its times seconds from its start? (`duration` runs a part of it)",
             shortest(dt)
         ),

@@ -14,7 +14,9 @@ use crate::control::Motor;
 use crate::error::{Error, Result, shortest};
 use crate::geometry::CollisionSet;
 use crate::model::Model;
-use crate::sim::{Play, Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, Tape, TimedCommand, run};
+use crate::sim::{
+    BadSteps, Play, Recorder, Sample, Scenario, ScenarioBuilder, StopFlag, Summary, Tape, TimedCommand, run, step_count,
+};
 use crate::traj::{TimedTrajectory, Trajectory};
 
 /// The command `faze4 replay` makes of `trajectory` (the file retime writes) on `model`: the
@@ -34,6 +36,22 @@ pub(crate) fn scenario(
     duration: f64,
     collision_set: Option<Arc<CollisionSet>>,
 ) -> Result<Scenario> {
+    // retime has no `duration`: a timing the check cannot play is `dt`'s fault
+    let dt = base.time_step();
+    if let Err(bad) = step_count(duration, dt) {
+        return Err(Error::option(
+            "dt",
+            format!(
+                "{} s: the check plays the timing's {} s in steps of it, {}",
+                shortest(dt),
+                shortest(duration),
+                match bad {
+                    BadSteps::TooFew => "less than one step",
+                    BadSteps::TooMany => "more than the 10^12 steps a run may take",
+                }
+            ),
+        ));
+    }
     let mut builder = base
         .clone()
         .trajectory(trajectory)
@@ -42,25 +60,7 @@ pub(crate) fn scenario(
     if let Some(set) = collision_set {
         builder = builder.collision_set(set);
     }
-    // retime has no `duration`: the timing's steps are `dt`'s
-    builder.build().map_err(|e| match e {
-        Error::InvalidArgument { option, .. } if option == "`duration`" => {
-            let dt = base.time_step();
-            Error::option(
-                "dt",
-                format!(
-                    "{} s: the check plays the timing's {} s in steps of it, {}",
-                    shortest(dt),
-                    shortest(duration),
-                    match duration / dt < 1.0 {
-                        true => "less than one step",
-                        false => "more than the 10^12 steps a run may take",
-                    }
-                ),
-            )
-        }
-        e => e,
-    })
+    builder.build()
 }
 
 /// How often the check looks for a failure (s of simulated time): saturation, step loss,

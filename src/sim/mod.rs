@@ -24,11 +24,11 @@ pub use drives::{
 pub use margin::{ROBUST_DAMPING_RATIO, SlipMargin};
 pub use record::{Recorder, RunInfo, Sample, steps_per_record};
 pub use run::{RUNAWAY_SPEED, commanded_path, run};
+pub(crate) use scenario::{BadSteps, MAX_STEPS, step_count};
 pub use scenario::{
     Collisions, DEFAULT_CLEARANCE_TOLERANCE_M, DEFAULT_DT, DEFAULT_DURATION, DEFAULT_RECORD_PERIOD, Scenario,
     ScenarioBuilder, default_effort, effort_limits, load_collisions, simulated_model,
 };
-pub(crate) use scenario::{MAX_STEPS, steps};
 pub use sizing::{Sizing, SizingSums, SupplyCurrent, WindingLoss};
 pub use step::{Step, actuation, command, controller, dynamics, integrate, sample, step};
 pub use stop::{SIGPIPE, StopFlag, exit_status, stdout_closed};

@@ -688,31 +688,47 @@ fn override_gains(field: &str, gains: &mut [f64], values: &[Option<f64>]) -> Res
 /// The most steps a run may take (10^12: 6.3 years at 0.2 ms).
 pub(crate) const MAX_STEPS: f64 = 1e12;
 
-/// Number of steps for `duration` at `dt` (at least one, at most [`MAX_STEPS`]), or the error
-/// naming `duration`.
-pub(crate) fn steps(duration: f64, dt: f64) -> Result<usize> {
+/// Why a duration at a time step is no run's length.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum BadSteps {
+    /// Shorter than one step.
+    TooFew,
+    /// More than [`MAX_STEPS`].
+    TooMany,
+}
+
+/// Number of steps for `duration` at `dt` (at least one, at most [`MAX_STEPS`]), or why not:
+/// each caller words the fault for the option or file it comes from.
+pub(crate) fn step_count(duration: f64, dt: f64) -> std::result::Result<usize, BadSteps> {
     let steps = (duration / dt).round();
     if steps < 1.0 {
-        return Err(Error::option(
-            "duration",
-            format!(
-                "{} s is shorter than one step of `dt` {} s",
-                shortest(duration),
-                shortest(dt)
-            ),
-        ));
+        return Err(BadSteps::TooFew);
     }
     if steps > MAX_STEPS {
-        return Err(Error::option(
-            "duration",
-            format!(
-                "{} s at `dt` {} s is more than the 10^12 steps a run may take",
-                shortest(duration),
-                shortest(dt)
-            ),
-        ));
+        return Err(BadSteps::TooMany);
     }
     Ok(steps as usize)
+}
+
+/// Number of steps for `duration` at `dt` ([`step_count`]), or the error naming `duration`.
+pub(crate) fn steps(duration: f64, dt: f64) -> Result<usize> {
+    step_count(duration, dt).map_err(|bad| {
+        Error::option(
+            "duration",
+            match bad {
+                BadSteps::TooFew => format!(
+                    "{} s is shorter than one step of `dt` {} s",
+                    shortest(duration),
+                    shortest(dt)
+                ),
+                BadSteps::TooMany => format!(
+                    "{} s at `dt` {} s is more than the 10^12 steps a run may take",
+                    shortest(duration),
+                    shortest(dt)
+                ),
+            },
+        )
+    })
 }
 
 /// A wave's command must stay inside the joint limits: where the amplitude could cross a
