@@ -483,6 +483,43 @@ impl<'a> Solver<'a> {
         let Some(([bottom, top], rows)) = self.stages.top(i, next, self.speed_cap[i].0) else {
             return self.nothing_follows(i);
         };
+        let held = match i == 0 || i == n - 1 {
+            true => "",
+            false => " (held there: the path's first or last ṡ·w/2, half the smoothing window, keeps the given speed)",
+        };
+        let way = match (i, next) {
+            (0, Some(_)) => " with the rest of the path timed within them",
+            _ => "",
+        };
+        // within the top, the speed is below the stage's range: a slower speed there cannot
+        // go on to the next point's (held at a steady speed, a joint's torque leaves its range)
+        let (verdict, allowed) = match x <= top * (1.0 + 1e-9) {
+            true => (
+                "outside",
+                format!("ṡ from {:.6} to {:.6}", bottom.max(0.0).sqrt(), top.max(0.0).sqrt()),
+            ),
+            false => (
+                "beyond",
+                format!(
+                    "at most ṡ = {:.6}, where {} binds",
+                    top.max(0.0).sqrt(),
+                    self.binding(i, top, &rows)
+                ),
+            ),
+        };
+        Error::option(
+            field,
+            format!(
+                "its path speed ṡ = {} at s = {:.4}{held} is {verdict} what the limits (less the margin) allow there{way}: {allowed}",
+                six_digits(x.sqrt()),
+                self.grid.s[i],
+            ),
+        )
+    }
+
+    /// The limits that set stage `i`'s `top`: its `rows` (each a joint's torque side or
+    /// acceleration limit), or where none does, the speed cap's joint or the cap itself.
+    fn binding(&self, i: usize, top: f64, rows: &[usize]) -> String {
         let mut binds: Vec<String> = rows
             .iter()
             .map(|&r| {
@@ -509,38 +546,7 @@ impl<'a> Solver<'a> {
                 _ => "a cap that keeps the limits as played or the check's slowdown".to_string(),
             });
         }
-        let held = match i == 0 || i == n - 1 {
-            true => "",
-            false => " (held there: the path's first or last ṡ·w/2, half the smoothing window, keeps the given speed)",
-        };
-        let way = match (i, next) {
-            (0, Some(_)) => " with the rest of the path timed within them",
-            _ => "",
-        };
-        // within the top, the speed is below the stage's range: a slower speed there cannot
-        // go on to the next point's (held at a steady speed, a joint's torque leaves its range)
-        if x <= top * (1.0 + 1e-9) {
-            return Error::option(
-                field,
-                format!(
-                    "its path speed ṡ = {} at s = {:.4}{held} is outside what the limits (less the margin) allow there{way}: ṡ from {:.6} to {:.6}",
-                    six_digits(x.sqrt()),
-                    self.grid.s[i],
-                    bottom.max(0.0).sqrt(),
-                    top.max(0.0).sqrt(),
-                ),
-            );
-        }
-        Error::option(
-            field,
-            format!(
-                "its path speed ṡ = {} at s = {:.4}{held} is beyond what the limits (less the margin) allow there{way}: at most ṡ = {:.6}, where {} binds",
-                six_digits(x.sqrt()),
-                self.grid.s[i],
-                top.max(0.0).sqrt(),
-                binds.join(" and ")
-            ),
-        )
+        binds.join(" and ")
     }
 
     /// The error for a moving end that no timing from the start reaches (the backward pass
@@ -549,9 +555,12 @@ impl<'a> Solver<'a> {
     /// reachable, or when the path cannot be timed at all.
     fn end_unreachable(&self) -> Option<Error> {
         let end = self.stages.end;
+        if end == 0.0 {
+            return None;
+        }
         let h = self.held[1];
         let top = self.stages.reachable_top(h)?;
-        if end == 0.0 || top >= end * (1.0 - 1e-9) {
+        if top >= end * (1.0 - 1e-9) {
             return None;
         }
         let at = match h == self.grid.points() - 1 {
