@@ -114,17 +114,12 @@ fn read(obj: &Bound<'_, PyAny>, depth: usize, reading: &mut Reading) -> PyResult
         }
         return Ok(Object::Dict(entries));
     }
-    // a complex number is not a real one: numpy's complex scalars convert to float, dropping
-    // the imaginary part with only a warning
-    let type_name = obj.get_type().name()?.to_string();
-    if type_name.starts_with("complex") || type_name == "clongdouble" {
-        return Ok(Object::Other(type_name));
-    }
     if let Ok(array) = obj.cast::<PyUntypedArray>()
         && array.ndim() > 0
     {
+        // a complex array is no array of numbers (its items would convert to float, below)
         if array.dtype().kind() == b'c' {
-            return Ok(Object::Other(format!("ndarray of {}", array.dtype())));
+            return Ok(Object::Other(type_name(obj)?));
         }
         return Ok(Object::Array {
             shape: array.shape().to_vec(),
@@ -136,6 +131,13 @@ fn read(obj: &Bound<'_, PyAny>, depth: usize, reading: &mut Reading) -> PyResult
     }
     if let Ok(n) = obj.extract::<i128>() {
         return Ok(Object::Int(n));
+    }
+    // a complex number is not a real one: numpy's complex scalars convert to float, dropping
+    // the imaginary part with only a warning
+    let name = obj.get_type().name()?;
+    let name = name.to_cow()?;
+    if name.starts_with("complex") || name == "clongdouble" {
+        return Ok(Object::Other(type_name(obj)?));
     }
     if let Ok(x) = obj.extract::<f64>() {
         return Ok(Object::Float(x));
@@ -149,6 +151,15 @@ fn read(obj: &Bound<'_, PyAny>, depth: usize, reading: &mut Reading) -> PyResult
         return Ok(Object::Iterable(read_items(iter, depth, reading)?));
     }
     Ok(Object::Other(obj.get_type().name()?.to_string()))
+}
+
+/// A value's type as messages name it, an array by its dtype too ("ndarray of complex128"):
+/// its type alone names no fault.
+fn type_name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
+    Ok(match obj.cast::<PyUntypedArray>() {
+        Ok(array) => format!("ndarray of {}", array.dtype()),
+        Err(_) => obj.get_type().name()?.to_string(),
+    })
 }
 
 /// The items of an iterable `depth` levels down, read until the first one [`Reading`] cuts.
@@ -172,13 +183,8 @@ fn run_config(command: &str, options: &Bound<'_, PyDict>) -> PyResult<RunConfig>
     for (key, obj) in options.iter() {
         let name: String = key.extract()?;
         let kind = any_field(&name).map_or(Kind::Flag, |f| f.kind);
-        // an array by its dtype too ("ndarray of complex128"): its type alone names no fault
-        let type_name = match obj.cast::<PyUntypedArray>() {
-            Ok(array) => format!("ndarray of {}", array.dtype()),
-            Err(_) => obj.get_type().name()?.to_string(),
-        };
         keywords.push(Keyword {
-            type_name,
+            type_name: type_name(&obj)?,
             value: read(&obj, 0, &mut Reading::new(kind))?,
             name,
         });
