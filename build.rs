@@ -12,12 +12,20 @@
 //! And `<name>.bvh`: the bounding-volume hierarchy of the mesh's triangles as the collision
 //! loader reads them (`geometry::mesh::Mesh::from_indexed`: positions welded again with `-0.0`
 //! as `0.0`, triangles whose corners weld together dropped), built by `src/geometry/bvh.rs`
-//! (included below), as its `Bvh::to_bytes` writes it. The loader checks it against the
-//! triangles before it uses it (`Bvh::from_bytes`).
+//! (included below), as its `Bvh::to_bytes` writes it, followed by the convex hulls of its upper
+//! nodes made by `src/geometry/node_hulls.rs` (included below, with parry as a build dependency)
+//! as its `NodeHulls::to_bytes` writes them. The loader checks both against the triangles before
+//! it uses them (`Bvh::from_bytes`, `NodeHulls::from_bytes`).
 
 #[allow(dead_code)]
 #[path = "src/geometry/bvh.rs"]
 mod bvh;
+#[allow(dead_code)]
+#[path = "src/geometry/hull.rs"]
+mod hull;
+#[allow(dead_code)]
+#[path = "src/geometry/node_hulls.rs"]
+mod node_hulls;
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -27,7 +35,9 @@ const MESH_DIR: &str = "assets/faze4_description/meshes";
 
 fn main() {
     println!("cargo::rerun-if-changed={MESH_DIR}");
-    println!("cargo::rerun-if-changed=src/geometry/bvh.rs");
+    for source in ["bvh", "hull", "node_hulls"] {
+        println!("cargo::rerun-if-changed=src/geometry/{source}.rs");
+    }
     let out_dir = std::env::var("OUT_DIR").expect("cargo sets OUT_DIR");
     let mut files: Vec<_> = std::fs::read_dir(MESH_DIR)
         .unwrap_or_else(|e| panic!("{MESH_DIR}: {e}"))
@@ -54,8 +64,15 @@ fn main() {
         std::fs::write(&blob_path, blob).unwrap_or_else(|e| panic!("{}: {e}", blob_path.display()));
         let (points, triangles) = as_loaded(&positions, &indices);
         let bvh_path = Path::new(&out_dir).join(format!("{name}.bvh"));
-        let bvh = bvh::Bvh::build(&points, &triangles).to_bytes();
-        std::fs::write(&bvh_path, bvh).unwrap_or_else(|e| panic!("{}: {e}", bvh_path.display()));
+        let bvh = bvh::Bvh::build(&points, &triangles);
+        let vectors: Vec<_> = points
+            .iter()
+            .map(|&p| parry3d_f64::math::Vector::from_array(p))
+            .collect();
+        let hulls = node_hulls::NodeHulls::new(&bvh).to_bytes(&bvh, &vectors, &triangles);
+        let mut bytes = bvh.to_bytes();
+        bytes.extend(hulls);
+        std::fs::write(&bvh_path, bytes).unwrap_or_else(|e| panic!("{}: {e}", bvh_path.display()));
         writeln!(
             table,
             "    EmbeddedMesh {{ name: {name:?}, vertices: {}, triangles: {}, index_bytes: {}, \

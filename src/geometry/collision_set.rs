@@ -56,7 +56,7 @@ use super::mesh_cache;
 use super::pairs::{PairFilter, checked_pairs};
 use super::report::{ClearanceGeometry, ClearanceReport, PairDistance};
 use super::search::{Touch, mesh_distance, mesh_shape_distance, mesh_touches_shape, meshes_touch};
-use super::triangles::{Triangles, arrays};
+use super::triangles::Triangles;
 use super::{GeometryModel, GeometryObject};
 use crate::error::{Error, Result, shortest};
 use crate::model::{Geometry, Model};
@@ -285,8 +285,8 @@ impl MeshShape {
         let triangles = match kind {
             ClearanceGeometry::Hull => None,
             ClearanceGeometry::Mesh => {
-                let (bvh, _) = mesh_cache::hierarchy(contents, key.scale, &arrays(&points), &mesh.triangles);
-                Some(Arc::new(Triangles::new(points, mesh.triangles, Some(bvh))))
+                let (bvh, hulls, _) = mesh_cache::hierarchy(contents, key.scale, &points, &mesh.triangles);
+                Some(Arc::new(Triangles::new(points, mesh.triangles, Some((bvh, hulls)))))
             }
         };
         Ok(Some(MeshShape {

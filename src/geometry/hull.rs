@@ -18,25 +18,47 @@ pub(super) struct Adjacency {
 }
 
 impl Adjacency {
-    /// The edges of the triangles `triangles` over `points` vertices.
+    /// The edges of the triangles `triangles` over `points` vertices: each vertex's
+    /// neighbours once each, in the order the triangles first give them.
     pub(super) fn of(points: usize, triangles: &[[u32; 3]]) -> Adjacency {
-        let mut lists = vec![Vec::new(); points];
+        // every edge both ways, bucketed by its first vertex (a counting sort)
+        let mut offsets = vec![0u32; points + 1];
+        for t in triangles {
+            for v in t {
+                offsets[*v as usize + 1] += 2;
+            }
+        }
+        for v in 0..points {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut next = offsets.clone();
+        let mut neighbours = vec![0u32; offsets[points] as usize];
         for t in triangles {
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
                 for (x, y) in [(a, b), (b, a)] {
-                    if !lists[x as usize].contains(&y) {
-                        lists[x as usize].push(y);
-                    }
+                    neighbours[next[x as usize] as usize] = y;
+                    next[x as usize] += 1;
                 }
             }
         }
-        let mut offsets = vec![0];
-        let mut neighbours = Vec::new();
-        for list in lists {
-            neighbours.extend(list);
-            offsets.push(neighbours.len() as u32);
+        // each bucket's repeats dropped (its first of each kept, in order), the buckets moved
+        // together
+        let mut kept = 0;
+        for v in 0..points {
+            let (from, to) = (offsets[v] as usize, offsets[v + 1] as usize);
+            offsets[v] = kept as u32;
+            let start = kept;
+            for i in from..to {
+                let y = neighbours[i];
+                if !neighbours[start..kept].contains(&y) {
+                    neighbours[kept] = y;
+                    kept += 1;
+                }
+            }
         }
+        offsets[points] = kept as u32;
+        neighbours.truncate(kept);
         Adjacency { offsets, neighbours }
     }
 }

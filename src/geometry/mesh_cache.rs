@@ -15,12 +15,16 @@
 use std::hash::{Hash, Hasher};
 use std::path::PathBuf;
 
-use super::bvh::{Bvh, Point};
+use parry3d_f64::math::Vector as PVector;
+
+use super::bvh::Bvh;
 use super::mesh::Contents;
+use super::node_hulls::NodeHulls;
+use super::triangles::arrays;
 
 /// The version of the cache's file format (and of the hierarchy's layout): part of every
 /// entry's name.
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
 
 /// Where a mesh's hierarchy came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,10 +38,24 @@ pub enum Made {
 }
 
 /// The hierarchy of the triangles `triangles` (indices into `points`, m, scaled) of the mesh
-/// read from `contents` at `scale` (its bits), as made before when it was, else built now and
-/// stored in the cache (see the module documentation).
-pub(super) fn hierarchy(contents: Contents, scale: [u64; 3], points: &[Point], triangles: &[[u32; 3]]) -> (Bvh, Made) {
+/// read from `contents` at `scale` (its bits) and its nodes' hulls, as made before when they
+/// were, else made now and stored in the cache (see the module documentation).
+pub(super) fn hierarchy(
+    contents: Contents,
+    scale: [u64; 3],
+    points: &[PVector],
+    triangles: &[[u32; 3]],
+) -> (Bvh, NodeHulls, Made) {
     hierarchy_in(folder(), contents, scale, points, triangles)
+}
+
+/// The hierarchy and node hulls in `bytes` (a [`Bvh::to_bytes`], then a
+/// [`NodeHulls::to_bytes`]), if they are this mesh's (checked, see the module documentation;
+/// the hulls' containment only with `check_hulls`).
+fn read(bytes: &[u8], points: &[PVector], triangles: &[[u32; 3]], check_hulls: bool) -> Option<(Bvh, NodeHulls)> {
+    let (bvh, rest) = Bvh::from_bytes(bytes, &arrays(points), triangles)?;
+    let (hulls, _refused) = NodeHulls::from_bytes(rest, &bvh, points, triangles, check_hulls)?;
+    Some((bvh, hulls))
 }
 
 /// [`hierarchy`] with the cache in `folder` (`None`: no cache).
@@ -45,28 +63,31 @@ fn hierarchy_in(
     folder: Option<PathBuf>,
     contents: Contents,
     scale: [u64; 3],
-    points: &[Point],
+    points: &[PVector],
     triangles: &[[u32; 3]],
-) -> (Bvh, Made) {
+) -> (Bvh, NodeHulls, Made) {
     if let Contents::BuiltIn(name) = contents
         && scale == [1.0f64.to_bits(); 3]
-        && let Some((bvh, [])) =
-            crate::faze4::meshes::hierarchy(name).and_then(|bytes| Bvh::from_bytes(bytes, points, triangles))
+        && let Some((bvh, hulls)) =
+            crate::faze4::meshes::hierarchy(name).and_then(|bytes| read(bytes, points, triangles, false))
     {
-        return (bvh, Made::BuiltIn);
+        return (bvh, hulls, Made::BuiltIn);
     }
     let file = folder.map(|dir| dir.join(entry(contents, scale)));
     if let Some(file) = &file
         && let Ok(bytes) = std::fs::read(file)
-        && let Some((bvh, [])) = Bvh::from_bytes(&bytes, points, triangles)
+        && let Some((bvh, hulls)) = read(&bytes, points, triangles, true)
     {
-        return (bvh, Made::Cached);
+        return (bvh, hulls, Made::Cached);
     }
-    let bvh = Bvh::build(points, triangles);
+    let bvh = Bvh::build(&arrays(points), triangles);
+    let hulls = NodeHulls::new(&bvh);
     if let Some(file) = file {
-        store(&file, &bvh.to_bytes());
+        let mut bytes = bvh.to_bytes();
+        bytes.extend(hulls.to_bytes(&bvh, points, triangles));
+        store(&file, &bytes);
     }
-    (bvh, Made::Built)
+    (bvh, hulls, Made::Built)
 }
 
 /// The cache's folder: `$XDG_CACHE_HOME/faze4/bvh`, else `$HOME/.cache/faze4/bvh` (an empty or
@@ -116,10 +137,12 @@ mod tests {
     use crate::geometry::mesh::{Mesh, contents_hash};
 
     /// The built-in mesh `name` as the collision loader reads it: points and triangles.
-    fn built_in(name: &str) -> (Vec<Point>, Vec<[u32; 3]>) {
+    fn built_in(name: &str) -> (Vec<PVector>, Vec<[u32; 3]>) {
         let m = crate::faze4::meshes::mesh(name).unwrap();
         let mesh = Mesh::from_indexed(&m.positions, &m.indices);
-        let points = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
+        let points = (mesh.vertices.iter())
+            .map(|v| PVector::from_array(v.map(f64::from)))
+            .collect();
         (points, mesh.triangles)
     }
 
@@ -127,7 +150,7 @@ mod tests {
     fn the_built_in_meshes_carry_the_hierarchy_built_of_their_triangles() {
         for name in crate::faze4::meshes::names() {
             let (points, triangles) = built_in(name);
-            let (bvh, made) = hierarchy_in(
+            let (bvh, _, made) = hierarchy_in(
                 None,
                 Contents::BuiltIn(name),
                 [1.0f64.to_bits(); 3],
@@ -136,10 +159,15 @@ mod tests {
             );
             assert_eq!(made, Made::BuiltIn, "{name}: build.rs's triangles are the loader's");
             // the same tree as built here, its inner boxes rounded outwards to f32
-            let (again, _) = Bvh::from_bytes(&Bvh::build(&points, &triangles).to_bytes(), &points, &triangles).unwrap();
+            let (again, _) = Bvh::from_bytes(
+                &Bvh::build(&arrays(&points), &triangles).to_bytes(),
+                &arrays(&points),
+                &triangles,
+            )
+            .unwrap();
             assert_eq!(bvh, again, "{name}");
             // at another scale it is built, not taken
-            let (_, made) = hierarchy_in(
+            let (_, _, made) = hierarchy_in(
                 None,
                 Contents::BuiltIn(name),
                 [2.0f64.to_bits(); 3],
@@ -157,7 +185,10 @@ mod tests {
         let (points, triangles) = built_in("hvataljka");
         let contents = Contents::File(contents_hash(b"a mesh file"));
         let one = [1.0f64.to_bits(); 3];
-        let get = |contents, points: &[Point]| hierarchy_in(Some(dir.clone()), contents, one, points, &triangles);
+        let get = |contents, points: &[PVector]| {
+            let (bvh, _, made) = hierarchy_in(Some(dir.clone()), contents, one, points, &triangles);
+            (bvh, made)
+        };
         let (first, made) = get(contents, &points);
         assert_eq!(made, Made::Built);
         let (second, made) = get(contents, &points);
@@ -166,7 +197,7 @@ mod tests {
         assert_eq!(get(Contents::File(contents_hash(b"another")), &points).1, Made::Built);
         // an entry that is not this mesh's hierarchy (the same contents hash, moved points: its
         // boxes no longer hold the triangles) is rebuilt, not used
-        let moved: Vec<Point> = points.iter().map(|p| [p[0] + 0.01, p[1], p[2]]).collect();
+        let moved: Vec<PVector> = points.iter().map(|p| *p + PVector::X * 0.01).collect();
         assert_eq!(get(contents, &moved).1, Made::Built);
         // a truncated entry
         let entry = dir.join(entry(contents, one));
@@ -177,7 +208,7 @@ mod tests {
         // a cache that cannot be written: built, no error
         let file = dir.join("not a folder");
         std::fs::write(&file, b"").unwrap();
-        let (bvh, made) = hierarchy_in(Some(file.join("bvh")), contents, one, &points, &triangles);
+        let (bvh, _, made) = hierarchy_in(Some(file.join("bvh")), contents, one, &points, &triangles);
         assert_eq!((made, bvh), (Made::Built, first));
         std::fs::remove_dir_all(&dir).unwrap();
     }

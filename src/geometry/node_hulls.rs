@@ -16,6 +16,7 @@
 //! (parry's hull), once per process; smaller nodes' hulls cut the searches further but cost
 //! more to make than they save (docs/clearance.md, "Speed").
 
+use std::collections::HashMap;
 use std::sync::OnceLock;
 
 use parry3d_f64::math::{Pose as PPose, Vector as PVector};
@@ -37,12 +38,28 @@ const NONE: u32 = u32::MAX;
 pub(super) struct NodeHull {
     points: Vec<PVector>,
     adjacency: Adjacency,
+    /// The vertices' places among the mesh's points.
+    vertices: Vec<u32>,
+    /// Its triangles (indices into `points`), counterclockwise seen from outside.
+    faces: Vec<[u32; 3]>,
+}
+
+impl NodeHull {
+    /// The hull of vertices `vertices` (places among `points`) and triangles `faces`.
+    fn of(vertices: Vec<u32>, faces: Vec<[u32; 3]>, points: &[PVector]) -> NodeHull {
+        NodeHull {
+            points: vertices.iter().map(|&v| points[v as usize]).collect(),
+            adjacency: Adjacency::of(vertices.len(), &faces),
+            vertices,
+            faces,
+        }
+    }
 }
 
 /// The hulls of a hierarchy's upper nodes (see the module documentation), each made when a
-/// search first asks for it: far pairs reach only the top of the hierarchy, and a node's hull
-/// is always made from its children's (or its corners) whichever search asks first, so the
-/// same hull whatever the order.
+/// search first asks for it unless read with the hierarchy ([`NodeHulls::from_bytes`]): far
+/// pairs reach only the top of the hierarchy, and a node's hull is always made from its
+/// children's (or its corners) whichever search asks first, so the same hull whatever the order.
 pub(super) struct NodeHulls {
     /// Per node, its place in `hulls` when it holds at least [`MIN_TRIANGLES`] triangles,
     /// else [`NONE`].
@@ -91,27 +108,204 @@ impl NodeHulls {
             let Err(children) = bvh.below(i) else {
                 return None;
             };
-            let mut input: Vec<PVector> = Vec::new();
+            let mut input: Vec<u32> = Vec::new();
             for c in children {
                 match self.get(c, bvh, points, indices) {
-                    Some(hull) => input.extend(&hull.points),
-                    None => {
-                        let mut corners: Vec<u32> = Vec::new();
-                        under(bvh, c, &mut |t| corners.extend(indices[t as usize]));
-                        corners.sort_unstable();
-                        corners.dedup();
-                        input.extend(corners.iter().map(|&v| points[v as usize]));
-                    }
+                    Some(hull) => input.extend(&hull.vertices),
+                    None => input.extend(corners(bvh, c, indices)),
                 }
             }
-            let (vertices, faces) = try_convex_hull(&hull_candidates(&input)).ok()?;
-            (!faces.is_empty()).then(|| NodeHull {
-                adjacency: Adjacency::of(vertices.len(), &faces),
-                points: vertices,
-            })
+            let place: HashMap<[u64; 3], u32> = (input.iter())
+                .map(|&v| (points[v as usize].to_array().map(f64::to_bits), v))
+                .collect();
+            let input: Vec<PVector> = input.iter().map(|&v| points[v as usize]).collect();
+            let (hull, faces) = try_convex_hull(&hull_candidates(&input)).ok()?;
+            // parry's vertices are copies of its input points
+            let vertices = hull.iter().map(|p| place[&p.to_array().map(f64::to_bits)]).collect();
+            (!faces.is_empty()).then(|| NodeHull::of(vertices, faces, points))
         })
         .as_ref()
     }
+
+    /// Every hull, made now where not yet, as bytes (little-endian): per node that may have
+    /// one, in order, a u32 vertex count (0: none), each vertex's place among the mesh's
+    /// points (u32), a u32 triangle count and three u32 per triangle (indices into the
+    /// vertices).
+    pub(super) fn to_bytes(&self, bvh: &Bvh, points: &[PVector], indices: &[[u32; 3]]) -> Vec<u8> {
+        let mut out = Vec::new();
+        for i in (0..bvh.len() as u32).filter(|&i| self.has(i)) {
+            let put = |out: &mut Vec<u8>, x: u32| out.extend(x.to_le_bytes());
+            match self.get(i, bvh, points, indices) {
+                None => put(&mut out, 0),
+                Some(hull) => {
+                    put(&mut out, hull.vertices.len() as u32);
+                    hull.vertices.iter().for_each(|&v| put(&mut out, v));
+                    put(&mut out, hull.faces.len() as u32);
+                    hull.faces.iter().flatten().for_each(|&v| put(&mut out, v));
+                }
+            }
+        }
+        out
+    }
+
+    /// The hulls of `bvh`'s nodes (triangles `indices` into `points`) read from
+    /// [`NodeHulls::to_bytes`]'s `bytes` (all of them), and how many were refused; `None` when
+    /// the bytes are not a list of hulls for these nodes. With `check`, each hull read is used
+    /// only when [`holds`] says it is a convex polyhedron holding its node's triangles, checked
+    /// from its children's (read and checked first) or its corners; a refused one is made at
+    /// its first use, as are the hulls above it. Without (the hulls `build.rs` made of the very
+    /// triangles in the binary, with this code), only that its indices are in range.
+    pub(super) fn from_bytes(
+        bytes: &[u8],
+        bvh: &Bvh,
+        points: &[PVector],
+        indices: &[[u32; 3]],
+        check: bool,
+    ) -> Option<(NodeHulls, usize)> {
+        let hulls = NodeHulls::new(bvh);
+        let mut words = bytes.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap()));
+        if bytes.len() % 4 != 0 {
+            return None;
+        }
+        let mut read = Vec::with_capacity(hulls.hulls.len());
+        for _ in 0..hulls.hulls.len() {
+            let count = words.next()? as usize;
+            if count == 0 {
+                read.push(None);
+                continue;
+            }
+            let vertices: Vec<u32> = (0..count).map(|_| words.next()).collect::<Option<_>>()?;
+            let faces = words.next()? as usize;
+            let faces: Vec<[u32; 3]> = (0..faces)
+                .map(|_| Some([words.next()?, words.next()?, words.next()?]))
+                .collect::<Option<_>>()?;
+            read.push(Some((vertices, faces)));
+        }
+        if words.next().is_some() {
+            return None;
+        }
+        // children after their parents: from the end, each checked against its children's
+        let mut refused = 0;
+        let mut slots: Vec<Option<Option<NodeHull>>> = (0..read.len()).map(|_| None).collect();
+        let with: Vec<u32> = (0..bvh.len() as u32).filter(|&i| hulls.has(i)).collect();
+        for (&i, stored) in with.iter().zip(read).rev() {
+            let place = hulls.of[i as usize] as usize;
+            let Err(children) = bvh.below(i) else {
+                return None;
+            };
+            let Some((vertices, faces)) = stored else {
+                slots[place] = Some(None);
+                continue;
+            };
+            // a child's checked hull, else its corners; a child whose hull was refused (or
+            // none): the node's is made at its first use too
+            let mut parts = Vec::with_capacity(2);
+            for c in children {
+                match hulls.has(c).then(|| &slots[hulls.of[c as usize] as usize]) {
+                    Some(Some(Some(hull))) => parts.push(Part::Hull(hull)),
+                    Some(None) => break,
+                    None | Some(Some(None)) => parts.push(Part::Corners(corners(bvh, c, indices))),
+                }
+            }
+            let ok = match check {
+                true => parts.len() == 2 && holds(&vertices, &faces, &parts, points),
+                false => {
+                    vertices.len() >= 4
+                        && vertices.iter().all(|&v| (v as usize) < points.len())
+                        && faces.iter().flatten().all(|&k| (k as usize) < vertices.len())
+                }
+            };
+            drop(parts);
+            match ok {
+                true => slots[place] = Some(Some(NodeHull::of(vertices, faces, points))),
+                false => refused += 1,
+            }
+        }
+        for (cell, slot) in hulls.hulls.iter().zip(slots) {
+            if let Some(hull) = slot {
+                let _ = cell.set(hull);
+            }
+        }
+        Some((hulls, refused))
+    }
+}
+
+/// What a node's hull is checked against: a child's (checked) hull, or a child's corners.
+enum Part<'a> {
+    Hull(&'a NodeHull),
+    Corners(Vec<u32>),
+}
+
+/// Whether the triangles `faces` over the mesh's points `vertices` bound a convex polyhedron
+/// holding every point of `parts` (the node's two children): the triangles close a surface
+/// (each edge once each way), of a sphere's Euler characteristic (`F = 2V − 4`), its vertices
+/// distinct points of the parts, and every part's furthest point along each triangle's normal
+/// not beyond the triangle's plane by Shewchuk's exact orientation test. A child's hull gives
+/// its furthest point by the climb along the normal computed in floating point (its vertices
+/// a hair from the plane may be left untested: round-off, ~1e-17 m); its corners are tested
+/// all. The vertices being among the parts' points, they too lie on or below every plane: the
+/// surface is convex, and the climb over it finds the furthest vertex.
+fn holds(vertices: &[u32], faces: &[[u32; 3]], parts: &[Part], points: &[PVector]) -> bool {
+    let (v, f) = (vertices.len(), faces.len());
+    if v < 4 || f != 2 * v - 4 || faces.iter().flatten().any(|&k| k as usize >= v) {
+        return false;
+    }
+    // each directed edge once, and its reverse
+    let mut edges: Vec<(u32, u32)> = (faces.iter())
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .collect();
+    edges.sort_unstable();
+    if edges.windows(2).any(|w| w[0] == w[1])
+        || edges
+            .iter()
+            .any(|&(a, b)| a == b || edges.binary_search(&(b, a)).is_err())
+    {
+        return false;
+    }
+    // distinct points of the parts
+    let mut among: Vec<u32> = Vec::new();
+    for part in parts {
+        match part {
+            Part::Hull(h) => among.extend(&h.vertices),
+            Part::Corners(c) => among.extend(c),
+        }
+    }
+    among.sort_unstable();
+    let mut sorted = vertices.to_vec();
+    sorted.sort_unstable();
+    if sorted.windows(2).any(|w| w[0] == w[1]) || sorted.iter().any(|v| among.binary_search(v).is_err()) {
+        return false;
+    }
+    let coord = |p: PVector| robust::Coord3D { x: p.x, y: p.y, z: p.z };
+    let climbers: Vec<Option<Climber>> = (parts.iter())
+        .map(|p| match p {
+            Part::Hull(h) => Some(Climber::over(&h.points, &h.adjacency, 0)),
+            Part::Corners(_) => None,
+        })
+        .collect();
+    faces.iter().all(|t| {
+        let [a, b, c] = t.map(|k| points[vertices[k as usize] as usize]);
+        let normal = (b - a).cross(c - a);
+        // orient3d > 0: below the plane of a, b, c (counterclockwise seen from above)
+        let below = |p: PVector| robust::orient3d(coord(a), coord(b), coord(c), coord(p)) >= 0.0;
+        parts
+            .iter()
+            .zip(&climbers)
+            .all(|(part, climber)| match (part, climber) {
+                (_, Some(climber)) => below(climber.local_support_point(normal)),
+                (Part::Corners(corners), None) => corners.iter().all(|&k| below(points[k as usize])),
+                (Part::Hull(_), None) => false,
+            })
+    })
+}
+
+/// The distinct corners (places among the mesh's points) of node `i`'s triangles.
+fn corners(bvh: &Bvh, i: u32, indices: &[[u32; 3]]) -> Vec<u32> {
+    let mut corners: Vec<u32> = Vec::new();
+    under(bvh, i, &mut |t| corners.extend(indices[t as usize]));
+    corners.sort_unstable();
+    corners.dedup();
+    corners
 }
 
 /// Whether the hulls `h1` (its mesh's frame) and `h2` (placed by `pos12`, its frame in the
@@ -303,5 +497,107 @@ mod tests {
             tight * 2 > apart_pairs,
             "{tight} of {apart_pairs} passed over 2 mm short of their distance"
         );
+    }
+
+    /// A built-in mesh as the collision loader reads it (`build.rs` makes its hulls of these).
+    fn loaded(name: &str) -> Mesh {
+        let m = crate::faze4::meshes::mesh(name).unwrap();
+        let mesh = crate::geometry::mesh::Mesh::from_indexed(&m.positions, &m.indices);
+        let points = (mesh.vertices.iter())
+            .map(|v| PVector::from_array(v.map(f64::from)))
+            .collect();
+        (points, mesh.triangles)
+    }
+
+    /// Node `i`'s hull's vertices (places among the mesh's points) and triangles, if any.
+    fn parts(hulls: &NodeHulls, i: u32, bvh: &Bvh, (points, triangles): &Mesh) -> Option<(Vec<u32>, Vec<[u32; 3]>)> {
+        (hulls.get(i, bvh, points, triangles)).map(|h| (h.vertices.clone(), h.faces.clone()))
+    }
+
+    /// The hulls the binary carries (made by `build.rs`) are read without their containment
+    /// checked, and are the hulls made here of the same hierarchy: the same vertices and
+    /// triangles (so they hold their nodes as those do, `each_node_hull_holds_its_triangles`).
+    #[test]
+    fn the_built_in_hulls_are_those_made_at_run_time() {
+        for name in crate::faze4::meshes::names() {
+            let mesh = loaded(name);
+            let bytes = crate::faze4::meshes::hierarchy(name).unwrap();
+            let (bvh, rest) = Bvh::from_bytes(bytes, &arrays(&mesh.0), &mesh.1).unwrap();
+            let (read, refused) = NodeHulls::from_bytes(rest, &bvh, &mesh.0, &mesh.1, false).unwrap();
+            assert_eq!(refused, 0, "{name}");
+            let made = NodeHulls::new(&bvh);
+            let with: Vec<u32> = (0..bvh.len() as u32).filter(|&i| made.has(i)).collect();
+            assert!(!with.is_empty(), "{name}");
+            for i in with {
+                // read: set when read, not made now
+                let cell = &read.hulls[read.of[i as usize] as usize];
+                assert!(cell.get().is_some(), "{name}: node {i} read");
+                assert_eq!(
+                    parts(&read, i, &bvh, &mesh),
+                    parts(&made, i, &bvh, &mesh),
+                    "{name}: node {i}"
+                );
+            }
+        }
+    }
+
+    /// The words of `bytes` ([`NodeHulls::to_bytes`]) where the hull of slot `k` begins.
+    fn slot_start(bytes: &[u8], k: usize) -> usize {
+        let word = |w: usize| u32::from_le_bytes(bytes[4 * w..4 * w + 4].try_into().unwrap()) as usize;
+        let mut at = 0;
+        for _ in 0..k {
+            let v = word(at);
+            at += match v {
+                0 => 1,
+                _ => 1 + v + 1 + 3 * word(at + 1 + v),
+            };
+        }
+        at
+    }
+
+    /// Stored hulls that do not hold their nodes are refused when checked, and made again at
+    /// their first use: read against the mesh with one corner pushed out of an accepted hull (that
+    /// hull refused), and with one of its triangles turned inside out or a vertex repeated (the
+    /// surface no longer closed); bytes of another length are not read at all.
+    #[test]
+    fn a_stored_hull_that_does_not_hold_its_node_is_refused_and_made_again() {
+        let mesh = loaded("podlaktica");
+        let bvh = Bvh::build(&arrays(&mesh.0), &mesh.1);
+        let bytes = NodeHulls::new(&bvh).to_bytes(&bvh, &mesh.0, &mesh.1);
+        // parry's hull may leave a point a hair outside a face, by Shewchuk's exact test: refused
+        let (read, before) = NodeHulls::from_bytes(&bytes, &bvh, &mesh.0, &mesh.1, true).unwrap();
+        // the last node whose hull was accepted (a low one)
+        let low = (0..bvh.len() as u32)
+            .rev()
+            .find(|&i| {
+                read.has(i)
+                    && read.hulls[read.of[i as usize] as usize]
+                        .get()
+                        .is_some_and(|h| h.is_some())
+            })
+            .expect("a hull accepted");
+        let corner = corners(&bvh, low, &mesh.1)[0];
+        let mut moved = mesh.0.clone();
+        let far = (mesh.0.iter()).map(|p| p.x).fold(f64::MIN, f64::max);
+        moved[corner as usize].x = far + 0.01;
+        let (read, refused) = NodeHulls::from_bytes(&bytes, &bvh, &moved, &mesh.1, true).unwrap();
+        assert!(refused > before, "{refused} refused, {before} before");
+        assert!(read.hulls[read.of[low as usize] as usize].get().is_none(), "refused");
+        let hull = read.get(low, &bvh, &moved, &mesh.1).unwrap();
+        assert!(hull.vertices.contains(&corner), "made again, with the pushed corner");
+        // its first triangle turned inside out; its first vertex in place of its second
+        let at = slot_start(&bytes, read.of[low as usize] as usize);
+        let v = u32::from_le_bytes(bytes[4 * at..4 * at + 4].try_into().unwrap()) as usize;
+        let face = 4 * (at + 1 + v + 1);
+        let mut flipped = bytes.clone();
+        flipped[face..face + 4].copy_from_slice(&bytes[face + 4..face + 8]);
+        flipped[face + 4..face + 8].copy_from_slice(&bytes[face..face + 4]);
+        let mut repeated = bytes.clone();
+        repeated.copy_within(4 * (at + 1)..4 * (at + 2), 4 * (at + 2));
+        for bad in [flipped, repeated] {
+            let (read, refused) = NodeHulls::from_bytes(&bad, &bvh, &mesh.0, &mesh.1, true).unwrap();
+            assert!(refused > before && read.hulls[read.of[low as usize] as usize].get().is_none());
+        }
+        assert!(NodeHulls::from_bytes(&bytes[..bytes.len() - 4], &bvh, &mesh.0, &mesh.1, true).is_none());
     }
 }

@@ -19,12 +19,15 @@ pub(super) struct Triangles {
 }
 
 impl Triangles {
-    /// The mesh of `points` and `indices` (at least one triangle), with `bvh` its hierarchy
-    /// when it was made before (it must be [`Bvh::build`]'s of these triangles), else one
-    /// built now.
-    pub(super) fn new(points: Vec<PVector>, indices: Vec<[u32; 3]>, bvh: Option<Bvh>) -> Triangles {
-        let bvh = bvh.unwrap_or_else(|| Bvh::build(&arrays(&points), &indices));
-        let hulls = NodeHulls::new(&bvh);
+    /// The mesh of `points` and `indices` (at least one triangle), with `made` its hierarchy
+    /// and its nodes' hulls when they were made before (a hierarchy of these triangles), else
+    /// a hierarchy built now (its hulls made at their first use).
+    pub(super) fn new(points: Vec<PVector>, indices: Vec<[u32; 3]>, made: Option<(Bvh, NodeHulls)>) -> Triangles {
+        let (bvh, hulls) = made.unwrap_or_else(|| {
+            let bvh = Bvh::build(&arrays(&points), &indices);
+            let hulls = NodeHulls::new(&bvh);
+            (bvh, hulls)
+        });
         Triangles {
             points,
             indices,
