@@ -11,6 +11,10 @@
 //! children and triangles), so a stale, truncated or foreign file costs a rebuild, never a wrong
 //! distance. A cache that cannot be read or written (no home folder, a read-only disk) is not
 //! an error: the hierarchy is built for the run, as it would be the first time.
+//!
+//! The built-in meshes also carry their upper nodes' convex hulls (`node_hulls.rs`), made by
+//! `build.rs` of the very triangles the binary carries with the same code, so read with their
+//! indices checked only; other meshes' are made at their first use, not cached.
 
 use std::hash::{Hash, Hasher};
 use std::path::PathBuf;
@@ -24,7 +28,7 @@ use super::triangles::arrays;
 
 /// The version of the cache's file format (and of the hierarchy's layout): part of every
 /// entry's name.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 1;
 
 /// Where a mesh's hierarchy came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,8 +42,9 @@ pub enum Made {
 }
 
 /// The hierarchy of the triangles `triangles` (indices into `points`, m, scaled) of the mesh
-/// read from `contents` at `scale` (its bits) and its nodes' hulls, as made before when they
-/// were, else made now and stored in the cache (see the module documentation).
+/// read from `contents` at `scale` (its bits), as made before when it was, else built now and
+/// stored in the cache (see the module documentation), and its nodes' hulls: a built-in
+/// mesh's as `build.rs` made them, any other's to be made at their first use.
 pub(super) fn hierarchy(
     contents: Contents,
     scale: [u64; 3],
@@ -47,15 +52,6 @@ pub(super) fn hierarchy(
     triangles: &[[u32; 3]],
 ) -> (Bvh, NodeHulls, Made) {
     hierarchy_in(folder(), contents, scale, points, triangles)
-}
-
-/// The hierarchy and node hulls in `bytes` (a [`Bvh::to_bytes`], then a
-/// [`NodeHulls::to_bytes`]), if they are this mesh's (checked, see the module documentation;
-/// the hulls' containment only with `check_hulls`).
-fn read(bytes: &[u8], points: &[PVector], triangles: &[[u32; 3]], check_hulls: bool) -> Option<(Bvh, NodeHulls)> {
-    let (bvh, rest) = Bvh::from_bytes(bytes, &arrays(points), triangles)?;
-    let (hulls, _refused) = NodeHulls::from_bytes(rest, &bvh, points, triangles, check_hulls)?;
-    Some((bvh, hulls))
 }
 
 /// [`hierarchy`] with the cache in `folder` (`None`: no cache).
@@ -68,25 +64,25 @@ fn hierarchy_in(
 ) -> (Bvh, NodeHulls, Made) {
     if let Contents::BuiltIn(name) = contents
         && scale == [1.0f64.to_bits(); 3]
-        && let Some((bvh, hulls)) =
-            crate::faze4::meshes::hierarchy(name).and_then(|bytes| read(bytes, points, triangles, false))
+        && let Some(bytes) = crate::faze4::meshes::hierarchy(name)
+        && let Some((bvh, rest)) = Bvh::from_bytes(bytes, &arrays(points), triangles)
+        && let Some(hulls) = NodeHulls::from_bytes(rest, &bvh, points)
     {
         return (bvh, hulls, Made::BuiltIn);
     }
     let file = folder.map(|dir| dir.join(entry(contents, scale)));
     if let Some(file) = &file
         && let Ok(bytes) = std::fs::read(file)
-        && let Some((bvh, hulls)) = read(&bytes, points, triangles, true)
+        && let Some((bvh, [])) = Bvh::from_bytes(&bytes, &arrays(points), triangles)
     {
+        let hulls = NodeHulls::new(&bvh);
         return (bvh, hulls, Made::Cached);
     }
     let bvh = Bvh::build(&arrays(points), triangles);
-    let hulls = NodeHulls::new(&bvh);
     if let Some(file) = file {
-        let mut bytes = bvh.to_bytes();
-        bytes.extend(hulls.to_bytes(&bvh, points, triangles));
-        store(&file, &bytes);
+        store(&file, &bvh.to_bytes());
     }
+    let hulls = NodeHulls::new(&bvh);
     (bvh, hulls, Made::Built)
 }
 

@@ -10,11 +10,14 @@
 //! soon as one gap exceeds the reach, so what passes a pair of nodes over is the gap of two
 //! support points, not GJK's converged distance.
 //!
-//! Hulls are made for the inner nodes of at least [`MIN_TRIANGLES`] triangles, each at its first
-//! use: a node's hull is the hull of its children's hull vertices (or of its triangles' corners
-//! where a child has none). Making them costs about 0.5 G instructions on the Faze4's meshes
-//! (parry's hull), once per process; smaller nodes' hulls cut the searches further but cost
-//! more to make than they save (docs/clearance.md, "Speed").
+//! Hulls are made for the inner nodes of at least [`MIN_TRIANGLES`] triangles: a node's hull is
+//! the hull of its children's hull vertices (or of its triangles' corners where a child has
+//! none). The Faze4's built-in meshes carry theirs in the binary: `build.rs` includes this file
+//! and makes them with parry at build time ([`NodeHulls::to_bytes`], read back by
+//! [`NodeHulls::from_bytes`]). Any other mesh's are made at their first use, once per process
+//! (about 0.5 G instructions for meshes the Faze4's size): storing them in the user's cache
+//! would need their containment checked when read, which costs more than making them
+//! (docs/clearance.md, "Speed").
 
 use std::collections::HashMap;
 use std::sync::OnceLock;
@@ -40,7 +43,8 @@ pub(super) struct NodeHull {
     adjacency: Adjacency,
     /// The vertices' places among the mesh's points.
     vertices: Vec<u32>,
-    /// Its triangles (indices into `points`), counterclockwise seen from outside.
+    /// Its triangles (indices into `points`), for [`NodeHulls::to_bytes`].
+    #[cfg_attr(not(test), allow(dead_code, reason = "read by build.rs, which includes this file"))]
     faces: Vec<[u32; 3]>,
 }
 
@@ -131,6 +135,7 @@ impl NodeHulls {
     /// one, in order, a u32 vertex count (0: none), each vertex's place among the mesh's
     /// points (u32), a u32 triangle count and three u32 per triangle (indices into the
     /// vertices).
+    #[cfg_attr(not(test), allow(dead_code, reason = "build.rs, which includes this file, calls it"))]
     pub(super) fn to_bytes(&self, bvh: &Bvh, points: &[PVector], indices: &[[u32; 3]]) -> Vec<u8> {
         let mut out = Vec::new();
         for i in (0..bvh.len() as u32).filter(|&i| self.has(i)) {
@@ -148,30 +153,21 @@ impl NodeHulls {
         out
     }
 
-    /// The hulls of `bvh`'s nodes (triangles `indices` into `points`) read from
-    /// [`NodeHulls::to_bytes`]'s `bytes` (all of them), and how many were refused; `None` when
-    /// the bytes are not a list of hulls for these nodes. With `check`, each hull read is used
-    /// only when [`holds`] says it is a convex polyhedron holding its node's triangles, checked
-    /// from its children's (read and checked first) or its corners; a refused one is made at
-    /// its first use, as are the hulls above it. Without (the hulls `build.rs` made of the very
-    /// triangles in the binary, with this code), only that its indices are in range.
-    pub(super) fn from_bytes(
-        bytes: &[u8],
-        bvh: &Bvh,
-        points: &[PVector],
-        indices: &[[u32; 3]],
-        check: bool,
-    ) -> Option<(NodeHulls, usize)> {
+    /// The hulls of `bvh`'s nodes read from [`NodeHulls::to_bytes`]'s `bytes` (all of them),
+    /// over the mesh's `points`; `None` when the bytes are not a list of hulls for these nodes
+    /// with every index in range. Their containment is not checked: these are the hulls
+    /// `build.rs` made of the very triangles the binary carries, with this code (checking it
+    /// costs about five times making them: docs/clearance.md, "Speed").
+    pub(super) fn from_bytes(bytes: &[u8], bvh: &Bvh, points: &[PVector]) -> Option<NodeHulls> {
         let hulls = NodeHulls::new(bvh);
-        let mut words = bytes.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap()));
         if bytes.len() % 4 != 0 {
             return None;
         }
-        let mut read = Vec::with_capacity(hulls.hulls.len());
-        for _ in 0..hulls.hulls.len() {
+        let mut words = bytes.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap()));
+        for cell in &hulls.hulls {
             let count = words.next()? as usize;
             if count == 0 {
-                read.push(None);
+                let _ = cell.set(None);
                 continue;
             }
             let vertices: Vec<u32> = (0..count).map(|_| words.next()).collect::<Option<_>>()?;
@@ -179,124 +175,16 @@ impl NodeHulls {
             let faces: Vec<[u32; 3]> = (0..faces)
                 .map(|_| Some([words.next()?, words.next()?, words.next()?]))
                 .collect::<Option<_>>()?;
-            read.push(Some((vertices, faces)));
-        }
-        if words.next().is_some() {
-            return None;
-        }
-        // children after their parents: from the end, each checked against its children's
-        let mut refused = 0;
-        let mut slots: Vec<Option<Option<NodeHull>>> = (0..read.len()).map(|_| None).collect();
-        let with: Vec<u32> = (0..bvh.len() as u32).filter(|&i| hulls.has(i)).collect();
-        for (&i, stored) in with.iter().zip(read).rev() {
-            let place = hulls.of[i as usize] as usize;
-            let Err(children) = bvh.below(i) else {
+            if count < 4
+                || vertices.iter().any(|&v| v as usize >= points.len())
+                || faces.iter().flatten().any(|&k| k as usize >= count)
+            {
                 return None;
-            };
-            let Some((vertices, faces)) = stored else {
-                slots[place] = Some(None);
-                continue;
-            };
-            // a child's checked hull, else its corners; a child whose hull was refused (or
-            // none): the node's is made at its first use too
-            let mut parts = Vec::with_capacity(2);
-            for c in children {
-                match hulls.has(c).then(|| &slots[hulls.of[c as usize] as usize]) {
-                    Some(Some(Some(hull))) => parts.push(Part::Hull(hull)),
-                    Some(None) => break,
-                    None | Some(Some(None)) => parts.push(Part::Corners(corners(bvh, c, indices))),
-                }
             }
-            let ok = match check {
-                true => parts.len() == 2 && holds(&vertices, &faces, &parts, points),
-                false => {
-                    vertices.len() >= 4
-                        && vertices.iter().all(|&v| (v as usize) < points.len())
-                        && faces.iter().flatten().all(|&k| (k as usize) < vertices.len())
-                }
-            };
-            drop(parts);
-            match ok {
-                true => slots[place] = Some(Some(NodeHull::of(vertices, faces, points))),
-                false => refused += 1,
-            }
+            let _ = cell.set(Some(NodeHull::of(vertices, faces, points)));
         }
-        for (cell, slot) in hulls.hulls.iter().zip(slots) {
-            if let Some(hull) = slot {
-                let _ = cell.set(hull);
-            }
-        }
-        Some((hulls, refused))
+        words.next().is_none().then_some(hulls)
     }
-}
-
-/// What a node's hull is checked against: a child's (checked) hull, or a child's corners.
-enum Part<'a> {
-    Hull(&'a NodeHull),
-    Corners(Vec<u32>),
-}
-
-/// Whether the triangles `faces` over the mesh's points `vertices` bound a convex polyhedron
-/// holding every point of `parts` (the node's two children): the triangles close a surface
-/// (each edge once each way), of a sphere's Euler characteristic (`F = 2V − 4`), its vertices
-/// distinct points of the parts, and every part's furthest point along each triangle's normal
-/// not beyond the triangle's plane by Shewchuk's exact orientation test. A child's hull gives
-/// its furthest point by the climb along the normal computed in floating point (its vertices
-/// a hair from the plane may be left untested: round-off, ~1e-17 m); its corners are tested
-/// all. The vertices being among the parts' points, they too lie on or below every plane: the
-/// surface is convex, and the climb over it finds the furthest vertex.
-fn holds(vertices: &[u32], faces: &[[u32; 3]], parts: &[Part], points: &[PVector]) -> bool {
-    let (v, f) = (vertices.len(), faces.len());
-    if v < 4 || f != 2 * v - 4 || faces.iter().flatten().any(|&k| k as usize >= v) {
-        return false;
-    }
-    // each directed edge once, and its reverse
-    let mut edges: Vec<(u32, u32)> = (faces.iter())
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .collect();
-    edges.sort_unstable();
-    if edges.windows(2).any(|w| w[0] == w[1])
-        || edges
-            .iter()
-            .any(|&(a, b)| a == b || edges.binary_search(&(b, a)).is_err())
-    {
-        return false;
-    }
-    // distinct points of the parts
-    let mut among: Vec<u32> = Vec::new();
-    for part in parts {
-        match part {
-            Part::Hull(h) => among.extend(&h.vertices),
-            Part::Corners(c) => among.extend(c),
-        }
-    }
-    among.sort_unstable();
-    let mut sorted = vertices.to_vec();
-    sorted.sort_unstable();
-    if sorted.windows(2).any(|w| w[0] == w[1]) || sorted.iter().any(|v| among.binary_search(v).is_err()) {
-        return false;
-    }
-    let coord = |p: PVector| robust::Coord3D { x: p.x, y: p.y, z: p.z };
-    let climbers: Vec<Option<Climber>> = (parts.iter())
-        .map(|p| match p {
-            Part::Hull(h) => Some(Climber::over(&h.points, &h.adjacency, 0)),
-            Part::Corners(_) => None,
-        })
-        .collect();
-    faces.iter().all(|t| {
-        let [a, b, c] = t.map(|k| points[vertices[k as usize] as usize]);
-        let normal = (b - a).cross(c - a);
-        // orient3d > 0: below the plane of a, b, c (counterclockwise seen from above)
-        let below = |p: PVector| robust::orient3d(coord(a), coord(b), coord(c), coord(p)) >= 0.0;
-        parts
-            .iter()
-            .zip(&climbers)
-            .all(|(part, climber)| match (part, climber) {
-                (_, Some(climber)) => below(climber.local_support_point(normal)),
-                (Part::Corners(corners), None) => corners.iter().all(|&k| below(points[k as usize])),
-                (Part::Hull(_), None) => false,
-            })
-    })
 }
 
 /// The distinct corners (places among the mesh's points) of node `i`'s triangles.
@@ -514,17 +402,16 @@ mod tests {
         (hulls.get(i, bvh, points, triangles)).map(|h| (h.vertices.clone(), h.faces.clone()))
     }
 
-    /// The hulls the binary carries (made by `build.rs`) are read without their containment
-    /// checked, and are the hulls made here of the same hierarchy: the same vertices and
-    /// triangles (so they hold their nodes as those do, `each_node_hull_holds_its_triangles`).
+    /// The hulls the binary carries (made by `build.rs`) are read, and are the hulls made
+    /// here of the same hierarchy: the same vertices and triangles (so they hold their nodes as
+    /// those do, `each_node_hull_holds_its_triangles`).
     #[test]
     fn the_built_in_hulls_are_those_made_at_run_time() {
         for name in crate::faze4::meshes::names() {
             let mesh = loaded(name);
             let bytes = crate::faze4::meshes::hierarchy(name).unwrap();
             let (bvh, rest) = Bvh::from_bytes(bytes, &arrays(&mesh.0), &mesh.1).unwrap();
-            let (read, refused) = NodeHulls::from_bytes(rest, &bvh, &mesh.0, &mesh.1, false).unwrap();
-            assert_eq!(refused, 0, "{name}");
+            let read = NodeHulls::from_bytes(rest, &bvh, &mesh.0).expect(name);
             let made = NodeHulls::new(&bvh);
             let with: Vec<u32> = (0..bvh.len() as u32).filter(|&i| made.has(i)).collect();
             assert!(!with.is_empty(), "{name}");
@@ -541,63 +428,26 @@ mod tests {
         }
     }
 
-    /// The words of `bytes` ([`NodeHulls::to_bytes`]) where the hull of slot `k` begins.
-    fn slot_start(bytes: &[u8], k: usize) -> usize {
-        let word = |w: usize| u32::from_le_bytes(bytes[4 * w..4 * w + 4].try_into().unwrap()) as usize;
-        let mut at = 0;
-        for _ in 0..k {
-            let v = word(at);
-            at += match v {
-                0 => 1,
-                _ => 1 + v + 1 + 3 * word(at + 1 + v),
-            };
-        }
-        at
-    }
-
-    /// Stored hulls that do not hold their nodes are refused when checked, and made again at
-    /// their first use: read against the mesh with one corner pushed out of an accepted hull (that
-    /// hull refused), and with one of its triangles turned inside out or a vertex repeated (the
-    /// surface no longer closed); bytes of another length are not read at all.
+    /// Bytes that are not a list of hulls for the hierarchy's nodes, indices in range, are not
+    /// read: one word short or long, a vertex past the mesh's points, a triangle's index past
+    /// its hull's vertices.
     #[test]
-    fn a_stored_hull_that_does_not_hold_its_node_is_refused_and_made_again() {
-        let mesh = loaded("podlaktica");
+    fn hull_bytes_of_another_mesh_are_refused() {
+        let mesh = loaded("saka");
         let bvh = Bvh::build(&arrays(&mesh.0), &mesh.1);
         let bytes = NodeHulls::new(&bvh).to_bytes(&bvh, &mesh.0, &mesh.1);
-        // parry's hull may leave a point a hair outside a face, by Shewchuk's exact test: refused
-        let (read, before) = NodeHulls::from_bytes(&bytes, &bvh, &mesh.0, &mesh.1, true).unwrap();
-        // the last node whose hull was accepted (a low one)
-        let low = (0..bvh.len() as u32)
-            .rev()
-            .find(|&i| {
-                read.has(i)
-                    && read.hulls[read.of[i as usize] as usize]
-                        .get()
-                        .is_some_and(|h| h.is_some())
-            })
-            .expect("a hull accepted");
-        let corner = corners(&bvh, low, &mesh.1)[0];
-        let mut moved = mesh.0.clone();
-        let far = (mesh.0.iter()).map(|p| p.x).fold(f64::MIN, f64::max);
-        moved[corner as usize].x = far + 0.01;
-        let (read, refused) = NodeHulls::from_bytes(&bytes, &bvh, &moved, &mesh.1, true).unwrap();
-        assert!(refused > before, "{refused} refused, {before} before");
-        assert!(read.hulls[read.of[low as usize] as usize].get().is_none(), "refused");
-        let hull = read.get(low, &bvh, &moved, &mesh.1).unwrap();
-        assert!(hull.vertices.contains(&corner), "made again, with the pushed corner");
-        // its first triangle turned inside out; its first vertex in place of its second
-        let at = slot_start(&bytes, read.of[low as usize] as usize);
-        let v = u32::from_le_bytes(bytes[4 * at..4 * at + 4].try_into().unwrap()) as usize;
-        let face = 4 * (at + 1 + v + 1);
-        let mut flipped = bytes.clone();
-        flipped[face..face + 4].copy_from_slice(&bytes[face + 4..face + 8]);
-        flipped[face + 4..face + 8].copy_from_slice(&bytes[face..face + 4]);
-        let mut repeated = bytes.clone();
-        repeated.copy_within(4 * (at + 1)..4 * (at + 2), 4 * (at + 2));
-        for bad in [flipped, repeated] {
-            let (read, refused) = NodeHulls::from_bytes(&bad, &bvh, &mesh.0, &mesh.1, true).unwrap();
-            assert!(refused > before && read.hulls[read.of[low as usize] as usize].get().is_none());
-        }
-        assert!(NodeHulls::from_bytes(&bytes[..bytes.len() - 4], &bvh, &mesh.0, &mesh.1, true).is_none());
+        assert!(NodeHulls::from_bytes(&bytes, &bvh, &mesh.0).is_some());
+        assert!(NodeHulls::from_bytes(&bytes[..bytes.len() - 4], &bvh, &mesh.0).is_none());
+        assert!(NodeHulls::from_bytes(&[&bytes[..], &[0; 4]].concat(), &bvh, &mesh.0).is_none());
+        let word = |k: usize| u32::from_le_bytes(bytes[4 * k..4 * k + 4].try_into().unwrap());
+        let v = word(0) as usize;
+        assert!(v >= 4, "the root has a hull");
+        let mut far_vertex = bytes.clone();
+        far_vertex[4..8].copy_from_slice(&(mesh.0.len() as u32).to_le_bytes());
+        assert!(NodeHulls::from_bytes(&far_vertex, &bvh, &mesh.0).is_none());
+        let mut far_corner = bytes.clone();
+        let face = 4 * (1 + v + 1);
+        far_corner[face..face + 4].copy_from_slice(&(v as u32).to_le_bytes());
+        assert!(NodeHulls::from_bytes(&far_corner, &bvh, &mesh.0).is_none());
     }
 }
