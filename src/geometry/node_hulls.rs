@@ -160,7 +160,7 @@ impl NodeHulls {
     /// costs about five times making them: docs/clearance.md, "Speed").
     pub(super) fn from_bytes(bytes: &[u8], bvh: &Bvh, points: &[PVector]) -> Option<NodeHulls> {
         let hulls = NodeHulls::new(bvh);
-        if bytes.len() % 4 != 0 {
+        if !bytes.len().is_multiple_of(4) {
             return None;
         }
         let mut words = bytes.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap()));
