@@ -17,6 +17,17 @@ pub enum Error {
         source: std::io::Error,
     },
 
+    /// An output an option names could not be written.
+    #[error("{option}: {}: {source}", path.display())]
+    Output {
+        /// The option, named as a field in backticks (`` `trail` ``, [`Error::InvalidArgument`]).
+        option: String,
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+
     /// The URDF is not well-formed XML or not a URDF document.
     #[error("{file}: malformed URDF: {message}")]
     UrdfSyntax {

@@ -1066,6 +1066,14 @@ fn an_output_path_cannot_forge_a_line_of_output() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Runs `command` with a stdout whose reading end is closed before it starts (closed after the
+/// start, a short output could land in the pipe's buffer first), stderr captured.
+fn with_stdout_closed(command: &mut Command) -> std::process::Output {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    command.stdout(writer).stderr(Stdio::piped()).output().unwrap()
+}
+
 /// A full stderr (`2>/dev/full`) is no panic: a refusal keeps its status 2 and a valid run
 /// writes its files and ends with 0 (issue 49: exit 101). A closed stdout (`faze4 … | head`)
 /// ends the run quietly with the pipe's status, 141 as SIGPIPE would, its files complete up to
@@ -1087,15 +1095,11 @@ fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
     assert_eq!(full_stderr(&arm_wave(&["--trail", "full.csv"])), Some(0));
     assert!(std::fs::read_to_string(dir.join("full.csv")).unwrap().starts_with("t,"));
     // stdout's reading end closed before the run prints its first line
-    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(arm_wave_told(&["--trail", "closed.csv"]))
-        .current_dir(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
+    let out = with_stdout_closed(
+        Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(arm_wave_told(&["--trail", "closed.csv"]))
+            .current_dir(&dir),
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(141), "{stderr}");
     assert_eq!(stderr, "", "a closed stdout ends the run quietly");
@@ -1105,6 +1109,45 @@ fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
             .starts_with("t,")
     );
     assert!(temporaries(&dir).is_empty(), "{:?}", temporaries(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An output named `/dev/stdout` or `/dev/stderr` goes down a pipe as into a terminal (it was
+/// refused, "No such file or directory": the link `/proc/self/fd/1` names `pipe:[…]`, which no
+/// path reaches); a pipe whose reader left ends the run quietly with SIGPIPE's status, 141 (it
+/// was "--trail: /dev/stdout: Broken pipe", status 2).
+#[test]
+fn outputs_into_a_pipe_through_dev_stdout() {
+    let dir = arm_dir("hostile-dev-stdout");
+    let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(arm_wave(&["--trail", "none", "--summary", "/dev/stdout"]))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json = &stdout[stdout.find('{').unwrap()..=stdout.rfind('}').unwrap()];
+    let summary: serde_json::Value = serde_json::from_str(json).unwrap_or_else(|e| panic!("{e}: {stdout}"));
+    assert!(summary["verdict"].is_object(), "{summary}");
+    let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(arm_wave(&["--trail", "/dev/stderr"]))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("t,"));
+    // the reading end closed before the trail's first row
+    let out = with_stdout_closed(
+        Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(arm_wave(&["--trail", "/dev/stdout"]).iter().map(|a| match *a {
+                "0.2" => "5",
+                a => a,
+            }))
+            .current_dir(&dir),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{stderr}");
+    assert_eq!(stderr, "", "a closed pipe ends the run quietly");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -1135,14 +1178,7 @@ fn help_and_shell_files_on_a_full_or_closed_stdout() {
             "faze4: error: stdout: No space left on device (os error 28)",
             "{args:?}"
         );
-        let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        drop(child.stdout.take());
-        let out = child.wait_with_output().unwrap();
+        let out = with_stdout_closed(Command::new(env!("CARGO_BIN_EXE_faze4")).args(args));
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(141), "{args:?}: {stderr}");
         assert_eq!(stderr, "", "{args:?}: a closed stdout ends quietly");
