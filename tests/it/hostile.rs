@@ -1566,3 +1566,44 @@ fn messages_name_the_file_and_its_own_words() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An option a sweep varies and the command after `--` gives too: the sweep set it at each run
+/// and the given value was dropped unsaid (`--vary dt=… -- wave --dt 0.0001` ran at the varied
+/// steps). Refused naming both; a multiplier of given values (`kp-scale` with `--kp`) is not
+/// such a case (issue 49, fourth round).
+#[test]
+fn an_option_varied_and_given_to_the_command_is_refused_not_dropped() {
+    let dir = temp_dir("hostile-varied-given");
+    let base = ["--", "wave", "--duration", "0.01", "--no-collisions"];
+    for (sweep, given, said) in [
+        (
+            ["--vary", "dt=0.001,0.002"],
+            ["--dt", "0.0001"],
+            "--vary: 'dt' is varied and also given to the command (--dt): the sweep sets it at each run, so that value would be dropped",
+        ),
+        (
+            ["--find-min", "payload-kg=0:2"],
+            ["--payload-kg", "1"],
+            "--find-min: 'payload-kg' is varied and also given to the command (--payload-kg)",
+        ),
+        (
+            ["--find", "payload_kg=0:2"],
+            ["--payload-kg", "1"],
+            "--find: 'payload_kg' is varied and also given to the command (--payload-kg)",
+        ),
+    ] {
+        let args = [&["sweep"][..], &sweep, &base, &given].concat();
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &[said]);
+    }
+    let args = [
+        &["sweep", "-q", "--vary", "kp-scale=1,2"][..],
+        &base,
+        &["--kp", "auto,auto,auto,auto,auto,30"],
+    ]
+    .concat();
+    let run = faze4(&dir, &args);
+    assert!(run.status.success(), "{}", run.stderr);
+    assert!(run.stdout.starts_with("[done] 2 runs, 2 follow"), "{}", run.stdout);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
