@@ -1607,3 +1607,45 @@ fn an_option_varied_and_given_to_the_command_is_refused_not_dropped() {
     assert!(run.stdout.starts_with("[done] 2 runs, 2 follow"), "{}", run.stdout);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A MoveIt `RobotTrajectory` whose `multi_dof_joint_trajectory` moves a mobile base beside the
+/// arm's joints: its poses were left out unsaid and the arm played on a fixed base. Now a
+/// warning names the document and the joints, said under `-q` too; an empty multi-DOF part (as
+/// MoveIt fills it for an arm) says nothing. A figure from a file far beyond a joint's limits
+/// is printed as short as it reads back, not in 309 digits (issue 49, fourth round).
+#[test]
+fn a_plans_multi_dof_part_is_said_and_a_huge_position_printed_short() {
+    let dir = temp_dir("hostile-multi-dof");
+    let names = r#""joint_names": ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"]"#;
+    let at = |q: &str, time: &str| format!(r#"{{"positions": [0, 0, 0, 0, 0, {q}], "time_from_start": {time}}}"#);
+    let arm = format!(r#"{{{names}, "points": [{}, {}]}}"#, at("0", "0"), at("0.1", "0.1"));
+    let base = |points: &str| format!(r#"{{"joint_names": ["virtual_joint"], "points": [{points}]}}"#);
+    let pose = r#"{"transforms": [{"translation": {"x": 1, "y": 0, "z": 0}, "rotation": {"x": 0, "y": 0, "z": 0, "w": 1}}], "time_from_start": 0}"#;
+    let plan = |multi: &str| format!(r#"{{"joint_trajectory": {arm}, "multi_dof_joint_trajectory": {multi}}}"#);
+    std::fs::write(dir.join("base.json"), plan(&base(&[pose, pose].join(", ")))).unwrap();
+    std::fs::write(dir.join("arm.json"), plan(&base(""))).unwrap();
+    let run = faze4(&dir, &["replay", "--q-traj", "base.json", "--no-collisions", "-q"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    assert_eq!(
+        run.stderr.trim(),
+        "faze4: warning: base.json: the message's multi_dof_joint_trajectory moves 'virtual_joint' over 2 points (poses of frames: a mobile base, a floating joint): left out, the arm played fixed to the world as its model is"
+    );
+    let run = faze4(&dir, &["replay", "--q-traj", "arm.json", "--no-collisions", "-q"]);
+    assert!(run.status.success() && run.stderr.is_empty(), "{}", run.stderr);
+    std::fs::write(
+        dir.join("far.json"),
+        format!(r#"{{{names}, "points": [{}, {}]}}"#, at("0", "0"), at("1e308", "0.1")),
+    )
+    .unwrap();
+    let args = ["replay", "--q-traj", "far.json", "-q"];
+    let run = faze4(&dir, &args);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &[
+            "far.json: point 1: joint J6 (hvataljka) is commanded to 1e308 rad, beyond its limits [-3.141592653589793, 3.141592653589793]",
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
