@@ -1476,7 +1476,7 @@ fn unknown_fields_of_a_trajectory_file_are_refused_naming_them() {
     for (file, said) in [
         (
             "velocites.yaml",
-            "document 1, point 1 has a field 'velocites' a trajectory_msgs/msg/JointTrajectoryPoint does not have: did you mean 'velocities'?",
+            "document 1, point 0 has a field 'velocites' a trajectory_msgs/msg/JointTrajectoryPoint does not have: did you mean 'velocities'?",
         ),
         (
             "velocitys.yaml",
@@ -1647,5 +1647,38 @@ fn a_plans_multi_dof_part_is_said_and_a_huge_position_printed_short() {
             "far.json: point 1: joint J6 (hvataljka) is commanded to 1e308 rad, beyond its limits [-3.141592653589793, 3.141592653589793]",
         ],
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// One point, one number: a misspelled field in a file's second point was "point 2" while its
+/// NaN, its time or its limits were "point 1" (every other message counts points from 0, as
+/// `points[1]`). Both now say "point 1" (issue 49, fourth round).
+#[test]
+fn a_files_points_are_counted_alike_in_every_message() {
+    let dir = temp_dir("hostile-point-numbers");
+    let names = "joint_names: [rotary_base, nadlaktica, lakat, podlaktica, saka, hvataljka]";
+    let point = |q: &str, extra: &str, t: u32| {
+        format!("{{positions: [0, 0, 0, 0, 0, {q}],{extra} time_from_start: {{sec: {t}}}}}")
+    };
+    let file = |second: String| format!("{names}\npoints: [{}, {second}]\n", point("0", "", 0));
+    std::fs::write(
+        dir.join("field.yaml"),
+        file(point("0", " velocites: [0, 0, 0, 0, 0, 0],", 1)),
+    )
+    .unwrap();
+    std::fs::write(dir.join("nan.yaml"), file(point(".nan", "", 1))).unwrap();
+    std::fs::write(dir.join("far.yaml"), file(point("9", "", 1))).unwrap();
+    for (file, said) in [
+        ("field.yaml", "field.yaml: document 1, point 1 has a field 'velocites'"),
+        ("nan.yaml", "nan.yaml: point 1: positions of joint 'hvataljka' is NaN"),
+        (
+            "far.yaml",
+            "far.yaml: point 1: joint J6 (hvataljka) is commanded to 9 rad",
+        ),
+    ] {
+        let args = ["replay", "--q-traj", file, "-q"];
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &[said]);
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -102,7 +102,8 @@ pub(super) fn read<D: Document>(documents: &[(String, D)], selection: &Selection
         .iter()
         .enumerate()
     {
-        known_fields(point, POINT, &format!("{label}, point {}", i + 1), path)?;
+        // points counted from 0, as every other message about a trajectory's points counts them
+        known_fields(point, POINT, &format!("{label}, point {i}"), path)?;
     }
     let trajectory: LooseJointTrajectory = decode(t, label, "trajectory_msgs/msg/JointTrajectory", path)?;
     let notes = match multi {
