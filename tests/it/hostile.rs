@@ -1682,3 +1682,77 @@ fn a_files_points_are_counted_alike_in_every_message() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A LeRobot v2.1 dataset's copy in `dir/name` whose `meta/info.json` is changed by `edit`.
+fn lerobot_v21(dir: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value)) {
+    let from = repo_path("tests/fixtures/trajectories/lerobot/so101_v21");
+    let data = dir.join(name).join("data/chunk-000");
+    std::fs::create_dir_all(&data).unwrap();
+    std::fs::create_dir_all(dir.join(name).join("meta")).unwrap();
+    let episode = "data/chunk-000/episode_000000.parquet";
+    std::fs::copy(from.join(episode), dir.join(name).join(episode)).unwrap();
+    let mut info: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(from.join("meta/info.json")).unwrap()).unwrap();
+    edit(&mut info);
+    std::fs::write(dir.join(name).join("meta/info.json"), info.to_string()).unwrap();
+}
+
+/// A LeRobot dataset's `meta/info.json` says where its data is and what layout it has:
+/// a `data_path` of `/etc/passwd` or `../../…` was opened and read as Parquet (a downloaded
+/// dataset could make faze4 read any file), and a `codebase_version` of v1.6 or v9.9 was read
+/// as v3.0 (a v1 dataset "without data/chunk-*/file-*.parquet"; a v9.9 one silently). Both are
+/// refused naming the field as `info.json` spells it (issue 49, fourth round).
+#[test]
+fn a_lerobot_datasets_info_stays_inside_it_and_names_a_version_it_cannot_read() {
+    let dir = temp_dir("hostile-lerobot-info");
+    std::fs::copy(
+        repo_path("tests/urdf/example_robot_data/so101.urdf"),
+        dir.join("so101.urdf"),
+    )
+    .unwrap();
+    lerobot_v21(&dir, "ok", |_| {});
+    lerobot_v21(&dir, "abs", |i| i["data_path"] = "/etc/passwd".into());
+    lerobot_v21(&dir, "up", |i| {
+        i["data_path"] = "../ok/data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet".into()
+    });
+    lerobot_v21(&dir, "v1", |i| i["codebase_version"] = "v1.6".into());
+    lerobot_v21(&dir, "v9", |i| i["codebase_version"] = "v9.9".into());
+    let run = |name: &'static str| {
+        let args = [
+            "replay",
+            "--robot",
+            "so101.urdf",
+            "--q-traj",
+            name,
+            "--units",
+            "deg",
+            "--no-collisions",
+            "-q",
+        ];
+        (args, faze4(&dir, &args))
+    };
+    let (_, ok) = run("ok");
+    assert!(ok.status.success(), "{}", ok.stderr);
+    for (name, said) in [
+        (
+            "abs",
+            "abs/meta/info.json: data_path '/etc/passwd' gives '/etc/passwd', outside the dataset's folder",
+        ),
+        (
+            "up",
+            "up/meta/info.json: data_path '../ok/data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet' gives '../ok/data/chunk-000/episode_000000.parquet', outside the dataset's folder",
+        ),
+        (
+            "v1",
+            "v1/meta/info.json: codebase_version 'v1.6': faze4 reads LeRobot datasets v2.x and v3.x",
+        ),
+        (
+            "v9",
+            "v9/meta/info.json: codebase_version 'v9.9': faze4 reads LeRobot datasets v2.x and v3.x",
+        ),
+    ] {
+        let (args, refused) = run(name);
+        check_refusal(&args, refused.status.code(), &refused.stderr, &[said]);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
