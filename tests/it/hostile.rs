@@ -1756,3 +1756,54 @@ fn a_lerobot_datasets_info_stays_inside_it_and_names_a_version_it_cannot_read() 
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A `--xacro-arg` the file neither declares nor reads was dropped unsaid: a misspelled
+/// `ur_tpye:=ur10e` built the default arm and its verdict. Refused naming it and the arguments
+/// the file knows (declared by `<xacro:arg>` or read by `$(arg)`) (issue 49, fourth round).
+#[test]
+fn a_xacro_argument_the_file_does_not_know_is_refused() {
+    let dir = temp_dir("hostile-xacro-arg");
+    let xacro = r#"<?xml version="1.0"?>
+<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="length" default="0.3"/>
+  <link name="base"/>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 $(arg length)"/>
+    <axis xyz="0 0 $(arg axis_z)"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/>
+  </joint>
+  <link name="l1"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>
+"#;
+    std::fs::write(dir.join("arm.urdf.xacro"), xacro).unwrap();
+    let wave = |args: &[&'static str]| {
+        let args = [
+            &[
+                "wave",
+                "--robot",
+                "arm.urdf.xacro",
+                "--duration",
+                "0.01",
+                "--no-collisions",
+                "-q",
+            ][..],
+            args,
+        ]
+        .concat();
+        (faze4(&dir, &args), args)
+    };
+    // declared, and read without a declaration: both known
+    let (run, _) = wave(&["--xacro-arg", "length:=0.2", "--xacro-arg", "axis_z:=1"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let (run, args) = wave(&["--xacro-arg", "lenght:=0.2", "--xacro-arg", "axis_z:=1"]);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &[
+            "--xacro-arg: lenght: arm.urdf.xacro neither declares nor reads an argument 'lenght' (it knows 'axis_z', 'length')",
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
