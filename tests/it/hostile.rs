@@ -1807,3 +1807,51 @@ fn a_xacro_argument_the_file_does_not_know_is_refused() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A recorded JointState stream whose stamps go back (a bag played in a loop: the motion
+/// twice, the second from the start again) was sorted by stamp unsaid, the two passes
+/// interleaved into one motion. A joint's own messages going back is refused naming the two
+/// messages; publishers of different joints still interleave as they arrive (issue 49, fourth
+/// round).
+#[test]
+fn a_joint_state_stream_going_back_in_time_is_refused_not_sorted() {
+    let dir = temp_dir("hostile-stamps-back");
+    let arm = "[rotary_base, nadlaktica, lakat, podlaktica, saka]";
+    let state = |ms: u64, names: &str, q: f64| {
+        let n = names.matches(',').count() + 1;
+        let q = vec![format!("{q}"); n].join(", ");
+        format!(
+            "header: {{stamp: {{sec: {}, nanosec: {}}}}}\nname: {names}\nposition: [{q}]\n---\n",
+            ms / 1000,
+            ms % 1000 * 1_000_000
+        )
+    };
+    // two passes of 0 → 0.1 rad over 0.5 s
+    let looped: String = (0..2)
+        .flat_map(|_| (0..6).map(|k| state(1000 + 100 * k, arm, 0.02 * k as f64)))
+        .collect();
+    std::fs::write(dir.join("looped.yaml"), looped).unwrap();
+    // the gripper's driver publishes apart, its stamps a little behind the arm's
+    let mut merged = String::new();
+    for k in 0..6 {
+        merged += &state(1000 + 100 * k, arm, 0.02 * k as f64);
+        merged += &state(1000 + 100 * k - 30, "[hvataljka]", 0.01 * k as f64);
+    }
+    std::fs::write(dir.join("publishers.yaml"), merged).unwrap();
+    let args = ["replay", "--q-traj", "looped.yaml", "--no-collisions", "-q"];
+    let run = faze4(&dir, &args);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &[
+            "looped.yaml: JointState message 7: joint 'rotary_base' at 1 s, before the 1.5 s of JointState message 6: its messages go back in time",
+        ],
+    );
+    let run = faze4(
+        &dir,
+        &["replay", "--q-traj", "publishers.yaml", "--no-collisions", "-q"],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
