@@ -693,6 +693,13 @@ fn model_messages_name_the_cause() {
                 "overflows floating-point numbers",
             ],
         ),
+        // a link 1e200 m long was blamed on "its masses, rotor inertia or gear ratio"
+        (
+            urdf.replacen("<origin xyz=\"0 0 0.3\"/>", "<origin xyz=\"0 0 1e200\"/>", 1),
+            &[
+                "its masses, lengths (joint and inertial origins), rotor inertia or gear ratio are too large to simulate",
+            ],
+        ),
         (
             urdf.replacen(
                 "<collision><geometry><mesh filename=\"package://mesh_arms/meshes/upper.stl\"/></geometry></collision>",
