@@ -1862,3 +1862,57 @@ fn a_joint_state_stream_going_back_in_time_is_refused_not_sorted() {
     assert!(run.status.success(), "{}", run.stderr);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A motors file's stepper with a step angle of 1e-300° (9e301 rotor teeth) ran, warning
+/// that its rotor "rings at" a 150-digit figure and advising `--dt 2e-153`, which `--dt`
+/// refuses. A step angle below 0.1° (900 teeth; the finest hybrid steppers have 250) is
+/// refused, printed as short as it reads back (issue 49, fourth round).
+#[test]
+fn a_stepper_step_angle_no_motor_has_is_refused() {
+    let dir = temp_dir("hostile-step-angle");
+    let motor = |angle: &str| {
+        format!(
+            "[[joint]]\nname = \"rotary_base\"\nkind = \"stepper\"\ncurve = [[0, 1], [10, 0]]\nstep_angle = {angle}\n"
+        )
+    };
+    std::fs::write(dir.join("tiny.toml"), motor("1e-300")).unwrap();
+    std::fs::write(dir.join("fine.toml"), motor("0.36")).unwrap();
+    let args = [
+        "wave",
+        "--motors",
+        "tiny.toml",
+        "--drive",
+        "stepper",
+        "--duration",
+        "0.01",
+        "--no-collisions",
+        "-q",
+    ];
+    let run = faze4(&dir, &args);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &["tiny.toml: J1 (rotary_base): step_angle 1e-300 must be in [0.1, 90] degrees"],
+    );
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--motors",
+            "fine.toml",
+            "--drive",
+            "stepper",
+            "--duration",
+            "0.01",
+            "--no-collisions",
+            "-q",
+        ],
+    );
+    assert!(
+        run.status.code() != Some(2) && !run.stderr.contains("error"),
+        "{}",
+        run.stderr
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
