@@ -124,6 +124,21 @@ impl Outputs {
         file.commit()
     }
 
+    /// Takes `target` back out of the set, its temporary removed: a file made whole that is
+    /// not to be written after all (the trail of a sweep's run that a stop ended early).
+    pub fn withdraw(&self, target: &Path) {
+        let Ok(resolved) = resolve(target) else {
+            return;
+        };
+        self.staged().files.retain(|(temp, staged)| {
+            let keep = *staged != resolved;
+            if !keep {
+                let _ = std::fs::remove_file(temp);
+            }
+            keep
+        });
+    }
+
     /// A complete temporary waiting for the commit.
     fn stage(&self, temp: PathBuf, target: PathBuf) -> Result<()> {
         let mut staged = self.staged();

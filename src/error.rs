@@ -172,6 +172,14 @@ pub enum Error {
         message: String,
     },
 
+    /// A stop (Ctrl-C in Python, [`crate::sim::StopFlag::raise`]) came while `what` was under
+    /// way, which has nothing to finish: nothing is returned or written.
+    #[error("stopped while {what}: nothing is written")]
+    Stopped {
+        /// What was under way ("retime timed the path").
+        what: &'static str,
+    },
+
     /// The path retime is given makes the arm's collision geometry intersect itself: no timing
     /// follows it, since a timing changes when the poses come, not the poses (checked before
     /// any timing, at `samples` positions of the path).

@@ -54,8 +54,23 @@ fn usage_error(e: clap::Error) -> ExitCode {
         e.kind(),
         DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand
     ) {
-        let _ = e.print();
-        return ExitCode::from(e.exit_code() as u8);
+        // help and version go to stdout: a failed write there is the run's answer (a closed
+        // pipe its status, as SIGPIPE would; a full disk an error), where a failed write on
+        // stderr leaves the status clap gives
+        return match e.print() {
+            Err(source) if !e.use_stderr() && source.kind() == std::io::ErrorKind::BrokenPipe => {
+                ExitCode::from(sim::exit_status(sim::SIGPIPE))
+            }
+            Err(source) if !e.use_stderr() => {
+                let error = Error::Io {
+                    path: "stdout".into(),
+                    source,
+                };
+                to_stderr(&format!("faze4: error: {error}"));
+                ExitCode::from(EXIT_INPUT)
+            }
+            _ => ExitCode::from(e.exit_code() as u8),
+        };
     }
     to_stderr(&format!("faze4: error: {}", usage_line(&e)));
     ExitCode::from(EXIT_INPUT)
@@ -119,13 +134,15 @@ pub fn flags(text: &str) -> String {
     in_words(text, Words::Flags)
 }
 
-/// `faze4 completions SHELL` and `faze4 man`: what `write` writes, on stdout.
-fn shell_file(write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<ExitCode> {
-    let mut out = std::io::stdout().lock();
-    write(&mut out).and_then(|()| out.flush()).map_err(|source| Error::Io {
+/// `faze4 completions SHELL`, `faze4 man` and `faze4 list`: what `write` writes, on stdout as
+/// it is (made whole first: clap_complete panics on a failed write).
+fn shell_file(write: impl FnOnce(&mut Vec<u8>) -> std::io::Result<()>) -> Result<ExitCode> {
+    let mut bytes = Vec::new();
+    write(&mut bytes).map_err(|source| Error::Io {
         path: "stdout".into(),
         source,
     })?;
+    write_stdout(&bytes)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -322,8 +339,13 @@ fn stopped_by(stop: &StopFlag) -> &'static str {
 /// (`faze4 … | head`) raises the stop flag as SIGPIPE ([`sim::stdout_closed`]): the command
 /// ends quietly with SIGPIPE's status.
 fn print_stdout(text: &str) -> Result<()> {
+    write_stdout(escape_lines(text).as_bytes())
+}
+
+/// `bytes` on stdout as they are; a failure as [`print_stdout`] says.
+fn write_stdout(bytes: &[u8]) -> Result<()> {
     let mut out = std::io::stdout().lock();
-    match out.write_all(escape_lines(text).as_bytes()).and_then(|()| out.flush()) {
+    match out.write_all(bytes).and_then(|()| out.flush()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {
             sim::stdout_closed();
             Ok(())

@@ -143,7 +143,9 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let build = |values: &[f64]| family.build(values);
     let progress = Progress::new(indices.len(), args.quiet);
     let on_done = || progress.tick();
-    let mut runner = Runner::new(&build, threads(args.jobs, indices.len()))?.with_progress(&on_done);
+    let mut runner = Runner::new(&build, threads(args.jobs, indices.len()))?
+        .with_progress(&on_done)
+        .with_stop(&stop);
     if let Some(dir) = &args.trails {
         runner = runner.with_trails(dir, &files);
     }

@@ -31,11 +31,12 @@ pub struct RetimeFinished {
 }
 
 impl RetimeFinished {
-    /// Whether the answer is a timing to use: the checked timing follows, or, unchecked
-    /// (`no_check`), it keeps every limit as a controller plays it.
+    /// Whether the answer is a timing to use: the checked timing follows (a check a stop ended
+    /// early has no verdict), or, unchecked (`no_check`), it keeps every limit as a controller
+    /// plays it.
     pub fn follows(&self) -> bool {
         match &self.summary {
-            Some(summary) => summary.verdict.follows,
+            Some(summary) => summary.interrupted_at_s.is_none() && summary.verdict.follows,
             None => self.retimed.played.worst <= KEPT,
         }
     }
@@ -138,8 +139,9 @@ pub fn retime(
         replayed,
         written: false,
     };
-    // a timing that does not follow is written only when asked to (`force`)
-    finished.written = r.out.is_some() && (finished.follows() || r.force);
+    // a timing that does not follow is written only when asked to (`force`); one whose check a
+    // stop ended early, never
+    finished.written = r.out.is_some() && !interrupted && (finished.follows() || r.force);
     if let (Some(path), true) = (&r.out, finished.written) {
         files::write_within(files, path, &finished.retimed.trajectory)?;
     }
@@ -230,26 +232,26 @@ pub fn retime_lines(finished: &RetimeFinished, out: Option<&std::path::Path>) ->
             if c.attempts == 1 { "" } else { "s" },
             c.slowed_points,
             if c.slowed_points == 1 { "" } else { "s" },
-            written(out, finished.written, "it does not follow")
+            match c.summary.interrupted_at_s {
+                Some(_) => written(out, false, "the check was stopped", ""),
+                None => written(out, finished.written, "it does not follow", " (`force` writes it)"),
+            }
         ));
     } else {
         text.push_str(&format!(
             "not checked in the closed loop (`no_check`): whether the loop follows it is not known (replay it to know){}\n",
-            written(out, finished.written, "it passes a limit as played")
+            written(out, finished.written, "it passes a limit as played", " (`force` writes it)")
         ));
     }
     text
 }
 
-/// What the check's line says of `out`: written, or not and `why`.
-fn written(out: Option<&std::path::Path>, written: bool, why: &str) -> String {
+/// What the check's line says of `out`: written, or not, `why`, and what would write it.
+fn written(out: Option<&std::path::Path>, written: bool, why: &str, hint: &str) -> String {
     match (out, written) {
         (None, _) => String::new(),
         (Some(p), true) => format!("; wrote {}", crate::error::shown_path(p)),
-        (Some(p), false) => format!(
-            "; {why}: nothing is written to {} (`force` writes it)",
-            crate::error::shown_path(p)
-        ),
+        (Some(p), false) => format!("; {why}: nothing is written to {}{hint}", crate::error::shown_path(p)),
     }
 }
 

@@ -238,25 +238,23 @@ impl<'a> Runner<'a> {
         self.pool.current_num_threads()
     }
 
-    /// Runs `points` (index, values) in parallel; the rows in the same order.
+    /// Runs `points` (index, values) in parallel; the rows in the same order. A run the stop
+    /// flag kept from starting fails as interrupted.
     pub fn run_points(&self, points: Vec<(usize, Vec<f64>)>) -> Vec<Row> {
-        self.pool.install(|| {
-            points
-                .into_par_iter()
-                .map(|(index, values)| {
-                    let row = self.run_one(index, values);
-                    if let Some(done) = self.on_done {
-                        done();
-                    }
-                    row
-                })
-                .collect()
-        })
+        (self.run_each(points).into_iter())
+            .map(|(index, values, outcome)| Row {
+                index,
+                values,
+                outcome: outcome.unwrap_or_else(|| Outcome::Failed("interrupted before this run started".into())),
+            })
+            .collect()
     }
 
     /// Runs the points `indices` of `grid` and hands the rows to `on_row` in index order, a
-    /// chunk at a time, so that memory stays flat in the number of runs. Stops early (between
-    /// chunks) when `stop` is raised; returns the number of rows handed over.
+    /// chunk at a time, so that memory stays flat in the number of runs. A raised `stop` ends
+    /// the runs in flight where they are (when the runner polls it: [`Runner::with_stop`]) and
+    /// the sweep there: only whole runs are handed over, those before the first that it ended
+    /// early or kept from starting. Returns the number of rows handed over.
     pub fn sweep(
         &self,
         grid: &Grid,
@@ -270,40 +268,71 @@ impl<'a> Runner<'a> {
         while start < indices.end && !stop.is_raised() {
             let end = (start + chunk).min(indices.end);
             let points = (start..end).map(|i| (i, grid.point(i))).collect();
-            for row in self.run_points(points) {
-                on_row(row)?;
-                handed += 1;
+            let mut whole = true;
+            for (index, values, outcome) in self.run_each(points) {
+                match outcome {
+                    Some(Outcome::Ran(summary)) if summary.interrupted_at_s.is_some() => whole = false,
+                    Some(outcome) if whole => {
+                        on_row(Row { index, values, outcome })?;
+                        handed += 1;
+                        continue;
+                    }
+                    _ => whole = false,
+                }
+                // the stop ended this run early or kept it from starting: neither it nor a run
+                // after it is a row of the sweep, nor its trail a file of it
+                if let Some((dir, outputs)) = &self.trails {
+                    outputs.withdraw(&trail_path(dir, index));
+                }
+            }
+            if !whole {
+                break;
             }
             start = end;
         }
         Ok(handed)
     }
 
-    fn run_one(&self, index: usize, values: Vec<f64>) -> Row {
-        let outcome = match self.build_and_run(index, &values) {
-            Ok(summary) => Outcome::Ran(Box::new(summary)),
-            Err(e) => Outcome::Failed(crate::error::one_line(&e.to_string())),
-        };
-        Row { index, values, outcome }
+    /// Runs `points` in parallel: each with what it did, in the same order; `None` for a run
+    /// the stop flag kept from starting.
+    fn run_each(&self, points: Vec<(usize, Vec<f64>)>) -> Vec<(usize, Vec<f64>, Option<Outcome>)> {
+        self.pool.install(|| {
+            points
+                .into_par_iter()
+                .map(|(index, values)| {
+                    let outcome = (!self.stop.is_raised()).then(|| match self.build_and_run(index, &values) {
+                        Ok(summary) => Outcome::Ran(Box::new(summary)),
+                        Err(e) => Outcome::Failed(crate::error::one_line(&e.to_string())),
+                    });
+                    if let Some(done) = self.on_done {
+                        done();
+                    }
+                    (index, values, outcome)
+                })
+                .collect()
+        })
     }
 
     fn build_and_run(&self, index: usize, values: &[f64]) -> Result<Summary> {
-        if self.stop.is_raised() {
-            return Err(Error::argument("sweep", "interrupted before this run started"));
-        }
         let scenario = (self.build)(values)?;
         let stop = &self.stop;
         match &self.trails {
             None => sim::run(&scenario, &mut [], stop),
             Some((dir, outputs)) => {
                 let period = scenario.record_every as f64 * scenario.dt;
-                let path = dir.join(format!("run_{index:07}.csv"));
+                let path = trail_path(dir, index);
                 let mut trail = TrailCsv::within(outputs, &path, period, false)?;
                 let mut recorders: [&mut dyn Recorder; 1] = [&mut trail];
                 sim::run(&scenario, &mut recorders, stop)
             }
         }
     }
+}
+
+/// The trail of run `index` of a sweep, in `--trails` folder `dir` (`run_INDEX.csv`, INDEX
+/// zero-padded to 7 digits).
+fn trail_path(dir: &Path, index: usize) -> PathBuf {
+    dir.join(format!("run_{index:07}.csv"))
 }
 
 #[cfg(test)]

@@ -1115,6 +1115,47 @@ fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// What the binary prints on stdout without a run (help, version, completions, the manual,
+/// the lists) meets a full or closed stdout as a run does: a full one (`>/dev/full`) is an
+/// error, status 2 (help said nothing and ended with 0; `completions` panicked, 101); a closed
+/// one ends quietly with SIGPIPE's status, 141.
+#[test]
+fn help_and_shell_files_on_a_full_or_closed_stdout() {
+    for args in [
+        &["--help"][..],
+        &["wave", "--help"],
+        &["--version"],
+        &["completions", "bash"],
+        &["completions", "zsh"],
+        &["man"],
+        &["list", "motors"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(args)
+            .stdout(std::fs::File::create("/dev/full").unwrap())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(
+            stderr.trim_end(),
+            "faze4: error: stdout: No space left on device (os error 28)",
+            "{args:?}"
+        );
+        let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(141), "{args:?}: {stderr}");
+        assert_eq!(stderr, "", "{args:?}: a closed stdout ends quietly");
+    }
+}
+
 /// A signal while an input is read ends the process at once, with one line and the signal's
 /// status, nothing written (issue 49: SIGTERM waited for the parse to end, a minute for a
 /// hostile YAML). The input here is a FIFO whose writer holds it open without ending it, so

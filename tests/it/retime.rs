@@ -886,6 +886,71 @@ fn a_timing_that_does_not_follow_is_written_only_with_force() {
     }
 }
 
+/// A stop asked for while the path is timed (Ctrl-C in Python, a flag raised by hand) ends the
+/// timing with `Error::Stopped` instead of finishing it (in Python it waited out the timing: a
+/// second at the default grid with jerk limits, 20 s on a grid of 100,000).
+#[test]
+fn a_stop_ends_the_timing() {
+    let model = faze4::faze4::model();
+    let path = common::circle_path();
+    let stop = faze4::sim::StopFlag::new();
+    stop.raise();
+    let options = RetimeOptions { stop, ..no_check() };
+    let stopped = retime(&with_motors(&model, &path), &path, &options);
+    assert!(
+        matches!(stopped, Err(Error::Stopped { .. })),
+        "{:?}",
+        stopped.map(|r| r.profile.duration())
+    );
+}
+
+/// A check a signal ends early has no verdict, and nothing is written, not even under
+/// `--force`: the line said "wrote c.yaml" though no file was written.
+#[test]
+fn a_check_a_signal_stops_writes_nothing_and_says_so() {
+    let dir = common::temp_dir("retime-stopped-check");
+    let circle = repo_path("tests/fixtures/shape_circle_q.npy");
+    let circle = circle.to_str().unwrap();
+    // jerk limits this small time the circle over about 5,400 s: the check runs for minutes,
+    // the timing itself takes under a second
+    let jerk = ["1e-3"; 6].join(",");
+    let args = [
+        "retime",
+        "--q-traj",
+        circle,
+        "--motors",
+        "faze4",
+        "--max-jerk",
+        &jerk,
+        "--out",
+        "c.yaml",
+        "--force",
+    ];
+    let out = common::signalled_once_begun(
+        &dir,
+        &args,
+        libc::SIGTERM,
+        |_, _| true,
+        std::time::Duration::from_secs(5),
+    );
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(out.status.code(), Some(143), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("s of the check: no verdict; nothing is written"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.ends_with("; the check was stopped: nothing is written to c.yaml\n"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("wrote"), "{stdout}");
+    assert!(!dir.join("c.yaml").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--no-check` (issue 46 item 6): the timing is written without a closed-loop run, said to be
 /// unchecked, with status 0 (it keeps every limit as played), no verdict and no trail; it is
 /// the checked command's first timing (the circle follows at once under the default margin,

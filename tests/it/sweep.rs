@@ -1062,6 +1062,50 @@ fn bad_input_is_one_line_and_exit_2() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A stop does not wait for the runs in flight: they end where they are and are left out, with
+/// their trails (a sweep of hour-long runs waited for a whole chunk of them, 32 per thread, and
+/// wrote them as rows; Slurm kills a task 30 s after its SIGTERM by default).
+#[test]
+fn a_stop_ends_the_runs_in_flight_and_leaves_them_out() {
+    let dir = temp_dir("stop-in-flight");
+    std::fs::create_dir(dir.join("trails")).unwrap();
+    // two runs of an hour each (minutes of work), stopped once their temporaries exist
+    let out = signalled_once_begun(
+        &dir,
+        &[
+            "sweep",
+            "--vary",
+            "payload-kg=0,0.1",
+            "--jobs",
+            "2",
+            "--out",
+            "t.csv",
+            "--trails",
+            "trails",
+            "--",
+            "wave",
+            "--no-collisions",
+            "--duration",
+            "3600",
+        ],
+        libc::SIGTERM,
+        |dir, _| has_temporary(&dir.join("trails")),
+        std::time::Duration::from_millis(200),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(143), "{stderr}");
+    assert!(
+        stderr.contains("stopped by SIGTERM after 0 of 2 runs; the outputs hold those"),
+        "{stderr}"
+    );
+    let (header, rows) = read_table(&dir.join("t.csv"));
+    assert!(header.len() > 5, "the sweep's columns all the same: {header:?}");
+    assert!(rows.is_empty(), "{rows:?}");
+    let trails: Vec<_> = std::fs::read_dir(dir.join("trails")).unwrap().collect();
+    assert!(trails.is_empty(), "{trails:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn ctrl_c_ends_a_sweep_with_the_rows_before_it() {
     let dir = temp_dir("ctrl-c");
