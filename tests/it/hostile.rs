@@ -6,7 +6,9 @@
 //! parse; a full stderr or a closed stdout is no panic; an output path cannot forge a line; a
 //! FIFO with no writer is not waited for for ever; YAML nesting and the values of text
 //! trajectories are counted before they cost time or memory; a file's misspelled field, its
-//! own span and its field names are said as the file has them (issue 49). Each case checks the exit status,
+//! own span and its field names are said as the file has them (issue 49); an option both varied
+//! and given, a plan's multi-DOF part, a dataset's paths and version, an unknown xacro argument,
+//! a stream going back in time, a step angle no motor has (issue 49, fourth round). Each case checks the exit status,
 //! the one line on stderr, and the directory before and after.
 
 use crate::common;
