@@ -243,8 +243,13 @@ fn resolve(path: &Path) -> std::io::Result<PathBuf> {
     for _ in 0..40 {
         match std::fs::symlink_metadata(&path) {
             Ok(m) if m.file_type().is_symlink() => {
-                let link = std::fs::read_link(&path)?;
-                path = parent(&path).join(link);
+                let next = parent(&path).join(std::fs::read_link(&path)?);
+                // a link the kernel follows to what no path names is kept as it is:
+                // `/dev/stdout` on a pipe or a socket (`/proc/self/fd/1` → `pipe:[…]`)
+                if std::fs::symlink_metadata(&next).is_err() && std::fs::metadata(&path).is_ok() {
+                    break;
+                }
+                path = next;
             }
             _ => break,
         }
@@ -436,7 +441,11 @@ impl Inputs {
 /// An I/O error on `path`: the option's error when an option claimed it, else the file's.
 fn io_error(option: Option<&str>, path: &Path, source: std::io::Error) -> Error {
     match option {
-        Some(option) => Error::argument(option, format!("{}: {source}", path.display())),
+        Some(option) => Error::Output {
+            option: option.to_string(),
+            path: path.to_path_buf(),
+            source,
+        },
         None => Error::Io {
             path: path.to_path_buf(),
             source,

@@ -17,6 +17,17 @@ pub enum Error {
         source: std::io::Error,
     },
 
+    /// An output an option names could not be written.
+    #[error("{option}: {}: {source}", path.display())]
+    Output {
+        /// The option, named as a field in backticks (`` `trail` ``, [`Error::InvalidArgument`]).
+        option: String,
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+
     /// The URDF is not well-formed XML or not a URDF document.
     #[error("{file}: malformed URDF: {message}")]
     UrdfSyntax {
@@ -170,6 +181,14 @@ pub enum Error {
         joint: Option<JointId>,
         /// What it needs and what it has (naming the joint, if one is at fault).
         message: String,
+    },
+
+    /// A stop (Ctrl-C in Python, [`crate::sim::StopFlag::raise`]) came while `what` was under
+    /// way, which has nothing to finish: nothing is returned or written.
+    #[error("stopped while {what}: nothing is written")]
+    Stopped {
+        /// What was under way ("retime timed the path").
+        what: &'static str,
     },
 
     /// The path retime is given makes the arm's collision geometry intersect itself: no timing

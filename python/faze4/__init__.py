@@ -420,9 +420,24 @@ def _row(names, values, summary_json, failure) -> dict[str, Any]:
     return row
 
 
+def _refuse_given(option: str, names, options: dict[str, Any]) -> None:
+    """Refuses a name the sweep or search varies that the call's keywords give too: the sweep
+    sets it at each run, so the given value would be dropped unsaid (as the library refuses it
+    on the command line)."""
+    given = {k for k, v in _renamed(options).items() if v is not None}
+    for name in names:
+        key = str(name).strip().removeprefix("--").replace("-", "_")
+        if key in given:
+            raise Error(
+                f"{option}: '{str(name).strip()}' is varied and also given to the command ({key}): the sweep sets it "
+                "at each run, so that value would be dropped; give it in one place"
+            )
+
+
 def sweep(
     robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, own_clearance: bool = False, **options: Any
 ) -> list[dict[str, Any]]:
+    _refuse_given("vary", vary or (), options)
     merged, frames, timed = _base(command, robot, dict(options))
     if not vary:
         raise Error("vary: nothing to vary: give vary={'payload_kg': [...]}")
@@ -453,6 +468,7 @@ def find(
     own_clearance: bool = False,
     **options: Any,
 ) -> Found:
+    _refuse_given("find_min" if smallest else "find", [name], options)
     merged, frames, timed = _base(command, robot, dict(options))
     resolution = None if resolution is None else float(resolution)
     kind, line, follows, fails, warnings = _faze4._find(

@@ -201,3 +201,29 @@ def test_complex_numbers_are_refused_not_cast_to_their_real_part():
             with pytest.raises(TypeError, match=words) as refused:
                 faze4.wave(robot, duration=0.01, **{kw: value})
             assert _one_line(refused.value).startswith(kw), refused.value
+
+
+def test_an_option_varied_and_given_is_refused_not_dropped():
+    """A keyword that a sweep or search varies and the call also gives was dropped at each run
+    unsaid: refused naming it, as the command line refuses it (issue 49, fourth round)."""
+    robot = faze4.Robot.faze4()
+    for call, part in [
+        (
+            lambda: faze4.sweep(robot, "wave", vary={"dt": [0.001, 0.002]}, dt=0.0001, duration=0.01, no_collisions=True),
+            "vary: 'dt' is varied and also given to the command (dt): the sweep sets it at each run",
+        ),
+        (
+            lambda: faze4.find(robot, "wave", "payload_kg", 0, 1, payload_kg=0.5, duration=0.01),
+            "find: 'payload_kg' is varied and also given to the command (payload_kg)",
+        ),
+        (
+            lambda: faze4.find(robot, "wave", "payload_kg", 0, 1, smallest=True, payload_kg=0.5, duration=0.01),
+            "find_min: 'payload_kg' is varied",
+        ),
+    ]:
+        with pytest.raises(faze4.Error) as caught:
+            call()
+        message = _one_line(caught.value)
+        assert part in message, message
+    rows = faze4.sweep(robot, "wave", vary={"kp_scale": [1, 2]}, duration=0.01, no_collisions=True)
+    assert [r["kp_scale"] for r in rows] == [1, 2]

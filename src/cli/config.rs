@@ -32,6 +32,17 @@ pub fn run_config(command: &Command, own_defaults: bool) -> Result<RunConfig> {
     Ok(config)
 }
 
+/// The fields `command`'s line gives (by name), not those left at their defaults.
+pub fn given_fields(command: &Command) -> Vec<&'static str> {
+    let Some((run, matches)) = command.run() else {
+        return Vec::new();
+    };
+    (fields::of(run))
+        .filter(|f| matches.value_source(f.name) == Some(ValueSource::CommandLine))
+        .map(|f| f.name)
+        .collect()
+}
+
 /// Whether `field`'s default on the command line is the binary's own (the library declares
 /// none: `--trail`'s).
 fn own_default(field: &Field) -> bool {

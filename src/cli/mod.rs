@@ -40,6 +40,14 @@ pub fn main() -> ExitCode {
         // stdout closed under it (`| head`): the pipe's status, as SIGPIPE would have ended it
         Ok(_) if StopFlag::ctrl_c().signal() == Some(sim::SIGPIPE) => ExitCode::from(sim::exit_status(sim::SIGPIPE)),
         Ok(code) => code,
+        // an output written into a pipe whose reader left (`--trail /dev/stdout | head`): the
+        // pipe's status, quietly, as SIGPIPE would have ended it (the other outputs are not
+        // written: an output failed)
+        Err(Error::Io { source, .. } | Error::Output { source, .. })
+            if source.kind() == std::io::ErrorKind::BrokenPipe =>
+        {
+            ExitCode::from(sim::exit_status(sim::SIGPIPE))
+        }
         Err(e) => {
             to_stderr(&format!("faze4: error: {}", flags(&e.to_string())));
             ExitCode::from(EXIT_INPUT)

@@ -31,8 +31,10 @@ fn sharing(args: &SweepArgs) -> Sharing {
     }
 }
 
-/// The base command's words (after `--`) as a run configuration.
-fn base_config(words: &[String]) -> Result<RunConfig> {
+/// The base command's words (after `--`) as a run configuration, refused when they give an
+/// option the sweep varies (`varied`, for `option`: `vary`, `find`), whose value the sweep would
+/// drop.
+fn base_config(words: &[String], varied: &[&str], option: &str) -> Result<RunConfig> {
     if words.is_empty() {
         return Err(Error::argument(
             "sweep",
@@ -59,7 +61,10 @@ fn base_config(words: &[String]) -> Result<RunConfig> {
         _ => {}
     }
     // the base takes none of the command line's own defaults: its runs' trails are --trails
-    super::config::run_config(&command, false)
+    let config = super::config::run_config(&command, false)?;
+    let given = super::config::given_fields(&command);
+    sweep::refuse_given_and_varied(varied, config.motion.command(), &given, option)?;
+    Ok(config)
 }
 
 /// A failed run's reason with the options it names as flags.
@@ -127,7 +132,8 @@ fn table(args: &SweepArgs) -> Result<ExitCode> {
     let names: Vec<(&str, &[f64])> = (grid.axes.iter())
         .map(|a| (a.name.as_str(), a.values.as_slice()))
         .collect();
-    let family = Family::load(base_config(&args.base)?, None, &names, sharing(args))?;
+    let varied: Vec<&str> = names.iter().map(|(n, _)| *n).collect();
+    let family = Family::load(base_config(&args.base, &varied, "vary")?, None, &names, sharing(args))?;
     // the outputs' temporaries and the runs begin: a signal now stops the sweep cleanly
     stop.watch();
     files.reading(family.inputs().clone())?;
@@ -275,7 +281,11 @@ fn find(args: &SweepArgs, spec: &str, seek: Seek) -> Result<ExitCode> {
     };
     let name = name.trim().trim_start_matches("--");
     let searched = sweep::search(
-        base_config(&args.base)?,
+        base_config(
+            &args.base,
+            &[name],
+            option.trim_start_matches("--").replace('-', "_").as_str(),
+        )?,
         None,
         sharing(args),
         name,

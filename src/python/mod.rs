@@ -681,7 +681,10 @@ fn _retime<'py>(
             warnings = warning_lines(w)
         })
         .and_then(|finished| {
-            files.commit()?;
+            // a check a signal ended early writes nothing, as on the command line
+            if finished.summary.as_ref().is_none_or(|s| s.interrupted_at_s.is_none()) {
+                files.commit()?;
+            }
             let out = match &config.motion {
                 Motion::Retime(r) => r.out.as_deref(),
                 _ => None,

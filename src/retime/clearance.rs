@@ -8,6 +8,7 @@ use crate::algo::{Data, forward_kinematics};
 use crate::error::{Error, Result};
 use crate::geometry::{Clearance, CollisionSet};
 use crate::model::Model;
+use crate::sim::StopFlag;
 
 /// The most any joint moves between two samples of the path whose clearance is checked (rad,
 /// or m for a prismatic joint): a point 1 m from a joint's axis moves at most 1 mm for it.
@@ -31,21 +32,30 @@ pub(super) fn samples(grid: &PathGrid) -> Vec<f64> {
     s
 }
 
+/// Samples between two looks at the stop flag (each costs about what a sample's forward
+/// kinematics does, in Python the interpreter's signal check).
+const STOP_POLL_SAMPLES: usize = 64;
+
 /// Refuses `path` ([`Error::PathCollides`], naming the pair, the path position and the
 /// nearest input point) where its collision geometry intersects itself at one of the
 /// [`samples`]; intersections are decided exactly (the `tolerance` only loosens distances).
+/// A stop asked for ends it ([`Error::Stopped`]).
 pub(super) fn check_path(
     model: &Model,
     set: &CollisionSet,
     tolerance: f64,
     path: &PathSpline,
     grid: &PathGrid,
+    stop: &StopFlag,
 ) -> Result<()> {
     let mut clearance = Clearance::with_tolerance(set, tolerance);
     let mut data = Data::new(model);
     let mut q = vec![0.0; path.dof()];
     let samples = samples(grid);
-    for &s in &samples {
+    for (k, &s) in samples.iter().enumerate() {
+        if k % STOP_POLL_SAMPLES == 0 {
+            super::not_stopped(stop)?;
+        }
         path.position(s, &mut q);
         forward_kinematics(model, &mut data, &q);
         clearance.add(&data.frame_pose, s);

@@ -356,7 +356,7 @@ pub fn retime(base: &ScenarioBuilder, path: &PathSpline, options: &RetimeOptions
     let grid = grid::PathGrid::new(model, path, options.intervals);
     check_between(model, path, &grid)?;
     if let Some(set) = &start.collision_set {
-        clearance::check_path(model, set, start.clearance_tolerance, path, &grid)?;
+        clearance::check_path(model, set, start.clearance_tolerance, path, &grid, &options.stop)?;
     }
     let limits = limits::Limits::of(&start, options)?;
     let ends = ends::Ends::of(model, path, options)?;
@@ -548,6 +548,17 @@ struct AsPlayed<'a> {
     options: &'a RetimeOptions,
 }
 
+/// [`Error::Stopped`] once a stop is asked for ([`StopFlag::asked`]): timing a path has nothing
+/// to finish (on the command line a signal ends the process at once instead).
+pub(super) fn not_stopped(stop: &StopFlag) -> Result<()> {
+    match stop.asked() {
+        true => Err(Error::Stopped {
+            what: "retime timed the path",
+        }),
+        false => Ok(()),
+    }
+}
+
 /// The longest timing (s) retime writes: its times are whole nanoseconds in an `i64` (about
 /// 292 years), and with the check, at most the 10^12 steps of `dt` a run may take.
 fn longest(dt: f64, check: bool) -> f64 {
@@ -626,6 +637,7 @@ impl AsPlayed<'_> {
         let mut uncapped = None;
         let (mut round, mut holds) = (0, 0);
         loop {
+            not_stopped(&self.options.stop)?;
             let solved = solver.solve(cap)?;
             if uncapped.is_none() {
                 uncapped = Some(solved.profile.clone());
@@ -634,6 +646,7 @@ impl AsPlayed<'_> {
             *window = window.max(WINDOW * raw.duration()).max(self.limits.window);
             let mut widened = 0;
             let (profile, offset, trajectory, played) = loop {
+                not_stopped(&self.options.stop)?;
                 let averaged = smooth::Averaged::new(raw, *window);
                 let (profile, offset) = (averaged.profile(), averaged.offset());
                 self.within_longest(raw.duration(), profile.duration())?;

@@ -592,7 +592,7 @@ fn overflow(model: &Model, bare: Option<&Model>, payload_kg: f64, q_start: &[f64
     Error::model(
         &model.source,
         joint,
-        "its masses, rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF, `rotor_inertia`, `gear_ratio`)",
+        "its masses, lengths (joint and inertial origins), rotor inertia or gear ratio are too large to simulate: the mass matrix and the gains tuned for it overflow (check the URDF's masses and origins, `rotor_inertia`, `gear_ratio`)",
     )
 }
 

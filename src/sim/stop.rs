@@ -97,6 +97,13 @@ impl StopFlag {
     /// Whether a stop was asked for (the flag is watched from now on: [`StopFlag::watch`]).
     pub fn is_raised(&self) -> bool {
         self.watch();
+        self.asked()
+    }
+
+    /// Whether a stop was asked for, the flag left unwatched: a look from work that has nothing
+    /// to finish (a retime's timing), which a signal on the command line ends at once instead
+    /// ([`StopFlag::ctrl_c`]); a flag raised by hand or by its poll (Python's Ctrl-C) stops it.
+    pub fn asked(&self) -> bool {
         if self.0.load(Ordering::Relaxed) != 0 {
             return true;
         }

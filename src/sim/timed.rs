@@ -61,12 +61,13 @@ impl TimedCommand {
                     return Err(Error::InvalidData {
                         path: source.to_path_buf(),
                         message: format!(
-                            "point {k}: joint J{} ({}) is commanded to {q} {}, beyond its limits [{}, {}]{}",
+                            "point {k}: joint J{} ({}) is commanded to {} {}, beyond its limits [{}, {}]{}",
                             i + 1,
                             joint.name,
+                            shortest(q),
                             joint.kind.unit(),
-                            joint.lower,
-                            joint.upper,
+                            shortest(joint.lower),
+                            shortest(joint.upper),
                             model.mimic_note(i)
                         ),
                     });

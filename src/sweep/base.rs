@@ -234,6 +234,27 @@ impl Family {
 /// Most runs [`Family::probe`] tries to build.
 const PROBES: usize = 100;
 
+/// Refuses a sweep NAME (`names`, as the user wrote them, for `command`) that the base command
+/// is also given (`given`: the fields the user set there, by name): the sweep sets it at each
+/// run, so the given value would be dropped unsaid. `option` is the sweep's (`vary`, `find`).
+pub fn refuse_given_and_varied(names: &[&str], command: Command, given: &[&str], option: &str) -> Result<()> {
+    for name in names {
+        if let Some(Knob::Field(f)) = Knob::named(name, command)
+            && given.iter().any(|g| f.is_called(g))
+        {
+            return Err(Error::option(
+                option,
+                format!(
+                    "'{}' is varied and also given to the command (`{}`): the sweep sets it at each run, so that value would be dropped; give it in one place",
+                    name.trim(),
+                    f.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The knob `name`, checked against `base`'s command with `values` (the first must be
 /// settable, every one a value of the field's kind).
 fn knob(base: &RunConfig, name: &str, values: &[f64]) -> Result<Knob> {

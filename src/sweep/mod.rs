@@ -12,7 +12,7 @@ mod merge;
 mod part;
 mod table;
 
-pub use base::{Family, Knob, Searched, Sharing, known_names, search, threads, varied_fields};
+pub use base::{Family, Knob, Searched, Sharing, known_names, refuse_given_and_varied, search, threads, varied_fields};
 pub use family::{Build, Outcome, Row, Runner, Scale};
 pub use find::{Found, Seek, find};
 pub use grid::{Axis, Grid, MAX_AXIS_VALUES, Shard};

@@ -6,7 +6,9 @@
 //! parse; a full stderr or a closed stdout is no panic; an output path cannot forge a line; a
 //! FIFO with no writer is not waited for for ever; YAML nesting and the values of text
 //! trajectories are counted before they cost time or memory; a file's misspelled field, its
-//! own span and its field names are said as the file has them (issue 49). Each case checks the exit status,
+//! own span and its field names are said as the file has them (issue 49); an option both varied
+//! and given, a plan's multi-DOF part, a dataset's paths and version, an unknown xacro argument,
+//! a stream going back in time, a step angle no motor has (issue 49, fourth round). Each case checks the exit status,
 //! the one line on stderr, and the directory before and after.
 
 use crate::common;
@@ -693,6 +695,13 @@ fn model_messages_name_the_cause() {
                 "overflows floating-point numbers",
             ],
         ),
+        // a link 1e200 m long was blamed on "its masses, rotor inertia or gear ratio"
+        (
+            urdf.replacen("<origin xyz=\"0 0 0.3\"/>", "<origin xyz=\"0 0 1e200\"/>", 1),
+            &[
+                "its masses, lengths (joint and inertial origins), rotor inertia or gear ratio are too large to simulate",
+            ],
+        ),
         (
             urdf.replacen(
                 "<collision><geometry><mesh filename=\"package://mesh_arms/meshes/upper.stl\"/></geometry></collision>",
@@ -1066,6 +1075,14 @@ fn an_output_path_cannot_forge_a_line_of_output() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Runs `command` with a stdout whose reading end is closed before it starts (closed after the
+/// start, a short output could land in the pipe's buffer first), stderr captured.
+fn with_stdout_closed(command: &mut Command) -> std::process::Output {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    command.stdout(writer).stderr(Stdio::piped()).output().unwrap()
+}
+
 /// A full stderr (`2>/dev/full`) is no panic: a refusal keeps its status 2 and a valid run
 /// writes its files and ends with 0 (issue 49: exit 101). A closed stdout (`faze4 … | head`)
 /// ends the run quietly with the pipe's status, 141 as SIGPIPE would, its files complete up to
@@ -1087,15 +1104,11 @@ fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
     assert_eq!(full_stderr(&arm_wave(&["--trail", "full.csv"])), Some(0));
     assert!(std::fs::read_to_string(dir.join("full.csv")).unwrap().starts_with("t,"));
     // stdout's reading end closed before the run prints its first line
-    let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
-        .args(arm_wave_told(&["--trail", "closed.csv"]))
-        .current_dir(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
+    let out = with_stdout_closed(
+        Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(arm_wave_told(&["--trail", "closed.csv"]))
+            .current_dir(&dir),
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(141), "{stderr}");
     assert_eq!(stderr, "", "a closed stdout ends the run quietly");
@@ -1105,6 +1118,45 @@ fn a_full_stderr_or_a_closed_stdout_is_no_panic() {
             .starts_with("t,")
     );
     assert!(temporaries(&dir).is_empty(), "{:?}", temporaries(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An output named `/dev/stdout` or `/dev/stderr` goes down a pipe as into a terminal (it was
+/// refused, "No such file or directory": the link `/proc/self/fd/1` names `pipe:[…]`, which no
+/// path reaches); a pipe whose reader left ends the run quietly with SIGPIPE's status, 141 (it
+/// was "--trail: /dev/stdout: Broken pipe", status 2).
+#[test]
+fn outputs_into_a_pipe_through_dev_stdout() {
+    let dir = arm_dir("hostile-dev-stdout");
+    let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(arm_wave(&["--trail", "none", "--summary", "/dev/stdout"]))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json = &stdout[stdout.find('{').unwrap()..=stdout.rfind('}').unwrap()];
+    let summary: serde_json::Value = serde_json::from_str(json).unwrap_or_else(|e| panic!("{e}: {stdout}"));
+    assert!(summary["verdict"].is_object(), "{summary}");
+    let out = Command::new(env!("CARGO_BIN_EXE_faze4"))
+        .args(arm_wave(&["--trail", "/dev/stderr"]))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("t,"));
+    // the reading end closed before the trail's first row
+    let out = with_stdout_closed(
+        Command::new(env!("CARGO_BIN_EXE_faze4"))
+            .args(arm_wave(&["--trail", "/dev/stdout"]).iter().map(|a| match *a {
+                "0.2" => "5",
+                a => a,
+            }))
+            .current_dir(&dir),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{stderr}");
+    assert_eq!(stderr, "", "a closed pipe ends the run quietly");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -1135,14 +1187,7 @@ fn help_and_shell_files_on_a_full_or_closed_stdout() {
             "faze4: error: stdout: No space left on device (os error 28)",
             "{args:?}"
         );
-        let mut child = Command::new(env!("CARGO_BIN_EXE_faze4"))
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        drop(child.stdout.take());
-        let out = child.wait_with_output().unwrap();
+        let out = with_stdout_closed(Command::new(env!("CARGO_BIN_EXE_faze4")).args(args));
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(141), "{args:?}: {stderr}");
         assert_eq!(stderr, "", "{args:?}: a closed stdout ends quietly");
@@ -1517,7 +1562,7 @@ fn unknown_fields_of_a_trajectory_file_are_refused_naming_them() {
     for (file, said) in [
         (
             "velocites.yaml",
-            "document 1, point 1 has a field 'velocites' a trajectory_msgs/msg/JointTrajectoryPoint does not have: did you mean 'velocities'?",
+            "document 1, point 0 has a field 'velocites' a trajectory_msgs/msg/JointTrajectoryPoint does not have: did you mean 'velocities'?",
         ),
         (
             "velocitys.yaml",
@@ -1605,5 +1650,348 @@ fn messages_name_the_file_and_its_own_words() {
         let run = faze4(&dir, &["replay", "--q-traj", file, "--no-collisions", "-q"]);
         assert!(run.status.success(), "{file}: {}", run.stderr);
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An option a sweep varies and the command after `--` gives too: the sweep set it at each run
+/// and the given value was dropped unsaid (`--vary dt=… -- wave --dt 0.0001` ran at the varied
+/// steps). Refused naming both; a multiplier of given values (`kp-scale` with `--kp`) is not
+/// such a case (issue 49, fourth round).
+#[test]
+fn an_option_varied_and_given_to_the_command_is_refused_not_dropped() {
+    let dir = temp_dir("hostile-varied-given");
+    let base = ["--", "wave", "--duration", "0.01", "--no-collisions"];
+    for (sweep, given, said) in [
+        (
+            ["--vary", "dt=0.001,0.002"],
+            ["--dt", "0.0001"],
+            "--vary: 'dt' is varied and also given to the command (--dt): the sweep sets it at each run, so that value would be dropped",
+        ),
+        (
+            ["--find-min", "payload-kg=0:2"],
+            ["--payload-kg", "1"],
+            "--find-min: 'payload-kg' is varied and also given to the command (--payload-kg)",
+        ),
+        (
+            ["--find", "payload_kg=0:2"],
+            ["--payload-kg", "1"],
+            "--find: 'payload_kg' is varied and also given to the command (--payload-kg)",
+        ),
+    ] {
+        let args = [&["sweep"][..], &sweep, &base, &given].concat();
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &[said]);
+    }
+    let args = [
+        &["sweep", "-q", "--vary", "kp-scale=1,2"][..],
+        &base,
+        &["--kp", "auto,auto,auto,auto,auto,30"],
+    ]
+    .concat();
+    let run = faze4(&dir, &args);
+    assert!(run.status.success(), "{}", run.stderr);
+    assert!(run.stdout.starts_with("[done] 2 runs, 2 follow"), "{}", run.stdout);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A MoveIt `RobotTrajectory` whose `multi_dof_joint_trajectory` moves a mobile base beside the
+/// arm's joints: its poses were left out unsaid and the arm played on a fixed base. Now a
+/// warning names the document and the joints, said under `-q` too; an empty multi-DOF part (as
+/// MoveIt fills it for an arm) says nothing. A figure from a file far beyond a joint's limits
+/// is printed as short as it reads back, not in 309 digits (issue 49, fourth round).
+#[test]
+fn a_plans_multi_dof_part_is_said_and_a_huge_position_printed_short() {
+    let dir = temp_dir("hostile-multi-dof");
+    let names = r#""joint_names": ["rotary_base", "nadlaktica", "lakat", "podlaktica", "saka", "hvataljka"]"#;
+    let at = |q: &str, time: &str| format!(r#"{{"positions": [0, 0, 0, 0, 0, {q}], "time_from_start": {time}}}"#);
+    let arm = format!(r#"{{{names}, "points": [{}, {}]}}"#, at("0", "0"), at("0.1", "0.1"));
+    let base = |points: &str| format!(r#"{{"joint_names": ["virtual_joint"], "points": [{points}]}}"#);
+    let pose = r#"{"transforms": [{"translation": {"x": 1, "y": 0, "z": 0}, "rotation": {"x": 0, "y": 0, "z": 0, "w": 1}}], "time_from_start": 0}"#;
+    let plan = |multi: &str| format!(r#"{{"joint_trajectory": {arm}, "multi_dof_joint_trajectory": {multi}}}"#);
+    std::fs::write(dir.join("base.json"), plan(&base(&[pose, pose].join(", ")))).unwrap();
+    std::fs::write(dir.join("arm.json"), plan(&base(""))).unwrap();
+    let run = faze4(&dir, &["replay", "--q-traj", "base.json", "--no-collisions", "-q"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    assert_eq!(
+        run.stderr.trim(),
+        "faze4: warning: base.json: the message's multi_dof_joint_trajectory moves 'virtual_joint' over 2 points (poses of frames: a mobile base, a floating joint): left out, the arm played fixed to the world as its model is"
+    );
+    let run = faze4(&dir, &["replay", "--q-traj", "arm.json", "--no-collisions", "-q"]);
+    assert!(run.status.success() && run.stderr.is_empty(), "{}", run.stderr);
+    std::fs::write(
+        dir.join("far.json"),
+        format!(r#"{{{names}, "points": [{}, {}]}}"#, at("0", "0"), at("1e308", "0.1")),
+    )
+    .unwrap();
+    let args = ["replay", "--q-traj", "far.json", "-q"];
+    let run = faze4(&dir, &args);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &[
+            "far.json: point 1: joint J6 (hvataljka) is commanded to 1e308 rad, beyond its limits [-3.141592653589793, 3.141592653589793]",
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// One point, one number: a misspelled field in a file's second point was "point 2" while its
+/// NaN, its time or its limits were "point 1" (every other message counts points from 0, as
+/// `points[1]`). Both now say "point 1" (issue 49, fourth round).
+#[test]
+fn a_files_points_are_counted_alike_in_every_message() {
+    let dir = temp_dir("hostile-point-numbers");
+    let names = "joint_names: [rotary_base, nadlaktica, lakat, podlaktica, saka, hvataljka]";
+    let point = |q: &str, extra: &str, t: u32| {
+        format!("{{positions: [0, 0, 0, 0, 0, {q}],{extra} time_from_start: {{sec: {t}}}}}")
+    };
+    let file = |second: String| format!("{names}\npoints: [{}, {second}]\n", point("0", "", 0));
+    std::fs::write(
+        dir.join("field.yaml"),
+        file(point("0", " velocites: [0, 0, 0, 0, 0, 0],", 1)),
+    )
+    .unwrap();
+    std::fs::write(dir.join("nan.yaml"), file(point(".nan", "", 1))).unwrap();
+    std::fs::write(dir.join("far.yaml"), file(point("9", "", 1))).unwrap();
+    for (file, said) in [
+        ("field.yaml", "field.yaml: document 1, point 1 has a field 'velocites'"),
+        ("nan.yaml", "nan.yaml: point 1: positions of joint 'hvataljka' is NaN"),
+        (
+            "far.yaml",
+            "far.yaml: point 1: joint J6 (hvataljka) is commanded to 9 rad",
+        ),
+    ] {
+        let args = ["replay", "--q-traj", file, "-q"];
+        let run = faze4(&dir, &args);
+        check_refusal(&args, run.status.code(), &run.stderr, &[said]);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A LeRobot v2.1 dataset's copy in `dir/name` whose `meta/info.json` is changed by `edit`.
+fn lerobot_v21(dir: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value)) {
+    let from = repo_path("tests/fixtures/trajectories/lerobot/so101_v21");
+    let data = dir.join(name).join("data/chunk-000");
+    std::fs::create_dir_all(&data).unwrap();
+    std::fs::create_dir_all(dir.join(name).join("meta")).unwrap();
+    let episode = "data/chunk-000/episode_000000.parquet";
+    std::fs::copy(from.join(episode), dir.join(name).join(episode)).unwrap();
+    let mut info: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(from.join("meta/info.json")).unwrap()).unwrap();
+    edit(&mut info);
+    std::fs::write(dir.join(name).join("meta/info.json"), info.to_string()).unwrap();
+}
+
+/// A LeRobot dataset's `meta/info.json` says where its data is and what layout it has:
+/// a `data_path` of `/etc/passwd` or `../../…` was opened and read as Parquet (a downloaded
+/// dataset could make faze4 read any file), and a `codebase_version` of v1.6 or v9.9 was read
+/// as v3.0 (a v1 dataset "without data/chunk-*/file-*.parquet"; a v9.9 one silently). Both are
+/// refused naming the field as `info.json` spells it (issue 49, fourth round).
+#[test]
+fn a_lerobot_datasets_info_stays_inside_it_and_names_a_version_it_cannot_read() {
+    let dir = temp_dir("hostile-lerobot-info");
+    std::fs::copy(
+        repo_path("tests/urdf/example_robot_data/so101.urdf"),
+        dir.join("so101.urdf"),
+    )
+    .unwrap();
+    lerobot_v21(&dir, "ok", |_| {});
+    lerobot_v21(&dir, "abs", |i| i["data_path"] = "/etc/passwd".into());
+    lerobot_v21(&dir, "up", |i| {
+        i["data_path"] = "../ok/data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet".into()
+    });
+    lerobot_v21(&dir, "v1", |i| i["codebase_version"] = "v1.6".into());
+    lerobot_v21(&dir, "v9", |i| i["codebase_version"] = "v9.9".into());
+    let run = |name: &'static str| {
+        let args = [
+            "replay",
+            "--robot",
+            "so101.urdf",
+            "--q-traj",
+            name,
+            "--units",
+            "deg",
+            "--no-collisions",
+            "-q",
+        ];
+        (args, faze4(&dir, &args))
+    };
+    let (_, ok) = run("ok");
+    assert!(ok.status.success(), "{}", ok.stderr);
+    for (name, said) in [
+        (
+            "abs",
+            "abs/meta/info.json: data_path '/etc/passwd' gives '/etc/passwd', outside the dataset's folder",
+        ),
+        (
+            "up",
+            "up/meta/info.json: data_path '../ok/data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet' gives '../ok/data/chunk-000/episode_000000.parquet', outside the dataset's folder",
+        ),
+        (
+            "v1",
+            "v1/meta/info.json: codebase_version 'v1.6': faze4 reads LeRobot datasets v2.x and v3.x",
+        ),
+        (
+            "v9",
+            "v9/meta/info.json: codebase_version 'v9.9': faze4 reads LeRobot datasets v2.x and v3.x",
+        ),
+    ] {
+        let (args, refused) = run(name);
+        check_refusal(&args, refused.status.code(), &refused.stderr, &[said]);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A `--xacro-arg` the file neither declares nor reads was dropped unsaid: a misspelled
+/// `ur_tpye:=ur10e` built the default arm and its verdict. Refused naming it and the arguments
+/// the file knows (declared by `<xacro:arg>` or read by `$(arg)`) (issue 49, fourth round).
+#[test]
+fn a_xacro_argument_the_file_does_not_know_is_refused() {
+    let dir = temp_dir("hostile-xacro-arg");
+    let xacro = r#"<?xml version="1.0"?>
+<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="length" default="0.3"/>
+  <link name="base"/>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 $(arg length)"/>
+    <axis xyz="0 0 $(arg axis_z)"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/>
+  </joint>
+  <link name="l1"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>
+"#;
+    std::fs::write(dir.join("arm.urdf.xacro"), xacro).unwrap();
+    let wave = |args: &[&'static str]| {
+        let args = [
+            &[
+                "wave",
+                "--robot",
+                "arm.urdf.xacro",
+                "--duration",
+                "0.01",
+                "--no-collisions",
+                "-q",
+            ][..],
+            args,
+        ]
+        .concat();
+        (faze4(&dir, &args), args)
+    };
+    // declared, and read without a declaration: both known
+    let (run, _) = wave(&["--xacro-arg", "length:=0.2", "--xacro-arg", "axis_z:=1"]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let (run, args) = wave(&["--xacro-arg", "lenght:=0.2", "--xacro-arg", "axis_z:=1"]);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &[
+            "--xacro-arg: lenght: arm.urdf.xacro neither declares nor reads an argument 'lenght' (it knows 'axis_z', 'length')",
+        ],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A recorded JointState stream whose stamps go back (a bag played in a loop: the motion
+/// twice, the second from the start again) was sorted by stamp unsaid, the two passes
+/// interleaved into one motion. A joint's own messages going back is refused naming the two
+/// messages; publishers of different joints still interleave as they arrive (issue 49, fourth
+/// round).
+#[test]
+fn a_joint_state_stream_going_back_in_time_is_refused_not_sorted() {
+    let dir = temp_dir("hostile-stamps-back");
+    let arm = "[rotary_base, nadlaktica, lakat, podlaktica, saka]";
+    let state = |ms: u64, names: &str, q: f64| {
+        let n = names.matches(',').count() + 1;
+        let q = vec![format!("{q}"); n].join(", ");
+        format!(
+            "header: {{stamp: {{sec: {}, nanosec: {}}}}}\nname: {names}\nposition: [{q}]\n---\n",
+            ms / 1000,
+            ms % 1000 * 1_000_000
+        )
+    };
+    // two passes of 0 → 0.1 rad over 0.5 s
+    let looped: String = (0..2)
+        .flat_map(|_| (0..6).map(|k| state(1000 + 100 * k, arm, 0.02 * k as f64)))
+        .collect();
+    std::fs::write(dir.join("looped.yaml"), looped).unwrap();
+    // the gripper's driver publishes apart, its stamps a little behind the arm's
+    let mut merged = String::new();
+    for k in 0..6 {
+        merged += &state(1000 + 100 * k, arm, 0.02 * k as f64);
+        merged += &state(1000 + 100 * k - 30, "[hvataljka]", 0.01 * k as f64);
+    }
+    std::fs::write(dir.join("publishers.yaml"), merged).unwrap();
+    let args = ["replay", "--q-traj", "looped.yaml", "--no-collisions", "-q"];
+    let run = faze4(&dir, &args);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &[
+            "looped.yaml: JointState message 7: joint 'rotary_base' at 1 s, before the 1.5 s of JointState message 6: its messages go back in time",
+        ],
+    );
+    let run = faze4(
+        &dir,
+        &["replay", "--q-traj", "publishers.yaml", "--no-collisions", "-q"],
+    );
+    assert!(run.status.success(), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A motors file's stepper with a step angle of 1e-300° (9e301 rotor teeth) ran, warning
+/// that its rotor "rings at" a 150-digit figure and advising `--dt 2e-153`, which `--dt`
+/// refuses. A step angle below 0.1° (900 teeth; the finest hybrid steppers have 250) is
+/// refused, printed as short as it reads back (issue 49, fourth round).
+#[test]
+fn a_stepper_step_angle_no_motor_has_is_refused() {
+    let dir = temp_dir("hostile-step-angle");
+    let motor = |angle: &str| {
+        format!(
+            "[[joint]]\nname = \"rotary_base\"\nkind = \"stepper\"\ncurve = [[0, 1], [10, 0]]\nstep_angle = {angle}\n"
+        )
+    };
+    std::fs::write(dir.join("tiny.toml"), motor("1e-300")).unwrap();
+    std::fs::write(dir.join("fine.toml"), motor("0.36")).unwrap();
+    let args = [
+        "wave",
+        "--motors",
+        "tiny.toml",
+        "--drive",
+        "stepper",
+        "--duration",
+        "0.01",
+        "--no-collisions",
+        "-q",
+    ];
+    let run = faze4(&dir, &args);
+    check_refusal(
+        &args,
+        run.status.code(),
+        &run.stderr,
+        &["tiny.toml: J1 (rotary_base): step_angle 1e-300 must be in [0.1, 90] degrees"],
+    );
+    let run = faze4(
+        &dir,
+        &[
+            "wave",
+            "--motors",
+            "fine.toml",
+            "--drive",
+            "stepper",
+            "--duration",
+            "0.01",
+            "--no-collisions",
+            "-q",
+        ],
+    );
+    assert!(
+        run.status.code() != Some(2) && !run.stderr.contains("error"),
+        "{}",
+        run.stderr
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -240,7 +240,7 @@ fn bad_motor_files_are_refused_in_one_line() {
         ),
         (
             "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3]]\nstep_angle = 0.0\n".repeat(3),
-            vec!["J1 (by order)", "step_angle 0 must be in (0, 90]"],
+            vec!["J1 (by order)", "step_angle 0 must be in [0.1, 90] degrees"],
         ),
         (
             "[[joint]]\nkind = \"stepper\"\ncurve = [[0.0, 0.3]]\nmicrosteps = 8\n".repeat(3),

@@ -886,6 +886,24 @@ fn a_timing_that_does_not_follow_is_written_only_with_force() {
     }
 }
 
+/// A stop asked for while the path is timed (Ctrl-C in Python, a flag raised by hand) ends the
+/// timing with `Error::Stopped` instead of finishing it (in Python it waited out the timing: a
+/// second at the default grid with jerk limits, 20 s on a grid of 100,000).
+#[test]
+fn a_stop_ends_the_timing() {
+    let model = faze4::faze4::model();
+    let path = common::circle_path();
+    let stop = faze4::sim::StopFlag::new();
+    stop.raise();
+    let options = RetimeOptions { stop, ..no_check() };
+    let stopped = retime(&with_motors(&model, &path), &path, &options);
+    assert!(
+        matches!(stopped, Err(Error::Stopped { .. })),
+        "{:?}",
+        stopped.map(|r| r.profile.duration())
+    );
+}
+
 /// A check a signal ends early has no verdict, and nothing is written, not even under
 /// `--force`: the line said "wrote c.yaml" though no file was written.
 #[test]

@@ -71,6 +71,10 @@ impl Stepping {
     }
 }
 
+/// The smallest full step a file's stepper may have (degrees): 900 rotor teeth, where the
+/// finest hybrid steppers have 100 (0.9°) to 250 (0.36°).
+pub const MIN_STEP_ANGLE_DEG: f64 = 0.1;
+
 /// The kind's registration ([`super::KINDS`]).
 pub(super) const KIND: Kind = Kind {
     name: "stepper",
@@ -92,7 +96,7 @@ struct File {
     /// of another length is refused (an array `[f64; 2]` took the first two values of
     /// `[0.0, 0.3, 7]` and dropped the third).
     curve: Option<Vec<Vec<f64>>>,
-    /// The full step (degrees, in (0, 90]), for the open-loop drive.
+    /// The full step (degrees, in [[`MIN_STEP_ANGLE_DEG`], 90]), for the open-loop drive.
     step_angle: Option<f64>,
     /// The unpowered detent torque (N·m, ≥ 0; default 0).
     detent_torque: Option<f64>,
@@ -137,8 +141,11 @@ fn read(value: serde_json::Value) -> Result<KindMotor, String> {
         .iter()
         .any(Option::is_some);
     let stepping = match file.step_angle {
-        Some(a) if !(a.is_finite() && a > 0.0 && a <= 90.0) => {
-            return Err(format!("step_angle {a} must be in (0, 90] degrees"));
+        Some(a) if !(a.is_finite() && (MIN_STEP_ANGLE_DEG..=90.0).contains(&a)) => {
+            return Err(format!(
+                "step_angle {} must be in [{MIN_STEP_ANGLE_DEG}, 90] degrees (a hybrid stepper has 90°/step angle rotor teeth: 1.8° has 50, 0.9° 100)",
+                crate::error::shortest(a)
+            ));
         }
         Some(a) => Some(Stepping {
             rotor_teeth: Stepping::rotor_teeth_of(a),

@@ -4,7 +4,7 @@
 //! `${…}` and `$(…)` substitutions.
 
 use std::cell::RefCell;
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -71,6 +71,9 @@ type MacroScope = Rc<RefCell<Macros>>;
 pub struct Expander<'a> {
     /// `$(arg …)` values: those given, then `<xacro:arg>` defaults.
     args: HashMap<String, String>,
+    /// The arguments the document declares (`<xacro:arg>`) or reads (`$(arg)`, `xacro.arg`,
+    /// `$(eval)`'s names), for [`Expander::unknown_args`].
+    known_args: BTreeSet<String>,
     packages: &'a PackagePaths,
     /// The files being read, the current one last (relative names are taken from its folder).
     files: Vec<(PathBuf, Rc<str>)>,
@@ -209,6 +212,7 @@ impl<'a> Expander<'a> {
     pub fn new(path: &Path, file: Rc<str>, args: HashMap<String, String>, packages: &'a PackagePaths) -> Self {
         Expander {
             args,
+            known_args: BTreeSet::new(),
             packages,
             files: vec![(path.to_path_buf(), file)],
             budget: 0,
@@ -384,8 +388,7 @@ impl<'a> Expander<'a> {
         match words.first().copied() {
             Some("arg") => {
                 let name = one("arg")?;
-                self.args
-                    .get(&name)
+                self.arg_value(&name)
                     .cloned()
                     .ok_or_else(|| format!("Undefined substitution argument {name}"))
             }
@@ -545,10 +548,29 @@ impl<'a> Expander<'a> {
         }
     }
 
+    /// Argument `name`'s value (given, else its declared default), the name noted as one the
+    /// document knows.
+    fn arg_value(&mut self, name: &str) -> Option<&String> {
+        self.known_args.insert(name.to_string());
+        self.args.get(name)
+    }
+
+    /// Of the arguments `given`, those the expanded document neither declared nor read (in
+    /// their order), and the arguments it knows: a misspelled `ur_tpye:=ur10e` would otherwise
+    /// leave `ur_type` at its default unsaid.
+    pub fn unknown_args<'g>(&self, given: &'g [(String, String)]) -> (Vec<&'g str>, Vec<&str>) {
+        let unknown = (given.iter())
+            .map(|(name, _)| name.as_str())
+            .filter(|name| !self.known_args.contains(*name))
+            .collect();
+        (unknown, self.known_args.iter().map(String::as_str).collect())
+    }
+
     /// `<xacro:arg name default>`: the argument's default, unless it was given.
     fn argument(&mut self, e: &Element, scope: &Scope) -> Result<()> {
         let name = e.attr("name").ok_or_else(|| self.fail(e, "needs a name"))?;
         let default = e.attr("default").ok_or_else(|| self.fail(e, "needs a default"))?;
+        self.known_args.insert(name.to_string());
         if !self.args.contains_key(name) {
             let value = self.text(default, scope).map_err(|m| self.fail(e, m))?;
             self.args.insert(name.to_string(), value);
@@ -978,8 +1000,7 @@ impl Names for Env<'_, '_> {
 
     fn arg(&mut self, name: &str) -> std::result::Result<Value, String> {
         self.x
-            .args
-            .get(name)
+            .arg_value(name)
             .map(|v| Value::str(v.as_str()))
             .ok_or_else(|| format!("KeyError: '{name}' (no such xacro argument)"))
     }
@@ -1007,7 +1028,7 @@ impl Names for EvalEnv<'_, '_> {
         if matches!(name, "false" | "False") {
             return Ok(Some(Value::Bool(false)));
         }
-        Ok(self.x.args.get(name).map(|v| auto(v)))
+        Ok(self.x.arg_value(name).map(|v| auto(v)))
     }
 
     fn load_yaml(&mut self, _: &str) -> std::result::Result<Value, String> {
@@ -1016,8 +1037,7 @@ impl Names for EvalEnv<'_, '_> {
 
     fn arg(&mut self, name: &str) -> std::result::Result<Value, String> {
         self.x
-            .args
-            .get(name)
+            .arg_value(name)
             .map(|v| auto(v))
             .ok_or_else(|| format!("Undefined substitution argument {name}"))
     }

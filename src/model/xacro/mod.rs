@@ -96,6 +96,24 @@ pub fn expand(text: &str, path: &Path, args: &[String], packages: &PackagePaths)
     let expanded = expander
         .document(&root)
         .map_err(|f| failed(&f.file, f.line, f.message))?;
+    let (unknown, known) = expander.unknown_args(&args);
+    if let Some(name) = unknown.first() {
+        return Err(Error::option(
+            "xacro_arg",
+            format!(
+                "{name}: {label} neither declares nor reads an argument {} (it knows {}): a misspelled argument would leave the one meant at its default",
+                crate::error::quoted(name),
+                match known.is_empty() {
+                    true => "none".to_string(),
+                    false => known
+                        .iter()
+                        .map(|k| crate::error::quoted(k))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                }
+            ),
+        ));
+    }
     let urdf = dom::write(&expanded);
     if urdf.len() as u64 > MAX_URDF_BYTES {
         return Err(failed(

@@ -9,7 +9,8 @@
 //!   time ([`Note::Merged`]): a point at every stamp, each joint between its own messages joined
 //!   as the points will be played (linear, or cubic through its velocities), held before its
 //!   first and after its last. Two messages giving one joint different positions at one stamp
-//!   are refused (two publishers of the same joints).
+//!   are refused (two publishers of the same joints), and so are a joint's messages going back
+//!   in time (a bag played in a loop).
 //! * The recorded velocities are used when every message gives them and they agree with the
 //!   positions (each between the slopes of the positions on either side of it, to within
 //!   [`VELOCITY_AGREEMENT`] of the positions' motion): joint_trajectory_controller's rule then
@@ -94,6 +95,7 @@ pub fn recorded_motion(
     }
     let mut notes = Vec::new();
     let times = times(&states, &stream, &at, path, &mut notes)?;
+    backwards(&states, &times, selection, &at, path)?;
     let Joints {
         names,
         series,
@@ -241,6 +243,41 @@ fn times(
         ));
     }
     Ok(stamps)
+}
+
+/// Refuses a kept joint whose messages, in the order the stream gives them, go back in time:
+/// one publisher's clock does not (a bag played in a loop, a simulation restarted), and sorting
+/// them by stamp would interleave two motions unsaid. Publishers of different joints may
+/// interleave as they like.
+fn backwards(
+    states: &[StampedState],
+    times: &[i64],
+    selection: &Selection,
+    at: &dyn Fn(usize) -> String,
+    path: &Path,
+) -> Result<()> {
+    let mut last: BTreeMap<&str, (i64, usize)> = BTreeMap::new();
+    for (k, (s, &t)) in states.iter().zip(times).enumerate() {
+        for name in s.message.name.iter().filter(|n| selection.keeps(n)) {
+            if let Some(&(before, j)) = last.get(name.as_str())
+                && t < before
+            {
+                return Err(invalid(
+                    path,
+                    format!(
+                        "{}: joint {} at {} s, before the {} s of {}: its messages go back in time (a bag played in a loop, a simulation restarted?)",
+                        at(k),
+                        quoted(name),
+                        shortest(seconds_from_nanoseconds(t)),
+                        shortest(seconds_from_nanoseconds(before)),
+                        at(j)
+                    ),
+                ));
+            }
+            last.insert(name, (t, k));
+        }
+    }
+    Ok(())
 }
 
 /// A stream's joints, as [`joint_series`] sorts them out.

@@ -139,6 +139,7 @@ pub fn read(dir: &Path, selection: &Selection) -> Result<Episode> {
             format!("not a LeRobot info.json: {}", crate::error::file_words(&e.to_string())),
         )
     })?;
+    layout(&info, &info_path)?;
     let episode = selection.episode.unwrap_or(0);
     if let Some(total) = info.total_episodes
         && episode >= total
@@ -215,20 +216,63 @@ fn column_names(info: &Info, key: &str, path: &Path) -> Result<Vec<String>> {
 /// One frame: its timestamp and the column's values.
 type Frame = (f64, Vec<f64>);
 
+/// The layouts faze4 reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Layout {
+    /// v2.x: a file per episode, `data_path`.
+    V2,
+    /// v3.x: `data/chunk-*/file-*.parquet`, episodes told by `episode_index`.
+    V3,
+}
+
+/// The layout of `info`'s `codebase_version` (`path` its file, for errors): told by its major
+/// version, v2.x or v3.x; any other (v1.6, a word) is refused naming it (it was read as v3 and
+/// said to have no `data/chunk-*` files).
+fn layout(info: &Info, path: &Path) -> Result<Layout> {
+    let major = (info.codebase_version.strip_prefix('v'))
+        .and_then(|v| v.split('.').next())
+        .and_then(|m| m.parse::<u32>().ok());
+    match major {
+        Some(2) => Ok(Layout::V2),
+        Some(3) => Ok(Layout::V3),
+        _ => Err(invalid(
+            path,
+            format!(
+                "codebase_version {}: faze4 reads LeRobot datasets v2.x and v3.x (LeRobot's own scripts convert older ones)",
+                quoted(&info.codebase_version)
+            ),
+        )),
+    }
+}
+
 /// The frames of `episode`, in file and row order.
 fn frames(dir: &Path, info: &Info, episode: usize, key: &str, width: usize) -> Result<Vec<Frame>> {
-    let files = if info.codebase_version.starts_with("v2") {
-        let template = info
-            .data_path
-            .as_deref()
-            .unwrap_or("data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet");
-        let chunk = episode / info.chunks_size.unwrap_or(1000).max(1);
-        vec![dir.join(formatted(
-            template,
-            &[("episode_chunk", chunk), ("episode_index", episode)],
-        ))]
-    } else {
-        data_files(dir)?
+    let files = match layout(info, &dir.join(INFO))? {
+        Layout::V2 => {
+            let template = info
+                .data_path
+                .as_deref()
+                .unwrap_or("data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet");
+            let chunk = episode / info.chunks_size.unwrap_or(1000).max(1);
+            let file = formatted(template, &[("episode_chunk", chunk), ("episode_index", episode)]);
+            // inside the dataset: an absolute path or `..` would read any file (links are
+            // followed: the Hugging Face cache links a snapshot's files to its blobs)
+            if Path::new(&file)
+                .components()
+                .any(|c| !matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir))
+            {
+                return Err(invalid(
+                    &dir.join(INFO),
+                    format!(
+                        "data_path {} gives {}, outside the dataset's folder: its files are inside it",
+                        quoted(template),
+                        quoted(&file)
+                    ),
+                ));
+            }
+            vec![dir.join(file)]
+        }
+        Layout::V3 => data_files(dir)?,
     };
     let mut frames = Vec::new();
     for file in &files {

@@ -13,7 +13,7 @@ use serde::de::DeserializeOwned;
 
 use super::joint_states::{StampedState, recorded_motion};
 use super::ros::{LooseJointState, LooseJointTrajectory};
-use super::{Read, Selection, invalid, pick};
+use super::{Note, Read, Selection, invalid, pick};
 use crate::error::{Error, Result, quoted};
 
 /// A parsed YAML or JSON value: a format's own tree, seen through what reading a message needs.
@@ -33,8 +33,9 @@ const READS: &str = "faze4 reads a trajectory_msgs/JointTrajectory, a FollowJoin
 
 /// A message found in a document.
 enum Found<'a, D> {
-    /// A JointTrajectory.
-    Trajectory(&'a D),
+    /// A JointTrajectory, and the `multi_dof_joint_trajectory` with points beside it (a
+    /// MoveIt `RobotTrajectory`'s), which is not played.
+    Trajectory(&'a D, Option<&'a D>),
     /// A JointState.
     State(&'a D),
 }
@@ -48,13 +49,13 @@ pub(super) fn read<D: Document>(documents: &[(String, D)], selection: &Selection
     for (label, document) in documents {
         for found in find(document).map_err(|what| invalid(path, format!("{label} is {what}; {READS}")))? {
             match found {
-                Found::Trajectory(t) => trajectories.push((label, t)),
+                Found::Trajectory(t, multi) => trajectories.push((label, t, multi)),
                 Found::State(s) => states.push((label, s)),
             }
         }
     }
     if !states.is_empty() {
-        if let Some((label, _)) = trajectories.first() {
+        if let Some((label, _, _)) = trajectories.first() {
             return Err(invalid(
                 path,
                 format!("holds JointState messages and a trajectory ({label}): one file, one of them"),
@@ -92,7 +93,7 @@ pub(super) fn read<D: Document>(documents: &[(String, D)], selection: &Selection
         });
     }
     let k = pick(trajectories.len(), selection.message, "JointTrajectory messages", path)?;
-    let (label, t) = trajectories[k];
+    let (label, t, multi) = trajectories[k];
     known_fields(t, JOINT_TRAJECTORY, label, path)?;
     for (i, point) in t
         .field("points")
@@ -101,10 +102,25 @@ pub(super) fn read<D: Document>(documents: &[(String, D)], selection: &Selection
         .iter()
         .enumerate()
     {
-        known_fields(point, POINT, &format!("{label}, point {}", i + 1), path)?;
+        // points counted from 0, as every other message about a trajectory's points counts them
+        known_fields(point, POINT, &format!("{label}, point {i}"), path)?;
     }
     let trajectory: LooseJointTrajectory = decode(t, label, "trajectory_msgs/msg/JointTrajectory", path)?;
-    Ok(trajectory.into_trajectory().into())
+    let notes = match multi {
+        Some(multi) => vec![Note::MultiDofLeftOut {
+            label: label.clone(),
+            joints: (multi.field("joint_names").and_then(|n| n.items()).unwrap_or_default())
+                .iter()
+                .map(|n| n.decode::<String>().unwrap_or_else(|_| "?".into()))
+                .collect(),
+            points: points(multi).len(),
+        }],
+        None => Vec::new(),
+    };
+    Ok(Read {
+        trajectory: trajectory.into_trajectory(),
+        notes,
+    })
 }
 
 /// A message type's name and its fields (ROS 2's and ROS 1's).
@@ -174,18 +190,26 @@ fn find<D: Document>(document: &D) -> std::result::Result<Vec<Found<'_, D>>, Str
         {
             return Err("a trajectory_msgs/MultiDOFJointTrajectory (poses of frames, not joint positions)".into());
         }
-        return Ok(vec![Found::Trajectory(document)]);
+        return Ok(vec![Found::Trajectory(document, None)]);
     }
     if has("name") && has("position") {
         return Ok(vec![Found::State(document)]);
     }
     if let Some(robot) = document.field("joint_trajectory") {
         // a RobotTrajectory: its joint part (a multi-DOF part alone is not played)
-        let empty = |t: &D| t.field("points").and_then(|p| p.items()).is_none_or(|p| p.is_empty());
-        if empty(robot) && document.field("multi_dof_joint_trajectory").is_some_and(|m| !empty(m)) {
+        let multi = document
+            .field("multi_dof_joint_trajectory")
+            .filter(|m| !points(*m).is_empty());
+        if points(robot).is_empty() && multi.is_some() {
             return Err("a moveit_msgs/RobotTrajectory with only a multi_dof_joint_trajectory (poses of frames, not joint positions)".into());
         }
-        return find(robot).map_err(|what| format!("a RobotTrajectory whose joint_trajectory is {what}"));
+        let found = find(robot).map_err(|what| format!("a RobotTrajectory whose joint_trajectory is {what}"))?;
+        return Ok((found.into_iter())
+            .map(|f| match f {
+                Found::Trajectory(t, None) => Found::Trajectory(t, multi),
+                other => other,
+            })
+            .collect());
     }
     for key in ["trajectory", "planned_trajectory"] {
         let Some(inner) = document.field(key) else { continue };
@@ -231,6 +255,11 @@ const OTHERS: &[(&[&str], &str)] = &[
         "a control_msgs/JointTrajectoryControllerState (the controller's state at one instant)",
     ),
 ];
+
+/// A trajectory's points (none when it has no list of them).
+fn points<D: Document>(trajectory: &D) -> &[D] {
+    trajectory.field("points").and_then(|p| p.items()).unwrap_or_default()
+}
 
 /// What a mapping with `keys` that holds no trajectory is.
 fn what_else<D: Document>(document: &D, keys: &[String]) -> String {

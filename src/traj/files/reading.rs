@@ -64,6 +64,17 @@ pub enum Note {
         /// Why.
         why: Unused,
     },
+    /// A MoveIt `RobotTrajectory`'s `multi_dof_joint_trajectory` with points (a mobile
+    /// base's or a floating frame's poses) beside its joint trajectory: left out, the arm
+    /// played fixed to the world as its model is.
+    MultiDofLeftOut {
+        /// The document (`document 1`).
+        label: String,
+        /// The multi-DOF joints it moves, as the file names them.
+        joints: Vec<String>,
+        /// Its points.
+        points: usize,
+    },
 }
 
 /// Why a stream's recorded velocities are left out.
@@ -88,10 +99,13 @@ pub enum Unused {
 }
 
 impl Note {
-    /// Whether what is played differs from what the file gives (joints or velocities left
-    /// out): such a note is said even under `quiet`.
+    /// Whether what is played differs from what the file gives (joints, velocities or a
+    /// multi-DOF part left out): such a note is said even under `quiet`.
     pub fn changes_result(&self) -> bool {
-        matches!(self, Note::IgnoredJoints { .. } | Note::VelocitiesIgnored { .. })
+        matches!(
+            self,
+            Note::IgnoredJoints { .. } | Note::VelocitiesIgnored { .. } | Note::MultiDofLeftOut { .. }
+        )
     }
 }
 
@@ -113,6 +127,15 @@ impl fmt::Display for Note {
                     .map(|g| format!("[{}]", names(g)))
                     .collect::<Vec<_>>()
                     .join(", ")
+            ),
+            Note::MultiDofLeftOut { label, joints, points } => write!(
+                f,
+                "{label}'s multi_dof_joint_trajectory moves {} over {points} point{} (poses of frames: a mobile base, a floating joint): left out, the arm played fixed to the world as its model is",
+                match joints.is_empty() {
+                    true => "unnamed joints".to_string(),
+                    false => names(joints),
+                },
+                if *points == 1 { "" } else { "s" }
             ),
             Note::LogTimes { stream } => write!(
                 f,
