@@ -420,24 +420,9 @@ def _row(names, values, summary_json, failure) -> dict[str, Any]:
     return row
 
 
-def _refuse_given(option: str, names, options: dict[str, Any]) -> None:
-    """Refuses a name the sweep or search varies that the call's keywords give too: the sweep
-    sets it at each run, so the given value would be dropped unsaid (as the library refuses it
-    on the command line)."""
-    given = {k for k, v in _renamed(options).items() if v is not None}
-    for name in names:
-        key = str(name).strip().removeprefix("--").replace("-", "_")
-        if key in given:
-            raise Error(
-                f"{option}: '{str(name).strip()}' is varied and also given to the command ({key}): the sweep sets it "
-                "at each run, so that value would be dropped; give it in one place"
-            )
-
-
 def sweep(
     robot: Robot, command: str, vary: dict[str, Any], jobs: int = 0, own_clearance: bool = False, **options: Any
 ) -> list[dict[str, Any]]:
-    _refuse_given("vary", vary or (), options)
     merged, frames, timed = _base(command, robot, dict(options))
     if not vary:
         raise Error("vary: nothing to vary: give vary={'payload_kg': [...]}")
@@ -451,7 +436,7 @@ def sweep(
                 raise Error(f"vary: {name}: shape {array.shape}; give a list of values")
             text = ",".join(_text(v) for v in array)
         specs += [f"{name}={text}"]
-    rows, warnings = _faze4._sweep(command, merged, specs, int(jobs), bool(own_clearance), frames, timed)
+    rows, warnings = _faze4._sweep(command, merged, list(_given(_renamed(options))), specs, int(jobs), bool(own_clearance), frames, timed)
     names = list(vary)
     return [_row(names, *r) for r in rows]
 
@@ -468,11 +453,10 @@ def find(
     own_clearance: bool = False,
     **options: Any,
 ) -> Found:
-    _refuse_given("find_min" if smallest else "find", [name], options)
     merged, frames, timed = _base(command, robot, dict(options))
     resolution = None if resolution is None else float(resolution)
     kind, line, follows, fails, warnings = _faze4._find(
-        command, merged, name, float(lo), float(hi), resolution, bool(smallest), int(jobs), bool(own_clearance), frames, timed
+        command, merged, list(_given(_renamed(options))), name, float(lo), float(hi), resolution, bool(smallest), int(jobs), bool(own_clearance), frames, timed
     )
     follows_row = _row([name], *follows) if follows else None
     fails_row = _row([name], *fails) if fails else None

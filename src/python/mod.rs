@@ -744,12 +744,13 @@ fn sharing(own_clearance: bool) -> Sharing {
 /// A sweep of `command` with the keywords `options`, over the grid of `vary` (`NAME=v1,v2,…` or
 /// `NAME=LO:HI:STEP` each) on `jobs` threads: its rows and warnings.
 #[pyfunction]
-#[pyo3(signature = (command, options, vary, jobs, own_clearance, q_traj=None, timed=None))]
+#[pyo3(signature = (command, options, given, vary, jobs, own_clearance, q_traj=None, timed=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn _sweep(
     py: Python<'_>,
     command: &str,
     options: &Bound<'_, PyDict>,
+    given: Vec<String>,
     vary: Vec<String>,
     jobs: usize,
     own_clearance: bool,
@@ -761,6 +762,9 @@ fn _sweep(
     let stop = StopFlag::new();
     let (rows, warnings) = interruptible(py, &stop, || {
         let (grid, indices) = Grid::parse(&vary, None, MAX_RUNS)?;
+        let varied: Vec<&str> = grid.axes.iter().map(|a| a.name.as_str()).collect();
+        let given: Vec<&str> = given.iter().map(String::as_str).collect();
+        crate::sweep::refuse_given_and_varied(&varied, config.motion.command(), &given, "vary")?;
         let names: Vec<(&str, &[f64])> = (grid.axes.iter())
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect();
@@ -776,12 +780,13 @@ fn _sweep(
 /// value of `name` in [`lo`, `hi`] that follows: (what was found, the line, the run that
 /// follows, the run that does not, warnings).
 #[pyfunction]
-#[pyo3(signature = (command, options, name, lo, hi, resolution, smallest, jobs, own_clearance, q_traj=None, timed=None))]
+#[pyo3(signature = (command, options, given, name, lo, hi, resolution, smallest, jobs, own_clearance, q_traj=None, timed=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn _find(
     py: Python<'_>,
     command: &str,
     options: &Bound<'_, PyDict>,
+    given: Vec<String>,
     name: &str,
     lo: f64,
     hi: f64,
@@ -802,6 +807,9 @@ fn _find(
     let frames = frames(q_traj, timed)?;
     let stop = StopFlag::new();
     let seek = if smallest { Seek::Smallest } else { Seek::Largest };
+    let option = if smallest { "find_min" } else { "find" };
+    let given: Vec<&str> = given.iter().map(String::as_str).collect();
+    crate::sweep::refuse_given_and_varied(&[name], config.motion.command(), &given, option).map_err(error)?;
     let warnings = Mutex::new(Vec::new());
     let searched = interruptible(py, &stop, || {
         crate::sweep::search(
