@@ -40,15 +40,20 @@ pub fn main() -> ExitCode {
         // stdout closed under it (`| head`): the pipe's status, as SIGPIPE would have ended it
         Ok(_) if StopFlag::ctrl_c().signal() == Some(sim::SIGPIPE) => ExitCode::from(sim::exit_status(sim::SIGPIPE)),
         Ok(code) => code,
-        // an output written into a pipe whose reader left (`--trail /dev/stdout | head`): the
-        // pipe's status, quietly, as SIGPIPE would have ended it (the other outputs are not
-        // written: an output failed)
-        Err(Error::Io { source, .. } | Error::Output { source, .. })
-            if source.kind() == std::io::ErrorKind::BrokenPipe =>
-        {
+        Err(e) => failed(&e),
+    }
+}
+
+/// The end of a command that failed: its error on stderr, status 2; but an output written into
+/// a pipe whose reader left (`--trail /dev/stdout | head`, help into `| head`) ends quietly
+/// with the pipe's status, as SIGPIPE would have ended it (the other outputs are not written:
+/// an output failed).
+fn failed(e: &Error) -> ExitCode {
+    match e {
+        Error::Io { source, .. } | Error::Output { source, .. } if source.kind() == std::io::ErrorKind::BrokenPipe => {
             ExitCode::from(sim::exit_status(sim::SIGPIPE))
         }
-        Err(e) => {
+        e => {
             to_stderr(&format!("faze4: error: {}", flags(&e.to_string())));
             ExitCode::from(EXIT_INPUT)
         }
@@ -62,21 +67,13 @@ fn usage_error(e: clap::Error) -> ExitCode {
         e.kind(),
         DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand
     ) {
-        // help and version go to stdout: a failed write there is the run's answer (a closed
-        // pipe its status, as SIGPIPE would; a full disk an error), where a failed write on
-        // stderr leaves the status clap gives
+        // help and version go to stdout: a failed write there fails the command as any
+        // output's does ([`failed`]), where a failed write on stderr leaves clap's status
         return match e.print() {
-            Err(source) if !e.use_stderr() && source.kind() == std::io::ErrorKind::BrokenPipe => {
-                ExitCode::from(sim::exit_status(sim::SIGPIPE))
-            }
-            Err(source) if !e.use_stderr() => {
-                let error = Error::Io {
-                    path: "stdout".into(),
-                    source,
-                };
-                to_stderr(&format!("faze4: error: {error}"));
-                ExitCode::from(EXIT_INPUT)
-            }
+            Err(source) if !e.use_stderr() => failed(&Error::Io {
+                path: "stdout".into(),
+                source,
+            }),
             _ => ExitCode::from(e.exit_code() as u8),
         };
     }
