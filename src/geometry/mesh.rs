@@ -45,6 +45,18 @@ impl Mesh {
         mesh
     }
 
+    /// The built-in Faze4 mesh `name` as the collision loader reads it ([`Mesh::from_indexed`]):
+    /// its points (m) and triangles, as `build.rs` makes its hierarchy and hulls of them.
+    #[cfg(test)]
+    pub(super) fn built_in(name: &str) -> (Vec<parry3d_f64::math::Vector>, Vec<[u32; 3]>) {
+        let m = crate::faze4::meshes::mesh(name).expect("built in");
+        let mesh = Mesh::from_indexed(&m.positions, &m.indices);
+        let points = (mesh.vertices.iter())
+            .map(|v| parry3d_f64::math::Vector::from_array(v.map(f64::from)))
+            .collect();
+        (points, mesh.triangles)
+    }
+
     /// [`Mesh::from_soup`] of the triangles of an indexed mesh (`indices`: three per triangle
     /// into `positions`) without writing the soup out: the same vertices in the same order and
     /// the same triangles, with one weld lookup per position instead of one per corner.

@@ -132,20 +132,10 @@ mod tests {
     use super::*;
     use crate::geometry::mesh::{Mesh, contents_hash};
 
-    /// The built-in mesh `name` as the collision loader reads it: points and triangles.
-    fn built_in(name: &str) -> (Vec<PVector>, Vec<[u32; 3]>) {
-        let m = crate::faze4::meshes::mesh(name).unwrap();
-        let mesh = Mesh::from_indexed(&m.positions, &m.indices);
-        let points = (mesh.vertices.iter())
-            .map(|v| PVector::from_array(v.map(f64::from)))
-            .collect();
-        (points, mesh.triangles)
-    }
-
     #[test]
     fn the_built_in_meshes_carry_the_hierarchy_built_of_their_triangles() {
         for name in crate::faze4::meshes::names() {
-            let (points, triangles) = built_in(name);
+            let (points, triangles) = Mesh::built_in(name);
             let (bvh, _, made) = hierarchy_in(
                 None,
                 Contents::BuiltIn(name),
@@ -178,7 +168,7 @@ mod tests {
     fn another_meshs_hierarchy_is_cached_by_contents_and_a_bad_entry_is_rebuilt() {
         let dir = std::env::temp_dir().join(format!("faze4-bvh-cache-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
-        let (points, triangles) = built_in("hvataljka");
+        let (points, triangles) = Mesh::built_in("hvataljka");
         let contents = Contents::File(contents_hash(b"a mesh file"));
         let one = [1.0f64.to_bits(); 3];
         let get = |contents, points: &[PVector]| {

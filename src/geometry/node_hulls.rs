@@ -387,16 +387,6 @@ mod tests {
         );
     }
 
-    /// A built-in mesh as the collision loader reads it (`build.rs` makes its hulls of these).
-    fn loaded(name: &str) -> Mesh {
-        let m = crate::faze4::meshes::mesh(name).unwrap();
-        let mesh = crate::geometry::mesh::Mesh::from_indexed(&m.positions, &m.indices);
-        let points = (mesh.vertices.iter())
-            .map(|v| PVector::from_array(v.map(f64::from)))
-            .collect();
-        (points, mesh.triangles)
-    }
-
     /// Node `i`'s hull's vertices (places among the mesh's points) and triangles, if any.
     fn parts(hulls: &NodeHulls, i: u32, bvh: &Bvh, (points, triangles): &Mesh) -> Option<(Vec<u32>, Vec<[u32; 3]>)> {
         (hulls.get(i, bvh, points, triangles)).map(|h| (h.vertices.clone(), h.faces.clone()))
@@ -408,7 +398,7 @@ mod tests {
     #[test]
     fn the_built_in_hulls_are_those_made_at_run_time() {
         for name in crate::faze4::meshes::names() {
-            let mesh = loaded(name);
+            let mesh = crate::geometry::mesh::Mesh::built_in(name);
             let bytes = crate::faze4::meshes::hierarchy(name).unwrap();
             let (bvh, rest) = Bvh::from_bytes(bytes, &arrays(&mesh.0), &mesh.1).unwrap();
             let read = NodeHulls::from_bytes(rest, &bvh, &mesh.0).expect(name);
@@ -433,7 +423,7 @@ mod tests {
     /// its hull's vertices.
     #[test]
     fn hull_bytes_of_another_mesh_are_refused() {
-        let mesh = loaded("saka");
+        let mesh = crate::geometry::mesh::Mesh::built_in("saka");
         let bvh = Bvh::build(&arrays(&mesh.0), &mesh.1);
         let bytes = NodeHulls::new(&bvh).to_bytes(&bvh, &mesh.0, &mesh.1);
         assert!(NodeHulls::from_bytes(&bytes, &bvh, &mesh.0).is_some());
