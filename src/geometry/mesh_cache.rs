@@ -62,10 +62,12 @@ fn hierarchy_in(
     points: &[PVector],
     triangles: &[[u32; 3]],
 ) -> (Bvh, NodeHulls, Made) {
+    // the points as the hierarchy takes them (f64 arrays), made once for whichever path below
+    let point_arrays = arrays(points);
     if let Contents::BuiltIn(name) = contents
         && scale == [1.0f64.to_bits(); 3]
         && let Some(bytes) = crate::faze4::meshes::hierarchy(name)
-        && let Some((bvh, rest)) = Bvh::from_bytes(bytes, &arrays(points), triangles)
+        && let Some((bvh, rest)) = Bvh::from_bytes(bytes, &point_arrays, triangles)
         && let Some(hulls) = NodeHulls::from_bytes(rest, &bvh, points)
     {
         return (bvh, hulls, Made::BuiltIn);
@@ -73,12 +75,12 @@ fn hierarchy_in(
     let file = folder.map(|dir| dir.join(entry(contents, scale)));
     if let Some(file) = &file
         && let Ok(bytes) = std::fs::read(file)
-        && let Some((bvh, [])) = Bvh::from_bytes(&bytes, &arrays(points), triangles)
+        && let Some((bvh, [])) = Bvh::from_bytes(&bytes, &point_arrays, triangles)
     {
         let hulls = NodeHulls::new(&bvh);
         return (bvh, hulls, Made::Cached);
     }
-    let bvh = Bvh::build(&arrays(points), triangles);
+    let bvh = Bvh::build(&point_arrays, triangles);
     if let Some(file) = file {
         store(&file, &bvh.to_bytes());
     }
